@@ -1,0 +1,28 @@
+#include "cli_common.hpp"
+
+#include <iostream>
+
+#include "common/error.hpp"
+
+namespace ricochet::cli {
+
+void add_output_options(CLI::App* sub, OutputOptions& options) {
+  sub->add_flag("--json", options.json, "Print one machine-readable JSON document on stdout");
+  sub->add_option("--out", options.out, "Write results to FILE (.csv or .h5 by extension)");
+}
+
+void print_json(const nlohmann::json& doc) { std::cout << doc.dump(2) << std::endl; }
+
+void require_extension(const std::string& option, const std::string& path,
+                       std::initializer_list<const char*> allowed) {
+  std::string list;
+  for (const char* ext : allowed) {
+    if (path.size() >= std::string(ext).size() &&
+        path.compare(path.size() - std::string(ext).size(), std::string::npos, ext) == 0)
+      return;
+    list += std::string(list.empty() ? "" : ", ") + ext;
+  }
+  throw InputError(path, 0, option, "unsupported file extension; use one of " + list);
+}
+
+}  // namespace ricochet::cli

@@ -1,0 +1,33 @@
+// Shared plumbing of the `ricochet` subcommands: the --json / --out contract and error exits.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace ricochet::cli {
+
+/// Options every subcommand accepts.
+///  --json       print one JSON document on stdout (keys documented in docs/commands/<cmd>.md)
+///                and nothing else on stdout;
+///  --out FILE   write results to FILE: .csv or .h5/.hdf5 by extension.
+///  --figures DIR  (where a command draws) write SVG figures into DIR.
+struct OutputOptions {
+  bool json = false;
+  std::string out;
+};
+
+/// Adds --json and --out to a subcommand.
+void add_output_options(CLI::App* sub, OutputOptions& options);
+/// Prints `doc` pretty on stdout (used when --json is given).
+void print_json(const nlohmann::json& doc);
+/// Throws an InputError naming the option when `out` has an extension other than the allowed.
+void require_extension(const std::string& option, const std::string& path,
+                       std::initializer_list<const char*> allowed);
+
+// One registration function per subcommand, called in order by main.cpp (explicit registry).
+void add_stats_command(CLI::App& app);
+void add_reconstruct_command(CLI::App& app);
+void add_transfer_command(CLI::App& app);
+
+}  // namespace ricochet::cli

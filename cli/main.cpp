@@ -1,0 +1,32 @@
+// `ricochet`: one program, one subcommand per tool. See docs/commands/ for each subcommand.
+#include <CLI/CLI.hpp>
+#include <exception>
+#include <iostream>
+
+#include "cli_common.hpp"
+#include "common/error.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "Ricochet: rebound of shaped blocks on soft ground (Garcia et al. 2020, JGR Earth Surface)"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "ricochet 0.1.0");
+
+  // Explicit registry of subcommands, in the order of the paper's analysis.
+  ricochet::cli::add_stats_command(app);
+  ricochet::cli::add_reconstruct_command(app);
+  ricochet::cli::add_transfer_command(app);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const ricochet::InputError& e) {
+    std::cerr << "ricochet: error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "ricochet: error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
