@@ -27,6 +27,9 @@ class Handle {
   }
   Handle(const Handle&) = delete;
   Handle& operator=(const Handle&) = delete;
+  // Movable so that helpers can return a Handle by name (no NRVO guarantee).
+  Handle(Handle&& other) noexcept : id_(std::exchange(other.id_, -1)) {}
+  Handle& operator=(Handle&&) = delete;
   hid_t get() const { return id_; }
   bool ok() const { return id_ >= 0; }
 
@@ -73,7 +76,12 @@ File::File(const std::string& path, Mode mode) : path_(path) {
       id_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
       break;
     case Mode::kReadWrite: {
+#if H5_VERSION_GE(1, 12, 0)
       const htri_t is = H5Fis_accessible(path.c_str(), H5P_DEFAULT);
+#else
+      // HDF5 1.10 (Debian 12) has no H5Fis_accessible; H5Fis_hdf5 answers the same question.
+      const htri_t is = H5Fis_hdf5(path.c_str());
+#endif
       id_ = is > 0 ? H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT)
                    : H5Fcreate(path.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT);
       break;
