@@ -1,0 +1,599 @@
+// The impact-set schema: column table, units, invariants, features and filters.
+// The CSV form lives in impact_csv.cpp, the HDF5 form in impact_h5.cpp. This file must stay free
+// of HDF5 so that the fuzz target can compile it alone.
+#include "impact/impact_set.hpp"
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "common/error.hpp"
+#include "impact/schema_detail.hpp"
+
+namespace ricochet {
+namespace impact_detail {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+const std::array<Unit, 14> kUnits = {{
+    {"m/s", Dim::kVelocity, 1.0},
+    {"cm/s", Dim::kVelocity, 1e-2},
+    {"mm/s", Dim::kVelocity, 1e-3},
+    {"rad/s", Dim::kAngularVelocity, 1.0},
+    {"deg/s", Dim::kAngularVelocity, kDeg},
+    {"rpm", Dim::kAngularVelocity, 2.0 * std::numbers::pi / 60.0},
+    {"m", Dim::kLength, 1.0},
+    {"cm", Dim::kLength, 1e-2},
+    {"mm", Dim::kLength, 1e-3},
+    {"s", Dim::kTime, 1.0},
+    {"ms", Dim::kTime, 1e-3},
+    {"rad", Dim::kAngle, 1.0},
+    {"deg", Dim::kAngle, kDeg},
+    {"-", Dim::kDimensionless, 1.0},
+}};
+
+bool has_control_char(std::string_view s) {
+  return std::any_of(s.begin(), s.end(), [](char c) {
+    const auto u = static_cast<unsigned char>(c);
+    return u < 0x20 || u == 0x7f;
+  });
+}
+
+// Text cells: present text is never empty (an empty optional cell means "absent") and never holds
+// control characters, so that every writer can emit it on one line and read it back unchanged.
+void check_text(const std::string& value, const char* field, const std::string& file,
+                std::size_t line) {
+  if (value.empty()) throw InputError(file, line, field, "empty text");
+  if (has_control_char(value))
+    throw InputError(file, line, field, "contains a control character (tab, newline, ...)");
+}
+
+void check_finite(double v, const char* field, const std::string& file, std::size_t line) {
+  if (!std::isfinite(v)) throw InputError(file, line, field, "value is not finite (NaN or inf)");
+}
+
+void check_non_negative(double v, const char* field, const char* unit, const std::string& file,
+                        std::size_t line) {
+  check_finite(v, field, file, line);
+  if (v < 0)
+    throw InputError(file, line, field,
+                     "value " + format_number(v) + " " + unit + " is negative; it must be >= 0");
+}
+
+}  // namespace
+
+const Unit* find_unit(std::string_view name) {
+  for (const auto& u : kUnits)
+    if (name == u.name) return &u;
+  return nullptr;
+}
+
+const char* si_unit(Dim dim) {
+  switch (dim) {
+    case Dim::kVelocity:
+      return "m/s";
+    case Dim::kAngularVelocity:
+      return "rad/s";
+    case Dim::kLength:
+      return "m";
+    case Dim::kTime:
+      return "s";
+    case Dim::kAngle:
+      return "rad";
+    case Dim::kDimensionless:
+      return "-";
+    case Dim::kText:
+      return "";
+  }
+  return "";
+}
+
+const char* dim_name(Dim dim) {
+  switch (dim) {
+    case Dim::kVelocity:
+      return "velocity";
+    case Dim::kAngularVelocity:
+      return "angular velocity";
+    case Dim::kLength:
+      return "length";
+    case Dim::kTime:
+      return "time";
+    case Dim::kAngle:
+      return "angle";
+    case Dim::kDimensionless:
+      return "dimensionless";
+    case Dim::kText:
+      return "text";
+  }
+  return "";
+}
+
+std::string units_of(Dim dim) {
+  std::string out;
+  for (const auto& u : kUnits) {
+    if (dim != Dim::kText && u.dim != dim) continue;
+    if (!out.empty()) out += ", ";
+    out += u.name;
+  }
+  return out;
+}
+
+const std::vector<ColumnSpec>& schema_columns() {
+  static const std::vector<ColumnSpec> columns = {
+      {Col::kId, "id", Dim::kText, true},
+      {Col::kShape, "shape", Dim::kText, true},
+      {Col::kVinX, "vin_x", Dim::kVelocity, true},
+      {Col::kVinY, "vin_y", Dim::kVelocity, true},
+      {Col::kWin, "win", Dim::kAngularVelocity, true},
+      {Col::kVoutX, "vout_x", Dim::kVelocity, true},
+      {Col::kVoutY, "vout_y", Dim::kVelocity, true},
+      {Col::kWout, "wout", Dim::kAngularVelocity, true},
+      {Col::kAlphaIn, "alpha_in", Dim::kAngle, false},
+      {Col::kPenetration, "penetration", Dim::kLength, false},
+      {Col::kContactDuration, "contact_duration", Dim::kTime, false},
+      {Col::kOperator, "operator", Dim::kText, false},
+      {Col::kWeight, "weight", Dim::kDimensionless, false},
+      {Col::kSigmaVinX, "sigma_vin_x", Dim::kVelocity, false},
+      {Col::kSigmaVinY, "sigma_vin_y", Dim::kVelocity, false},
+      {Col::kSigmaVinW, "sigma_vin_w", Dim::kAngularVelocity, false},
+      {Col::kSigmaVoutX, "sigma_vout_x", Dim::kVelocity, false},
+      {Col::kSigmaVoutY, "sigma_vout_y", Dim::kVelocity, false},
+      {Col::kSigmaVoutW, "sigma_vout_w", Dim::kAngularVelocity, false},
+  };
+  return columns;
+}
+
+const ColumnSpec* find_column(std::string_view name) {
+  for (const auto& c : schema_columns())
+    if (name == c.name) return &c;
+  return nullptr;
+}
+
+bool is_reserved_name(std::string_view name) {
+  return find_column(name) != nullptr || name == "speed_in";
+}
+
+bool is_valid_column_name(std::string_view name) {
+  if (name.empty()) return false;
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
+  });
+}
+
+std::optional<double> get_numeric(const Impact& m, Col col) {
+  switch (col) {
+    case Col::kVinX:
+      return m.vin[kVx];
+    case Col::kVinY:
+      return m.vin[kVy];
+    case Col::kWin:
+      return m.vin[kW];
+    case Col::kVoutX:
+      return m.vout[kVx];
+    case Col::kVoutY:
+      return m.vout[kVy];
+    case Col::kWout:
+      return m.vout[kW];
+    case Col::kAlphaIn:
+      return m.alpha_in;
+    case Col::kPenetration:
+      return m.penetration;
+    case Col::kContactDuration:
+      return m.contact_duration;
+    case Col::kWeight:
+      return m.weight;
+    case Col::kSigmaVinX:
+      return m.sigma_vin ? std::optional((*m.sigma_vin)[kVx]) : std::nullopt;
+    case Col::kSigmaVinY:
+      return m.sigma_vin ? std::optional((*m.sigma_vin)[kVy]) : std::nullopt;
+    case Col::kSigmaVinW:
+      return m.sigma_vin ? std::optional((*m.sigma_vin)[kW]) : std::nullopt;
+    case Col::kSigmaVoutX:
+      return m.sigma_vout ? std::optional((*m.sigma_vout)[kVx]) : std::nullopt;
+    case Col::kSigmaVoutY:
+      return m.sigma_vout ? std::optional((*m.sigma_vout)[kVy]) : std::nullopt;
+    case Col::kSigmaVoutW:
+      return m.sigma_vout ? std::optional((*m.sigma_vout)[kW]) : std::nullopt;
+    case Col::kId:
+    case Col::kShape:
+    case Col::kOperator:
+      break;
+  }
+  return std::nullopt;
+}
+
+void set_numeric(Impact& m, Col col, double v) {
+  auto sigma = [&](std::optional<Vel3>& s, Component c) {
+    if (!s) s = Vel3{0.0, 0.0, 0.0};
+    (*s)[c] = v;
+  };
+  switch (col) {
+    case Col::kVinX:
+      m.vin[kVx] = v;
+      break;
+    case Col::kVinY:
+      m.vin[kVy] = v;
+      break;
+    case Col::kWin:
+      m.vin[kW] = v;
+      break;
+    case Col::kVoutX:
+      m.vout[kVx] = v;
+      break;
+    case Col::kVoutY:
+      m.vout[kVy] = v;
+      break;
+    case Col::kWout:
+      m.vout[kW] = v;
+      break;
+    case Col::kAlphaIn:
+      m.alpha_in = v;
+      break;
+    case Col::kPenetration:
+      m.penetration = v;
+      break;
+    case Col::kContactDuration:
+      m.contact_duration = v;
+      break;
+    case Col::kWeight:
+      m.weight = v;
+      break;
+    case Col::kSigmaVinX:
+      sigma(m.sigma_vin, kVx);
+      break;
+    case Col::kSigmaVinY:
+      sigma(m.sigma_vin, kVy);
+      break;
+    case Col::kSigmaVinW:
+      sigma(m.sigma_vin, kW);
+      break;
+    case Col::kSigmaVoutX:
+      sigma(m.sigma_vout, kVx);
+      break;
+    case Col::kSigmaVoutY:
+      sigma(m.sigma_vout, kVy);
+      break;
+    case Col::kSigmaVoutW:
+      sigma(m.sigma_vout, kW);
+      break;
+    case Col::kId:
+    case Col::kShape:
+    case Col::kOperator:
+      break;
+  }
+}
+
+bool has_column(const Impact& m, Col col) {
+  switch (col) {
+    case Col::kId:
+    case Col::kShape:
+      return true;
+    case Col::kOperator:
+      return m.op.has_value();
+    default:
+      return get_numeric(m, col).has_value();
+  }
+}
+
+void check_impact(const Impact& m, std::size_t n_extra, const std::string& file, std::size_t line) {
+  check_text(m.id, "id", file, line);
+  check_text(m.shape, "shape", file, line);
+  for (const auto& spec : schema_columns()) {
+    if (spec.dim == Dim::kText) continue;
+    const auto v = get_numeric(m, spec.col);
+    if (v) check_finite(*v, spec.name, file, line);
+  }
+  // Frame of paper Fig. 1 (y up): the block falls onto the ground and leaves it upwards.
+  if (m.vin[kVy] >= 0)
+    throw InputError(file, line, "vin_y",
+                     "incident vertical velocity " + format_number(m.vin[kVy]) +
+                         " m/s must be negative (y is up: the block falls onto the ground)");
+  if (m.vout[kVy] <= 0)
+    throw InputError(file, line, "vout_y",
+                     "reflected vertical velocity " + format_number(m.vout[kVy]) +
+                         " m/s must be positive (y is up: the block leaves the ground)");
+  if (m.penetration) check_non_negative(*m.penetration, "penetration", "m", file, line);
+  if (m.contact_duration)
+    check_non_negative(*m.contact_duration, "contact_duration", "s", file, line);
+  if (m.weight) check_non_negative(*m.weight, "weight", "-", file, line);
+  if (m.op) check_text(*m.op, "operator", file, line);
+  const char* sigma_names[2][3] = {{"sigma_vin_x", "sigma_vin_y", "sigma_vin_w"},
+                                   {"sigma_vout_x", "sigma_vout_y", "sigma_vout_w"}};
+  const std::optional<Vel3>* sigmas[2] = {&m.sigma_vin, &m.sigma_vout};
+  for (int s = 0; s < 2; ++s) {
+    if (!*sigmas[s]) continue;
+    for (int c = 0; c < 3; ++c)
+      check_non_negative((**sigmas[s])[c], sigma_names[s][c], c == kW ? "rad/s" : "m/s", file,
+                         line);
+  }
+  if (m.extra.size() != n_extra)
+    throw InputError(file, line, "extra",
+                     "impact '" + m.id + "' has " + std::to_string(m.extra.size()) +
+                         " extra values but the set declares " + std::to_string(n_extra));
+  for (double v : m.extra)
+    if (std::isinf(v)) throw InputError(file, line, "extra", "extra value is infinite");
+}
+
+void check_extras_declaration(const ImpactSet& set, const std::string& file, std::size_t line) {
+  if (set.extra_names.size() != set.extra_units.size())
+    throw InputError(file, line, "extra_units",
+                     "extra_names and extra_units have different lengths");
+  std::unordered_set<std::string> seen;
+  for (std::size_t i = 0; i < set.extra_names.size(); ++i) {
+    const auto& name = set.extra_names[i];
+    if (!is_valid_column_name(name))
+      throw InputError(file, line, name, "column names may only use letters, digits and '_'");
+    if (is_reserved_name(name))
+      throw InputError(file, line, name, "name is reserved by the schema");
+    if (!seen.insert(name).second) throw InputError(file, line, name, "duplicate column");
+    const Unit* u = find_unit(set.extra_units[i]);
+    if (!u || u->to_si != 1.0)
+      throw InputError(file, line, name,
+                       "extra unit '" + set.extra_units[i] +
+                           "' is not an SI unit of the schema (m/s, rad/s, m, s, rad, -)");
+  }
+}
+
+std::string format_number(double value) {
+  std::array<char, 64> buf;
+  const auto res = std::to_chars(buf.data(), buf.data() + buf.size(), value);
+  return std::string(buf.data(), res.ptr);
+}
+
+bool parse_number(std::string_view text, double& value) {
+  // from_chars rejects a leading '+', which spreadsheets sometimes write; accept "+1.5" only.
+  if (!text.empty() && text.front() == '+') {
+    text.remove_prefix(1);
+    if (text.empty() || text.front() == '-' || text.front() == '+') return false;
+  }
+  if (text.empty()) return false;
+  const auto res = std::from_chars(text.data(), text.data() + text.size(), value);
+  return res.ec == std::errc() && res.ptr == text.data() + text.size();
+}
+
+std::string_view trim(std::string_view text) {
+  constexpr std::string_view kSpace = " \t\r\v\f";
+  const auto b = text.find_first_not_of(kSpace);
+  if (b == std::string_view::npos) return {};
+  const auto e = text.find_last_not_of(kSpace);
+  return text.substr(b, e - b + 1);
+}
+
+}  // namespace impact_detail
+
+using namespace impact_detail;
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+const char* const kDerivedFeatures[] = {
+    "vin_x",    "vin_y",    "win",         "vout_x",           "vout_y", "wout",
+    "speed_in", "alpha_in", "penetration", "contact_duration", "weight"};
+
+std::string known_feature_list(const ImpactSet& set) {
+  std::string out;
+  for (const char* n : kDerivedFeatures) out += std::string(out.empty() ? "" : ", ") + n;
+  for (const auto& n : set.extra_names) out += ", " + n;
+  return out;
+}
+
+}  // namespace
+
+std::vector<double> ImpactSet::feature(const std::string& name) const {
+  std::vector<double> out;
+  out.reserve(impacts.size());
+  if (name == "speed_in") {
+    for (const auto& m : impacts) out.push_back(std::hypot(m.vin[kVx], m.vin[kVy]));
+    return out;
+  }
+  if (const ColumnSpec* spec = find_column(name);
+      spec && spec->dim != Dim::kText && name.rfind("sigma_", 0) != 0) {
+    for (const auto& m : impacts) out.push_back(get_numeric(m, spec->col).value_or(kNaN));
+    return out;
+  }
+  const auto it = std::find(extra_names.begin(), extra_names.end(), name);
+  if (it == extra_names.end())
+    throw std::invalid_argument("unknown feature '" + name +
+                                "'; known: " + known_feature_list(*this));
+  const auto k = static_cast<std::size_t>(it - extra_names.begin());
+  for (const auto& m : impacts) out.push_back(k < m.extra.size() ? m.extra[k] : kNaN);
+  return out;
+}
+
+std::vector<std::string> ImpactSet::feature_names() const {
+  std::vector<std::string> names;
+  auto any_value = [&](const std::string& n) {
+    const auto v = feature(n);
+    return std::any_of(v.begin(), v.end(), [](double x) { return !std::isnan(x); });
+  };
+  for (const char* n : kDerivedFeatures)
+    if (any_value(n)) names.emplace_back(n);
+  for (const auto& n : extra_names)
+    if (any_value(n)) names.push_back(n);
+  return names;
+}
+
+ImpactSet ImpactSet::with_shape(const std::string& shape) const {
+  ImpactSet out = *this;
+  if (shape.empty()) return out;
+  out.impacts.clear();
+  for (const auto& m : impacts)
+    if (m.shape == shape) out.impacts.push_back(m);
+  return out;
+}
+
+void validate(const ImpactSet& set) {
+  check_extras_declaration(set, set.source, 0);
+  std::unordered_map<std::string, std::size_t> first_row;
+  for (std::size_t i = 0; i < set.impacts.size(); ++i) {
+    const Impact& m = set.impacts[i];
+    check_impact(m, set.extra_names.size(), set.source, i + 1);
+    const auto [it, inserted] = first_row.emplace(m.id, i + 1);
+    if (!inserted)
+      throw InputError(
+          set.source, i + 1, "id",
+          "duplicate id '" + m.id + "' (first at row " + std::to_string(it->second) + ")");
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Filters ("vin_x<3.5 && shape==triangle").
+
+namespace {
+
+enum class Op { kLt, kLe, kGt, kGe, kEq, kNe };
+
+struct Term {
+  std::string text;     // the term as written, for messages
+  std::string feature;  // feature name, or id/shape/operator
+  Op op = Op::kEq;
+  bool textual = false;
+  std::string text_value;
+  double value = 0;
+  std::vector<double> values;  // numeric feature over the set
+};
+
+[[noreturn]] void bad_term(const std::string& term, const std::string& message) {
+  throw InputError("--where", 0, term, message);
+}
+
+// Splits on "&&" and on the word "and" (case-insensitive, surrounded by whitespace).
+std::vector<std::string> split_terms(const std::string& where) {
+  std::vector<std::string> pieces;
+  std::string current;
+  auto is_space = [](char c) { return c == ' ' || c == '\t'; };
+  auto lower = [](char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c + 32) : c; };
+  for (std::size_t i = 0; i < where.size();) {
+    if (where.compare(i, 2, "&&") == 0) {
+      pieces.push_back(current);
+      current.clear();
+      i += 2;
+      continue;
+    }
+    if (is_space(where[i]) && i + 4 < where.size() && lower(where[i + 1]) == 'a' &&
+        lower(where[i + 2]) == 'n' && lower(where[i + 3]) == 'd' && is_space(where[i + 4])) {
+      pieces.push_back(current);
+      current.clear();
+      i += 5;
+      continue;
+    }
+    current += where[i++];
+  }
+  pieces.push_back(current);
+  return pieces;
+}
+
+Term parse_term(const std::string& raw, const ImpactSet& set) {
+  Term t;
+  t.text = std::string(trim(raw));
+  if (t.text.empty()) bad_term(raw, "empty condition (a dangling '&&' or 'and'?)");
+  const auto pos = t.text.find_first_of("<>=!");
+  if (pos == std::string::npos)
+    bad_term(t.text, "no comparison operator; write FEATURE OP VALUE with OP in < <= > >= == !=");
+  const std::string_view rest = std::string_view(t.text).substr(pos);
+  std::size_t op_len = 2;
+  if (rest.starts_with("<=")) {
+    t.op = Op::kLe;
+  } else if (rest.starts_with(">=")) {
+    t.op = Op::kGe;
+  } else if (rest.starts_with("==")) {
+    t.op = Op::kEq;
+  } else if (rest.starts_with("!=")) {
+    t.op = Op::kNe;
+  } else if (rest.starts_with("<")) {
+    t.op = Op::kLt;
+    op_len = 1;
+  } else if (rest.starts_with(">")) {
+    t.op = Op::kGt;
+    op_len = 1;
+  } else {
+    bad_term(t.text, "unknown operator; use one of < <= > >= == !=");
+  }
+  t.feature = std::string(trim(std::string_view(t.text).substr(0, pos)));
+  std::string value(trim(rest.substr(op_len)));
+  if (t.feature.empty()) bad_term(t.text, "missing feature name before the operator");
+  if (value.empty()) bad_term(t.text, "missing value after the operator");
+  if (value.find_first_of("<>=!") != std::string::npos)
+    bad_term(t.text, "more than one comparison operator in one condition; join with &&");
+
+  if (t.feature == "id" || t.feature == "shape" || t.feature == "operator") {
+    t.textual = true;
+    if (t.op != Op::kEq && t.op != Op::kNe)
+      bad_term(t.text, "'" + t.feature + "' is text: only == and != apply");
+    if (value.size() >= 2 && (value.front() == '"' || value.front() == '\'') &&
+        value.back() == value.front())
+      value = value.substr(1, value.size() - 2);
+    t.text_value = value;
+    return t;
+  }
+  try {
+    t.values = set.feature(t.feature);
+  } catch (const std::invalid_argument& e) {
+    bad_term(t.text, std::string(e.what()) + ", id, shape, operator");
+  }
+  if (!parse_number(value, t.value) || !std::isfinite(t.value))
+    bad_term(t.text, "value '" + value + "' is not a finite number (SI units, e.g. 3.5)");
+  return t;
+}
+
+template <typename T>
+bool compare(const T& a, Op op, const T& b) {
+  switch (op) {
+    case Op::kLt:
+      return a < b;
+    case Op::kLe:
+      return a <= b;
+    case Op::kGt:
+      return a > b;
+    case Op::kGe:
+      return a >= b;
+    case Op::kEq:
+      return a == b;
+    case Op::kNe:
+      return a != b;
+  }
+  return false;
+}
+
+}  // namespace
+
+ImpactSet filter(const ImpactSet& set, const std::string& where) {
+  if (trim(where).empty()) return set;
+  std::vector<Term> terms;
+  for (const auto& piece : split_terms(where)) terms.push_back(parse_term(piece, set));
+
+  ImpactSet out = set;
+  out.impacts.clear();
+  out.comments.push_back("filter: " + where);
+  for (std::size_t i = 0; i < set.impacts.size(); ++i) {
+    const Impact& m = set.impacts[i];
+    bool keep = true;
+    for (const Term& t : terms) {
+      if (t.textual) {
+        const std::string* field = t.feature == "id"      ? &m.id
+                                   : t.feature == "shape" ? &m.shape
+                                   : m.op                 ? &*m.op
+                                                          : nullptr;
+        // A release without an operator matches no condition on the operator.
+        keep = field != nullptr && compare(*field, t.op, t.text_value);
+      } else {
+        // A missing value (NaN) matches no condition, not even "!=".
+        const double v = t.values[i];
+        keep = !std::isnan(v) && compare(v, t.op, t.value);
+      }
+      if (!keep) break;
+    }
+    if (keep) out.impacts.push_back(m);
+  }
+  return out;
+}
+
+}  // namespace ricochet

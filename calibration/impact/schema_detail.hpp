@@ -1,0 +1,95 @@
+// Internal to the impact module: the column table, units and per-impact checks shared by the
+// CSV reader/writer, the HDF5 reader/writer and validate(). Not part of the public API.
+//
+// This header (and impact_set.cpp, impact_csv.cpp) must not depend on HDF5: the fuzz target
+// compiles them alone with clang (see fuzz/README.md).
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "impact/impact_set.hpp"
+
+namespace ricochet::impact_detail {
+
+/// Physical dimension of a column; fixes which units it accepts and its SI unit.
+enum class Dim { kVelocity, kAngularVelocity, kLength, kTime, kAngle, kDimensionless, kText };
+
+/// A unit the readers accept: value_SI = value_in_file * to_si.
+struct Unit {
+  const char* name;
+  Dim dim;
+  double to_si;
+};
+/// The unit named `name` (exact, case-sensitive), or nullptr if unknown.
+const Unit* find_unit(std::string_view name);
+/// SI unit written by the writers for a dimension ("m/s", "rad/s", "m", "s", "rad", "-").
+const char* si_unit(Dim dim);
+/// "m/s, cm/s, mm/s" for messages; all known units when dim is kText.
+std::string units_of(Dim dim);
+const char* dim_name(Dim dim);
+
+/// Schema columns other than extras, in the order the writers emit them.
+enum class Col {
+  kId,
+  kShape,
+  kVinX,
+  kVinY,
+  kWin,
+  kVoutX,
+  kVoutY,
+  kWout,
+  kAlphaIn,
+  kPenetration,
+  kContactDuration,
+  kOperator,
+  kWeight,
+  kSigmaVinX,
+  kSigmaVinY,
+  kSigmaVinW,
+  kSigmaVoutX,
+  kSigmaVoutY,
+  kSigmaVoutW,
+};
+struct ColumnSpec {
+  Col col;
+  const char* name;
+  Dim dim;
+  bool required;
+};
+/// All schema columns in writer order.
+const std::vector<ColumnSpec>& schema_columns();
+/// The schema column named `name`, or nullptr (then the column is an extra feature).
+const ColumnSpec* find_column(std::string_view name);
+/// Names that extras may not take: schema columns plus derived features (speed_in).
+bool is_reserved_name(std::string_view name);
+/// Column names are identifiers: [A-Za-z0-9_]+ (they become HDF5 dataset names and JSON keys).
+bool is_valid_column_name(std::string_view name);
+
+/// Numeric value of a schema column for one impact (nullopt when the optional field is absent).
+std::optional<double> get_numeric(const Impact& impact, Col col);
+/// Sets a numeric schema column; sigma components create the triple (zeros) on first use.
+void set_numeric(Impact& impact, Col col, double value_si);
+/// True when the impact carries this optional column.
+bool has_column(const Impact& impact, Col col);
+
+/// Checks the invariants of one impact (not the uniqueness of its id) and throws InputError(file,
+/// line, field, ...) on the first violation. `n_extra` is the expected size of impact.extra.
+void check_impact(const Impact& impact, std::size_t n_extra, const std::string& file,
+                  std::size_t line);
+/// Checks extra_names / extra_units of a set (names valid, unique, not reserved; SI units).
+void check_extras_declaration(const ImpactSet& set, const std::string& file, std::size_t line);
+
+/// Shortest decimal text that reads back to the same double (std::to_chars).
+std::string format_number(double value);
+/// Parses a whole cell as a double (std::from_chars, optional leading '+'); false if any
+/// character is left over or the value is out of range. NaN/inf parse: the caller checks.
+bool parse_number(std::string_view text, double& value);
+
+/// Trims spaces, tabs, CR, VT and FF on both sides.
+std::string_view trim(std::string_view text);
+
+}  // namespace ricochet::impact_detail
