@@ -491,10 +491,10 @@ std::vector<std::string> split_terms(const std::string& where) {
   return pieces;
 }
 
-Term parse_term(const std::string& raw, const ImpactSet& set) {
+Term parse_term(const std::string& raw, const std::string& where, const ImpactSet& set) {
   Term t;
   t.text = std::string(trim(raw));
-  if (t.text.empty()) bad_term(raw, "empty condition (a dangling '&&' or 'and'?)");
+  if (t.text.empty()) bad_term(where, "empty condition (a dangling '&&' or 'and'?)");
   const auto pos = t.text.find_first_of("<>=!");
   if (pos == std::string::npos)
     bad_term(t.text, "no comparison operator; write FEATURE OP VALUE with OP in < <= > >= == !=");
@@ -568,7 +568,7 @@ bool compare(const T& a, Op op, const T& b) {
 ImpactSet filter(const ImpactSet& set, const std::string& where) {
   if (trim(where).empty()) return set;
   std::vector<Term> terms;
-  for (const auto& piece : split_terms(where)) terms.push_back(parse_term(piece, set));
+  for (const auto& piece : split_terms(where)) terms.push_back(parse_term(piece, where, set));
 
   ImpactSet out = set;
   out.impacts.clear();
