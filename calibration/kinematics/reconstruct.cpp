@@ -1,0 +1,704 @@
+// Trajectory reconstruction (paper section 2.3). See reconstruct.hpp for the model and
+// docs/commands/reconstruct.md for the automatic contact-window criterion.
+#include "kinematics/reconstruct.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+
+#include "common/error.hpp"
+
+namespace ricochet::kinematics {
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Track CSV reader
+
+std::string trim(std::string_view s) {
+  const auto b = s.find_first_not_of(" \t\r");
+  if (b == std::string_view::npos) return {};
+  const auto e = s.find_last_not_of(" \t\r");
+  return std::string(s.substr(b, e - b + 1));
+}
+
+std::vector<std::string> split_csv(const std::string& line) {
+  std::vector<std::string> cells;
+  std::size_t start = 0;
+  while (true) {
+    const auto comma = line.find(',', start);
+    cells.push_back(trim(std::string_view(line).substr(
+        start, comma == std::string::npos ? std::string::npos : comma - start)));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return cells;
+}
+
+enum class Quantity { kTime, kLength, kAngle };
+
+/// Factor to SI of a unit of the given quantity; nullopt if the unit does not fit. For lengths,
+/// `px` returns 0 (scaled later by the pixel size).
+std::optional<double> unit_factor(Quantity q, const std::string& unit) {
+  switch (q) {
+    case Quantity::kTime:
+      if (unit == "s") return 1.0;
+      if (unit == "ms") return 1e-3;
+      break;
+    case Quantity::kLength:
+      if (unit == "m") return 1.0;
+      if (unit == "mm") return 1e-3;
+      if (unit == "px") return 0.0;
+      break;
+    case Quantity::kAngle:
+      if (unit == "rad") return 1.0;
+      if (unit == "deg") return std::numbers::pi / 180.0;
+      break;
+  }
+  return std::nullopt;
+}
+
+const char* units_of(Quantity q) {
+  switch (q) {
+    case Quantity::kTime:
+      return "s, ms";
+    case Quantity::kLength:
+      return "px, mm, m";
+    case Quantity::kAngle:
+      return "rad, deg";
+  }
+  return "";
+}
+
+struct TrackColumn {
+  const char* name;
+  Quantity quantity;
+  int index = -1;     // position in the row, -1 if absent
+  double factor = 1;  // to SI
+  bool pixels = false;
+};
+
+double parse_cell(const std::string& cell, const std::string& file, std::size_t line,
+                  const std::string& column) {
+  double v = 0;
+  const char* first = cell.data();
+  const char* last = cell.data() + cell.size();
+  const auto [ptr, ec] = std::from_chars(first, last, v);
+  if (cell.empty() || ec != std::errc() || ptr != last)
+    throw InputError(file, line, column, "'" + cell + "' is not a number");
+  if (!std::isfinite(v))
+    throw InputError(file, line, column, "value must be finite, got '" + cell + "'");
+  return v;
+}
+
+/// Adds multiples of 2 pi so that consecutive angles differ by less than pi (the camera frame
+/// rate must resolve the rotation: less than half a turn between frames).
+void unwrap(std::vector<double>& theta) {
+  double offset = 0;
+  for (std::size_t i = 1; i < theta.size(); ++i) {
+    const double raw = theta[i] + offset;
+    const double d = raw - theta[i - 1];
+    offset -= 2 * std::numbers::pi * std::round(d / (2 * std::numbers::pi));
+    theta[i] += offset;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Least squares
+
+/// Polynomial least-squares fit v(t) = sum_k c_k tau^k - g (t - t_ref)^2 / 2, tau = (t - t_ref)
+/// / scale, of degree 1 or 2 (g = 0 unless gravity is imposed on y). Centering at the
+/// evaluation time and scaling keep the normal matrix well conditioned.
+struct PolyFit {
+  double t_ref = 0, scale = 1, g_imposed = 0;
+  Eigen::VectorXd coef;
+  Eigen::MatrixXd cov_unit;  // (X^T X)^-1: covariance of coef for unit noise
+  double rss = 0;
+  std::size_t n = 0;
+
+  std::size_t params() const { return static_cast<std::size_t>(coef.size()); }
+  Eigen::VectorXd basis(double t) const {
+    Eigen::VectorXd phi(coef.size());
+    const double tau = (t - t_ref) / scale;
+    double p = 1;
+    for (Eigen::Index k = 0; k < coef.size(); ++k, p *= tau) phi[k] = p;
+    return phi;
+  }
+  Eigen::VectorXd basis_derivative(double t) const {
+    Eigen::VectorXd d = Eigen::VectorXd::Zero(coef.size());
+    const double tau = (t - t_ref) / scale;
+    double p = 1;
+    for (Eigen::Index k = 1; k < coef.size(); ++k, p *= tau)
+      d[k] = static_cast<double>(k) * p / scale;
+    return d;
+  }
+  double value(double t) const {
+    return basis(t).dot(coef) - 0.5 * g_imposed * (t - t_ref) * (t - t_ref);
+  }
+  double derivative(double t) const {
+    return basis_derivative(t).dot(coef) - g_imposed * (t - t_ref);
+  }
+  /// Standard deviation of derivative(t) for unit noise.
+  double derivative_sd_unit(double t) const {
+    const Eigen::VectorXd d = basis_derivative(t);
+    return std::sqrt(std::max(0.0, d.dot(cov_unit * d)));
+  }
+};
+
+PolyFit fit_poly(const std::vector<double>& t, const std::vector<double>& v,
+                 const std::vector<std::size_t>& idx, int degree, double t_ref, double g_imposed) {
+  PolyFit f;
+  f.t_ref = t_ref;
+  f.g_imposed = g_imposed;
+  f.n = idx.size();
+  double span = 0;
+  for (std::size_t i : idx) span = std::max(span, std::abs(t[i] - t_ref));
+  f.scale = span > 0 ? span : 1;
+  const Eigen::Index p = degree + 1;
+  Eigen::MatrixXd X(static_cast<Eigen::Index>(idx.size()), p);
+  Eigen::VectorXd b(static_cast<Eigen::Index>(idx.size()));
+  for (std::size_t r = 0; r < idx.size(); ++r) {
+    const double dt = t[idx[r]] - t_ref;
+    const double tau = dt / f.scale;
+    double pw = 1;
+    for (Eigen::Index k = 0; k < p; ++k, pw *= tau) X(static_cast<Eigen::Index>(r), k) = pw;
+    // Gravity imposed: fit y + g dt^2 / 2, which is linear in time during free flight.
+    b[static_cast<Eigen::Index>(r)] = v[idx[r]] + 0.5 * g_imposed * dt * dt;
+  }
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(X);
+  if (qr.rank() < p) throw std::invalid_argument("reconstruct: degenerate fit (repeated times)");
+  f.coef = qr.solve(b);
+  f.rss = (X * f.coef - b).squaredNorm();
+  f.cov_unit = (X.transpose() * X).inverse();
+  return f;
+}
+
+/// The three free-flight fits of one side of the contact window.
+struct SideFit {
+  PolyFit x, y, theta;
+  bool has_theta = false;
+  std::size_t dof_pos() const { return (x.n - x.params()) + (y.n - y.params()); }
+  std::size_t dof_theta() const { return has_theta ? theta.n - theta.params() : 0; }
+};
+
+SideFit fit_side(const Track& tr, const std::vector<std::size_t>& idx, double t_eval,
+                 const std::optional<double>& gravity) {
+  SideFit s;
+  s.x = fit_poly(tr.t, tr.x, idx, 1, t_eval, 0);
+  s.y = gravity ? fit_poly(tr.t, tr.y, idx, 1, t_eval, *gravity)
+                : fit_poly(tr.t, tr.y, idx, 2, t_eval, 0);
+  s.has_theta = !tr.theta.empty();
+  if (s.has_theta) s.theta = fit_poly(tr.t, tr.theta, idx, 1, t_eval, 0);
+  return s;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Noise scale and automatic window detection
+
+double median(std::vector<double> v) {
+  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  if (v.size() % 2) return *mid;
+  return 0.5 * (*mid + *std::max_element(v.begin(), mid));
+}
+
+/// Deviations of each interior point from the straight line through its two neighbours, divided
+/// by their standard deviation for unit white noise (sqrt(1 + w1^2 + w2^2)), then centred on
+/// their median. In free flight they are pure noise (x, theta, y + g t^2/2 are linear in t; a
+/// free-gravity y has a constant curvature offset the median removes); the contact frames are a
+/// minority and do not move a median.
+std::vector<double> interpolation_residuals(const std::vector<double>& t,
+                                            const std::vector<double>& v) {
+  std::vector<double> r;
+  for (std::size_t i = 1; i + 1 < t.size(); ++i) {
+    const double w1 = (t[i + 1] - t[i]) / (t[i + 1] - t[i - 1]);
+    const double w2 = 1 - w1;
+    r.push_back((v[i] - (w1 * v[i - 1] + w2 * v[i + 1])) / std::sqrt(1 + w1 * w1 + w2 * w2));
+  }
+  const double m = median(r);
+  for (double& e : r) e -= m;
+  return r;
+}
+
+/// Robust noise scale: 1.4826 x median absolute deviation (consistent for Gaussian noise).
+double mad_scale(const std::vector<double>& r) {
+  std::vector<double> a(r.size());
+  std::transform(r.begin(), r.end(), a.begin(), [](double e) { return std::abs(e); });
+  return 1.4826 * median(a);
+}
+
+struct NoiseScale {
+  double position_m = 0, theta_rad = 0;
+};
+
+NoiseScale detection_noise(const Track& tr, const std::optional<double>& gravity) {
+  NoiseScale s;
+  if (tr.sigma_position_m > 0) {
+    s.position_m = tr.sigma_position_m;
+  } else {
+    std::vector<double> yy = tr.y;
+    if (gravity)
+      for (std::size_t i = 0; i < yy.size(); ++i) yy[i] += 0.5 * *gravity * tr.t[i] * tr.t[i];
+    std::vector<double> r = interpolation_residuals(tr.t, tr.x);
+    const std::vector<double> ry = interpolation_residuals(tr.t, yy);
+    r.insert(r.end(), ry.begin(), ry.end());
+    double extent = 1;
+    for (const auto* v : {&tr.x, &tr.y}) {
+      const auto [lo, hi] = std::minmax_element(v->begin(), v->end());
+      extent = std::max(extent, *hi - *lo);
+    }
+    // Floors: quantisation of the positions (pixels), and round-off for noise-free series
+    // (LIGGGHTS output) where the MAD can be exactly zero.
+    s.position_m = std::max({mad_scale(r), tr.resolution_m / std::sqrt(12.0), 1e-9 * extent});
+  }
+  if (!tr.theta.empty()) {
+    if (tr.sigma_theta_rad > 0) {
+      s.theta_rad = tr.sigma_theta_rad;
+    } else {
+      const auto [lo, hi] = std::minmax_element(tr.theta.begin(), tr.theta.end());
+      double floor = 1e-9 * std::max(1.0, *hi - *lo);
+      if (tr.mark_radius_m > 0 && tr.resolution_m > 0)
+        floor =
+            std::max(floor, std::sqrt(2.0) * tr.resolution_m / std::sqrt(12.0) / tr.mark_radius_m);
+      s.theta_rad = std::max(mad_scale(interpolation_residuals(tr.t, tr.theta)), floor);
+    }
+  }
+  return s;
+}
+
+/// Incremental least squares on a fixed basis (1, tau, tau^2 with tau = (t - t0) / T) so that a
+/// window can grow point by point at O(1) cost per point (LIGGGHTS series have thousands).
+class GrowingFit {
+ public:
+  GrowingFit(int degree, double t0, double scale, double g)
+      : p_(degree + 1),
+        t0_(t0),
+        scale_(scale),
+        g_(g),
+        ata_(Eigen::MatrixXd::Zero(p_, p_)),
+        atb_(Eigen::VectorXd::Zero(p_)) {}
+  void add(double t, double v) {
+    const Eigen::VectorXd phi = basis(t);
+    ata_ += phi * phi.transpose();
+    atb_ += phi * target(t, v);
+  }
+  /// Prediction residual at (t, v) divided by its standard deviation sigma * sqrt(1 + h).
+  double z(double t, double v, double sigma) const {
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(ata_);
+    const Eigen::VectorXd c = ldlt.solve(atb_);
+    const Eigen::VectorXd phi = basis(t);
+    const double h = phi.dot(ldlt.solve(phi));
+    return (target(t, v) - phi.dot(c)) / (sigma * std::sqrt(1 + std::max(0.0, h)));
+  }
+
+ private:
+  Eigen::VectorXd basis(double t) const {
+    Eigen::VectorXd phi(p_);
+    const double tau = (t - t0_) / scale_;
+    double pw = 1;
+    for (Eigen::Index k = 0; k < p_; ++k, pw *= tau) phi[k] = pw;
+    return phi;
+  }
+  double target(double t, double v) const {
+    const double dt = t - t0_;
+    return v + 0.5 * g_ * dt * dt;
+  }
+  Eigen::Index p_;
+  double t0_, scale_, g_;
+  Eigen::MatrixXd ata_;
+  Eigen::VectorXd atb_;
+};
+
+/// Cost of the free-flight window at one end of the track (forward from the first point or
+/// backward from the last), for every possible extent. Walking away from the end, each point j
+/// is predicted by the free-flight fit of the points before it; z_j^2 is its squared prediction
+/// residual divided by its variance sigma^2 (1 + leverage), summed over x, y and theta. Adding
+/// point j raises the weighted residual sum of squares of the fit by exactly z_j^2 (recursive
+/// least squares), so C(j) = sum_{i <= j} (z_i^2 - k^2) is "misfit minus k^2 per point
+/// explained". Returned per track index (the window's last point for forward, its first point
+/// for backward); +inf for extents shorter than the seed. `z2` receives z_j^2 per track index.
+std::vector<double> window_costs(const Track& tr, bool forward, std::size_t seed, double k,
+                                 const NoiseScale& noise, const std::optional<double>& gravity,
+                                 std::vector<double>& z2) {
+  const std::size_t n = tr.t.size();
+  auto at = [&](std::size_t j) { return forward ? j : n - 1 - j; };
+  const double t0 = tr.t[at(0)];
+  const double scale = std::max(std::abs(tr.t.back() - tr.t.front()), 1e-300);
+  GrowingFit fx(1, t0, scale, 0), fy(gravity ? 1 : 2, t0, scale, gravity.value_or(0.0)),
+      fth(1, t0, scale, 0);
+  const bool has_theta = !tr.theta.empty();
+  auto add = [&](std::size_t i) {
+    fx.add(tr.t[i], tr.x[i]);
+    fy.add(tr.t[i], tr.y[i]);
+    if (has_theta) fth.add(tr.t[i], tr.theta[i]);
+  };
+  std::vector<double> cost(n, std::numeric_limits<double>::infinity());
+  z2.assign(n, 0.0);
+  for (std::size_t j = 0; j < seed; ++j) add(at(j));
+  double c = 0;
+  cost[at(seed - 1)] = 0;
+  for (std::size_t j = seed; j < n; ++j) {
+    const std::size_t i = at(j);
+    const double zx = fx.z(tr.t[i], tr.x[i], noise.position_m);
+    const double zy = fy.z(tr.t[i], tr.y[i], noise.position_m);
+    const double zt = has_theta ? fth.z(tr.t[i], tr.theta[i], noise.theta_rad) : 0.0;
+    z2[i] = zx * zx + zy * zy + zt * zt;
+    c += z2[i] - k * k;
+    cost[i] = c;
+    add(i);
+  }
+  return cost;
+}
+
+/// The pair (b, a), b < a, minimising C_lead(b) + C_trail(a): the last point of the incoming
+/// free flight and the first of the outgoing one. Being a global minimum, it is neither stopped
+/// by an isolated mis-pointed frame (later good points pay for it) nor dragged into the contact
+/// by one lucky point, and the two windows never overlap.
+std::pair<std::size_t, std::size_t> best_windows(const std::vector<double>& lead,
+                                                 const std::vector<double>& trail) {
+  const std::size_t n = lead.size();
+  double best = std::numeric_limits<double>::infinity();
+  std::pair<std::size_t, std::size_t> arg{n, n};
+  double prefix_min = std::numeric_limits<double>::infinity();
+  std::size_t prefix_arg = n;
+  for (std::size_t a = 1; a < n; ++a) {
+    if (lead[a - 1] < prefix_min) {
+      prefix_min = lead[a - 1];
+      prefix_arg = a - 1;
+    }
+    if (prefix_arg < n && std::isfinite(trail[a]) && prefix_min + trail[a] < best) {
+      best = prefix_min + trail[a];
+      arg = {prefix_arg, a};
+    }
+  }
+  return arg;
+}
+
+/// Time in [ta, tb] where fit.value(t) = level (bisection on the fitted polynomial); the nearer
+/// end when the fit does not cross the level there.
+double crossing_time(const PolyFit& fit, double level, double ta, double tb) {
+  double fa = fit.value(ta) - level, fb = fit.value(tb) - level;
+  if (fa == 0) return ta;
+  if (fb == 0) return tb;
+  if ((fa > 0) == (fb > 0)) return std::abs(fa) < std::abs(fb) ? ta : tb;
+  for (int it = 0; it < 200 && tb - ta > 1e-15 * std::max(1.0, std::abs(ta)); ++it) {
+    const double tm = 0.5 * (ta + tb);
+    const double fm = fit.value(tm) - level;
+    if ((fm > 0) == (fa > 0)) {
+      ta = tm;
+      fa = fm;
+    } else {
+      tb = tm;
+    }
+  }
+  return 0.5 * (ta + tb);
+}
+
+void check_track(const Track& tr) {
+  const std::size_t n = tr.t.size();
+  if (tr.x.size() != n || tr.y.size() != n || (!tr.theta.empty() && tr.theta.size() != n))
+    throw std::invalid_argument("reconstruct: track columns t, x, y, theta differ in length");
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(tr.t[i]) || !std::isfinite(tr.x[i]) || !std::isfinite(tr.y[i]) ||
+        (!tr.theta.empty() && !std::isfinite(tr.theta[i])))
+      throw std::invalid_argument("reconstruct: non-finite value at point " + std::to_string(i));
+    if (i > 0 && !(tr.t[i] > tr.t[i - 1]))
+      throw std::invalid_argument("reconstruct: time must increase strictly (point " +
+                                  std::to_string(i) + ")");
+  }
+}
+
+}  // namespace
+
+Track parse_track_csv(const std::string& text, const std::string& name,
+                      std::optional<double> pixel_size_m, bool image_y_down) {
+  if (pixel_size_m && !(std::isfinite(*pixel_size_m) && *pixel_size_m > 0))
+    throw InputError(name, 0, "--pixel-size", "pixel size must be a positive number of m/px");
+  std::istringstream in(text);
+  std::string line;
+  std::size_t lineno = 0, header_line = 0;
+  std::vector<TrackColumn> cols = {{"t", Quantity::kTime},        {"x", Quantity::kLength},
+                                   {"y", Quantity::kLength},      {"mark_x", Quantity::kLength},
+                                   {"mark_y", Quantity::kLength}, {"theta", Quantity::kAngle}};
+  enum { kT, kX, kY, kMx, kMy, kTheta };
+  std::size_t width = 0;
+  std::vector<std::array<double, 6>> rows;
+  std::vector<std::size_t> row_lines;
+  while (std::getline(in, line)) {
+    ++lineno;
+    const std::string trimmed = trim(line);
+    if (trimmed.empty() || trimmed.front() == '#') continue;
+    const std::vector<std::string> cells = split_csv(trimmed);
+    if (header_line == 0) {
+      header_line = lineno;
+      width = cells.size();
+      for (std::size_t c = 0; c < cells.size(); ++c) {
+        const std::string& cell = cells[c];
+        const auto open = cell.find('[');
+        const std::string cname = trim(cell.substr(0, open));
+        for (TrackColumn& col : cols) {
+          if (cname != col.name) continue;
+          if (col.index >= 0) throw InputError(name, lineno, cname, "column appears twice");
+          if (open == std::string::npos || cell.back() != ']')
+            throw InputError(name, lineno, cname,
+                             std::string("missing unit: write ") + col.name +
+                                 "[unit] with unit in " + units_of(col.quantity));
+          const std::string unit = trim(cell.substr(open + 1, cell.size() - open - 2));
+          const auto f = unit_factor(col.quantity, unit);
+          if (!f)
+            throw InputError(name, lineno, cname,
+                             "unknown unit '" + unit + "' (use " + units_of(col.quantity) + ")");
+          col.index = static_cast<int>(c);
+          col.pixels = col.quantity == Quantity::kLength && *f == 0;
+          col.factor = *f;
+        }
+      }
+      for (int required : {kT, kX, kY})
+        if (cols[required].index < 0)
+          throw InputError(name, lineno, cols[required].name, "missing column");
+      const bool marks = cols[kMx].index >= 0 || cols[kMy].index >= 0;
+      if (marks && cols[kMx].index < 0) throw InputError(name, lineno, "mark_x", "missing column");
+      if (marks && cols[kMy].index < 0) throw InputError(name, lineno, "mark_y", "missing column");
+      if (marks && cols[kTheta].index >= 0)
+        throw InputError(name, lineno, "theta", "give either mark_x, mark_y or theta, not both");
+      if (!marks && cols[kTheta].index < 0)
+        throw InputError(name, lineno, "mark_x",
+                         "missing column: the rotation needs mark_x and mark_y (eccentric mark) "
+                         "or theta");
+      bool any_px = false;
+      for (TrackColumn& col : cols) {
+        if (col.index < 0 || col.quantity != Quantity::kLength) continue;
+        if (col.pixels) {
+          any_px = true;
+          if (!pixel_size_m)
+            throw InputError(name, lineno, col.name,
+                             "coordinates in px need the pixel size (--pixel-size M, in m/px)");
+          col.factor = *pixel_size_m;
+        }
+      }
+      if (!any_px && pixel_size_m)
+        throw InputError(name, lineno, "x",
+                         "--pixel-size applies to px columns, but this track is in mm or m");
+      continue;
+    }
+    if (cells.size() != width)
+      throw InputError(
+          name, lineno, cells.size() < width ? cols[kT].name : "",
+          "expected " + std::to_string(width) + " cells, found " + std::to_string(cells.size()));
+    std::array<double, 6> row{};
+    for (std::size_t k = 0; k < cols.size(); ++k) {
+      if (cols[k].index < 0) continue;
+      row[k] =
+          parse_cell(cells[static_cast<std::size_t>(cols[k].index)], name, lineno, cols[k].name) *
+          cols[k].factor;
+    }
+    if (!rows.empty() && !(row[kT] > rows.back()[kT]))
+      throw InputError(name, lineno, "t", "time must increase strictly from row to row");
+    rows.push_back(row);
+    row_lines.push_back(lineno);
+  }
+  if (header_line == 0) throw InputError(name, 0, "", "no header row (expected t[s],x[px],...)");
+  if (rows.size() < 6)
+    throw InputError(name, lineno, "",
+                     "a track needs at least 6 rows, found " + std::to_string(rows.size()));
+  Track tr;
+  tr.source = name;
+  const double ysign = image_y_down ? -1 : 1;
+  const bool marks = cols[kMx].index >= 0;
+  std::vector<double> radius;
+  for (const auto& r : rows) {
+    tr.t.push_back(r[kT]);
+    tr.x.push_back(r[kX]);
+    tr.y.push_back(ysign * r[kY]);
+    if (marks) {
+      const double dx = r[kMx] - r[kX], dy = ysign * r[kMy] - ysign * r[kY];
+      tr.theta.push_back(std::atan2(dy, dx));
+      radius.push_back(std::hypot(dx, dy));
+    } else {
+      tr.theta.push_back(r[kTheta]);
+    }
+  }
+  if (marks) {
+    for (std::size_t i = 0; i < radius.size(); ++i)
+      if (radius[i] == 0)
+        throw InputError(name, row_lines[i], "mark_x",
+                         "the eccentric mark coincides with the centre: no rotation angle");
+    tr.mark_radius_m = median(radius);
+  }
+  unwrap(tr.theta);
+  if (cols[kX].pixels) tr.resolution_m = *pixel_size_m;
+  return tr;
+}
+
+Track read_track_csv(const std::string& path, std::optional<double> pixel_size_m,
+                     bool image_y_down) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, 0, "", "cannot open the track file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_track_csv(text.str(), path, pixel_size_m, image_y_down);
+}
+
+Reconstruction reconstruct(const Track& track, const ReconstructOptions& options) {
+  check_track(track);
+  const std::size_t n = track.t.size();
+  const auto& g = options.gravity_mps2;
+  if (g && !std::isfinite(*g)) throw std::invalid_argument("reconstruct: gravity must be finite");
+  Reconstruction rec;
+  std::vector<std::size_t> before, after;
+
+  if (options.contact_start_s.has_value() != options.contact_end_s.has_value())
+    throw std::invalid_argument("reconstruct: give both ends of the contact window, or neither");
+  if (options.ground_y_m.has_value() != options.contact_radius_m.has_value())
+    throw std::invalid_argument(
+        "reconstruct: the ground-level criterion needs both the ground level and the contact "
+        "radius");
+
+  if (options.contact_start_s) {
+    rec.window_method = "given";
+    rec.contact_start_s = *options.contact_start_s;
+    rec.contact_end_s = *options.contact_end_s;
+    if (!(rec.contact_start_s < rec.contact_end_s))
+      throw std::invalid_argument("reconstruct: the contact window must have start < end");
+    for (std::size_t i = 0; i < n; ++i) {
+      if (track.t[i] <= rec.contact_start_s) before.push_back(i);
+      if (track.t[i] >= rec.contact_end_s) after.push_back(i);
+    }
+  } else if (options.ground_y_m) {
+    // Paper Fig. 8b: contact while the centre is within one radius of the ground surface.
+    rec.window_method = "ground-level";
+    rec.window_detected = true;
+    const double level = *options.ground_y_m + *options.contact_radius_m;
+    std::size_t c0 = n, c1 = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      if (track.y[i] <= level) {
+        c0 = std::min(c0, i);
+        c1 = i;
+      }
+    if (c0 == n)
+      throw std::invalid_argument(
+          "reconstruct: the block centre never comes within the contact "
+          "radius of the ground level");
+    for (std::size_t i = 0; i < c0; ++i) before.push_back(i);
+    for (std::size_t i = c1 + 1; i < n; ++i) after.push_back(i);
+    if (before.size() < 3 || after.size() < 3)
+      throw std::invalid_argument(
+          "reconstruct: fewer than 3 free-flight points on one side of "
+          "the ground contact");
+    const SideFit fb = fit_side(track, before, track.t[before.back()], g);
+    const SideFit fa = fit_side(track, after, track.t[after.front()], g);
+    rec.contact_start_s = crossing_time(fb.y, level, track.t[c0 - 1], track.t[c0]);
+    rec.contact_end_s = crossing_time(fa.y, level, track.t[c1], track.t[c1 + 1]);
+  } else {
+    rec.window_method = "ballistic-residuals";
+    rec.window_detected = true;
+    const std::size_t seed =
+        options.detection_seed_points ? options.detection_seed_points : (g ? 5 : 6);
+    if (seed < (g ? 3u : 4u))
+      throw std::invalid_argument("reconstruct: the detection needs at least " +
+                                  std::to_string(g ? 3 : 4) + " seed points");
+    if (n < 2 * seed + 1)
+      throw std::invalid_argument("reconstruct: a track of " + std::to_string(n) +
+                                  " points is too short for the automatic window detection (" +
+                                  std::to_string(seed) + " seed points on each side)");
+    const NoiseScale noise = detection_noise(track, g);
+    std::vector<double> z2_lead, z2_trail;
+    const std::vector<double> lead =
+        window_costs(track, true, seed, options.detection_k_sigma, noise, g, z2_lead);
+    const std::vector<double> trail =
+        window_costs(track, false, seed, options.detection_k_sigma, noise, g, z2_trail);
+    const auto [b, a] = best_windows(lead, trail);
+    if (b >= n)
+      throw std::invalid_argument("reconstruct: the track is too short to detect a contact window");
+    const double k2 = options.detection_k_sigma * options.detection_k_sigma;
+    for (std::size_t i = 0; i <= b; ++i) {
+      before.push_back(i);
+      if (z2_lead[i] > k2) ++rec.flagged_points;
+    }
+    for (std::size_t i = a; i < n; ++i) {
+      after.push_back(i);
+      if (z2_trail[i] > k2) ++rec.flagged_points;
+    }
+    // Without any contact the incoming window alone would extend to the last point.
+    if (std::min_element(lead.begin(), lead.end()) == lead.end() - 1)
+      throw std::invalid_argument(
+          "reconstruct: no contact detected: the whole track is one ballistic flight within the "
+          "noise (give the window with --window)");
+    for (std::size_t k = 0; k < options.detection_guard_points && before.size() > 3; ++k)
+      before.pop_back();
+    for (std::size_t k = 0; k < options.detection_guard_points && after.size() > 3; ++k)
+      after.erase(after.begin());
+    rec.contact_start_s = track.t[before.back()];
+    rec.contact_end_s = track.t[after.front()];
+  }
+
+  if (before.size() < 3 || after.size() < 3)
+    throw std::invalid_argument(
+        "reconstruct: fewer than 3 points on one side of the contact window (" +
+        std::to_string(before.size()) + " before, " + std::to_string(after.size()) + " after)");
+  rec.points_before = before.size();
+  rec.points_after = after.size();
+
+  const SideFit fb = fit_side(track, before, rec.contact_start_s, g);
+  const SideFit fa = fit_side(track, after, rec.contact_end_s, g);
+
+  // Noise levels: given, or pooled residual variances of both sides (x and y share the pointing
+  // noise; theta has its own).
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::size_t dof_pos = fb.dof_pos() + fa.dof_pos();
+  const std::size_t dof_th = fb.dof_theta() + fa.dof_theta();
+  const double rss_pos = fb.x.rss + fb.y.rss + fa.x.rss + fa.y.rss;
+  const double rss_th = fb.has_theta ? fb.theta.rss + fa.theta.rss : 0;
+  if (track.sigma_position_m > 0) {
+    rec.sigma_source = "given";
+    rec.sigma_position_m = track.sigma_position_m;
+  } else {
+    rec.sigma_source = "residuals";
+    rec.sigma_position_m = dof_pos > 0 ? std::sqrt(rss_pos / static_cast<double>(dof_pos)) : nan;
+  }
+  if (track.sigma_theta_rad > 0)
+    rec.sigma_theta_rad = track.sigma_theta_rad;
+  else if (track.sigma_position_m > 0 && track.mark_radius_m > 0)
+    rec.sigma_theta_rad = std::sqrt(2.0) * track.sigma_position_m / track.mark_radius_m;
+  else
+    rec.sigma_theta_rad = dof_th > 0 ? std::sqrt(rss_th / static_cast<double>(dof_th)) : nan;
+
+  auto velocities = [&](const SideFit& f, double te, Vel3& v, Vel3& sv) {
+    v[kVx] = f.x.derivative(te);
+    v[kVy] = f.y.derivative(te);
+    sv[kVx] = rec.sigma_position_m * f.x.derivative_sd_unit(te);
+    sv[kVy] = rec.sigma_position_m * f.y.derivative_sd_unit(te);
+    v[kW] = f.has_theta ? f.theta.derivative(te) : nan;
+    sv[kW] = f.has_theta ? rec.sigma_theta_rad * f.theta.derivative_sd_unit(te) : nan;
+  };
+  velocities(fb, rec.contact_start_s, rec.vin, rec.sigma_vin);
+  velocities(fa, rec.contact_end_s, rec.vout, rec.sigma_vout);
+
+  // Fitted gravity: y = ... + c2 tau^2 with tau = dt / scale, so g = -2 c2 / scale^2.
+  auto gravity = [&](const SideFit& f, double& gv, double& sg) {
+    if (g) {
+      gv = *g;
+      sg = 0;
+    } else {
+      const double s2 = f.y.scale * f.y.scale;
+      gv = -2 * f.y.coef[2] / s2;
+      sg = 2 * rec.sigma_position_m * std::sqrt(f.y.cov_unit(2, 2)) / s2;
+    }
+  };
+  gravity(fb, rec.gravity_before_mps2, rec.sigma_gravity_before_mps2);
+  gravity(fa, rec.gravity_after_mps2, rec.sigma_gravity_after_mps2);
+  rec.rms_residual_before_m =
+      std::sqrt((fb.x.rss + fb.y.rss) / (2.0 * static_cast<double>(before.size())));
+  rec.rms_residual_after_m =
+      std::sqrt((fa.x.rss + fa.y.rss) / (2.0 * static_cast<double>(after.size())));
+  return rec;
+}
+
+}  // namespace ricochet::kinematics
