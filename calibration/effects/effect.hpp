@@ -1,0 +1,120 @@
+// A physical effect at a block-ground contact: the building block of every contact law.
+//
+// The paper's law (Garcia et al. 2020, Eq. 3, 5, 6) is three effects: `normal`, `tangential`,
+// `rolling`. Candidate missing physics (speed-dependent restitution, inertial drag, ploughing,
+// depth-hardening friction, penetration-dependent stiffness) are further effects. A model is an
+// ordered composition of effects (effects/model.hpp); no law is ever a copy of another.
+//
+// An effect is one class in one file (effects/<name>.cpp) that declares
+//  - its parameters: name, SI unit, bounds, nominal value, neutral value (where it does nothing),
+//  - its per-contact state (history variables, cleared by the engine when contact is lost),
+//  - its equation and reference (shown by `ricochet effects` and in docs/effects/<name>.md),
+// and implements apply(), which adds forces and moments at one contact slot for a batch of lanes.
+//
+// Batches: the engine integrates many collisions at once ("lanes"), structure-of-arrays, so that
+// apply() is a plain loop over lanes that the compiler vectorises. Write apply() branch-free
+// (use ternaries), with no allocation and no virtual calls inside the loop.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <span>
+#include <string_view>
+
+namespace ricochet {
+
+/// A parameter of an effect. Names are unique within a model (the registry checks this).
+struct ParameterSpec {
+  std::string_view name;         ///< e.g. "en2"; used in TOML files, --set, JSON, HDF5
+  std::string_view unit;         ///< SI unit, "-" for dimensionless
+  double lower;                  ///< smallest allowed value (inclusive)
+  double upper;                  ///< largest allowed value (inclusive)
+  double nominal;                ///< default value
+  double neutral;                ///< value at which the effect does nothing; NaN if none
+  bool calibrated;               ///< fitted by calibration by default (stiffnesses are not)
+  std::string_view description;  ///< one line, shown in listings
+};
+
+/// A per-contact history variable of an effect (e.g. the incremental normal force).
+struct StateSpec {
+  std::string_view name;
+  std::string_view unit;
+};
+
+/// Order in which effects act within one time step. Coefficient effects modify the factors read
+/// by force effects (e.g. friction hardening scales mu); normal effects set the normal force that
+/// tangential and rolling caps use; body effects act at the centre of mass.
+enum class Stage { kCoefficient = 0, kNormal = 1, kTangential = 2, kRolling = 3, kBody = 4 };
+inline constexpr std::size_t kStageCount = 5;
+std::string_view stage_name(Stage stage);
+
+/// Structure-of-arrays view of ONE contact slot (one vertex of the block's shape) across `n`
+/// lanes, for one time step. Contact frame: n = ground normal (up), t = tangent (+x on flat
+/// ground). Lanes with active[i] == 0 are out of contact: effects must add no force there.
+struct ContactBatch {
+  std::size_t n = 0;  ///< number of lanes
+  double dt = 0;      ///< time step [s]
+
+  // Kinematics (read only).
+  const double* active = nullptr;  ///< 1 in contact (overlap h > 0), 0 otherwise
+  const double* h = nullptr;       ///< penetration (overlap) [m], 0 out of contact
+  const double* dh = nullptr;      ///< penetration increment over this step [m] (>0 loading)
+  const double* vn = nullptr;      ///< normal velocity of the contact point [m/s], <0 = into ground
+  const double* vt = nullptr;      ///< tangential (sliding) velocity of the contact point [m/s]
+  const double* w = nullptr;       ///< block angular velocity relative to ground [rad/s]
+  const double* lever = nullptr;   ///< l: distance contact point - centre of mass [m] (Eq. 6)
+  const double* vx = nullptr;      ///< block centre velocity, x [m/s]
+  const double* vy = nullptr;      ///< block centre velocity, y [m/s]
+  double mass = 0;                 ///< block mass [kg]
+  double length = 0;               ///< block length along its axis [m] (for per-length laws)
+
+  // Coefficient factors: 1 at the start of each step, multiplied by coefficient-stage effects,
+  // read by force effects.
+  double* kn_factor = nullptr;       ///< multiplies the incremental loading stiffness kn
+  double* elastic_factor = nullptr;  ///< Phi(h) / (kn h): elastic force at h relative to linear
+  double* en2_factor = nullptr;      ///< multiplies e_n^2
+  double* mu_factor = nullptr;       ///< multiplies mu
+  double* muR_factor = nullptr;      ///< multiplies mu_R
+
+  // Forces, accumulated by the effects of each stage (contact frame / body frame).
+  double* fn = nullptr;       ///< normal force on the block [N], >= 0 pushes the block out
+  double* ft = nullptr;       ///< tangential force on the block [N], along t
+  double* moment = nullptr;   ///< resisting moment on the block [N m], counter-clockwise +
+  double* fx_body = nullptr;  ///< force at the centre of mass, x [N]
+  double* fy_body = nullptr;  ///< force at the centre of mass, y [N]
+};
+
+/// Interface of a physical effect. Implementations are stateless (all history lives in the
+/// engine's state arrays), so one instance serves every thread.
+class Effect {
+ public:
+  virtual ~Effect() = default;
+
+  virtual std::string_view name() const = 0;       ///< registry key, e.g. "rolling"
+  virtual std::string_view summary() const = 0;    ///< one line
+  virtual std::string_view equation() const = 0;   ///< the law in plain text maths
+  virtual std::string_view reference() const = 0;  ///< source of the equation
+  virtual Stage stage() const = 0;
+  virtual std::span<const ParameterSpec> parameters() const = 0;
+  virtual std::span<const StateSpec> state() const { return {}; }
+
+  /// Adds this effect's contribution at one contact slot for all lanes of `c`.
+  /// params[k][i]: value of the k-th declared parameter in lane i.
+  /// state[j][i]: the j-th declared state variable of this slot in lane i (zero when the contact
+  /// starts; the engine zeroes it when the contact is lost).
+  virtual void apply(const ContactBatch& c, const double* const* params,
+                     double* const* state) const = 0;
+};
+
+/// Put RICOCHET_SIMD before an effect's lane loop: it tells the compiler the lane arrays do not
+/// overlap so the loop vectorises (OpenMP SIMD; needs -fopenmp-simd, which the build sets).
+#define RICOCHET_SIMD _Pragma("omp simd")
+
+/// Helpers for branch-free effect code.
+inline double clamp_abs(double x, double limit) {
+  // Ternaries rather than std::fmin/fmax: those are library calls that block vectorisation.
+  const double lo = x < -limit ? -limit : x;
+  return lo > limit ? limit : lo;
+}
+
+}  // namespace ricochet

@@ -1,0 +1,326 @@
+#include "effects/model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <stdexcept>
+#include <toml++/toml.h>
+
+#include "common/error.hpp"
+
+namespace ricochet {
+
+Model Model::paper(const EffectRegistry& registry) {
+  return from_names({"normal", "tangential", "rolling"}, registry);
+}
+
+Model Model::from_names(const std::vector<std::string>& names, const EffectRegistry& registry) {
+  Model m;
+  for (const auto& n : names) m.add(registry.get(n));
+  m.finish();
+  return m;
+}
+
+void Model::add(const Effect& effect) {
+  for (const Effect* e : effects_)
+    if (e->name() == effect.name())
+      throw std::invalid_argument("effect '" + std::string(effect.name()) +
+                                  "' appears twice in the model");
+  for (const auto& p : effect.parameters())
+    for (const auto& q : specs_)
+      if (p.name == q.name)
+        throw std::invalid_argument("parameter '" + std::string(p.name) + "' of effect '" +
+                                    std::string(effect.name()) +
+                                    "' is already declared by another effect of the model");
+  effects_.push_back(&effect);
+  for (const auto& p : effect.parameters()) specs_.push_back(p);
+}
+
+void Model::finish() {
+  // Stage order; stable so that the user's order holds within a stage.
+  std::stable_sort(effects_.begin(), effects_.end(), [](const Effect* a, const Effect* b) {
+    return static_cast<int>(a->stage()) < static_cast<int>(b->stage());
+  });
+  if (std::none_of(effects_.begin(), effects_.end(),
+                   [](const Effect* e) { return e->stage() == Stage::kNormal; }))
+    throw std::invalid_argument("a model needs a normal-force effect such as 'normal'");
+  specs_.clear();
+  offsets_.clear();
+  for (const Effect* e : effects_) {
+    offsets_.push_back(specs_.size());
+    for (const auto& p : e->parameters()) specs_.push_back(p);
+  }
+  values_.clear();
+  lower_.clear();
+  upper_.clear();
+  calibrated_.clear();
+  for (const auto& p : specs_) {
+    values_.push_back(p.nominal);
+    lower_.push_back(p.lower);
+    upper_.push_back(p.upper);
+    calibrated_.push_back(p.calibrated);
+  }
+}
+
+Model Model::with_effect(std::string_view name, bool at_neutral,
+                         const EffectRegistry& registry) const {
+  Model m;
+  for (const Effect* e : effects_) m.add(*e);
+  m.add(registry.get(name));
+  m.finish();
+  // Carry over values, bounds and calibration flags of the existing parameters.
+  for (std::size_t i = 0; i < specs_.size(); ++i) {
+    const std::size_t j = m.index(specs_[i].name);
+    m.values_[j] = values_[i];
+    m.lower_[j] = lower_[i];
+    m.upper_[j] = upper_[i];
+    m.calibrated_[j] = calibrated_[i];
+  }
+  if (at_neutral)
+    for (const auto& p : registry.get(name).parameters())
+      if (!std::isnan(p.neutral)) m.values_[m.index(p.name)] = p.neutral;
+  return m;
+}
+
+std::vector<std::string> Model::effect_names() const {
+  std::vector<std::string> out;
+  for (const Effect* e : effects_) out.emplace_back(e->name());
+  return out;
+}
+
+bool Model::has_effect(std::string_view name) const {
+  return std::any_of(effects_.begin(), effects_.end(),
+                     [&](const Effect* e) { return e->name() == name; });
+}
+
+std::size_t Model::index(std::string_view name) const {
+  for (std::size_t i = 0; i < specs_.size(); ++i)
+    if (specs_[i].name == name) return i;
+  std::string known;
+  for (const auto& p : specs_) known += (known.empty() ? "" : ", ") + std::string(p.name);
+  throw std::invalid_argument("unknown parameter '" + std::string(name) +
+                              "'; parameters of this model: " + known);
+}
+
+std::vector<std::string> Model::parameter_names() const {
+  std::vector<std::string> out;
+  for (const auto& p : specs_) out.emplace_back(p.name);
+  return out;
+}
+
+namespace {
+std::string bounds_message(const ParameterSpec& p, double v, double lo, double hi) {
+  std::ostringstream s;
+  s << p.name << " = " << v << " is outside [" << lo << ", " << hi << "] " << p.unit;
+  return s.str();
+}
+}  // namespace
+
+void Model::set(std::string_view name, double value) {
+  const std::size_t i = index(name);
+  const auto& p = specs_[i];
+  if (!(value >= p.lower && value <= p.upper))
+    throw std::out_of_range(bounds_message(p, value, p.lower, p.upper));
+  values_[i] = value;
+}
+
+void Model::set_values(const std::vector<double>& values) {
+  if (values.size() != values_.size())
+    throw std::invalid_argument("parameter vector has " + std::to_string(values.size()) +
+                                " values, the model " + std::to_string(values_.size()));
+  check(values);
+  values_ = values;
+}
+
+void Model::set_from_string(const std::string& assignment, const std::string& option) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw InputError("<command line>", 0, option,
+                     "expected NAME=VALUE, got '" + assignment + "'");
+  const std::string name = assignment.substr(0, eq);
+  const std::string text = assignment.substr(eq + 1);
+  double v = 0;
+  try {
+    std::size_t used = 0;
+    v = std::stod(text, &used);
+    if (used != text.size()) throw std::invalid_argument("trailing characters");
+  } catch (const std::exception&) {
+    throw InputError("<command line>", 0, option, "value of '" + name + "' is not a number: '" +
+                                                      text + "'");
+  }
+  try {
+    set(name, v);
+  } catch (const std::exception& e) {
+    throw InputError("<command line>", 0, option, e.what());
+  }
+}
+
+void Model::set_bounds(std::string_view name, double lower, double upper) {
+  const std::size_t i = index(name);
+  const auto& p = specs_[i];
+  if (!(lower <= upper) || lower < p.lower || upper > p.upper)
+    throw std::out_of_range("bounds [" + std::to_string(lower) + ", " + std::to_string(upper) +
+                            "] of '" + std::string(name) + "' must lie within [" +
+                            std::to_string(p.lower) + ", " + std::to_string(p.upper) + "]");
+  lower_[i] = lower;
+  upper_[i] = upper;
+}
+
+void Model::set_calibrated(std::string_view name, bool on) { calibrated_[index(name)] = on; }
+
+std::vector<std::size_t> Model::calibrated_indices() const {
+  std::vector<std::size_t> out;
+  for (std::size_t i = 0; i < calibrated_.size(); ++i)
+    if (calibrated_[i]) out.push_back(i);
+  return out;
+}
+
+void Model::check(const std::vector<double>& values) const {
+  for (std::size_t i = 0; i < specs_.size(); ++i)
+    if (!(values[i] >= specs_[i].lower && values[i] <= specs_[i].upper))
+      throw std::out_of_range(bounds_message(specs_[i], values[i], specs_[i].lower,
+                                             specs_[i].upper));
+}
+
+nlohmann::json Model::to_json() const {
+  nlohmann::json j;
+  j["effects"] = effect_names();
+  for (std::size_t i = 0; i < specs_.size(); ++i) {
+    const std::string n(specs_[i].name);
+    j["parameters"][n] = values_[i];
+    j["units"][n] = std::string(specs_[i].unit);
+    j["bounds"][n] = {lower_[i], upper_[i]};
+  }
+  std::vector<std::string> cal;
+  for (auto i : calibrated_indices()) cal.emplace_back(specs_[i].name);
+  j["calibrate"] = cal;
+  return j;
+}
+
+std::string Model::to_toml() const {
+  std::ostringstream s;
+  s.precision(17);
+  s << "effects = [";
+  for (std::size_t i = 0; i < effects_.size(); ++i)
+    s << (i ? ", " : "") << '"' << effects_[i]->name() << '"';
+  s << "]\ncalibrate = [";
+  bool first = true;
+  for (auto i : calibrated_indices()) {
+    s << (first ? "" : ", ") << '"' << specs_[i].name << '"';
+    first = false;
+  }
+  s << "]\n\n[parameters]\n";
+  for (std::size_t i = 0; i < specs_.size(); ++i)
+    s << specs_[i].name << " = " << values_[i] << "  # " << specs_[i].unit << "\n";
+  s << "\n[bounds]\n";
+  for (std::size_t i = 0; i < specs_.size(); ++i)
+    s << specs_[i].name << " = [" << lower_[i] << ", " << upper_[i] << "]\n";
+  return s.str();
+}
+
+namespace {
+
+std::size_t line_of(const toml::node& node) {
+  return static_cast<std::size_t>(node.source().begin.line);
+}
+
+double number_or_throw(const toml::node& node, const std::string& file, const std::string& key) {
+  if (auto v = node.value<double>()) return *v;
+  throw InputError(file, line_of(node), key, "expected a number");
+}
+
+}  // namespace
+
+Model Model::from_toml_string(const std::string& text, const std::string& name,
+                              const EffectRegistry& registry) {
+  toml::table table;
+  try {
+    table = toml::parse(text, name);
+  } catch (const toml::parse_error& e) {
+    throw InputError(name, static_cast<std::size_t>(e.source().begin.line), "",
+                     std::string(e.description()));
+  }
+  for (const auto& [key, node] : table) {
+    const std::string k(key.str());
+    if (k != "effects" && k != "calibrate" && k != "parameters" && k != "bounds")
+      throw InputError(name, line_of(node), k,
+                       "unknown key; a model file has effects, calibrate, [parameters], [bounds]");
+  }
+  const toml::array* effects = table["effects"].as_array();
+  if (!effects)
+    throw InputError(name, 1, "effects",
+                     "missing list of effects, e.g. effects = [\"normal\", \"tangential\", "
+                     "\"rolling\"]");
+  std::vector<std::string> names;
+  for (const auto& e : *effects) {
+    auto s = e.value<std::string>();
+    if (!s) throw InputError(name, line_of(e), "effects", "effect names must be strings");
+    if (!registry.contains(*s)) {
+      try {
+        registry.get(*s);
+      } catch (const std::exception& ex) {
+        throw InputError(name, line_of(e), "effects", ex.what());
+      }
+    }
+    names.push_back(*s);
+  }
+  Model m;
+  try {
+    m = from_names(names, registry);
+  } catch (const std::exception& ex) {
+    throw InputError(name, line_of(*effects), "effects", ex.what());
+  }
+  if (const toml::table* params = table["parameters"].as_table()) {
+    for (const auto& [key, node] : *params) {
+      const std::string k(key.str());
+      try {
+        m.set(k, number_or_throw(node, name, "parameters." + k));
+      } catch (const InputError&) {
+        throw;
+      } catch (const std::exception& ex) {
+        throw InputError(name, line_of(node), "parameters." + k, ex.what());
+      }
+    }
+  }
+  if (const toml::table* bounds = table["bounds"].as_table()) {
+    for (const auto& [key, node] : *bounds) {
+      const std::string k(key.str());
+      const toml::array* pair = node.as_array();
+      if (!pair || pair->size() != 2)
+        throw InputError(name, line_of(node), "bounds." + k, "expected [lower, upper]");
+      try {
+        m.set_bounds(k, number_or_throw(*pair->get(0), name, "bounds." + k),
+                     number_or_throw(*pair->get(1), name, "bounds." + k));
+      } catch (const InputError&) {
+        throw;
+      } catch (const std::exception& ex) {
+        throw InputError(name, line_of(node), "bounds." + k, ex.what());
+      }
+    }
+  }
+  if (const toml::array* cal = table["calibrate"].as_array()) {
+    for (std::size_t i = 0; i < m.parameter_count(); ++i) m.calibrated_[i] = false;
+    for (const auto& e : *cal) {
+      auto s = e.value<std::string>();
+      if (!s) throw InputError(name, line_of(e), "calibrate", "parameter names must be strings");
+      try {
+        m.set_calibrated(*s, true);
+      } catch (const std::exception& ex) {
+        throw InputError(name, line_of(e), "calibrate", ex.what());
+      }
+    }
+  }
+  return m;
+}
+
+Model Model::from_toml_file(const std::string& path, const EffectRegistry& registry) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, 0, "", "cannot open model file");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return from_toml_string(buffer.str(), path, registry);
+}
+
+}  // namespace ricochet

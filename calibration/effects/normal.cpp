@@ -1,0 +1,64 @@
+// `normal`: the paper's hysteretic normal force (Garcia et al. 2020, Eq. 3; Banton et al. 2009;
+// the "Avalanche" law of Rockable). The printed Eq. 3 lost the h of the unloading branch; the
+// form below is the one whose cycle returns exactly e_n^2 of the stored energy (Eq. 4).
+#include <algorithm>
+
+#include "effects/builtin.hpp"
+
+namespace ricochet::effects {
+namespace {
+
+constexpr ParameterSpec kParams[] = {
+    {"kn", "N/m", 1e5, 1e9, 1e7, NAN, false, "normal stiffness (loading)"},
+    {"en2", "-", 0.0, 1.0, 0.15, NAN, true, "normal energy restitution e_n^2"},
+};
+constexpr StateSpec kState[] = {{"fn", "N"}};
+
+class Normal final : public Effect {
+ public:
+  std::string_view name() const override { return "normal"; }
+  std::string_view summary() const override {
+    return "incremental loading, direct unloading: energy restitution e_n^2 per cycle";
+  }
+  std::string_view equation() const override {
+    return "loading (dh >= 0): fn <- fn + kn*kf*dh;  unloading (dh < 0): fn <- min(fn, "
+           "en2*ef2*kn*ke*h);  fn >= 0";
+  }
+  std::string_view reference() const override {
+    return "Garcia et al. (2020) JGR Earth Surf. 125, Eq. 3-4; Banton et al. (2009)";
+  }
+  Stage stage() const override { return Stage::kNormal; }
+  std::span<const ParameterSpec> parameters() const override { return kParams; }
+  std::span<const StateSpec> state() const override { return kState; }
+
+  void apply(const ContactBatch& c, const double* const* p, double* const* s) const override {
+    const double* __restrict kn = p[0];
+    const double* __restrict en2 = p[1];
+    double* __restrict fs = s[0];
+    double* __restrict fn = c.fn;
+    const double* __restrict kf = c.kn_factor;
+    const double* __restrict ef = c.elastic_factor;
+    const double* __restrict enf = c.en2_factor;
+    const double* __restrict dh = c.dh;
+    const double* __restrict h = c.h;
+    const double* __restrict active = c.active;
+    RICOCHET_SIMD
+    for (std::size_t i = 0; i < c.n; ++i) {
+      const double loading = fs[i] + kn[i] * kf[i] * dh[i];
+      // Direct unloading to the e_n^2-scaled elastic curve; min() equals the paper's direct
+      // assignment (fn never lies below that curve before unloading) and keeps the law
+      // dissipative when coefficient effects change the factors during the contact.
+      const double en2_eff = std::min(en2[i] * enf[i], 1.0);
+      const double unloading = std::min(fs[i], en2_eff * kn[i] * ef[i] * h[i]);
+      const double f = std::max(dh[i] >= 0.0 ? loading : unloading, 0.0);
+      fs[i] = active[i] > 0.0 ? f : 0.0;
+      fn[i] += fs[i];
+    }
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<Effect> make_normal() { return std::make_unique<Normal>(); }
+
+}  // namespace ricochet::effects

@@ -1,0 +1,100 @@
+#include "effects/registry.hpp"
+
+#include <dlfcn.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "effects/builtin.hpp"
+
+namespace ricochet {
+
+std::string_view stage_name(Stage stage) {
+  switch (stage) {
+    case Stage::kCoefficient: return "coefficient";
+    case Stage::kNormal: return "normal";
+    case Stage::kTangential: return "tangential";
+    case Stage::kRolling: return "rolling";
+    case Stage::kBody: return "body";
+  }
+  return "?";
+}
+
+EffectRegistry EffectRegistry::with_builtins() {
+  EffectRegistry r;
+  // The paper's law, then the catalog of candidate missing physics, one per family.
+  r.add(effects::make_normal());
+  r.add(effects::make_tangential());
+  r.add(effects::make_rolling());
+  r.add(effects::make_rate_restitution());
+  r.add(effects::make_inertial_drag());
+  r.add(effects::make_ploughing());
+  r.add(effects::make_depth_friction());
+  r.add(effects::make_hertz_stiffness());
+  return r;
+}
+
+EffectRegistry& EffectRegistry::global() {
+  static EffectRegistry registry = with_builtins();
+  return registry;
+}
+
+void EffectRegistry::add(std::unique_ptr<Effect> effect) {
+  const std::string name(effect->name());
+  if (name.empty()) throw std::invalid_argument("an effect must have a name");
+  if (contains(name)) throw std::invalid_argument("effect '" + name + "' is already registered");
+  const auto params = effect->parameters();
+  for (std::size_t i = 0; i < params.size(); ++i) {
+    const auto& p = params[i];
+    for (std::size_t j = 0; j < i; ++j)
+      if (params[j].name == p.name)
+        throw std::invalid_argument("effect '" + name + "' declares parameter '" +
+                                    std::string(p.name) + "' twice");
+    if (!(p.lower <= p.nominal && p.nominal <= p.upper))
+      throw std::invalid_argument("effect '" + name + "': nominal value of '" +
+                                  std::string(p.name) + "' lies outside its bounds");
+    if (!std::isnan(p.neutral) && !(p.lower <= p.neutral && p.neutral <= p.upper))
+      throw std::invalid_argument("effect '" + name + "': neutral value of '" +
+                                  std::string(p.name) + "' lies outside its bounds");
+  }
+  effects_.push_back(std::move(effect));
+}
+
+const Effect& EffectRegistry::get(std::string_view name) const {
+  for (const auto& e : effects_)
+    if (e->name() == name) return *e;
+  std::string known;
+  for (const auto& e : effects_) known += (known.empty() ? "" : ", ") + std::string(e->name());
+  throw std::invalid_argument("unknown effect '" + std::string(name) + "'; known effects: " + known);
+}
+
+bool EffectRegistry::contains(std::string_view name) const {
+  for (const auto& e : effects_)
+    if (e->name() == name) return true;
+  return false;
+}
+
+std::vector<std::string> EffectRegistry::names() const {
+  std::vector<std::string> out;
+  for (const auto& e : effects_) out.emplace_back(e->name());
+  return out;
+}
+
+std::vector<const Effect*> EffectRegistry::all() const {
+  std::vector<const Effect*> out;
+  for (const auto& e : effects_) out.push_back(e.get());
+  return out;
+}
+
+void EffectRegistry::load_plugin(const std::string& path) {
+  // RTLD_NODELETE: the effects' code must stay mapped as long as the registry lives.
+  void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL | RTLD_NODELETE);
+  if (!handle) throw std::runtime_error(path + ": cannot load plugin: " + dlerror());
+  auto fn = reinterpret_cast<RegisterEffectsFn>(dlsym(handle, kPluginEntryPoint));
+  if (!fn)
+    throw std::runtime_error(path + ": plugin has no entry point " +
+                             std::string(kPluginEntryPoint));
+  fn(*this);
+}
+
+}  // namespace ricochet

@@ -1,0 +1,44 @@
+// The explicit registry of effects: name -> Effect. Built-ins are listed in registry.cpp; users
+// add their own with add() in their program, or with load_plugin() from the command line
+// (`ricochet ... --plugin libmyeffect.so`), without touching the engine (docs/tutorial-effect.md).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "effects/effect.hpp"
+
+namespace ricochet {
+
+class EffectRegistry {
+ public:
+  /// A registry holding the built-in effects only.
+  static EffectRegistry with_builtins();
+  /// The process-wide registry used by the command-line tools (built-ins plus plugins).
+  static EffectRegistry& global();
+
+  /// Adds an effect. Throws std::invalid_argument if its name is taken, if a parameter name is
+  /// declared twice, or if a nominal value lies outside its bounds.
+  void add(std::unique_ptr<Effect> effect);
+  /// Throws std::invalid_argument "unknown effect 'X'; known effects: a, b, ..." for an unknown name.
+  const Effect& get(std::string_view name) const;
+  bool contains(std::string_view name) const;
+  std::vector<std::string> names() const;
+  std::vector<const Effect*> all() const;
+
+  /// Loads a shared library that defines
+  ///   extern "C" void ricochet_register_effects(ricochet::EffectRegistry&);
+  /// and calls it. Throws std::runtime_error naming the file on failure.
+  void load_plugin(const std::string& path);
+
+ private:
+  std::vector<std::unique_ptr<Effect>> effects_;
+};
+
+/// Signature of the plugin entry point.
+using RegisterEffectsFn = void (*)(EffectRegistry&);
+inline constexpr const char* kPluginEntryPoint = "ricochet_register_effects";
+
+}  // namespace ricochet

@@ -1,0 +1,56 @@
+// `rolling`: incremental rolling-resistance moment capped by mu_R * l * fn (Garcia et al. 2020,
+// Eq. 6). l is the distance from the contact point to the axis through the centre of mass
+// (paper section 4.1), supplied by the engine as ContactBatch::lever.
+#include "effects/builtin.hpp"
+
+namespace ricochet::effects {
+namespace {
+
+constexpr ParameterSpec kParams[] = {
+    {"kr", "N m/rad", 1e5, 1e10, 1e8, NAN, false, "rolling stiffness"},
+    {"muR", "-", 0.0, 2.0, 0.16, NAN, true, "rolling-resistance coefficient"},
+};
+constexpr StateSpec kState[] = {{"M", "N m"}};
+
+class Rolling final : public Effect {
+ public:
+  std::string_view name() const override { return "rolling"; }
+  std::string_view summary() const override {
+    return "incremental rolling spring kr, capped by muR*l*fn";
+  }
+  std::string_view equation() const override {
+    return "M <- clamp(M - kr*w*dt, -muR*rf*l*fn, +muR*rf*l*fn)";
+  }
+  std::string_view reference() const override {
+    return "Garcia et al. (2020) JGR Earth Surf. 125, Eq. 6; Richefeu & Villard (2016)";
+  }
+  Stage stage() const override { return Stage::kRolling; }
+  std::span<const ParameterSpec> parameters() const override { return kParams; }
+  std::span<const StateSpec> state() const override { return kState; }
+
+  void apply(const ContactBatch& c, const double* const* p, double* const* s) const override {
+    const double* __restrict kr = p[0];
+    const double* __restrict muR = p[1];
+    double* __restrict ms = s[0];
+    const double* __restrict w = c.w;
+    const double* __restrict rf = c.muR_factor;
+    const double* __restrict lever = c.lever;
+    const double* __restrict fn = c.fn;
+    const double* __restrict active = c.active;
+    double* __restrict moment = c.moment;
+    const double dt = c.dt;
+    RICOCHET_SIMD
+    for (std::size_t i = 0; i < c.n; ++i) {
+      const double trial = ms[i] - kr[i] * w[i] * dt;
+      const double m = clamp_abs(trial, muR[i] * rf[i] * lever[i] * fn[i]);
+      ms[i] = active[i] > 0.0 ? m : 0.0;
+      moment[i] += ms[i];
+    }
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<Effect> make_rolling() { return std::make_unique<Rolling>(); }
+
+}  // namespace ricochet::effects

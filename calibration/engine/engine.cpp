@@ -1,0 +1,565 @@
+#include "engine/engine.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace ricochet {
+
+const char* status_name(CollisionStatus status) {
+  switch (status) {
+    case CollisionStatus::kOk: return "ok";
+    case CollisionStatus::kNoRebound: return "no_rebound";
+    case CollisionStatus::kNoContact: return "no_contact";
+  }
+  return "?";
+}
+
+namespace {
+
+// Where each effect's parameters and state variables live in the lane arrays.
+struct Layout {
+  std::vector<const Effect*> effects;
+  std::vector<std::size_t> param_offset, state_offset, state_count;
+  std::size_t params = 0, states = 0;
+
+  explicit Layout(const Model& model) {
+    for (std::size_t e = 0; e < model.effects().size(); ++e) {
+      const Effect* eff = model.effects()[e];
+      effects.push_back(eff);
+      param_offset.push_back(model.offset(e));
+      state_offset.push_back(states);
+      state_count.push_back(eff->state().size());
+      states += eff->state().size();
+    }
+    params = model.parameter_count();
+  }
+};
+
+// Integrates up to `lanes` collisions side by side (structure of arrays), refilling a lane from
+// the case queue as soon as its rebound ends. All buffers are allocated once, in the
+// constructor: the step loop never allocates. kDisc / kFlat select the cheap geometry of a disc
+// on flat ground (no rotation, constant normal), the paper's cylinder case.
+template <bool kDisc, bool kFlat>
+class LaneBatch {
+ public:
+  LaneBatch(const Layout& layout, const Shape& shape, const EngineOptions& options,
+            std::span<const CollisionCase> cases, std::span<const double> params, bool broadcast,
+            CollisionResult* results, Trace* trace)
+      : layout_(layout),
+        shape_(shape),
+        opt_(options),
+        cases_(cases),
+        params_(params),
+        broadcast_(broadcast),
+        results_(results),
+        trace_(trace),
+        L_(std::max<std::size_t>(1, std::min(options.lanes, cases.size()))),
+        V_(shape.vertices.size()),
+        buffer_(L_ * (kLaneArrays + kStages + V_ * kSlotArrays + kFactorArrays + layout.params +
+                      layout.states * V_),
+                0.0),
+        case_of_(L_, -1) {
+    double* p = buffer_.data();
+    auto take = [&](double*& a) {
+      a = p;
+      p += L_;
+    };
+    for (double** a : {&x_, &y_, &th_, &vx_, &vy_, &w_, &ax_, &ay_, &aw_, &vxh_, &vyh_, &wh_,
+                       &fx_, &fy_, &tq_, &t_, &t_first_, &had_, &any_, &prev_, &maxh_, &phases_,
+                       &cand_, &pending_, &y_in_, &ke_in_, &cth_, &sth_})
+      take(*a);
+    for (auto& a : work_) take(a);
+    slot_.resize(V_);
+    for (auto& s : slot_)
+      for (double** a : {&s.h_prev, &s.active, &s.h, &s.dh, &s.vn, &s.vt, &s.lever, &s.rcx,
+                         &s.rcy, &s.nx, &s.ny, &s.fn, &s.ft, &s.mom, &s.fxb, &s.fyb})
+        take(*a);
+    for (double** a : {&kf_, &ef_, &enf_, &muf_, &murf_}) take(*a);
+    param_.resize(layout.params);
+    for (auto& a : param_) take(a);
+    state_.resize(layout.states * V_);
+    for (auto& a : state_) take(a);
+    // Pointer tables handed to the effects, built once.
+    eparams_.resize(layout.effects.size());
+    estate_.resize(layout.effects.size() * V_);
+    for (std::size_t e = 0; e < layout.effects.size(); ++e) {
+      const auto np = layout.effects[e]->parameters().size();
+      for (std::size_t k = 0; k < np; ++k) eparams_[e].push_back(param_[layout.param_offset[e] + k]);
+      for (std::size_t s = 0; s < V_; ++s)
+        for (std::size_t j = 0; j < layout.state_count[e]; ++j)
+          estate_[e * V_ + s].push_back(state_[(layout.state_offset[e] + j) * V_ + s]);
+    }
+    dt_ = options.dt_s;
+    g_ = options.gravity_mps2;
+    r_ = shape.rounding_radius_m;
+    inv_m_ = 1.0 / shape.mass_kg;
+    inv_i_ = 1.0 / shape.inertia_kgm2;
+  }
+
+  void run() {
+    for (std::size_t i = 0; i < L_; ++i) load(i);
+    if (trace_) record();
+    std::size_t busy = L_;
+    while (busy > 0) {
+      step();
+      if (trace_) record();
+      for (std::size_t i = 0; i < L_; ++i) {
+        if (case_of_[i] < 0) continue;
+        if (cand_[i] > 0.0 || t_[i] >= opt_.max_time_s) {
+          if (finish_if_over(i)) {
+            load(i);
+            if (case_of_[i] < 0) --busy;
+          }
+        }
+      }
+    }
+  }
+
+ private:
+  static constexpr std::size_t kLaneArrays = 28;
+  static constexpr std::size_t kStages = kStageCount;
+  static constexpr std::size_t kSlotArrays = 16;
+  static constexpr std::size_t kFactorArrays = 5;
+
+  struct Slot {
+    double *h_prev, *active, *h, *dh, *vn, *vt, *lever, *rcx, *rcy, *nx, *ny;
+    double *fn, *ft, *mom, *fxb, *fyb;
+  };
+
+  void load(std::size_t i) {
+    if (next_ >= cases_.size()) {
+      case_of_[i] = -1;
+      // An idle lane far above the ground: it never touches and costs nothing to integrate.
+      y_[i] = 1e9;
+      vx_[i] = vy_[i] = w_[i] = ax_[i] = ay_[i] = aw_[i] = 0.0;
+      cand_[i] = 0.0;
+      return;
+    }
+    const std::size_t k = next_++;
+    case_of_[i] = static_cast<long>(k);
+    const CollisionCase& c = cases_[k];
+    double ground = 0, nx = 0, ny = 1;
+    if (!kFlat) opt_.ground.surface(0.0, ground, nx, ny);
+    x_[i] = 0.0;
+    th_[i] = c.alpha_rad;
+    y_[i] = ground + shape_.depth_below_centroid(c.alpha_rad) + opt_.initial_gap_m;
+    vx_[i] = c.vin[kVx];
+    vy_[i] = c.vin[kVy];
+    w_[i] = c.vin[kW];
+    ax_[i] = 0.0;
+    ay_[i] = -g_;
+    aw_[i] = 0.0;
+    t_[i] = t_first_[i] = had_[i] = any_[i] = prev_[i] = maxh_[i] = phases_[i] = 0.0;
+    cand_[i] = pending_[i] = 0.0;
+    for (auto& w : work_) w[i] = 0.0;
+    y_in_[i] = y_[i];
+    ke_in_[i] = kinetic(i);
+    for (auto& s : slot_) s.h_prev[i] = 0.0;
+    for (auto& s : state_) s[i] = 0.0;
+    const double* row = broadcast_ ? params_.data() : params_.data() + k * layout_.params;
+    for (std::size_t q = 0; q < layout_.params; ++q) param_[q][i] = row[q];
+  }
+
+  double kinetic(std::size_t i) const {
+    return 0.5 * shape_.mass_kg * (vx_[i] * vx_[i] + vy_[i] * vy_[i]) +
+           0.5 * shape_.inertia_kgm2 * w_[i] * w_[i];
+  }
+
+  // One velocity-Verlet step for all lanes. Local __restrict copies of the array pointers let
+  // the compiler vectorise: stores through one array cannot move the others.
+  void step() {
+    const std::size_t n = L_;
+    const double dt = dt_, half_dt = 0.5 * dt_, half_dt2 = 0.5 * dt_ * dt_;
+    const double inv_m = inv_m_, inv_i = inv_i_, g = g_;
+    double* __restrict x = x_;
+    double* __restrict y = y_;
+    double* __restrict th = th_;
+    double* __restrict vx = vx_;
+    double* __restrict vy = vy_;
+    double* __restrict w = w_;
+    double* __restrict ax = ax_;
+    double* __restrict ay = ay_;
+    double* __restrict aw = aw_;
+    double* __restrict vxh = vxh_;
+    double* __restrict vyh = vyh_;
+    double* __restrict wh = wh_;
+    double* __restrict fx = fx_;
+    double* __restrict fy = fy_;
+    double* __restrict tq = tq_;
+    double* __restrict any = any_;
+    RICOCHET_SIMD
+    for (std::size_t i = 0; i < n; ++i) {
+      x[i] += vx[i] * dt + ax[i] * half_dt2;
+      y[i] += vy[i] * dt + ay[i] * half_dt2;
+      th[i] += w[i] * dt + aw[i] * half_dt2;
+      vxh[i] = vx[i] + ax[i] * half_dt;
+      vyh[i] = vy[i] + ay[i] * half_dt;
+      wh[i] = w[i] + aw[i] * half_dt;
+      fx[i] = 0.0;
+      fy[i] = 0.0;
+      tq[i] = 0.0;
+      any[i] = 0.0;
+    }
+    if (!kDisc) {
+      double* __restrict c = cth_;
+      double* __restrict s = sth_;
+      RICOCHET_SIMD
+      for (std::size_t i = 0; i < n; ++i) {
+        c[i] = std::cos(th[i]);
+        s[i] = std::sin(th[i]);
+      }
+    }
+    for (std::size_t s = 0; s < V_; ++s) slot_step(s);
+    double* __restrict t = t_;
+    double* __restrict t_first = t_first_;
+    double* __restrict had = had_;
+    double* __restrict prev = prev_;
+    double* __restrict phases = phases_;
+    double* __restrict pending = pending_;
+    double* __restrict cand = cand_;
+    RICOCHET_SIMD
+    for (std::size_t i = 0; i < n; ++i) {
+      ax[i] = fx[i] * inv_m;
+      ay[i] = fy[i] * inv_m - g;
+      aw[i] = tq[i] * inv_i;
+      vx[i] = vxh[i] + ax[i] * half_dt;
+      vy[i] = vyh[i] + ay[i] * half_dt;
+      w[i] = wh[i] + aw[i] * half_dt;
+      t[i] += dt;
+      // Contact bookkeeping, branch-free.
+      const double onset = any[i] * (1.0 - prev[i]);
+      t_first[i] = had[i] == 0.0 && any[i] > 0.0 ? t[i] - dt : t_first[i];
+      phases[i] += onset;
+      had[i] = std::max(had[i], any[i]);
+      pending[i] = any[i] > 0.0 ? 0.0 : pending[i];
+      prev[i] = any[i];
+      const double leaving = kFlat ? (vy[i] > 0.0 ? 1.0 : 0.0) : 1.0;
+      cand[i] = had[i] * (1.0 - any[i]) * leaving * (1.0 - pending[i]);
+    }
+  }
+
+  void slot_step(std::size_t s) {
+    Slot& sl = slot_[s];
+    const std::size_t n = L_;
+    const double r = r_;
+    const double vbx = shape_.vertices[s][0], vby = shape_.vertices[s][1];
+    const double* __restrict x = x_;
+    const double* __restrict y = y_;
+    const double* __restrict c = cth_;
+    const double* __restrict sn = sth_;
+    const double* __restrict vxh = vxh_;
+    const double* __restrict vyh = vyh_;
+    const double* __restrict wh = wh_;
+    double* __restrict active = sl.active;
+    double* __restrict hh = sl.h;
+    double* __restrict dh = sl.dh;
+    double* __restrict h_prev = sl.h_prev;
+    double* __restrict rcx_a = sl.rcx;
+    double* __restrict rcy_a = sl.rcy;
+    double* __restrict nx_a = sl.nx;
+    double* __restrict ny_a = sl.ny;
+    double* __restrict lever = sl.lever;
+    double* __restrict vn = sl.vn;
+    double* __restrict vt = sl.vt;
+    double* __restrict fn = sl.fn;
+    double* __restrict ft = sl.ft;
+    double* __restrict mom = sl.mom;
+    double* __restrict fxb = sl.fxb;
+    double* __restrict fyb = sl.fyb;
+    double* __restrict kf = kf_;
+    double* __restrict ef = ef_;
+    double* __restrict enf = enf_;
+    double* __restrict muf = muf_;
+    double* __restrict murf = murf_;
+    RICOCHET_SIMD
+    for (std::size_t i = 0; i < n; ++i) {
+      double px, py, nx = 0.0, ny = 1.0, ground = 0.0;
+      if (kDisc) {
+        px = x[i];
+        py = y[i];
+      } else {
+        px = x[i] + c[i] * vbx - sn[i] * vby;
+        py = y[i] + sn[i] * vbx + c[i] * vby;
+      }
+      if (!kFlat) opt_.ground.surface(px, ground, nx, ny);
+      const double dist = (py - ground) * ny - r;
+      const double h = std::max(-dist, 0.0);
+      const double arm = r - 0.5 * h;  // vertex to contact point, along -n
+      const double rcx = px - nx * arm - x[i];
+      const double rcy = py - ny * arm - y[i];
+      const double vcx = vxh[i] - wh[i] * rcy;
+      const double vcy = vyh[i] + wh[i] * rcx;
+      active[i] = h > 0.0 ? 1.0 : 0.0;
+      hh[i] = h;
+      dh[i] = h - h_prev[i];
+      h_prev[i] = h;
+      rcx_a[i] = rcx;
+      rcy_a[i] = rcy;
+      nx_a[i] = nx;
+      ny_a[i] = ny;
+      lever[i] = kDisc && kFlat ? arm : std::sqrt(rcx * rcx + rcy * rcy);
+      vn[i] = vcx * nx + vcy * ny;
+      vt[i] = vcx * ny - vcy * nx;
+      fn[i] = 0.0;
+      ft[i] = 0.0;
+      mom[i] = 0.0;
+      fxb[i] = 0.0;
+      fyb[i] = 0.0;
+      kf[i] = 1.0;
+      ef[i] = 1.0;
+      enf[i] = 1.0;
+      muf[i] = 1.0;
+      murf[i] = 1.0;
+    }
+    ContactBatch cb;
+    cb.n = n;
+    cb.dt = dt_;
+    cb.active = sl.active;
+    cb.h = sl.h;
+    cb.dh = sl.dh;
+    cb.vn = sl.vn;
+    cb.vt = sl.vt;
+    cb.w = wh_;
+    cb.lever = sl.lever;
+    cb.vx = vxh_;
+    cb.vy = vyh_;
+    cb.mass = shape_.mass_kg;
+    cb.length = shape_.length_m;
+    cb.kn_factor = kf_;
+    cb.elastic_factor = ef_;
+    cb.en2_factor = enf_;
+    cb.mu_factor = muf_;
+    cb.muR_factor = murf_;
+    cb.fn = sl.fn;
+    cb.ft = sl.ft;
+    cb.moment = sl.mom;
+    cb.fx_body = sl.fxb;
+    cb.fy_body = sl.fyb;
+    for (std::size_t e = 0; e < layout_.effects.size(); ++e)
+      layout_.effects[e]->apply(cb, eparams_[e].data(), estate_[e * V_ + s].data());
+    // History is cleared when the contact is lost (whatever the effect did).
+    for (std::size_t e = 0; e < layout_.effects.size(); ++e)
+      for (double* st_ptr : estate_[e * V_ + s]) {
+        double* __restrict st = st_ptr;
+        RICOCHET_SIMD
+        for (std::size_t i = 0; i < n; ++i) st[i] = active[i] > 0.0 ? st[i] : 0.0;
+      }
+    double* __restrict fx = fx_;
+    double* __restrict fy = fy_;
+    double* __restrict tq = tq_;
+    double* __restrict any = any_;
+    double* __restrict maxh = maxh_;
+    double* __restrict wn = work_[static_cast<int>(Stage::kNormal)];
+    double* __restrict wt = work_[static_cast<int>(Stage::kTangential)];
+    double* __restrict wr = work_[static_cast<int>(Stage::kRolling)];
+    double* __restrict wb = work_[static_cast<int>(Stage::kBody)];
+    const double dt = dt_;
+    RICOCHET_SIMD
+    for (std::size_t i = 0; i < n; ++i) {
+      // Each stage writes only its own outputs (effect.hpp), so stage work needs no snapshots.
+      const double fcx = fn[i] * nx_a[i] + ft[i] * ny_a[i];
+      const double fcy = fn[i] * ny_a[i] - ft[i] * nx_a[i];
+      fx[i] += fcx + fxb[i];
+      fy[i] += fcy + fyb[i];
+      tq[i] += rcx_a[i] * fcy - rcy_a[i] * fcx + mom[i];
+      wn[i] += fn[i] * vn[i] * dt;
+      wt[i] += ft[i] * vt[i] * dt;
+      wr[i] += mom[i] * wh[i] * dt;
+      wb[i] += (fxb[i] * vxh[i] + fyb[i] * vyh[i]) * dt;
+      any[i] = std::max(any[i], active[i]);
+      maxh[i] = std::max(maxh[i], hh[i]);
+    }
+  }
+
+  // Lowest clearance of the block above the ground after a ballistic flight of tau seconds.
+  double clearance_after(std::size_t i, double tau) const {
+    const double xc = x_[i] + vx_[i] * tau;
+    const double yc = y_[i] + vy_[i] * tau - 0.5 * g_ * tau * tau;
+    const double th = th_[i] + w_[i] * tau;
+    const double c = std::cos(th), s = std::sin(th);
+    double lowest = 1e300;
+    for (const auto& v : shape_.vertices) {
+      const double px = xc + c * v[0] - s * v[1];
+      const double py = yc + s * v[0] + c * v[1];
+      double ground = 0, nx = 0, ny = 1;
+      if (!kFlat) opt_.ground.surface(px, ground, nx, ny);
+      lowest = std::min(lowest, (py - ground) * ny - r_);
+    }
+    return lowest;
+  }
+
+  // Decides whether lane i's rebound is over; if so writes its result and returns true.
+  bool finish_if_over(std::size_t i) {
+    const bool timeout = t_[i] >= opt_.max_time_s;
+    if (!timeout && !(kDisc && kFlat)) {
+      // Will a vertex swing back onto the ground before the apex? Then the rebound goes on.
+      const double horizon = std::max(vy_[i], 0.0) / g_ + (kFlat ? 0.0 : 0.02);
+      const double turn = std::fabs(w_[i]) * horizon;
+      const int samples = std::clamp(static_cast<int>(std::ceil(turn / (M_PI / 90.0))), 20, 4000);
+      for (int k = 1; k <= samples; ++k) {
+        const double tau = horizon * k / samples;
+        if (clearance_after(i, tau) <= 0.0) {
+          const double jump = horizon * (k - 1) / samples;
+          x_[i] += vx_[i] * jump;
+          y_[i] += vy_[i] * jump - 0.5 * g_ * jump * jump;
+          th_[i] += w_[i] * jump;
+          vy_[i] -= g_ * jump;
+          t_[i] += jump;
+          ax_[i] = aw_[i] = 0.0;
+          ay_[i] = -g_;
+          pending_[i] = 1.0;
+          cand_[i] = 0.0;
+          return false;
+        }
+      }
+    }
+    CollisionResult& res = results_[case_of_[i]];
+    res.vout = {vx_[i], vy_[i], w_[i]};
+    res.status = timeout ? (had_[i] > 0.0 ? CollisionStatus::kNoRebound : CollisionStatus::kNoContact)
+                         : CollisionStatus::kOk;
+    res.contact_duration_s = had_[i] > 0.0 ? t_[i] - t_first_[i] : 0.0;
+    res.max_penetration_m = maxh_[i];
+    res.contact_phases = static_cast<int>(phases_[i]);
+    res.end_time_s = t_[i];
+    res.alpha_out_rad = th_[i];
+    for (std::size_t s = 0; s < kStageCount; ++s) res.dissipated_J[s] = -work_[s][i];
+    res.kinetic_in_J = ke_in_[i];
+    res.kinetic_out_J = kinetic(i);
+    res.potential_change_J = shape_.mass_kg * g_ * (y_[i] - y_in_[i]);
+    return true;
+  }
+
+  void record() {
+    Trace& tr = *trace_;
+    tr.t.push_back(t_[0]);
+    tr.x.push_back(x_[0]);
+    tr.y.push_back(y_[0]);
+    tr.theta.push_back(th_[0]);
+    tr.vx.push_back(vx_[0]);
+    tr.vy.push_back(vy_[0]);
+    tr.w.push_back(w_[0]);
+    double fn = 0, ft = 0, mom = 0, h = 0;
+    for (const auto& s : slot_) {
+      fn += s.fn[0];
+      ft += s.ft[0];
+      mom += s.mom[0];
+      h = std::max(h, s.h[0]);
+    }
+    tr.fn.push_back(fn);
+    tr.ft.push_back(ft);
+    tr.moment.push_back(mom);
+    tr.h.push_back(h);
+  }
+
+  const Layout& layout_;
+  const Shape& shape_;
+  const EngineOptions& opt_;
+  std::span<const CollisionCase> cases_;
+  std::span<const double> params_;
+  bool broadcast_;
+  CollisionResult* results_;
+  Trace* trace_;
+  std::size_t L_, V_;
+  std::vector<double> buffer_;
+  std::vector<long> case_of_;
+  std::size_t next_ = 0;
+  double dt_, g_, r_, inv_m_, inv_i_;
+
+  double *x_, *y_, *th_, *vx_, *vy_, *w_, *ax_, *ay_, *aw_, *vxh_, *vyh_, *wh_;
+  double *fx_, *fy_, *tq_, *t_, *t_first_, *had_, *any_, *prev_, *maxh_, *phases_;
+  double *cand_, *pending_, *y_in_, *ke_in_, *cth_, *sth_;
+  std::array<double*, kStageCount> work_{};
+  std::vector<Slot> slot_;
+  double *kf_, *ef_, *enf_, *muf_, *murf_;
+  std::vector<double*> param_, state_;
+  std::vector<std::vector<const double*>> eparams_;
+  std::vector<std::vector<double*>> estate_;
+};
+
+template <bool kDisc, bool kFlat>
+void run_block(const Layout& layout, const Shape& shape, const EngineOptions& options,
+               std::span<const CollisionCase> cases, std::span<const double> params,
+               bool broadcast, CollisionResult* results, Trace* trace) {
+  LaneBatch<kDisc, kFlat> batch(layout, shape, options, cases, params, broadcast, results, trace);
+  batch.run();
+}
+
+void dispatch(const Layout& layout, const Shape& shape, const EngineOptions& options,
+              std::span<const CollisionCase> cases, std::span<const double> params,
+              bool broadcast, CollisionResult* results, Trace* trace) {
+  const bool disc = shape.is_disc(), flat = options.ground.flat();
+  if (disc && flat)
+    run_block<true, true>(layout, shape, options, cases, params, broadcast, results, trace);
+  else if (disc)
+    run_block<true, false>(layout, shape, options, cases, params, broadcast, results, trace);
+  else if (flat)
+    run_block<false, true>(layout, shape, options, cases, params, broadcast, results, trace);
+  else
+    run_block<false, false>(layout, shape, options, cases, params, broadcast, results, trace);
+}
+
+void validate(const Model& model, const Shape& shape, const EngineOptions& options,
+              std::span<const CollisionCase> cases, std::span<const double> params) {
+  const std::size_t P = model.parameter_count();
+  if (!(options.dt_s > 0.0)) throw std::invalid_argument("time step dt must be > 0");
+  if (!(shape.mass_kg > 0.0 && shape.inertia_kgm2 > 0.0 && shape.rounding_radius_m > 0.0))
+    throw std::invalid_argument("shape '" + shape.name + "' needs mass, inertia and radius > 0");
+  if (params.size() != P && params.size() != P * cases.size())
+    throw std::invalid_argument("parameter array has " + std::to_string(params.size()) +
+                                " values; expected " + std::to_string(P) + " or " +
+                                std::to_string(P * cases.size()));
+  std::vector<double> row(P);
+  for (std::size_t k = 0; k * P < params.size(); ++k) {
+    std::copy_n(params.data() + k * P, P, row.data());
+    model.check(row);
+  }
+  for (const auto& c : cases)
+    for (double v : c.vin)
+      if (!std::isfinite(v)) throw std::invalid_argument("incident velocity is not finite");
+}
+
+}  // namespace
+
+CollisionResult simulate(const Model& model, const Shape& shape, const CollisionCase& collision,
+                         std::span<const double> params, const EngineOptions& options,
+                         Trace* trace) {
+  if (params.empty()) params = model.values();
+  std::span<const CollisionCase> cases(&collision, 1);
+  validate(model, shape, options, cases, params);
+  const Layout layout(model);
+  CollisionResult result;
+  dispatch(layout, shape, options, cases, params, true, &result, trace);
+  return result;
+}
+
+std::vector<CollisionResult> simulate_batch(const Model& model, const Shape& shape,
+                                            std::span<const CollisionCase> cases,
+                                            std::span<const double> params,
+                                            const EngineOptions& options) {
+  if (params.empty()) params = model.values();
+  validate(model, shape, options, cases, params);
+  const Layout layout(model);
+  const std::size_t P = model.parameter_count();
+  const bool broadcast = params.size() == P && !(cases.size() == 1 && P == 0);
+  std::vector<CollisionResult> results(cases.size());
+  // Blocks of several lane-widths: enough blocks to balance two or more threads, large enough
+  // that lanes stay full until the end of each block.
+  const std::size_t lanes = std::max<std::size_t>(1, options.lanes);
+  const std::size_t block = lanes * 8;
+  const std::size_t nblocks = (cases.size() + block - 1) / block;
+  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+  for (std::size_t b = 0; b < nblocks; ++b) {
+    const std::size_t begin = b * block, end = std::min(cases.size(), begin + block);
+    const auto sub = cases.subspan(begin, end - begin);
+    const auto sub_params =
+        broadcast ? params : params.subspan(begin * P, (end - begin) * P);
+    dispatch(layout, shape, options, sub, sub_params, broadcast, results.data() + begin, nullptr);
+  }
+  return results;
+}
+
+}  // namespace ricochet

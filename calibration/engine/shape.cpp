@@ -1,0 +1,122 @@
+#include "engine/shape.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <toml++/toml.h>
+
+#include "common/error.hpp"
+
+namespace ricochet {
+
+bool Shape::is_disc() const {
+  return vertices.size() == 1 && vertices[0][0] == 0.0 && vertices[0][1] == 0.0;
+}
+
+double Shape::depth_below_centroid(double alpha_rad) const {
+  const double c = std::cos(alpha_rad), s = std::sin(alpha_rad);
+  double lowest = 0;
+  for (std::size_t k = 0; k < vertices.size(); ++k) {
+    const double y = s * vertices[k][0] + c * vertices[k][1];
+    lowest = k == 0 ? y : std::min(lowest, y);
+  }
+  return rounding_radius_m - lowest;
+}
+
+double Shape::bounding_radius() const {
+  double r = 0;
+  for (const auto& v : vertices) r = std::max(r, std::hypot(v[0], v[1]));
+  return r + rounding_radius_m;
+}
+
+Shape Shape::cylinder() {
+  return Shape{"cylinder", {{0.0, 0.0}}, 0.08, 13.9, 0.0445, 0.29};
+}
+
+Shape Shape::triangle() {
+  // Keep in sync with data/shapes/triangle.toml (a test compares them).
+  return Shape{"triangle",
+               {{0.000000, 0.100300}, {-0.086862, -0.050150}, {0.086862, -0.050150}},
+               0.010,
+               10.89,
+               0.0383,
+               0.246};
+}
+
+namespace {
+double require_number(const toml::table& t, const char* key, const std::string& file) {
+  const auto node = t[key];
+  if (!node) throw InputError(file, 0, key, "missing");
+  if (auto v = node.value<double>()) return *v;
+  throw InputError(file, static_cast<std::size_t>(node.node()->source().begin.line), key,
+                   "expected a number");
+}
+}  // namespace
+
+Shape Shape::from_toml_file(const std::string& path) {
+  toml::table t;
+  try {
+    t = toml::parse_file(path);
+  } catch (const toml::parse_error& e) {
+    throw InputError(path, static_cast<std::size_t>(e.source().begin.line), "",
+                     std::string(e.description()));
+  }
+  Shape s;
+  s.name = t["name"].value_or(std::string("custom"));
+  const toml::array* verts = t["vertices"].as_array();
+  if (!verts || verts->empty())
+    throw InputError(path, 0, "vertices", "missing list of [x, y] vertices in metres");
+  for (const auto& v : *verts) {
+    const toml::array* xy = v.as_array();
+    const auto line = static_cast<std::size_t>(v.source().begin.line);
+    if (!xy || xy->size() != 2 || !xy->get(0)->value<double>() || !xy->get(1)->value<double>())
+      throw InputError(path, line, "vertices", "each vertex must be [x, y] in metres");
+    s.vertices.push_back({*xy->get(0)->value<double>(), *xy->get(1)->value<double>()});
+  }
+  s.rounding_radius_m = require_number(t, "rounding_radius_m", path);
+  s.mass_kg = require_number(t, "mass_kg", path);
+  s.inertia_kgm2 = require_number(t, "inertia_kgm2", path);
+  s.length_m = t["length_m"].value_or(0.0);
+  if (!(s.rounding_radius_m > 0)) throw InputError(path, 0, "rounding_radius_m", "must be > 0");
+  if (!(s.mass_kg > 0)) throw InputError(path, 0, "mass_kg", "must be > 0");
+  if (!(s.inertia_kgm2 > 0)) throw InputError(path, 0, "inertia_kgm2", "must be > 0");
+  // The centroid must be the centre of mass: the engine's lever arms assume it.
+  double cx = 0, cy = 0;
+  for (const auto& v : s.vertices) {
+    cx += v[0];
+    cy += v[1];
+  }
+  cx /= static_cast<double>(s.vertices.size());
+  cy /= static_cast<double>(s.vertices.size());
+  if (std::hypot(cx, cy) > 1e-3 * s.bounding_radius())
+    throw InputError(path, 0, "vertices",
+                     "the vertices' mean must be at the origin (the centre of mass)");
+  return s;
+}
+
+Shape Shape::resolve(const std::string& name_or_path) {
+  if (name_or_path == "cylinder") return cylinder();
+  if (name_or_path == "triangle") return triangle();
+  if (name_or_path.find('.') == std::string::npos && name_or_path.find('/') == std::string::npos)
+    throw InputError("<command line>", 0, "--shape",
+                     "unknown shape '" + name_or_path +
+                         "'; use cylinder, triangle, or a shape file (.toml)");
+  return from_toml_file(name_or_path);
+}
+
+void Ground::surface(double x, double& height, double& nx, double& ny) const {
+  if (x_m.size() < 2) {
+    height = x_m.empty() ? 0.0 : y_m[0];
+    nx = 0;
+    ny = 1;
+    return;
+  }
+  std::size_t k = 0;
+  while (k + 2 < x_m.size() && x >= x_m[k + 1]) ++k;
+  const double dx = x_m[k + 1] - x_m[k], dy = y_m[k + 1] - y_m[k];
+  height = y_m[k] + dy * (x - x_m[k]) / dx;
+  const double len = std::hypot(dx, dy);
+  nx = -dy / len;
+  ny = dx / len;
+}
+
+}  // namespace ricochet
