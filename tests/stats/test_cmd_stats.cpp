@@ -1,0 +1,165 @@
+// Runs the built `ricochet stats` program on the embedded lab data and checks its JSON, its
+// files and its errors. RICOCHET_EXE is the program's path (set by CMake).
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "common/h5.hpp"
+#include "table2.hpp"
+
+namespace ricochet {
+namespace {
+
+namespace fs = std::filesystem;
+const std::string kSource = RICOCHET_SOURCE_DIR;
+const std::string kLab = kSource + "/data/lab/";
+
+struct RunResult {
+  int status = -1;
+  std::string out;
+  std::string err;
+};
+
+std::string quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class CmdStats : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           ("ricochet-cmd-stats-" + std::to_string(::getpid()) + "-" + info->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // Runs `ricochet ARGS` (already shell-quoted), capturing stdout, stderr and the exit code.
+  RunResult ricochet(const std::string& args) const {
+    const fs::path err = dir_ / "stderr.txt";
+    const std::string cmd = quote(RICOCHET_EXE) + " " + args + " 2>" + quote(err.string());
+    RunResult run;
+    FILE* pipe = ::popen(cmd.c_str(), "r");
+    if (!pipe) return run;
+    std::array<char, 4096> buf;
+    std::size_t n;
+    while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) run.out.append(buf.data(), n);
+    const int status = ::pclose(pipe);
+    run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    run.err = slurp(err);
+    return run;
+  }
+  fs::path dir_;
+};
+
+template <typename Table>
+void expect_table2_json(const nlohmann::json& doc, const Table& table) {
+  for (const auto& p : table) {
+    ASSERT_TRUE(doc["columns"].contains(p.name)) << p.name;
+    const auto& c = doc["columns"][p.name];
+    test::expect_table2_column(p, c["mean"], c["std"], c["cv"], c["min"], c["max"]);
+    EXPECT_EQ(c["unit"], p.name[0] == 'w' ? "rad/s" : "m/s");
+  }
+}
+
+TEST_F(CmdStats, JsonReproducesTable2ForCylinders) {
+  const RunResult run = ricochet("stats --json " + quote(kLab + "cylinders.csv"));
+  ASSERT_EQ(run.status, 0) << run.err;
+  const auto doc = nlohmann::json::parse(run.out);  // stdout is one JSON document, nothing else
+  EXPECT_EQ(doc["source"], kLab + "cylinders.csv");
+  EXPECT_EQ(doc["n"], 28);
+  EXPECT_TRUE(doc["where"].is_null());
+  EXPECT_EQ(doc["columns"].size(), 6u);
+  expect_table2_json(doc, test::kTable2Cylinders);
+}
+
+TEST_F(CmdStats, JsonReproducesTable2ForAll31Triangles) {
+  const RunResult run = ricochet("stats " + quote(kLab + "triangles.csv") + " --json");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const auto doc = nlohmann::json::parse(run.out);
+  EXPECT_EQ(doc["n"], 31);
+  expect_table2_json(doc, test::kTable2Triangles);
+}
+
+TEST_F(CmdStats, WhereSelectsReleases) {
+  const RunResult run =
+      ricochet("stats --json --where 'vin_x<3.5' " + quote(kLab + "triangles.csv"));
+  ASSERT_EQ(run.status, 0) << run.err;
+  const auto doc = nlohmann::json::parse(run.out);
+  EXPECT_EQ(doc["n"], 19);
+  EXPECT_EQ(doc["where"], "vin_x<3.5");
+  EXPECT_LT(doc["columns"]["vin_x"]["max"].get<double>(), 3.5);
+}
+
+TEST_F(CmdStats, TableOnTerminalOutput) {
+  const RunResult run = ricochet("stats " + quote(kLab + "cylinders.csv"));
+  ASSERT_EQ(run.status, 0) << run.err;
+  for (const char* s : {"28 releases", "V_in^x", "omega_out", "mean", "std", "cv [%]", "min", "max",
+                        "-77.82", "3.055"})
+    EXPECT_NE(run.out.find(s), std::string::npos) << s << "\n" << run.out;
+}
+
+TEST_F(CmdStats, OutWritesCsvAndHdf5) {
+  const std::string csv = (dir_ / "stats.csv").string();
+  const std::string h5 = (dir_ / "stats.h5").string();
+  const RunResult a =
+      ricochet("stats --json --out " + quote(csv) + " " + quote(kLab + "cylinders.csv"));
+  ASSERT_EQ(a.status, 0) << a.err;
+  const auto doc = nlohmann::json::parse(a.out);
+  const std::string text = slurp(csv);
+  EXPECT_NE(text.find("column,unit,n,mean,std,cv,min,max\n"), std::string::npos);
+  EXPECT_NE(text.find("\nwout,rad/s,28,"), std::string::npos) << text;
+
+  const RunResult b = ricochet("stats --out " + quote(h5) + " " + quote(kLab + "cylinders.csv"));
+  ASSERT_EQ(b.status, 0) << b.err;
+  h5::File f(h5, h5::File::Mode::kRead);
+  const auto names = f.read_strings("/stats/column");
+  const auto mean = f.read_doubles("/stats/mean");
+  ASSERT_EQ(names.size(), 6u);
+  EXPECT_EQ(names, (std::vector<std::string>{"vin_x", "vout_x", "vin_y", "vout_y", "win", "wout"}));
+  for (std::size_t k = 0; k < names.size(); ++k)
+    EXPECT_EQ(mean[k], doc["columns"][names[k]]["mean"].get<double>()) << names[k];
+}
+
+TEST_F(CmdStats, BadInputExitsWithTwoAndNamesTheCell) {
+  const fs::path bad = dir_ / "bad.csv";
+  std::ofstream(bad) << "id,shape,vin_x[m/s],vin_y[m/s],win[rad/s],vout_x[m/s],vout_y[m/s],"
+                        "wout[rad/s]\nA,cylinder,1,-1,-10,1,0.5,-5\nB,cylinder,1,-1,-10,1,x,-5\n";
+  const RunResult run = ricochet("stats --json " + quote(bad.string()));
+  EXPECT_EQ(run.status, 2);
+  EXPECT_TRUE(run.out.empty()) << run.out;
+  EXPECT_NE(run.err.find(bad.string() + ":3: field 'vout_y'"), std::string::npos) << run.err;
+
+  const RunResult where = ricochet("stats --where 'vinx<3' " + quote(kLab + "cylinders.csv"));
+  EXPECT_EQ(where.status, 2);
+  EXPECT_NE(where.err.find("vinx<3"), std::string::npos) << where.err;
+
+  const RunResult none = ricochet("stats --where 'vin_x>100' " + quote(kLab + "cylinders.csv"));
+  EXPECT_EQ(none.status, 2);
+
+  const RunResult ext = ricochet("stats --out " + quote((dir_ / "x.txt").string()) + " " +
+                                 quote(kLab + "cylinders.csv"));
+  EXPECT_EQ(ext.status, 2);
+  EXPECT_FALSE(fs::exists(dir_ / "x.txt"));
+}
+
+}  // namespace
+}  // namespace ricochet

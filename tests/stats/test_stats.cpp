@@ -1,0 +1,217 @@
+// Summaries, empirical CDFs, the two-sample Kolmogorov-Smirnov test and the Pearson test, each
+// checked against an independent computation.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "impact/impact_set.hpp"
+#include "stats/stats.hpp"
+
+namespace ricochet {
+namespace {
+
+const double kNaN = std::nan("");
+const std::string kLab = std::string(RICOCHET_SOURCE_DIR) + "/data/lab/";
+
+TEST(Summarize, SampleStandardDeviationUsesNMinusOne) {
+  const std::vector<double> x = {1, 2, 3, 4};
+  const auto s = stats::summarize(x);
+  EXPECT_EQ(s.n, 4u);
+  EXPECT_DOUBLE_EQ(s.mean, 2.5);
+  EXPECT_DOUBLE_EQ(s.std, std::sqrt(5.0 / 3.0));  // sum of squares 5 over n - 1 = 3
+  EXPECT_DOUBLE_EQ(s.cv, std::sqrt(5.0 / 3.0) / 2.5);
+  EXPECT_EQ(s.min, 1);
+  EXPECT_EQ(s.max, 4);
+}
+
+TEST(Summarize, SignedCvSkipsNanAndHandlesTinySamples) {
+  const std::vector<double> x = {-2, kNaN, -4};
+  const auto s = stats::summarize(x);
+  EXPECT_EQ(s.n, 2u);
+  EXPECT_DOUBLE_EQ(s.mean, -3);
+  EXPECT_DOUBLE_EQ(s.std, std::sqrt(2.0));
+  EXPECT_LT(s.cv, 0);  // signed, as Table 2 prints it
+  const auto one = stats::summarize(std::vector<double>{5});
+  EXPECT_EQ(one.n, 1u);
+  EXPECT_EQ(one.mean, 5);
+  EXPECT_TRUE(std::isnan(one.std));
+  const auto none = stats::summarize(std::vector<double>{kNaN});
+  EXPECT_EQ(none.n, 0u);
+  EXPECT_TRUE(std::isnan(none.mean) && std::isnan(none.min) && std::isnan(none.max));
+}
+
+TEST(Summarize, NoCancellationForLargeOffsets) {
+  // The same spread around 1e9 and around 0 must give the same std.
+  std::vector<double> a, b;
+  for (int i = 0; i < 100; ++i) {
+    a.push_back(1e9 + 0.01 * i);
+    b.push_back(0.01 * i);
+  }
+  EXPECT_NEAR(stats::summarize(a).std, stats::summarize(b).std, 1e-6);
+}
+
+TEST(Ecdf, SortedWithStepsOfOneOverN) {
+  const std::vector<double> x = {3, kNaN, 1, 2, 2};
+  const auto e = stats::ecdf(x);
+  EXPECT_EQ(e.x, (std::vector<double>{1, 2, 2, 3}));
+  EXPECT_EQ(e.p, (std::vector<double>{0.25, 0.5, 0.75, 1.0}));
+}
+
+// D = sup_x |F_a(x) - F_b(x)| evaluated at every pooled point, with right-continuous ECDFs
+// (ties between and within samples count fully).
+double brute_force_ks(std::vector<double> a, std::vector<double> b) {
+  std::vector<double> pooled = a;
+  pooled.insert(pooled.end(), b.begin(), b.end());
+  double d = 0;
+  for (double x : pooled) {
+    const double fa =
+        static_cast<double>(std::count_if(a.begin(), a.end(), [&](double v) { return v <= x; })) /
+        static_cast<double>(a.size());
+    const double fb =
+        static_cast<double>(std::count_if(b.begin(), b.end(), [&](double v) { return v <= x; })) /
+        static_cast<double>(b.size());
+    d = std::max(d, std::abs(fa - fb));
+  }
+  return d;
+}
+
+// Kolmogorov's limiting tail Q(lambda) = 2 sum (-1)^(k-1) exp(-2 k^2 lambda^2), with Stephens'
+// finite-size correction lambda = (sqrt(ne) + 0.12 + 0.11 / sqrt(ne)) D (Numerical Recipes 14.3).
+double kolmogorov_tail(double d, double ne) {
+  const double lambda = (std::sqrt(ne) + 0.12 + 0.11 / std::sqrt(ne)) * d;
+  double q = 0;
+  for (int k = 1; k <= 100; ++k)
+    q += 2.0 * ((k % 2) ? 1.0 : -1.0) * std::exp(-2.0 * k * k * lambda * lambda);
+  return q;
+}
+
+TEST(KolmogorovSmirnov, IdenticalSamples) {
+  const std::vector<double> a = {0.3, 1.2, -0.7, 2.2, 0.9, 1.1};
+  const auto r = stats::ks_two_sample(a, a);
+  EXPECT_EQ(r.statistic, 0.0);
+  EXPECT_DOUBLE_EQ(r.p_value, 1.0);
+}
+
+TEST(KolmogorovSmirnov, DisjointSamples) {
+  std::vector<double> a, b;
+  for (int i = 0; i < 20; ++i) {
+    a.push_back(i);
+    b.push_back(100 + i);
+  }
+  const auto r = stats::ks_two_sample(a, b);
+  EXPECT_EQ(r.statistic, 1.0);
+  EXPECT_LT(r.p_value, 1e-4);
+}
+
+TEST(KolmogorovSmirnov, StatisticMatchesBruteForceWithTies) {
+  // The lab samples have ties within and between samples (e.g. 3.05 m/s).
+  const ImpactSet cyl = read_impact_set(kLab + "cylinders.csv");
+  const ImpactSet tri = read_impact_set(kLab + "triangles.csv");
+  for (const char* name : {"vin_x", "vout_x", "vin_y", "vout_y", "win", "wout"}) {
+    SCOPED_TRACE(name);
+    const auto a = cyl.feature(name);
+    const auto b = tri.feature(name);
+    const auto r = stats::ks_two_sample(a, b);
+    EXPECT_DOUBLE_EQ(r.statistic, brute_force_ks(a, b));
+    EXPECT_GE(r.p_value, 0.0);
+    EXPECT_LE(r.p_value, 1.0);
+  }
+  // Incident against reflected horizontal velocity of the cylinders: the shift of paper Fig. 11.
+  const auto r = stats::ks_two_sample(cyl.feature("vin_x"), cyl.feature("vout_x"));
+  EXPECT_DOUBLE_EQ(r.statistic, brute_force_ks(cyl.feature("vin_x"), cyl.feature("vout_x")));
+}
+
+TEST(KolmogorovSmirnov, PValueFollowsKolmogorovDistribution) {
+  // Two shifted uniform grids of 200 points, effective size 200*200/400 = 100.
+  std::vector<double> a, b;
+  for (int i = 0; i < 200; ++i) {
+    a.push_back((i + 0.5) / 200.0);
+    b.push_back((i + 0.5) / 200.0 + 0.1 + 1e-9);
+  }
+  const auto r = stats::ks_two_sample(a, b);
+  EXPECT_DOUBLE_EQ(r.statistic, brute_force_ks(a, b));
+  EXPECT_NEAR(r.statistic, 0.105, 1e-12);  // 21 grid steps: the shift plus one step
+  EXPECT_NEAR(r.p_value, kolmogorov_tail(r.statistic, 100), 0.01);
+  EXPECT_GT(r.p_value, 0.1);
+  EXPECT_LT(r.p_value, 0.3);
+  // A larger shift is more significant.
+  for (double& v : b) v += 0.1;
+  EXPECT_LT(stats::ks_two_sample(a, b).p_value, r.p_value);
+}
+
+TEST(KolmogorovSmirnov, SkipsNanAndRefusesEmptySamples) {
+  const std::vector<double> a = {1, 2, kNaN, 3};
+  const std::vector<double> b = {1, 2, 3};
+  EXPECT_EQ(stats::ks_two_sample(a, b).statistic, 0.0);
+  EXPECT_THROW(stats::ks_two_sample(std::vector<double>{kNaN}, b), std::invalid_argument);
+  EXPECT_THROW(stats::ks_two_sample(std::vector<double>{}, b), std::invalid_argument);
+}
+
+TEST(Pearson, FourPairsMatchStudentWithTwoDegreesOfFreedom) {
+  // n = 4: t = r sqrt(2 / (1 - r^2)) has 2 degrees of freedom, whose CDF is closed-form:
+  // P(|T| > |t|) = 1 - |t| / sqrt(2 + t^2) = 1 - |r|.
+  const std::vector<double> x = {1, 2, 3, 4};
+  const std::vector<double> y = {2, 1, 4, 3};
+  const auto c = stats::pearson(x, y);
+  EXPECT_EQ(c.n, 4u);
+  EXPECT_NEAR(c.r, 0.6, 1e-12);
+  EXPECT_NEAR(c.p_value, 0.4, 1e-9);
+  const std::vector<double> yneg = {3, 4, 1, 2};
+  const auto cn = stats::pearson(x, yneg);
+  EXPECT_NEAR(cn.r, -0.6, 1e-12);
+  EXPECT_NEAR(cn.p_value, 0.4, 1e-9);  // two-sided
+}
+
+TEST(Pearson, ThreePairsMatchCauchy) {
+  // n = 3: one degree of freedom (Cauchy), P(|T| > |t|) = 1 - (2 / pi) atan(|t|).
+  const std::vector<double> x = {0, 1, 2};
+  const std::vector<double> y = {0, 2, 1};
+  const auto c = stats::pearson(x, y);
+  const double r = 0.5;  // sxy = 1, sxx = 2, syy = 2
+  EXPECT_NEAR(c.r, r, 1e-12);
+  const double t = r * std::sqrt(1.0 / (1.0 - r * r));
+  EXPECT_NEAR(c.p_value, 1.0 - 2.0 / std::numbers::pi * std::atan(t), 1e-9);
+}
+
+TEST(Pearson, NanPairsSkippedDegenerateCasesAreNan) {
+  const std::vector<double> x = {1, 2, kNaN, 3, 4};
+  const std::vector<double> y = {2, 1, 7, 4, 3};
+  const auto c = stats::pearson(x, y);
+  EXPECT_EQ(c.n, 4u);
+  EXPECT_NEAR(c.r, 0.6, 1e-12);
+  const auto constant = stats::pearson(std::vector<double>{1, 2, 3}, std::vector<double>{5, 5, 5});
+  EXPECT_TRUE(std::isnan(constant.r));
+  const auto two = stats::pearson(std::vector<double>{1, 2}, std::vector<double>{1, 2});
+  EXPECT_TRUE(std::isnan(two.p_value));
+  EXPECT_THROW(stats::pearson(std::vector<double>{1, 2}, std::vector<double>{1}),
+               std::invalid_argument);
+}
+
+TEST(Pearson, LabCorrelationAgainstStudentTables) {
+  // Triangles: V_in^x against V_out^x (the slope behind A_xx in paper Table 3).
+  const ImpactSet tri = read_impact_set(kLab + "triangles.csv");
+  const auto x = tri.feature("vin_x");
+  const auto y = tri.feature("vout_x");
+  const auto c = stats::pearson(x, y);
+  EXPECT_EQ(c.n, 31u);
+  const auto sx = stats::summarize(x);
+  const auto sy = stats::summarize(y);
+  double sxy = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) sxy += (x[i] - sx.mean) * (y[i] - sy.mean);
+  EXPECT_NEAR(c.r, sxy / (30.0 * sx.std * sy.std), 1e-12);
+  // t = r sqrt(29 / (1 - r^2)) lies between the two-sided 1 % and 0.1 % critical values of
+  // Student's t with 29 degrees of freedom (2.756 and 3.659), so 0.001 < p < 0.01.
+  const double t = c.r * std::sqrt(29.0 / (1.0 - c.r * c.r));
+  ASSERT_GT(t, 2.756);
+  ASSERT_LT(t, 3.659);
+  EXPECT_GT(c.p_value, 0.001);
+  EXPECT_LT(c.p_value, 0.01);
+}
+
+}  // namespace
+}  // namespace ricochet
