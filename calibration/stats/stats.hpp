@@ -17,7 +17,7 @@ struct Summary {
 Summary summarize(std::span<const double> x);
 
 /// Empirical CDF: sorted values and cumulative probabilities i/n (i = 1..n), as the paper's
-/// Figs. 9-12 draw them.
+/// Figs. 9-12 draw them. NaN values are skipped.
 struct Ecdf {
   std::vector<double> x;
   std::vector<double> p;
@@ -25,7 +25,10 @@ struct Ecdf {
 Ecdf ecdf(std::span<const double> x);
 
 /// Two-sample Kolmogorov-Smirnov test: statistic D = sup |F1 - F2| and its p-value
-/// (computed by OpenTURNS, HypothesisTest/FittingTest two-sample Kolmogorov).
+/// (computed by OpenTURNS, HypothesisTest::TwoSamplesKolmogorov: the p-value is the exact
+/// one-sample Kolmogorov tail at the effective size floor(n1 n2 / (n1 + n2))). NaN values are
+/// skipped; throws std::invalid_argument if a sample is empty. Cost O((n1 + n2)^2) in
+/// OpenTURNS 1.20: about 4 s for 28 against 50,000 values.
 struct KsResult {
   double statistic = 0;
   double p_value = 1;
@@ -33,7 +36,9 @@ struct KsResult {
 KsResult ks_two_sample(std::span<const double> a, std::span<const double> b);
 
 /// Pearson correlation coefficient of paired samples (NaN pairs skipped) and its two-sided
-/// p-value for H0: no correlation (t-test with n - 2 degrees of freedom).
+/// p-value for H0: no correlation (t-test with n - 2 degrees of freedom, OpenTURNS
+/// HypothesisTest::Pearson). r and p_value are NaN with fewer than 3 pairs or a constant sample.
+/// Throws std::invalid_argument if x and y differ in size.
 struct Correlation {
   double r = 0;
   double p_value = 1;
