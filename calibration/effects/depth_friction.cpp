@@ -35,6 +35,8 @@ class DepthFriction final : public Effect {
 
 }  // namespace
 
-std::unique_ptr<Effect> make_depth_friction() { return std::make_unique<DepthFriction>(); }
+std::unique_ptr<Effect> make_depth_friction() {
+  return std::make_unique<DepthFriction>();
+}
 
 }  // namespace ricochet::effects

@@ -49,6 +49,8 @@ class HertzStiffness final : public Effect {
 
 }  // namespace
 
-std::unique_ptr<Effect> make_hertz_stiffness() { return std::make_unique<HertzStiffness>(); }
+std::unique_ptr<Effect> make_hertz_stiffness() {
+  return std::make_unique<HertzStiffness>();
+}
 
 }  // namespace ricochet::effects

@@ -43,6 +43,8 @@ class InertialDrag final : public Effect {
 
 }  // namespace
 
-std::unique_ptr<Effect> make_inertial_drag() { return std::make_unique<InertialDrag>(); }
+std::unique_ptr<Effect> make_inertial_drag() {
+  return std::make_unique<InertialDrag>();
+}
 
 }  // namespace ricochet::effects

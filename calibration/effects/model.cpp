@@ -1,12 +1,12 @@
 #include "effects/model.hpp"
 
+#include <toml++/toml.h>
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
-#include <toml++/toml.h>
 
 #include "common/error.hpp"
 
@@ -137,8 +137,7 @@ void Model::set_values(const std::vector<double>& values) {
 void Model::set_from_string(const std::string& assignment, const std::string& option) {
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
-    throw InputError("<command line>", 0, option,
-                     "expected NAME=VALUE, got '" + assignment + "'");
+    throw InputError("<command line>", 0, option, "expected NAME=VALUE, got '" + assignment + "'");
   const std::string name = assignment.substr(0, eq);
   const std::string text = assignment.substr(eq + 1);
   double v = 0;
@@ -147,8 +146,8 @@ void Model::set_from_string(const std::string& assignment, const std::string& op
     v = std::stod(text, &used);
     if (used != text.size()) throw std::invalid_argument("trailing characters");
   } catch (const std::exception&) {
-    throw InputError("<command line>", 0, option, "value of '" + name + "' is not a number: '" +
-                                                      text + "'");
+    throw InputError("<command line>", 0, option,
+                     "value of '" + name + "' is not a number: '" + text + "'");
   }
   try {
     set(name, v);
@@ -168,7 +167,9 @@ void Model::set_bounds(std::string_view name, double lower, double upper) {
   upper_[i] = upper;
 }
 
-void Model::set_calibrated(std::string_view name, bool on) { calibrated_[index(name)] = on; }
+void Model::set_calibrated(std::string_view name, bool on) {
+  calibrated_[index(name)] = on;
+}
 
 std::vector<std::size_t> Model::calibrated_indices() const {
   std::vector<std::size_t> out;
@@ -180,8 +181,8 @@ std::vector<std::size_t> Model::calibrated_indices() const {
 void Model::check(const std::vector<double>& values) const {
   for (std::size_t i = 0; i < specs_.size(); ++i)
     if (!(values[i] >= specs_[i].lower && values[i] <= specs_[i].upper))
-      throw std::out_of_range(bounds_message(specs_[i], values[i], specs_[i].lower,
-                                             specs_[i].upper));
+      throw std::out_of_range(
+          bounds_message(specs_[i], values[i], specs_[i].lower, specs_[i].upper));
 }
 
 nlohmann::json Model::to_json() const {

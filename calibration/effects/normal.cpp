@@ -59,6 +59,8 @@ class Normal final : public Effect {
 
 }  // namespace
 
-std::unique_ptr<Effect> make_normal() { return std::make_unique<Normal>(); }
+std::unique_ptr<Effect> make_normal() {
+  return std::make_unique<Normal>();
+}
 
 }  // namespace ricochet::effects

@@ -1,7 +1,8 @@
 // `ploughing`: passive earth pressure on the leading face of a penetrating block. Rankine's
 // passive force on a wall of width b buried to depth h is P_p = 1/2 K_p gamma h^2 b
 // (K_p = tan^2(45 deg + phi/2)). The reduced model's overlap h is a numerical penetration, not
-// the physical depth, so the prefactor is lumped into one coefficient cp = 1/2 K_p gamma b (h/h_phys)^2:
+// the physical depth, so the prefactor is lumped into one coefficient cp = 1/2 K_p gamma b
+// (h/h_phys)^2:
 //   F_x = -cp * h^2 * vx / max(|vx|, v_eps),  applied at the centre of mass.
 // Applied at the centre of mass (no moment) so that it can only remove translational energy:
 // its power is -cp h^2 |vx| <= 0. v_eps = 0.01 m/s regularises the sign near vx = 0.
@@ -53,6 +54,8 @@ class Ploughing final : public Effect {
 
 }  // namespace
 
-std::unique_ptr<Effect> make_ploughing() { return std::make_unique<Ploughing>(); }
+std::unique_ptr<Effect> make_ploughing() {
+  return std::make_unique<Ploughing>();
+}
 
 }  // namespace ricochet::effects

@@ -51,6 +51,8 @@ class RateRestitution final : public Effect {
 
 }  // namespace
 
-std::unique_ptr<Effect> make_rate_restitution() { return std::make_unique<RateRestitution>(); }
+std::unique_ptr<Effect> make_rate_restitution() {
+  return std::make_unique<RateRestitution>();
+}
 
 }  // namespace ricochet::effects

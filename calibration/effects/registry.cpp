@@ -11,11 +11,16 @@ namespace ricochet {
 
 std::string_view stage_name(Stage stage) {
   switch (stage) {
-    case Stage::kCoefficient: return "coefficient";
-    case Stage::kNormal: return "normal";
-    case Stage::kTangential: return "tangential";
-    case Stage::kRolling: return "rolling";
-    case Stage::kBody: return "body";
+    case Stage::kCoefficient:
+      return "coefficient";
+    case Stage::kNormal:
+      return "normal";
+    case Stage::kTangential:
+      return "tangential";
+    case Stage::kRolling:
+      return "rolling";
+    case Stage::kBody:
+      return "body";
   }
   return "?";
 }
@@ -40,6 +45,14 @@ EffectRegistry& EffectRegistry::global() {
 }
 
 void EffectRegistry::add(std::unique_ptr<Effect> effect) {
+  check_and_store(std::shared_ptr<const Effect>(std::move(effect)));
+}
+
+void EffectRegistry::add_borrowed(const Effect& effect) {
+  check_and_store(std::shared_ptr<const Effect>(&effect, [](const Effect*) {}));
+}
+
+void EffectRegistry::check_and_store(std::shared_ptr<const Effect> effect) {
   const std::string name(effect->name());
   if (name.empty()) throw std::invalid_argument("an effect must have a name");
   if (contains(name)) throw std::invalid_argument("effect '" + name + "' is already registered");
@@ -65,7 +78,8 @@ const Effect& EffectRegistry::get(std::string_view name) const {
     if (e->name() == name) return *e;
   std::string known;
   for (const auto& e : effects_) known += (known.empty() ? "" : ", ") + std::string(e->name());
-  throw std::invalid_argument("unknown effect '" + std::string(name) + "'; known effects: " + known);
+  throw std::invalid_argument("unknown effect '" + std::string(name) +
+                              "'; known effects: " + known);
 }
 
 bool EffectRegistry::contains(std::string_view name) const {

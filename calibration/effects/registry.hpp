@@ -4,6 +4,7 @@
 #pragma once
 
 #include <memory>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -22,7 +23,11 @@ class EffectRegistry {
   /// Adds an effect. Throws std::invalid_argument if its name is taken, if a parameter name is
   /// declared twice, or if a nominal value lies outside its bounds.
   void add(std::unique_ptr<Effect> effect);
-  /// Throws std::invalid_argument "unknown effect 'X'; known effects: a, b, ..." for an unknown name.
+  /// Adds an effect owned by the caller, who keeps it alive as long as this registry and the
+  /// models built from it (used by check_effect_invariants()).
+  void add_borrowed(const Effect& effect);
+  /// Throws std::invalid_argument "unknown effect 'X'; known effects: a, b, ..." for an unknown
+  /// name.
   const Effect& get(std::string_view name) const;
   bool contains(std::string_view name) const;
   std::vector<std::string> names() const;
@@ -34,7 +39,8 @@ class EffectRegistry {
   void load_plugin(const std::string& path);
 
  private:
-  std::vector<std::unique_ptr<Effect>> effects_;
+  void check_and_store(std::shared_ptr<const Effect> effect);
+  std::vector<std::shared_ptr<const Effect>> effects_;
 };
 
 /// Signature of the plugin entry point.

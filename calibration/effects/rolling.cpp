@@ -51,6 +51,8 @@ class Rolling final : public Effect {
 
 }  // namespace
 
-std::unique_ptr<Effect> make_rolling() { return std::make_unique<Rolling>(); }
+std::unique_ptr<Effect> make_rolling() {
+  return std::make_unique<Rolling>();
+}
 
 }  // namespace ricochet::effects

@@ -50,6 +50,8 @@ class Tangential final : public Effect {
 
 }  // namespace
 
-std::unique_ptr<Effect> make_tangential() { return std::make_unique<Tangential>(); }
+std::unique_ptr<Effect> make_tangential() {
+  return std::make_unique<Tangential>();
+}
 
 }  // namespace ricochet::effects

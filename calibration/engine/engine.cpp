@@ -10,9 +10,12 @@ namespace ricochet {
 
 const char* status_name(CollisionStatus status) {
   switch (status) {
-    case CollisionStatus::kOk: return "ok";
-    case CollisionStatus::kNoRebound: return "no_rebound";
-    case CollisionStatus::kNoContact: return "no_contact";
+    case CollisionStatus::kOk:
+      return "ok";
+    case CollisionStatus::kNoRebound:
+      return "no_rebound";
+    case CollisionStatus::kNoContact:
+      return "no_contact";
   }
   return "?";
 }
@@ -67,15 +70,17 @@ class LaneBatch {
       a = p;
       p += L_;
     };
-    for (double** a : {&x_, &y_, &th_, &vx_, &vy_, &w_, &ax_, &ay_, &aw_, &vxh_, &vyh_, &wh_,
-                       &fx_, &fy_, &tq_, &t_, &t_first_, &had_, &any_, &prev_, &maxh_, &phases_,
-                       &cand_, &pending_, &y_in_, &ke_in_, &cth_, &sth_})
+    for (double** a :
+         {&x_,    &y_,      &th_,   &vx_,      &vy_,   &w_,     &ax_,      &ay_,  &aw_,  &vxh_,
+          &vyh_,  &wh_,     &fx_,   &fy_,      &tq_,   &t_,     &t_first_, &had_, &any_, &prev_,
+          &maxh_, &phases_, &cand_, &pending_, &y_in_, &ke_in_, &cth_,     &sth_})
       take(*a);
     for (auto& a : work_) take(a);
     slot_.resize(V_);
     for (auto& s : slot_)
-      for (double** a : {&s.h_prev, &s.active, &s.h, &s.dh, &s.vn, &s.vt, &s.lever, &s.rcx,
-                         &s.rcy, &s.nx, &s.ny, &s.fn, &s.ft, &s.mom, &s.fxb, &s.fyb})
+      for (double** a : {&s.h_prev, &s.active, &s.h,   &s.dh,  &s.vn,   &s.vt,   &s.lever,
+                         &s.rcx,    &s.rcy,    &s.nx,  &s.ny,  &s.fn,   &s.ft,   &s.mom,
+                         &s.fxb,    &s.fyb,    &s.pfn, &s.pft, &s.pmom, &s.pfxb, &s.pfyb})
         take(*a);
     for (double** a : {&kf_, &ef_, &enf_, &muf_, &murf_}) take(*a);
     param_.resize(layout.params);
@@ -87,7 +92,8 @@ class LaneBatch {
     estate_.resize(layout.effects.size() * V_);
     for (std::size_t e = 0; e < layout.effects.size(); ++e) {
       const auto np = layout.effects[e]->parameters().size();
-      for (std::size_t k = 0; k < np; ++k) eparams_[e].push_back(param_[layout.param_offset[e] + k]);
+      for (std::size_t k = 0; k < np; ++k)
+        eparams_[e].push_back(param_[layout.param_offset[e] + k]);
       for (std::size_t s = 0; s < V_; ++s)
         for (std::size_t j = 0; j < layout.state_count[e]; ++j)
           estate_[e * V_ + s].push_back(state_[(layout.state_offset[e] + j) * V_ + s]);
@@ -121,12 +127,13 @@ class LaneBatch {
  private:
   static constexpr std::size_t kLaneArrays = 28;
   static constexpr std::size_t kStages = kStageCount;
-  static constexpr std::size_t kSlotArrays = 16;
+  static constexpr std::size_t kSlotArrays = 21;
   static constexpr std::size_t kFactorArrays = 5;
 
   struct Slot {
     double *h_prev, *active, *h, *dh, *vn, *vt, *lever, *rcx, *rcy, *nx, *ny;
     double *fn, *ft, *mom, *fxb, *fyb;
+    double *pfn, *pft, *pmom, *pfxb, *pfyb;  // forces of the previous step (work accounting)
   };
 
   void load(std::size_t i) {
@@ -157,7 +164,8 @@ class LaneBatch {
     for (auto& w : work_) w[i] = 0.0;
     y_in_[i] = y_[i];
     ke_in_[i] = kinetic(i);
-    for (auto& s : slot_) s.h_prev[i] = 0.0;
+    for (auto& s : slot_)
+      s.h_prev[i] = s.pfn[i] = s.pft[i] = s.pmom[i] = s.pfxb[i] = s.pfyb[i] = 0.0;
     for (auto& s : state_) s[i] = 0.0;
     const double* row = broadcast_ ? params_.data() : params_.data() + k * layout_.params;
     for (std::size_t q = 0; q < layout_.params; ++q) param_[q][i] = row[q];
@@ -356,19 +364,32 @@ class LaneBatch {
     double* __restrict wt = work_[static_cast<int>(Stage::kTangential)];
     double* __restrict wr = work_[static_cast<int>(Stage::kRolling)];
     double* __restrict wb = work_[static_cast<int>(Stage::kBody)];
-    const double dt = dt_;
+    double* __restrict pfn = sl.pfn;
+    double* __restrict pft = sl.pft;
+    double* __restrict pmom = sl.pmom;
+    double* __restrict pfxb = sl.pfxb;
+    double* __restrict pfyb = sl.pfyb;
+    const double half_dt = 0.5 * dt_;
     RICOCHET_SIMD
     for (std::size_t i = 0; i < n; ++i) {
       // Each stage writes only its own outputs (effect.hpp), so stage work needs no snapshots.
+      // Work over the step: trapezoidal rule on the force times the contact point's
+      // displacement (v at the half step times dt), consistent with velocity Verlet's energy
+      // update to second order.
       const double fcx = fn[i] * nx_a[i] + ft[i] * ny_a[i];
       const double fcy = fn[i] * ny_a[i] - ft[i] * nx_a[i];
       fx[i] += fcx + fxb[i];
       fy[i] += fcy + fyb[i];
       tq[i] += rcx_a[i] * fcy - rcy_a[i] * fcx + mom[i];
-      wn[i] += fn[i] * vn[i] * dt;
-      wt[i] += ft[i] * vt[i] * dt;
-      wr[i] += mom[i] * wh[i] * dt;
-      wb[i] += (fxb[i] * vxh[i] + fyb[i] * vyh[i]) * dt;
+      wn[i] += (pfn[i] + fn[i]) * vn[i] * half_dt;
+      wt[i] += (pft[i] + ft[i]) * vt[i] * half_dt;
+      wr[i] += (pmom[i] + mom[i]) * wh[i] * half_dt;
+      wb[i] += ((pfxb[i] + fxb[i]) * vxh[i] + (pfyb[i] + fyb[i]) * vyh[i]) * half_dt;
+      pfn[i] = fn[i];
+      pft[i] = ft[i];
+      pmom[i] = mom[i];
+      pfxb[i] = fxb[i];
+      pfyb[i] = fyb[i];
       any[i] = std::max(any[i], active[i]);
       maxh[i] = std::max(maxh[i], hh[i]);
     }
@@ -418,14 +439,15 @@ class LaneBatch {
     }
     CollisionResult& res = results_[case_of_[i]];
     res.vout = {vx_[i], vy_[i], w_[i]};
-    res.status = timeout ? (had_[i] > 0.0 ? CollisionStatus::kNoRebound : CollisionStatus::kNoContact)
-                         : CollisionStatus::kOk;
+    res.status = timeout
+                     ? (had_[i] > 0.0 ? CollisionStatus::kNoRebound : CollisionStatus::kNoContact)
+                     : CollisionStatus::kOk;
     res.contact_duration_s = had_[i] > 0.0 ? t_[i] - t_first_[i] : 0.0;
     res.max_penetration_m = maxh_[i];
     res.contact_phases = static_cast<int>(phases_[i]);
     res.end_time_s = t_[i];
     res.alpha_out_rad = th_[i];
-    for (std::size_t s = 0; s < kStageCount; ++s) res.dissipated_J[s] = -work_[s][i];
+    for (std::size_t s = 0; s < kStageCount; ++s) res.dissipated_J[s] = 0.0 - work_[s][i];
     res.kinetic_in_J = ke_in_[i];
     res.kinetic_out_J = kinetic(i);
     res.potential_change_J = shape_.mass_kg * g_ * (y_[i] - y_in_[i]);
@@ -481,15 +503,15 @@ class LaneBatch {
 
 template <bool kDisc, bool kFlat>
 void run_block(const Layout& layout, const Shape& shape, const EngineOptions& options,
-               std::span<const CollisionCase> cases, std::span<const double> params,
-               bool broadcast, CollisionResult* results, Trace* trace) {
+               std::span<const CollisionCase> cases, std::span<const double> params, bool broadcast,
+               CollisionResult* results, Trace* trace) {
   LaneBatch<kDisc, kFlat> batch(layout, shape, options, cases, params, broadcast, results, trace);
   batch.run();
 }
 
 void dispatch(const Layout& layout, const Shape& shape, const EngineOptions& options,
-              std::span<const CollisionCase> cases, std::span<const double> params,
-              bool broadcast, CollisionResult* results, Trace* trace) {
+              std::span<const CollisionCase> cases, std::span<const double> params, bool broadcast,
+              CollisionResult* results, Trace* trace) {
   const bool disc = shape.is_disc(), flat = options.ground.flat();
   if (disc && flat)
     run_block<true, true>(layout, shape, options, cases, params, broadcast, results, trace);
@@ -503,6 +525,13 @@ void dispatch(const Layout& layout, const Shape& shape, const EngineOptions& opt
 
 void validate(const Model& model, const Shape& shape, const EngineOptions& options,
               std::span<const CollisionCase> cases, std::span<const double> params) {
+  const auto check_dt = [&](std::span<const double> row) {
+    const double limit = critical_time_step(model, shape, row);
+    if (options.dt_s > limit)
+      throw std::invalid_argument("time step dt = " + std::to_string(options.dt_s) +
+                                  " s exceeds the stability limit " + std::to_string(limit) +
+                                  " s of the model's stiffest spring; use a smaller --dt");
+  };
   const std::size_t P = model.parameter_count();
   if (!(options.dt_s > 0.0)) throw std::invalid_argument("time step dt must be > 0");
   if (!(shape.mass_kg > 0.0 && shape.inertia_kgm2 > 0.0 && shape.rounding_radius_m > 0.0))
@@ -515,6 +544,7 @@ void validate(const Model& model, const Shape& shape, const EngineOptions& optio
   for (std::size_t k = 0; k * P < params.size(); ++k) {
     std::copy_n(params.data() + k * P, P, row.data());
     model.check(row);
+    check_dt(row);
   }
   for (const auto& c : cases)
     for (double v : c.vin)
@@ -522,6 +552,21 @@ void validate(const Model& model, const Shape& shape, const EngineOptions& optio
 }
 
 }  // namespace
+
+double critical_time_step(const Model& model, const Shape& shape, std::span<const double> params) {
+  const double rb = shape.bounding_radius();
+  const double m_eff = 1.0 / (1.0 / shape.mass_kg + rb * rb / shape.inertia_kgm2);
+  double omega = 0.0;
+  const auto stiffness = [&](const char* name) {
+    for (std::size_t i = 0; i < model.parameter_count(); ++i)
+      if (model.spec(i).name == name) return params[i];
+    return 0.0;
+  };
+  omega = std::max(omega, std::sqrt(stiffness("kn") / m_eff));
+  omega = std::max(omega, std::sqrt(stiffness("kt") / m_eff));
+  omega = std::max(omega, std::sqrt(stiffness("kr") / shape.inertia_kgm2));
+  return omega > 0.0 ? 2.0 / omega : INFINITY;
+}
 
 CollisionResult simulate(const Model& model, const Shape& shape, const CollisionCase& collision,
                          std::span<const double> params, const EngineOptions& options,
@@ -555,8 +600,7 @@ std::vector<CollisionResult> simulate_batch(const Model& model, const Shape& sha
   for (std::size_t b = 0; b < nblocks; ++b) {
     const std::size_t begin = b * block, end = std::min(cases.size(), begin + block);
     const auto sub = cases.subspan(begin, end - begin);
-    const auto sub_params =
-        broadcast ? params : params.subspan(begin * P, (end - begin) * P);
+    const auto sub_params = broadcast ? params : params.subspan(begin * P, (end - begin) * P);
     dispatch(layout, shape, options, sub, sub_params, broadcast, results.data() + begin, nullptr);
   }
   return results;

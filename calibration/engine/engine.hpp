@@ -31,13 +31,13 @@
 namespace ricochet {
 
 struct EngineOptions {
-  double dt_s = 1e-5;            ///< time step [s]; must resolve sqrt(I/kr) (1.3e-4 s / 2 pi)
-  double max_time_s = 0.5;       ///< a rebound not over by then ends with kNoRebound
-  double gravity_mps2 = 9.81;    ///< gravitational acceleration [m/s^2]
-  double initial_gap_m = 0.0;    ///< lowest point above the ground at t = 0 [m]
-  Ground ground;                 ///< flat y = 0 by default
-  std::size_t lanes = 64;        ///< collisions integrated together (SoA width)
-  int threads = 0;               ///< OpenMP threads for batches, 0 = default
+  double dt_s = 1e-5;          ///< time step [s]; must resolve sqrt(I/kr) (1.3e-4 s / 2 pi)
+  double max_time_s = 0.5;     ///< a rebound not over by then ends with kNoRebound
+  double gravity_mps2 = 9.81;  ///< gravitational acceleration [m/s^2]
+  double initial_gap_m = 0.0;  ///< lowest point above the ground at t = 0 [m]
+  Ground ground;               ///< flat y = 0 by default
+  std::size_t lanes = 64;      ///< collisions integrated together (SoA width)
+  int threads = 0;             ///< OpenMP threads for batches, 0 = default
 };
 
 /// One collision to simulate.
@@ -54,9 +54,9 @@ enum class CollisionStatus : int {
 const char* status_name(CollisionStatus status);
 
 struct CollisionResult {
-  Vel3 vout{};                        ///< state at final separation (m/s, m/s, rad/s)
-  double contact_duration_s = 0;      ///< first touch to final separation
-  double max_penetration_m = 0;       ///< largest overlap h over all slots
+  Vel3 vout{};                    ///< state at final separation (m/s, m/s, rad/s)
+  double contact_duration_s = 0;  ///< first touch to final separation
+  double max_penetration_m = 0;   ///< largest overlap h over all slots
   /// Work done BY each stage's forces on the block over the collision, negated: energy
   /// dissipated [J] per Stage (coefficient stage is always 0). Springs' stored energy left at
   /// separation counts as dissipated (paper Fig. 13 gray areas).
@@ -73,6 +73,11 @@ struct CollisionResult {
 struct Trace {
   std::vector<double> t, x, y, theta, vx, vy, w, fn, ft, moment, h;
 };
+
+/// Stability limit of the explicit integration [s]: 2 / omega_max over the model's springs
+/// kn, kt (on the smallest effective mass of a contact point, 1 / (1/m + R_b^2 / I)) and kr
+/// (on I). Parameters absent from the model are ignored. simulate() refuses a larger dt.
+double critical_time_step(const Model& model, const Shape& shape, std::span<const double> params);
 
 /// Runs one collision with parameter values `params` (model order; empty = model.values()).
 CollisionResult simulate(const Model& model, const Shape& shape, const CollisionCase& collision,

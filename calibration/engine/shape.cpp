@@ -1,8 +1,8 @@
 #include "engine/shape.hpp"
 
+#include <toml++/toml.h>
 #include <algorithm>
 #include <cmath>
-#include <toml++/toml.h>
 
 #include "common/error.hpp"
 
@@ -34,12 +34,9 @@ Shape Shape::cylinder() {
 
 Shape Shape::triangle() {
   // Keep in sync with data/shapes/triangle.toml (a test compares them).
-  return Shape{"triangle",
-               {{0.000000, 0.100300}, {-0.086862, -0.050150}, {0.086862, -0.050150}},
-               0.010,
-               10.89,
-               0.0383,
-               0.246};
+  return Shape{"triangle", {{0.000000, 0.100300}, {-0.086862, -0.050150}, {0.086862, -0.050150}},
+               0.010,      10.89,
+               0.0383,     0.246};
 }
 
 namespace {
@@ -97,9 +94,9 @@ Shape Shape::resolve(const std::string& name_or_path) {
   if (name_or_path == "cylinder") return cylinder();
   if (name_or_path == "triangle") return triangle();
   if (name_or_path.find('.') == std::string::npos && name_or_path.find('/') == std::string::npos)
-    throw InputError("<command line>", 0, "--shape",
-                     "unknown shape '" + name_or_path +
-                         "'; use cylinder, triangle, or a shape file (.toml)");
+    throw InputError(
+        "<command line>", 0, "--shape",
+        "unknown shape '" + name_or_path + "'; use cylinder, triangle, or a shape file (.toml)");
   return from_toml_file(name_or_path);
 }
 

@@ -1,0 +1,94 @@
+// `ricochet effects [NAME]`: the registry of physical effects (docs/commands/effects.md).
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "cli_common.hpp"
+#include "common/error.hpp"
+#include "effects/registry.hpp"
+
+namespace ricochet::cli {
+namespace {
+
+struct EffectsOptions {
+  OutputOptions output;
+  std::string name;
+  std::vector<std::string> plugins;
+};
+
+nlohmann::json describe(const Effect& e) {
+  nlohmann::json j;
+  j["name"] = std::string(e.name());
+  j["stage"] = std::string(stage_name(e.stage()));
+  j["summary"] = std::string(e.summary());
+  j["equation"] = std::string(e.equation());
+  j["reference"] = std::string(e.reference());
+  j["parameters"] = nlohmann::json::array();
+  for (const auto& p : e.parameters()) {
+    nlohmann::json q = {{"name", std::string(p.name)},
+                        {"unit", std::string(p.unit)},
+                        {"lower", p.lower},
+                        {"upper", p.upper},
+                        {"nominal", p.nominal},
+                        {"calibrated", p.calibrated},
+                        {"description", std::string(p.description)}};
+    q["neutral"] = std::isnan(p.neutral) ? nlohmann::json(nullptr) : nlohmann::json(p.neutral);
+    j["parameters"].push_back(q);
+  }
+  j["state"] = nlohmann::json::array();
+  for (const auto& s : e.state())
+    j["state"].push_back({{"name", std::string(s.name)}, {"unit", std::string(s.unit)}});
+  return j;
+}
+
+void run(const EffectsOptions& o) {
+  auto& registry = EffectRegistry::global();
+  for (const auto& p : o.plugins) {
+    try {
+      registry.load_plugin(p);
+    } catch (const std::exception& e) {
+      throw InputError(p, 0, "--plugin", e.what());
+    }
+  }
+  std::vector<const Effect*> list;
+  if (o.name.empty()) {
+    list = registry.all();
+  } else {
+    try {
+      list.push_back(&registry.get(o.name));
+    } catch (const std::exception& e) {
+      throw InputError("<command line>", 0, "NAME", e.what());
+    }
+  }
+  if (o.output.json) {
+    nlohmann::json j = nlohmann::json::array();
+    for (const Effect* e : list) j.push_back(describe(*e));
+    print_json(nlohmann::json{{"effects", j}});
+    return;
+  }
+  for (const Effect* e : list) {
+    std::printf("%-18s [%s] %s\n", std::string(e->name()).c_str(),
+                std::string(stage_name(e->stage())).c_str(), std::string(e->summary()).c_str());
+    if (!o.name.empty()) {
+      std::printf("  equation : %s\n  reference: %s\n", std::string(e->equation()).c_str(),
+                  std::string(e->reference()).c_str());
+    }
+    for (const auto& p : e->parameters())
+      std::printf("    %-8s %-8s [%g, %g] nominal %g%s  %s\n", std::string(p.name).c_str(),
+                  std::string(p.unit).c_str(), p.lower, p.upper, p.nominal,
+                  std::isnan(p.neutral) ? "" : (", neutral " + std::to_string(p.neutral)).c_str(),
+                  std::string(p.description).c_str());
+  }
+}
+
+}  // namespace
+
+void add_effects_command(CLI::App& app) {
+  auto opts = std::make_shared<EffectsOptions>();
+  CLI::App* sub = app.add_subcommand("effects", "List the physical effects a model can compose");
+  sub->add_option("NAME", opts->name, "Show one effect in detail");
+  sub->add_option("--plugin", opts->plugins, "Load user effects from a shared library");
+  add_output_options(sub, opts->output);
+  sub->callback([opts] { run(*opts); });
+}
+
+}  // namespace ricochet::cli

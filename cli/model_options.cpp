@@ -1,0 +1,52 @@
+#include "model_options.hpp"
+
+#include "common/error.hpp"
+
+namespace ricochet::cli {
+
+void add_model_options(CLI::App* sub, ModelOptions& o, bool with_shape) {
+  sub->add_option("--model", o.model_file, "Model file (TOML); default: the paper's law");
+  sub->add_option("--add", o.add, "Add an effect to the model (repeatable)");
+  sub->add_option("--set", o.set, "Set a model parameter, NAME=VALUE (repeatable)");
+  sub->add_option("--plugin", o.plugins, "Load user effects from a shared library (repeatable)");
+  if (with_shape)
+    sub->add_option("--shape", o.shape, "cylinder, triangle, or a shape file (.toml)")
+        ->capture_default_str();
+  sub->add_option("--dt", o.dt_s, "Time step [s]")->capture_default_str();
+}
+
+Model ModelOptions::build_model() const {
+  auto& registry = EffectRegistry::global();
+  for (const auto& p : plugins) {
+    try {
+      registry.load_plugin(p);
+    } catch (const std::exception& e) {
+      throw InputError(p, 0, "--plugin", e.what());
+    }
+  }
+  Model model;
+  if (!model_file.empty()) {
+    model = Model::from_toml_file(model_file, registry);
+  } else {
+    model = Model::paper(registry);
+  }
+  for (const auto& name : add) {
+    try {
+      model = model.with_effect(name, false, registry);
+    } catch (const std::exception& e) {
+      throw InputError("<command line>", 0, "--add", e.what());
+    }
+  }
+  for (const auto& s : set) model.set_from_string(s, "--set");
+  return model;
+}
+
+EngineOptions ModelOptions::engine_options() const {
+  EngineOptions o;
+  if (!(dt_s > 0.0 && dt_s < 1e-3))
+    throw InputError("<command line>", 0, "--dt", "time step must lie in (0, 1e-3) s");
+  o.dt_s = dt_s;
+  return o;
+}
+
+}  // namespace ricochet::cli

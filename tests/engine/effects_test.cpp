@@ -1,0 +1,189 @@
+// The effect registry, model composition, and the invariants of every registered effect.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "common/error.hpp"
+#include "effects/model.hpp"
+#include "effects/registry.hpp"
+#include "engine/effect_checks.hpp"
+#include "engine/shape.hpp"
+
+namespace ricochet {
+namespace {
+
+// One generic check over the whole registry (LAMMPS force-style tests do the same per style).
+TEST(Effects, EveryRegisteredEffectSatisfiesTheInvariants) {
+  const auto registry = EffectRegistry::with_builtins();
+  ASSERT_GE(registry.names().size(), 8u);
+  for (const Effect* e : registry.all()) {
+    const auto problems = check_effect_invariants(*e);
+    EXPECT_TRUE(problems.empty()) << e->name() << ": " << (problems.empty() ? "" : problems[0]);
+  }
+}
+
+// The checker itself must catch a broken effect, or the test above proves nothing.
+class LeakyEffect final : public Effect {
+ public:
+  std::string_view name() const override { return "leaky"; }
+  std::string_view summary() const override { return "pushes even out of contact"; }
+  std::string_view equation() const override { return "fn += 1"; }
+  std::string_view reference() const override { return "a test"; }
+  Stage stage() const override { return Stage::kNormal; }
+  std::span<const ParameterSpec> parameters() const override { return {}; }
+  void apply(const ContactBatch& c, const double* const*, double* const*) const override {
+    for (std::size_t i = 0; i < c.n; ++i) c.fn[i] += 1.0;
+  }
+};
+
+class EnergyPump final : public Effect {
+ public:
+  std::string_view name() const override { return "pump"; }
+  std::string_view summary() const override { return "pushes along the velocity"; }
+  std::string_view equation() const override { return "fx += k * vx"; }
+  std::string_view reference() const override { return "a test"; }
+  Stage stage() const override { return Stage::kBody; }
+  std::span<const ParameterSpec> parameters() const override { return kParams; }
+  void apply(const ContactBatch& c, const double* const* p, double* const*) const override {
+    for (std::size_t i = 0; i < c.n; ++i) c.fx_body[i] += c.active[i] * p[0][i] * c.vx[i];
+  }
+  static constexpr ParameterSpec kParams[] = {{"k", "N s/m", 0, 1e4, 1e3, 0, true, "gain"}};
+};
+
+TEST(Effects, CheckerCatchesBrokenEffects) {
+  EXPECT_FALSE(check_effect_invariants(LeakyEffect{}).empty());
+  const auto pump = check_effect_invariants(EnergyPump{});
+  ASSERT_FALSE(pump.empty());
+  EXPECT_NE(pump[0].find("creates"), std::string::npos) << pump[0];
+}
+
+TEST(Effects, UnknownNameListsKnownNames) {
+  try {
+    Model::from_names({"normal", "tangentail"});
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("unknown effect 'tangentail'"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("tangential"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("rate_restitution"), std::string::npos) << msg;
+  }
+}
+
+TEST(Effects, ModelCompositionRules) {
+  EXPECT_THROW(Model::from_names({"tangential", "rolling"}), std::invalid_argument);  // no normal
+  EXPECT_THROW(Model::from_names({"normal", "normal"}), std::invalid_argument);
+  const Model m = Model::from_names({"rolling", "rate_restitution", "normal", "tangential"});
+  // Stage order: coefficient, normal, tangential, rolling.
+  EXPECT_EQ(m.effect_names(),
+            (std::vector<std::string>{"rate_restitution", "normal", "tangential", "rolling"}));
+  EXPECT_EQ(m.parameter_names(),
+            (std::vector<std::string>{"kv", "kn", "en2", "kt", "mu", "kr", "muR"}));
+  EXPECT_THROW(m.index("nope"), std::invalid_argument);
+}
+
+TEST(Effects, OutOfBoundValuesAreRejectedWithTheAllowedRange) {
+  Model m = Model::paper();
+  try {
+    m.set("en2", 1.5);
+    FAIL();
+  } catch (const std::out_of_range& e) {
+    EXPECT_NE(std::string(e.what()).find("[0, 1]"), std::string::npos) << e.what();
+  }
+  // Every parameter of every effect: both sides of both bounds.
+  const auto registry = EffectRegistry::with_builtins();
+  for (const Effect* e : registry.all()) {
+    Model model = Model::paper(registry);
+    if (!model.has_effect(e->name())) model = model.with_effect(e->name(), false, registry);
+    for (const auto& p : e->parameters()) {
+      EXPECT_NO_THROW(model.set(p.name, p.lower));
+      EXPECT_NO_THROW(model.set(p.name, p.upper));
+      EXPECT_THROW(model.set(p.name, p.upper + 1e-9 * (1 + std::fabs(p.upper))), std::out_of_range)
+          << p.name;
+      EXPECT_THROW(model.set(p.name, p.lower - 1e-9 * (1 + std::fabs(p.lower))), std::out_of_range)
+          << p.name;
+    }
+  }
+}
+
+TEST(Effects, WithEffectAtNeutralStartsWhereTheBaseModelIs) {
+  Model base = Model::paper();
+  base.set("en2", 0.2);
+  const Model m = base.with_effect("inertial_drag", true);
+  EXPECT_EQ(m.value("en2"), 0.2);
+  EXPECT_EQ(m.value("cd"), 0.0);
+}
+
+TEST(Effects, ModelFileErrorsNameFileLineAndKey) {
+  const std::string text =
+      "effects = [\"normal\", \"tangential\", \"rolling\"]\n"
+      "[parameters]\n"
+      "en2 = 0.2\n"
+      "mu = 7.0\n";
+  try {
+    Model::from_toml_string(text, "model.toml");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "model.toml");
+    EXPECT_EQ(e.line(), 4u);
+    EXPECT_EQ(e.field(), "parameters.mu");
+  }
+  try {
+    Model::from_toml_string("effects = [\"normal\", \"drag\"]\n", "m.toml");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), 1u);
+    EXPECT_NE(std::string(e.what()).find("inertial_drag"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(Model::from_toml_string("effect = [\"normal\"]\n", "m.toml"), InputError);
+}
+
+TEST(Effects, ModelFileRoundTrip) {
+  Model m = Model::paper().with_effect("depth_friction");
+  m.set("a_mu", 120.0);
+  m.set_bounds("mu", 0.0, 1.0);
+  m.set_calibrated("kn", true);
+  const Model back = Model::from_toml_string(m.to_toml(), "roundtrip.toml");
+  EXPECT_EQ(back.effect_names(), m.effect_names());
+  EXPECT_EQ(back.values(), m.values());
+  EXPECT_EQ(back.upper(back.index("mu")), 1.0);
+  EXPECT_EQ(back.calibrated_indices(), m.calibrated_indices());
+}
+
+TEST(Shapes, FilesMatchBuiltIns) {
+  const std::filesystem::path dir = std::filesystem::path(RICOCHET_SOURCE_DIR) / "data/shapes";
+  for (const Shape& builtin : {Shape::cylinder(), Shape::triangle()}) {
+    const Shape file = Shape::from_toml_file((dir / (builtin.name + ".toml")).string());
+    EXPECT_EQ(file.vertices, builtin.vertices);
+    EXPECT_EQ(file.rounding_radius_m, builtin.rounding_radius_m);
+    EXPECT_EQ(file.mass_kg, builtin.mass_kg);
+    EXPECT_EQ(file.inertia_kgm2, builtin.inertia_kgm2);
+  }
+  // The triangle's geometry reproduces the lab block's radius of gyration within 1 %.
+  const Shape t = Shape::triangle();
+  const double a = std::hypot(t.vertices[1][0] - t.vertices[2][0], 0.0);  // side
+  const double r = t.rounding_radius_m;
+  const double at = std::sqrt(3.0) / 4 * a * a, rin = a / (2 * std::sqrt(3.0)),
+               rc = a / std::sqrt(3.0);
+  const double area = at + 3 * a * r + M_PI * r * r;
+  const double j = at * a * a / 12 + 3 * a * r * ((a * a + r * r) / 12 + std::pow(rin + r / 2, 2)) +
+                   M_PI * std::pow(r, 4) / 2 +
+                   M_PI * r * r * (rc * rc + 2 * rc * r * std::sqrt(3.0) / M_PI);
+  EXPECT_NEAR(std::sqrt(j / area), std::sqrt(t.inertia_kgm2 / t.mass_kg), 0.01 * 0.0593);
+}
+
+TEST(Shapes, FileErrorsNameTheKey) {
+  const auto path = std::filesystem::temp_directory_path() / "ricochet_bad_shape.toml";
+  std::ofstream(path) << "name = \"x\"\nvertices = [[0.0, 0.0]]\nrounding_radius_m = 0.1\n"
+                         "mass_kg = -1\ninertia_kgm2 = 0.1\n";
+  try {
+    Shape::from_toml_file(path.string());
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "mass_kg");
+  }
+  EXPECT_THROW(Shape::resolve("hexagon"), InputError);
+}
+
+}  // namespace
+}  // namespace ricochet
