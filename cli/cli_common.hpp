@@ -29,5 +29,7 @@ void require_extension(const std::string& option, const std::string& path,
 void add_stats_command(CLI::App& app);
 void add_reconstruct_command(CLI::App& app);
 void add_transfer_command(CLI::App& app);
+void add_effects_command(CLI::App& app);
+void add_simulate_command(CLI::App& app);
 
 }  // namespace ricochet::cli

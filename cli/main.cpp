@@ -16,6 +16,8 @@ int main(int argc, char** argv) {
   ricochet::cli::add_stats_command(app);
   ricochet::cli::add_reconstruct_command(app);
   ricochet::cli::add_transfer_command(app);
+  ricochet::cli::add_effects_command(app);
+  ricochet::cli::add_simulate_command(app);
 
   try {
     app.parse(argc, argv);
