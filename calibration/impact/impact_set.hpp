@@ -73,7 +73,8 @@ struct ImpactSet {
   ImpactSet with_shape(const std::string& shape) const;
 };
 
-/// Read an impact set; the format follows the extension (.csv, .h5/.hdf5).
+/// Read an impact set; the format follows the extension (.csv, .h5/.hdf5). In CSV, an empty cell
+/// of an optional column means absent; in HDF5, NaN or "" does.
 /// Throws InputError naming file, line and column for malformed input: missing required column,
 /// non-numeric cell, NaN or infinite value, vin_y >= 0 or vout_y <= 0, duplicate id, unknown unit.
 ImpactSet read_impact_set(const std::string& path);
@@ -92,13 +93,16 @@ std::string format_impact_set_csv(const ImpactSet& set);
 void write_impact_set_h5(const ImpactSet& set, const std::string& path,
                          const std::string& group = "impacts");
 
-/// Re-check the schema's invariants on an in-memory set (as the readers do on files).
+/// Re-check the schema's invariants on an in-memory set (as the readers do on files). Errors name
+/// set.source, the impact's index + 1 as line, and the field. The writers call it first.
 void validate(const ImpactSet& set);
 
 /// A filter such as "vin_x<3.5", "vin_x>=3.5 && shape==triangle", "id!=C12".
 /// Terms are `FEATURE OP VALUE` joined by "&&" (or "and"); OP in < <= > >= == !=; FEATURE is any
 /// name accepted by ImpactSet::feature(), or `id`, `shape`, `operator` (== and != only).
-/// Numeric values are SI. Throws InputError (field = the offending term) for a malformed filter.
+/// Numeric values are SI. A release without the feature matches no condition on it. An empty
+/// filter keeps everything; the result's comments gain "filter: WHERE".
+/// Throws InputError (file "--where", field = the offending term) for a malformed filter.
 ImpactSet filter(const ImpactSet& set, const std::string& where);
 
 }  // namespace ricochet
