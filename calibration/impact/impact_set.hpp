@@ -53,10 +53,10 @@ struct Impact {
 
 /// A named collection of impacts with provenance.
 struct ImpactSet {
-  std::string source;  ///< file the set was read from, or a description
-  std::vector<std::string> comments;       ///< free-text provenance lines ('#' lines in CSV)
-  std::vector<std::string> extra_names;    ///< names of extra numeric columns
-  std::vector<std::string> extra_units;    ///< their SI units after conversion
+  std::string source;                    ///< file the set was read from, or a description
+  std::vector<std::string> comments;     ///< free-text provenance lines ('#' lines in CSV)
+  std::vector<std::string> extra_names;  ///< names of extra numeric columns
+  std::vector<std::string> extra_units;  ///< their SI units after conversion
   std::vector<Impact> impacts;
 
   std::size_t size() const { return impacts.size(); }
