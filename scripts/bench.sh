@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Benchmarks with the figures the issues ask for. usage: scripts/bench.sh BUILD_DIR [filter]
+# Each section runs a Google Benchmark program (or a timed command) and prints its figures;
+# ratios are computed against baselines measured in the same run.
+set -euo pipefail
+BUILD=$1; FILTER=${2:-}
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+OUT=$ROOT/results/bench
+mkdir -p "$OUT"
+
+section() { [ -z "$FILTER" ] || [[ "$1" == *"$FILTER"* ]]; }
+
+if section engine; then
+  echo "== Reduced engine: cylinder collisions per second (target >= 200,000 on 2 cores)"
+  "$BUILD/benchmarks/bench_engine" --benchmark_out="$OUT/engine.json" --benchmark_out_format=json \
+    --benchmark_counters_tabular=true
+  python3 - "$OUT/engine.json" <<'PY'
+import json, sys
+runs = {b["name"]: b for b in json.load(open(sys.argv[1]))["benchmarks"]}
+base = runs["BM_PlainScalarBaseline/real_time"]["collisions_per_s"]
+for name in ("BM_EngineBatch/1/real_time", "BM_EngineBatch/2/real_time"):
+    r = runs[name]
+    print(f"{name}: {r['collisions_per_s']:,.0f} collisions/s = {r['collisions_per_s']/base:.1f}x the plain "
+          f"scalar baseline ({base:,.0f}/s, one core); |dV| vs dt/10 = {r['dV_vs_ref_mps']:.1e} m/s, "
+          f"|dW| = {r['dW_vs_ref_radps']:.1e} rad/s")
+PY
+fi
