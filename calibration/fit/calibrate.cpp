@@ -1,0 +1,689 @@
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+
+#include "common/error.hpp"
+#include "fit/design.hpp"
+#include "fit/fibers.hpp"
+#include "fit/fit.hpp"
+#include "fit/optimize.hpp"
+
+namespace ricochet::fit {
+
+const char* alpha_mode_name(AlphaMode mode) {
+  return mode == AlphaMode::kFit ? "fit" : "marginal";
+}
+
+const char* identifiability_name(Identifiability status) {
+  switch (status) {
+    case Identifiability::kIdentified:
+      return "identified";
+    case Identifiability::kLowerBoundOnly:
+      return "lower_bound_only";
+    case Identifiability::kUpperBoundOnly:
+      return "upper_bound_only";
+    case Identifiability::kNotIdentified:
+      return "not_identified";
+  }
+  return "?";
+}
+
+double ReleaseFit::value(const std::string& name) const {
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (names[i] == name) return params[i];
+  throw std::invalid_argument("release fit has no parameter '" + name + "'");
+}
+
+const ParameterInterval* ReleaseFit::interval(const std::string& name) const {
+  for (const auto& iv : intervals)
+    if (iv.name == name) return &iv;
+  if (alpha_interval && alpha_interval->name == name) return &*alpha_interval;
+  return nullptr;
+}
+
+namespace {
+
+using detail::LocalResult;
+using detail::Problem;
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Orientations of the marginal grid: midpoints of equal cells of [min, max].
+std::vector<double> alpha_grid(const AlphaOptions& a) {
+  const int n = std::max(1, a.marginal_points);
+  std::vector<double> g(n);
+  for (int k = 0; k < n; ++k) g[k] = a.min_rad + (a.max_rad - a.min_rad) * (k + 0.5) / n;
+  return g;
+}
+
+// The calibrated parameters of a model as the variables of a unit box.
+struct ParameterBox {
+  std::vector<std::size_t> index;
+  std::vector<double> lo, hi;
+
+  explicit ParameterBox(const Model& model) {
+    index = model.calibrated_indices();
+    if (index.empty())
+      throw std::invalid_argument("the model has no calibrated parameter (model file `calibrate`)");
+    for (std::size_t i : index) {
+      lo.push_back(model.lower(i));
+      hi.push_back(model.upper(i));
+    }
+  }
+  std::size_t size() const { return index.size(); }
+  double to_value(std::size_t k, double u) const { return lo[k] + (hi[k] - lo[k]) * u; }
+  double to_unit(std::size_t k, double v) const {
+    return hi[k] > lo[k] ? std::clamp((v - lo[k]) / (hi[k] - lo[k]), 0.0, 1.0) : 0.0;
+  }
+};
+
+// How the orientation of one release is set.
+struct AlphaPlan {
+  std::string source;         // "none", "data", "fitted", "marginal"
+  std::vector<double> fixed;  // orientations averaged over (one value unless marginal)
+  bool fitted = false;
+};
+
+AlphaPlan plan_alpha(const Shape& shape, const Impact& impact, const AlphaOptions& a,
+                     bool allow_fit) {
+  AlphaPlan p;
+  if (shape.is_disc()) {
+    p.source = "none";
+    p.fixed = {0.0};
+  } else if (impact.alpha_in) {
+    p.source = "data";
+    p.fixed = {*impact.alpha_in};
+  } else if (a.mode == AlphaMode::kFit && allow_fit) {
+    p.source = "fitted";
+    p.fitted = true;
+  } else {
+    p.source = "marginal";
+    p.fixed = alpha_grid(a);
+  }
+  return p;
+}
+
+// Eq. 7, plus kFailedRebound when the engine saw no rebound.
+double score(const CollisionResult& r, const Vel3& measured, const ErrorOptions& options) {
+  return release_error(r.vout, measured, options) +
+         (r.status == CollisionStatus::kOk ? 0.0 : kFailedRebound);
+}
+
+// Eq. 7 of one release as a function of the unit box (calibrated parameters, then the
+// orientation when it is a fitted nuisance).
+class ReleaseProblem final : public Problem {
+ public:
+  ReleaseProblem(detail::Simulator& sim, const Model& model, const Impact& impact,
+                 const FitOptions& options, const ParameterBox& box, const AlphaPlan& alpha)
+      : sim_(sim),
+        impact_(impact),
+        options_(options),
+        box_(box),
+        alpha_(alpha),
+        base_(model.values()),
+        alpha_centre_(0.5 * (options.alpha.min_rad + options.alpha.max_rad)) {}
+
+  std::size_t dim() const override { return box_.size() + (alpha_.fitted ? 1 : 0); }
+
+  // The orientation window is one symmetry period wide and periodic: u = 0.5 is its centre.
+  double alpha_of(const std::vector<double>& u) const {
+    return alpha_centre_ + alpha_period() * (u[box_.size()] - 0.5);
+  }
+  double alpha_period() const { return options_.alpha.max_rad - options_.alpha.min_rad; }
+  /// Re-centres the window on `centre` (the fitted angle), so that the interval walk can go a
+  /// full half period either way; returns the shift to add to every u (modulo 1).
+  double recentre_alpha(double centre) {
+    const double shift = (alpha_centre_ - centre) / alpha_period();
+    alpha_centre_ = centre;
+    return shift;
+  }
+
+  void params_of(const double* u, double* full) const {
+    std::copy(base_.begin(), base_.end(), full);
+    for (std::size_t k = 0; k < box_.size(); ++k) full[box_.index[k]] = box_.to_value(k, u[k]);
+  }
+
+  double eval(const std::vector<double>& u) override { return eval_many(u)[0]; }
+
+  std::vector<double> eval_many(const std::vector<double>& points) override {
+    const std::size_t d = dim();
+    const std::size_t n = points.size() / d;
+    const std::size_t P = base_.size();
+    const std::size_t per = alpha_.fitted ? 1 : alpha_.fixed.size();
+    std::vector<CollisionCase> cases(n * per);
+    std::vector<double> params(n * per * P);
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::vector<double> u(points.begin() + i * d, points.begin() + (i + 1) * d);
+      for (std::size_t a = 0; a < per; ++a) {
+        CollisionCase& c = cases[i * per + a];
+        c.vin = impact_.vin;
+        c.alpha_rad = alpha_.fitted ? alpha_of(u) : alpha_.fixed[a];
+        params_of(u.data(), params.data() + (i * per + a) * P);
+      }
+    }
+    const auto res = sim_.run(cases, params);
+    evaluations += static_cast<int>(cases.size());
+    std::vector<double> out(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      Vel3 mean{};
+      double err = 0;
+      int worst = 0;
+      for (std::size_t a = 0; a < per; ++a) {
+        const CollisionResult& r = res[i * per + a];
+        // Marginal mode: the expected Eq. 7 over orientations.
+        err += score(r, impact_.vout, options_.error) / static_cast<double>(per);
+        for (int k = 0; k < 3; ++k) mean[k] += r.vout[k] / static_cast<double>(per);
+        worst = std::max(worst, static_cast<int>(r.status));
+      }
+      out[i] = err;
+      last_vout_ = mean;
+      last_status_ = static_cast<CollisionStatus>(worst);
+    }
+    return out;
+  }
+
+  void parallel(std::vector<std::function<void()>>& tasks) override { sim_.parallel(tasks); }
+
+  /// V_out (mean over orientations in marginal mode) and engine status at u.
+  Vel3 vout(const std::vector<double>& u, CollisionStatus& status) {
+    eval(u);
+    status = last_status_;
+    return last_vout_;
+  }
+
+ private:
+  detail::Simulator& sim_;
+  const Impact& impact_;
+  const FitOptions& options_;
+  const ParameterBox& box_;
+  const AlphaPlan& alpha_;
+  std::vector<double> base_;
+  double alpha_centre_;
+  Vel3 last_vout_{};
+  CollisionStatus last_status_ = CollisionStatus::kOk;
+};
+
+// Unit design of the start search: the model's own values first, then a Latin hypercube.
+std::vector<double> start_design(const ParameterBox& box, const Model& model, std::size_t dim,
+                                 const FitOptions& options) {
+  const std::size_t n =
+      options.design_points > 0 ? static_cast<std::size_t>(options.design_points) : 16 * dim;
+  std::vector<double> design(dim, 0.5);  // alpha (if any) starts at the middle of its range
+  for (std::size_t k = 0; k < box.size(); ++k)
+    design[k] = box.to_unit(k, model.values()[box.index[k]]);
+  const std::vector<double> lhs = lhs_unit_design(dim, n, options.seed);
+  design.insert(design.end(), lhs.begin(), lhs.end());
+  return design;
+}
+
+// Engine settings of the merged lock-step batches: one thread (the caller parallelises over
+// releases), lanes refilled from the queue so one long rebound does not hold a wide batch.
+EngineOptions pool_engine(const FitOptions& options, int threads) {
+  EngineOptions e = options.engine;
+  e.threads = threads;
+  e.lanes = std::min<std::size_t>(e.lanes, 16);
+  return e;
+}
+
+// Verified near-optimal points to seed the interval walks, row-major: the optimum first, then
+// the other starts' end points and the design points within the threshold.
+std::vector<double> near_points(const LocalResult& best, const std::vector<LocalResult>& ends,
+                                const std::vector<double>& design, const std::vector<double>& f,
+                                std::size_t dim, double threshold) {
+  std::vector<double> out = best.u;
+  for (const auto& e : ends)
+    if (e.f <= threshold) out.insert(out.end(), e.u.begin(), e.u.end());
+  for (std::size_t i = 0; i < f.size(); ++i)
+    if (f[i] <= threshold)
+      out.insert(out.end(), design.begin() + i * dim, design.begin() + (i + 1) * dim);
+  return out;
+}
+
+ParameterInterval make_interval(const std::string& name, const std::string& unit, double lo,
+                                double hi, double value, const detail::UnitInterval& ui) {
+  ParameterInterval iv;
+  iv.name = name;
+  iv.unit = unit;
+  iv.bound_lo = lo;
+  iv.bound_hi = hi;
+  iv.value = value;
+  iv.lo = lo + (hi - lo) * ui.lo;
+  iv.hi = lo + (hi - lo) * ui.hi;
+  iv.lo_at_bound = ui.lo_at_bound;
+  iv.hi_at_bound = ui.hi_at_bound;
+  for (const auto& p : ui.profile) iv.profile.push_back({lo + (hi - lo) * p[0], p[1]});
+  return iv;
+}
+
+// Whether the objective at the optimum is unchanged when variable j moves to its upper bound
+// (the parameter's cap is never reached there): used to explain an unidentified upper side.
+bool insensitive_up(Problem& problem, const LocalResult& best, std::size_t j, double resolution) {
+  if (best.u[j] >= 1.0 - resolution) return false;  // nothing to compare with
+  std::vector<double> u = best.u;
+  u[j] = 1.0;
+  const double f = problem.eval(u);
+  return std::fabs(f - best.f) <= 1e-9 * std::max(1.0, std::fabs(best.f));
+}
+
+// The orientation is periodic: an arc short of the full period is identified (whichever window
+// side it touches); the full period is not.
+void classify_angle(ParameterInterval& iv) {
+  const double deg = 180.0 / M_PI;
+  char buf[200];
+  if (iv.lo_at_bound && iv.hi_at_bound) {
+    iv.status = Identifiability::kNotIdentified;
+    std::snprintf(buf, sizeof buf,
+                  "alpha_in not identified: every orientation fits within the noise threshold");
+  } else {
+    iv.status = Identifiability::kIdentified;
+    std::snprintf(buf, sizeof buf,
+                  "alpha_in in [%.3g, %.3g] rad ([%.0f, %.0f] deg, modulo %.0f deg)", iv.lo, iv.hi,
+                  iv.lo * deg, iv.hi * deg, (iv.bound_hi - iv.bound_lo) * deg);
+  }
+  iv.statement = buf;
+}
+
+// Intervals of all variables of a solved problem. `inside` holds verified near-optimal points
+// (row-major, at least the optimum). `alpha` describes the last variable when it is the
+// orientation (window centred on `alpha_centre`).
+std::vector<ParameterInterval> intervals_of(Problem& problem, const LocalResult& best,
+                                            const Model& model, const ParameterBox& box,
+                                            const AlphaOptions* alpha, double alpha_centre,
+                                            double threshold, const FitOptions& options,
+                                            std::vector<double> inside) {
+  std::vector<ParameterInterval> out;
+  const std::size_t d = problem.dim();
+  const std::vector<detail::UnitInterval> uis = detail::near_optimal_intervals(
+      problem, best, threshold, options.interval_resolution, inside, options.xtol);
+  for (std::size_t j = 0; j < d; ++j) {
+    const detail::UnitInterval& ui = uis[j];
+    ParameterInterval iv;
+    if (j < box.size()) {
+      const ParameterSpec& s = model.spec(box.index[j]);
+      iv = make_interval(std::string(s.name), std::string(s.unit), box.lo[j], box.hi[j],
+                         box.to_value(j, best.u[j]), ui);
+    } else {
+      const double half = 0.5 * (alpha->max_rad - alpha->min_rad);
+      iv = make_interval("alpha_in", "rad", alpha_centre - half, alpha_centre + half, alpha_centre,
+                         ui);
+    }
+    if (j < box.size())
+      detail::classify(
+          iv, ui.hi_at_bound && insensitive_up(problem, best, j, options.interval_resolution));
+    else
+      classify_angle(iv);
+    out.push_back(std::move(iv));
+  }
+  return out;
+}
+
+}  // namespace
+
+namespace {
+
+// One release's calibration, drawing collisions from `sim` (file comment of fit.hpp).
+ReleaseFit fit_release(detail::Simulator& sim, const Model& model, const Shape& shape,
+                       const Impact& impact, const FitOptions& options,
+                       const std::vector<double>& design) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const ParameterBox box(model);
+  const AlphaPlan alpha = plan_alpha(shape, impact, options.alpha, true);
+  ReleaseProblem problem(sim, model, impact, options, box, alpha);
+  const std::size_t d = problem.dim();
+
+  ReleaseFit fit;
+  fit.id = impact.id;
+  fit.names = model.parameter_names();
+  fit.calibrated = box.index;
+  fit.measured = impact.vout;
+  fit.alpha_source = alpha.source;
+
+  std::vector<double> design_values;
+  std::vector<LocalResult> ends;
+  const LocalResult best = detail::multi_start(problem, design, options.starts, options.xtol,
+                                               options.max_evaluations, ends, design_values);
+  for (const auto& e : ends) fit.start_errors.push_back(e.f);
+  fit.params = model.values();
+  problem.params_of(best.u.data(), fit.params.data());
+  fit.error = best.f;
+  fit.simulated = problem.vout(best.u, fit.status);
+  fit.terms = release_error_terms(fit.simulated, impact.vout, options.error);
+  if (alpha.fitted)
+    fit.alpha_rad = problem.alpha_of(best.u);
+  else if (alpha.source == "data")
+    fit.alpha_rad = alpha.fixed[0];
+
+  const Vel3 sigma = impact.sigma_vout ? *impact.sigma_vout : options.sigma;
+  fit.threshold = options.threshold_scale * noise_threshold(impact.vout, sigma, options.error);
+  if (options.intervals) {
+    const double limit = best.f + fit.threshold;
+    std::vector<double> inside = near_points(best, ends, design, design_values, d, limit);
+    LocalResult centred = best;
+    if (alpha.fitted) {
+      // Periodic orientation: centre the window on the fitted angle, move the points with it.
+      const double shift = problem.recentre_alpha(fit.alpha_rad);
+      for (std::size_t i = 0; (i + 1) * d <= inside.size(); ++i) {
+        double& u = inside[i * d + d - 1];
+        u = u + shift - std::floor(u + shift);
+      }
+      centred.u[d - 1] = 0.5;
+      inside[d - 1] = 0.5;
+    }
+    auto ivs = intervals_of(problem, centred, model, box, &options.alpha, fit.alpha_rad, limit,
+                            options, std::move(inside));
+    if (alpha.fitted) {
+      fit.alpha_interval = ivs.back();
+      ivs.pop_back();
+    }
+    fit.intervals = std::move(ivs);
+  }
+  fit.evaluations = problem.evaluations;
+  fit.seconds = seconds_since(t0);
+  return fit;
+}
+
+std::size_t design_dim(const Model& model, const Shape& shape, const Impact& impact,
+                       const FitOptions& options) {
+  return model.calibrated_indices().size() +
+         (plan_alpha(shape, impact, options.alpha, true).fitted ? 1 : 0);
+}
+
+}  // namespace
+
+ReleaseFit calibrate_release(const Model& model, const Shape& shape, const Impact& impact,
+                             const FitOptions& options) {
+  const ParameterBox box(model);
+  const std::vector<double> design =
+      start_design(box, model, design_dim(model, shape, impact, options), options);
+  detail::FiberPool pool(model, shape, pool_engine(options, 1));
+  ReleaseFit fit;
+  pool.spawn([&] { fit = fit_release(pool, model, shape, impact, options, design); });
+  pool.run_all();
+  return fit;
+}
+
+std::vector<ReleaseFit> calibrate_releases(const Model& model, const Shape& shape,
+                                           const ImpactSet& set, const FitOptions& options,
+                                           const ReleaseHooks& hooks) {
+  const ParameterBox box(model);  // validates the model before any thread starts
+  std::vector<ReleaseFit> out(set.size());
+  std::vector<std::size_t> todo;
+  for (std::size_t i = 0; i < set.size(); ++i)
+    if (!hooks.already_done || !hooks.already_done(i)) todo.push_back(i);
+  if (todo.empty()) return out;
+  // Start designs (OpenTURNS, serial): one per design dimension (with or without orientation).
+  std::vector<std::vector<double>> designs(2);
+  std::vector<std::size_t> which(set.size(), 0);
+  for (std::size_t i : todo) {
+    const std::size_t d = design_dim(model, shape, set.impacts[i], options);
+    which[i] = d > box.size() ? 1 : 0;
+    if (designs[which[i]].empty()) designs[which[i]] = start_design(box, model, d, options);
+  }
+  // Threads take interleaved groups of releases; within a group all searches run in lock-step
+  // (fit/fibers.hpp). Results do not depend on the grouping.
+  const int threads =
+      std::max(1, std::min<int>(options.threads > 0 ? options.threads : omp_get_max_threads(),
+                                static_cast<int>(todo.size())));
+  std::string failure;
+#pragma omp parallel for schedule(static, 1) num_threads(threads)
+  for (int g = 0; g < threads; ++g) {
+    try {
+      detail::FiberPool pool(model, shape, pool_engine(options, 1));
+      for (std::size_t k = static_cast<std::size_t>(g); k < todo.size();
+           k += static_cast<std::size_t>(threads)) {
+        const std::size_t i = todo[k];
+        pool.spawn(
+            [&, i] {
+              out[i] = fit_release(pool, model, shape, set.impacts[i], options, designs[which[i]]);
+            },
+            [&, i] {
+              if (hooks.on_done) {
+#pragma omp critical(ricochet_fit_done)
+                hooks.on_done(i, out[i]);
+              }
+            });
+      }
+      pool.run_all();
+    } catch (const std::exception& e) {
+#pragma omp critical(ricochet_fit_done)
+      if (failure.empty()) failure = e.what();
+    }
+  }
+  if (!failure.empty()) throw std::runtime_error("calibration failed: " + failure);
+  return out;
+}
+
+std::vector<Prediction> predict(const Model& model, const Shape& shape,
+                                std::span<const double> params, const ImpactSet& set,
+                                const FitOptions& options, std::span<const double> alpha_rad) {
+  if (params.size() != model.parameter_count())
+    throw std::invalid_argument("predict: " + std::to_string(params.size()) +
+                                " parameter values for a model of " +
+                                std::to_string(model.parameter_count()));
+  if (!alpha_rad.empty() && alpha_rad.size() != set.size())
+    throw std::invalid_argument("predict: alpha_rad must have one value per release");
+  std::vector<Prediction> out(set.size());
+  std::vector<CollisionCase> cases;
+  std::vector<std::size_t> first(set.size() + 1, 0);
+  for (std::size_t i = 0; i < set.size(); ++i) {
+    const Impact& im = set.impacts[i];
+    AlphaPlan plan;
+    if (!shape.is_disc() && !im.alpha_in && !alpha_rad.empty() && std::isfinite(alpha_rad[i])) {
+      plan.source = "given";
+      plan.fixed = {alpha_rad[i]};
+    } else {
+      plan = plan_alpha(shape, im, options.alpha, false);
+    }
+    out[i].alpha_source = plan.source;
+    out[i].alpha_rad = plan.fixed.size() == 1 && plan.source != "none" ? plan.fixed[0] : NAN;
+    first[i] = cases.size();
+    for (double a : plan.fixed) cases.push_back({im.vin, a});
+  }
+  first[set.size()] = cases.size();
+  EngineOptions engine = options.engine;
+  engine.threads = options.threads;
+  const auto res = simulate_batch(model, shape, cases, params, engine);
+  for (std::size_t i = 0; i < set.size(); ++i) {
+    const std::size_t n = first[i + 1] - first[i];
+    Vel3 mean{}, sq{};
+    int worst = 0;
+    for (std::size_t c = first[i]; c < first[i + 1]; ++c) {
+      for (int k = 0; k < 3; ++k) {
+        mean[k] += res[c].vout[k] / static_cast<double>(n);
+        sq[k] += res[c].vout[k] * res[c].vout[k] / static_cast<double>(n);
+      }
+      worst = std::max(worst, static_cast<int>(res[c].status));
+    }
+    out[i].vout = mean;
+    for (int k = 0; k < 3; ++k)
+      out[i].vout_std[k] = std::sqrt(std::max(0.0, sq[k] - mean[k] * mean[k]));
+    out[i].status = static_cast<CollisionStatus>(worst);
+  }
+  return out;
+}
+
+std::vector<double> prediction_errors(const ImpactSet& set,
+                                      const std::vector<Prediction>& predictions,
+                                      const ErrorOptions& options) {
+  if (predictions.size() != set.size())
+    throw std::invalid_argument("prediction_errors: one prediction per release expected");
+  std::vector<double> e(set.size());
+  for (std::size_t i = 0; i < set.size(); ++i)
+    e[i] = release_error(predictions[i].vout, set.impacts[i].vout, options);
+  return e;
+}
+
+namespace {
+
+// Summed Eq. 7 over releases for one shared parameter vector. Every evaluation is one engine
+// batch over the releases (and over the orientation grid of releases without alpha_in).
+class PopulationProblem final : public Problem {
+ public:
+  PopulationProblem(detail::Simulator& sim, const Model& model, const Shape& shape,
+                    const ImpactSet& set, const FitOptions& options, const ParameterBox& box)
+      : sim_(sim), set_(set), options_(options), box_(box), base_(model.values()) {
+    for (std::size_t i = 0; i < set.size(); ++i) {
+      const AlphaPlan plan = plan_alpha(shape, set.impacts[i], options.alpha, false);
+      for (double a : plan.fixed) {
+        cases_.push_back({set.impacts[i].vin, a});
+        owner_.push_back(i);
+        weight_.push_back(1.0 / static_cast<double>(plan.fixed.size()));
+      }
+    }
+  }
+  std::size_t dim() const override { return box_.size(); }
+
+  void params_of(const double* u, double* full) const {
+    std::copy(base_.begin(), base_.end(), full);
+    for (std::size_t k = 0; k < box_.size(); ++k) full[box_.index[k]] = box_.to_value(k, u[k]);
+  }
+
+  double eval(const std::vector<double>& u) override { return eval_many(u)[0]; }
+
+  std::vector<double> eval_many(const std::vector<double>& points) override {
+    const std::size_t d = dim(), P = base_.size(), C = cases_.size();
+    const std::size_t n = points.size() / d;
+    std::vector<CollisionCase> cases;
+    cases.reserve(n * C);
+    std::vector<double> params(n * C * P);
+    std::vector<double> row(P);
+    for (std::size_t i = 0; i < n; ++i) {
+      params_of(points.data() + i * d, row.data());
+      for (std::size_t c = 0; c < C; ++c) {
+        cases.push_back(cases_[c]);
+        std::copy(row.begin(), row.end(), params.begin() + (i * C + c) * P);
+      }
+    }
+    const auto res = sim_.run(cases, params);
+    evaluations += static_cast<int>(cases.size());
+    std::vector<double> out(n, 0.0);
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t c = 0; c < C; ++c)
+        out[i] += weight_[c] * score(res[i * C + c], set_.impacts[owner_[c]].vout, options_.error);
+    return out;
+  }
+
+  void parallel(std::vector<std::function<void()>>& tasks) override { sim_.parallel(tasks); }
+
+ private:
+  detail::Simulator& sim_;
+  const ImpactSet& set_;
+  const FitOptions& options_;
+  const ParameterBox& box_;
+  std::vector<double> base_;
+  std::vector<CollisionCase> cases_;
+  std::vector<std::size_t> owner_;
+  std::vector<double> weight_;
+};
+
+}  // namespace
+
+PopulationFit calibrate_population(const Model& model, const Shape& shape, const ImpactSet& set,
+                                   const FitOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (set.empty()) throw std::invalid_argument("calibrate_population: empty impact set");
+  const ParameterBox box(model);
+  const std::vector<double> design = start_design(box, model, box.size(), options);
+  // Each evaluation is already a batch over releases; the pool merges the parallel searches'
+  // batches and spreads them over the threads.
+  detail::FiberPool pool(model, shape,
+                         pool_engine(options, options.threads > 0 ? options.threads : 0));
+  PopulationProblem problem(pool, model, shape, set, options, box);
+  PopulationFit fit;
+  fit.names = model.parameter_names();
+  fit.calibrated = box.index;
+  pool.spawn([&] {
+    std::vector<double> design_values;
+    std::vector<LocalResult> ends;
+    const LocalResult best = detail::multi_start(problem, design, options.starts, options.xtol,
+                                                 options.max_evaluations, ends, design_values);
+    for (const auto& e : ends) fit.start_errors.push_back(e.f);
+    fit.params = model.values();
+    problem.params_of(best.u.data(), fit.params.data());
+    fit.error = best.f;
+    double sum_delta = 0;
+    for (const auto& im : set.impacts)
+      sum_delta +=
+          noise_threshold(im.vout, im.sigma_vout ? *im.sigma_vout : options.sigma, options.error);
+    // Mean per-release Delta (3 degrees of freedom), inflated by the reduced chi-square when
+    // the releases scatter more than the noise (see fit.hpp).
+    fit.threshold = options.threshold_scale * sum_delta / static_cast<double>(set.size()) *
+                    std::max(1.0, best.f / sum_delta);
+    if (options.intervals) {
+      const double limit = best.f + fit.threshold;
+      std::vector<double> inside =
+          near_points(best, ends, design, design_values, box.size(), limit);
+      fit.intervals =
+          intervals_of(problem, best, model, box, nullptr, 0.0, limit, options, std::move(inside));
+    }
+  });
+  pool.run_all();
+  fit.predictions = predict(model, shape, fit.params, set, options);
+  fit.release_errors = prediction_errors(set, fit.predictions, options.error);
+  fit.evaluations = problem.evaluations;
+  fit.seconds = seconds_since(t0);
+  return fit;
+}
+
+HeldOut heldout_predictions(const Model& model, const Shape& shape, const ImpactSet& set,
+                            std::size_t folds, const FitOptions& options) {
+  if (folds < 2 || folds > set.size())
+    throw std::invalid_argument("heldout_predictions: folds must be in [2, number of releases]");
+  HeldOut out;
+  out.predictions.resize(set.size());
+  out.errors.resize(set.size());
+  FitOptions o = options;
+  o.intervals = false;
+  for (std::size_t f = 0; f < folds; ++f) {
+    ImpactSet train = set, test = set;
+    train.impacts.clear();
+    test.impacts.clear();
+    std::vector<std::size_t> test_index;
+    for (std::size_t i = 0; i < set.size(); ++i) {
+      if (i % folds == f) {
+        test.impacts.push_back(set.impacts[i]);
+        test_index.push_back(i);
+      } else {
+        train.impacts.push_back(set.impacts[i]);
+      }
+    }
+    const PopulationFit pf = calibrate_population(model, shape, train, o);
+    out.fold_params.push_back(pf.params);
+    const auto pred = predict(model, shape, pf.params, test, o);
+    const auto err = prediction_errors(test, pred, o.error);
+    for (std::size_t k = 0; k < test_index.size(); ++k) {
+      out.predictions[test_index[k]] = pred[k];
+      out.errors[test_index[k]] = err[k];
+    }
+  }
+  return out;
+}
+
+ImpactSet select_shape(const ImpactSet& set, const Shape& shape) {
+  ImpactSet out = set;
+  out.impacts.clear();
+  std::vector<std::string> present;
+  for (const auto& im : set.impacts) {
+    const std::string stem = std::filesystem::path(im.shape).stem().string();
+    if (im.shape == shape.name || stem == shape.name) out.impacts.push_back(im);
+    if (std::find(present.begin(), present.end(), im.shape) == present.end())
+      present.push_back(im.shape);
+  }
+  if (out.empty()) {
+    std::string list;
+    for (const auto& s : present) list += (list.empty() ? "" : ", ") + s;
+    throw InputError(set.source, 0, "shape",
+                     "no release of shape '" + shape.name + "' (shapes in the data: " +
+                         (list.empty() ? std::string("none") : list) + ")");
+  }
+  return out;
+}
+
+}  // namespace ricochet::fit

@@ -1,0 +1,223 @@
+// Calibration of contact-model parameters against measured rebounds (Garcia et al. 2020,
+// section 4.2, Eq. 7, Table 4), with identifiability, population fits and predictions.
+//
+// What is calibrated: the parameters of any Model flagged calibrated (Model::calibrated_indices(),
+// the paper's law: en2, mu, muR), within the model's calibration bounds (Model::lower/upper).
+// Every other parameter stays at its model value (the paper's kn, kt, kr).
+//
+// Per-release fit (calibrate_release): minimise Eq. 7 (fit/error.hpp) for one release with
+// NLopt BOBYQA (Powell's derivative-free trust-region method; the paper used Powell's conjugate
+// directions), multi-start: a Latin hypercube design of the calibration box (OpenTURNS, explicit
+// seed, plus the model's own values) is evaluated in one vectorised engine batch and BOBYQA
+// starts from its best `starts` points. The best end point wins.
+//
+// Incidence angle of non-disc blocks (triangles): the lab data do not contain alpha_in. When an
+// impact lacks it, alpha_in is a NUISANCE parameter, fitted per release together with the
+// model parameters within [alpha_min, alpha_max] (default [-60, 60] degrees: the lab triangle has
+// 120-degree symmetry, so this range holds every orientation once), and reported with its own
+// interval. AlphaMode::kMarginal instead averages Eq. 7 over a uniform grid of orientations (the
+// expected error for an unknown orientation); population fits and predictions use that mode,
+// since the reflected velocity of a held-out release cannot be used to choose its orientation.
+// An impact with alpha_in uses it as measured.
+//
+// Identifiability (not in the paper): the near-optimal set of a release is every parameter
+// vector whose Eq. 7 is within Delta of the optimum, Delta = sum_k (sigma_k / d_k)^2 the expected
+// Eq. 7 of the true parameters under measurement noise (fit/error.hpp, noise_threshold()). sigma
+// comes from the impact's sigma_vout, else from FitOptions::sigma. For each parameter the
+// interval [lo, hi] of its values over that set is found by a profile walk: step away from the
+// optimum, re-optimise all other parameters (BOBYQA, warm start, stop as soon as the threshold is
+// met), double the step while inside, then bisect to the resolution. Only verified near-optimal
+// points enter the interval (an inner estimate at resolution `interval_resolution`). An end that
+// reaches the calibration bound means that side is NOT identified:
+//   identified          lo and hi inside the bounds        "en2 in [0.12, 0.18]"
+//   lower_bound_only    hi reaches the upper bound          "mu >= 0.31, upper bound not
+//   identified" upper_bound_only    lo reaches the lower bound          "muR <= 0.20, lower bound
+//   not identified" not_identified      both reach the bounds
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "effects/model.hpp"
+#include "engine/engine.hpp"
+#include "engine/shape.hpp"
+#include "fit/error.hpp"
+#include "impact/impact_set.hpp"
+
+namespace ricochet::fit {
+
+/// Added to Eq. 7 when the engine reports no rebound (block still in contact at max_time_s or
+/// never touching): such parameter values cannot explain a measured rebound.
+inline constexpr double kFailedRebound = 10.0;
+
+/// Treatment of an unknown incidence angle (non-disc shapes, impacts without alpha_in).
+enum class AlphaMode {
+  kFit,       ///< nuisance parameter fitted per release within [min_rad, max_rad]
+  kMarginal,  ///< Eq. 7 averaged over `marginal_points` orientations evenly spread over the range
+};
+const char* alpha_mode_name(AlphaMode mode);
+
+struct AlphaOptions {
+  AlphaMode mode = AlphaMode::kFit;
+  double min_rad = -M_PI / 3;  ///< -60 degrees
+  double max_rad = M_PI / 3;  ///< +60 degrees: with min_rad, one period of a 3-fold symmetric block
+  int marginal_points = 12;   ///< orientations of the marginal grid (midpoints of equal cells)
+};
+
+enum class Identifiability { kIdentified, kLowerBoundOnly, kUpperBoundOnly, kNotIdentified };
+/// "identified", "lower_bound_only", "upper_bound_only", "not_identified" (JSON and HDF5 values).
+const char* identifiability_name(Identifiability status);
+
+/// The near-optimal interval of one parameter (see the file comment).
+struct ParameterInterval {
+  std::string name;
+  std::string unit;
+  double value = NAN;                     ///< value at the optimum
+  double lo = NAN, hi = NAN;              ///< near-optimal interval (verified points)
+  double bound_lo = NAN, bound_hi = NAN;  ///< calibration bounds
+  bool lo_at_bound = false, hi_at_bound = false;
+  Identifiability status = Identifiability::kNotIdentified;
+  /// Human-readable verdict, e.g. "mu >= 0.31, upper bound not identified: the rebound does not
+  /// depend on mu above it (the contact sticks)".
+  std::string statement;
+  /// Profile points visited by the walk: (value, smallest Eq. 7 found with the others free).
+  std::vector<std::array<double, 2>> profile;
+};
+
+struct FitOptions {
+  /// Engine settings: time step dt = 1e-5 s (as the paper); a rebound not over after
+  /// max_time_s = 0.1 s (lab contacts last 5-20 ms) is a failed rebound, scored
+  /// Eq. 7 + kFailedRebound. `engine.threads` is ignored inside a release fit.
+  EngineOptions engine = [] {
+    EngineOptions e;
+    e.max_time_s = 0.1;
+    return e;
+  }();
+  ErrorOptions error;         ///< Eq. 7 denominators
+  std::uint64_t seed = 1;     ///< seed of the Latin hypercube start design
+  int starts = 4;             ///< BOBYQA runs per fit, from the best design points
+  int design_points = 0;      ///< size of the start design; 0 = 16 per fitted variable
+  int max_evaluations = 300;  ///< per BOBYQA run
+  double xtol = 1e-3;         ///< BOBYQA step tolerance, in units of the bound range
+  AlphaOptions alpha;         ///< unknown incidence angle of non-disc blocks
+  bool intervals = true;      ///< compute near-optimal intervals (identifiability)
+  /// Measurement standard uncertainty of V_out {m/s, m/s, rad/s} when an impact has no
+  /// sigma_vout. Default: the differences between the two operators' means in paper Table 1
+  /// (0.1 m/s, 0.1 m/s, 3.4 rad/s), the paper's own estimate of the pointing error.
+  Vel3 sigma = {0.1, 0.1, 3.4};
+  double threshold_scale = 1.0;  ///< multiplies Delta (e.g. 4 for "two sigma")
+  /// Interval resolution, as a fraction of each parameter's bound range.
+  double interval_resolution = 0.01;
+  int threads = 0;  ///< OpenMP threads over releases (calibrate_releases) or batches; 0 = default
+};
+
+/// Result of one release's calibration.
+struct ReleaseFit {
+  std::string id;
+  std::vector<std::string> names;       ///< all model parameter names (model order)
+  std::vector<double> params;           ///< all model parameter values at the optimum
+  std::vector<std::size_t> calibrated;  ///< indices of the fitted parameters in `params`
+  double error = NAN;                   ///< Eq. 7 at the optimum
+  Vel3 measured{}, simulated{};         ///< V_out measured and simulated at the optimum
+  Vel3 terms{};                         ///< the three terms of Eq. 7 at the optimum
+  double threshold = NAN;               ///< Delta of the near-optimal set
+  /// Incidence angle [rad] used at the optimum; NaN for discs or in marginal mode.
+  double alpha_rad = NAN;
+  std::string alpha_source;                         ///< "none" (disc), "data", "fitted", "marginal"
+  std::optional<ParameterInterval> alpha_interval;  ///< when fitted and intervals requested
+  std::vector<ParameterInterval> intervals;         ///< per calibrated parameter, same order
+  std::vector<double> start_errors;                 ///< Eq. 7 at the end of each BOBYQA run
+  int evaluations = 0;                              ///< collisions simulated (fit + intervals)
+  double seconds = 0;                               ///< wall time of this release
+  CollisionStatus status = CollisionStatus::kOk;    ///< engine status at the optimum
+
+  double value(const std::string& name) const;  ///< throws std::invalid_argument if unknown
+  const ParameterInterval* interval(const std::string& name) const;  ///< nullptr if absent
+};
+
+/// Calibrates one release (see the file comment). Throws std::invalid_argument if the model
+/// has no calibrated parameter.
+ReleaseFit calibrate_release(const Model& model, const Shape& shape, const Impact& impact,
+                             const FitOptions& options = {});
+
+/// Hooks for long runs: skip releases already done (resume) and receive each result as soon as
+/// it is ready (called in a critical section, in completion order) to write it incrementally.
+struct ReleaseHooks {
+  std::function<bool(std::size_t index)> already_done;
+  std::function<void(std::size_t index, const ReleaseFit& fit)> on_done;
+};
+
+/// Calibrates every release of `set`, in parallel over releases (OpenMP, options.threads).
+/// Deterministic: each release's result depends only on the model, the shape, the release and
+/// the options, not on the thread count or the order. Skipped releases are left default
+/// (empty id) in the returned vector.
+std::vector<ReleaseFit> calibrate_releases(const Model& model, const Shape& shape,
+                                           const ImpactSet& set, const FitOptions& options = {},
+                                           const ReleaseHooks& hooks = {});
+
+/// Predicted reflected velocity of one release.
+struct Prediction {
+  Vel3 vout{};               ///< (m/s, m/s, rad/s); the mean over orientations in marginal mode
+  Vel3 vout_std{};           ///< spread over orientations (marginal mode), else 0
+  double alpha_rad = NAN;    ///< orientation used; NaN for discs and marginal mode
+  std::string alpha_source;  ///< "none", "data", "given", "marginal"
+  CollisionStatus status = CollisionStatus::kOk;  ///< worst engine status over orientations
+};
+
+/// Predicts V_out for every release of `set` with the full parameter vector `params` (model
+/// order). Orientation of non-disc blocks: the impact's alpha_in if present, else
+/// `alpha_rad[i]` if given (e.g. per-release fitted values), else the marginal grid of
+/// options.alpha. Runs one engine batch (parallel, vectorised).
+std::vector<Prediction> predict(const Model& model, const Shape& shape,
+                                std::span<const double> params, const ImpactSet& set,
+                                const FitOptions& options = {},
+                                std::span<const double> alpha_rad = {});
+
+/// Eq. 7 of each prediction against the set's measured V_out.
+std::vector<double> prediction_errors(const ImpactSet& set,
+                                      const std::vector<Prediction>& predictions,
+                                      const ErrorOptions& options = {});
+
+/// One parameter set for many releases: minimises the sum over releases of Eq. 7 (non-disc
+/// blocks without alpha_in: the marginal, orientation-averaged Eq. 7).
+struct PopulationFit {
+  std::vector<std::string> names;
+  std::vector<double> params;  ///< all model parameters at the optimum
+  std::vector<std::size_t> calibrated;
+  double error = NAN;                   ///< summed Eq. 7 at the optimum
+  std::vector<double> release_errors;   ///< per release, same order as the set
+  std::vector<Prediction> predictions;  ///< per release at the optimum
+  /// Threshold of the population near-optimal set: mean per-release Delta (3 degrees of
+  /// freedom, as per release), inflated by max(1, error / sum Delta) when the releases scatter
+  /// more than the measurement noise (reduced chi-square).
+  double threshold = NAN;
+  std::vector<ParameterInterval> intervals;
+  std::vector<double> start_errors;
+  int evaluations = 0;  ///< objective evaluations (each one engine batch)
+  double seconds = 0;
+};
+PopulationFit calibrate_population(const Model& model, const Shape& shape, const ImpactSet& set,
+                                   const FitOptions& options = {});
+
+/// Held-out predictions: the set is split into `folds` folds (release i in fold i % folds;
+/// folds = set.size() is leave-one-out); each fold is predicted by a population fit on the
+/// others. Returns per release the prediction and Eq. 7, plus the fold fits' parameters.
+struct HeldOut {
+  std::vector<Prediction> predictions;
+  std::vector<double> errors;
+  std::vector<std::vector<double>> fold_params;  ///< params of each fold's population fit
+};
+HeldOut heldout_predictions(const Model& model, const Shape& shape, const ImpactSet& set,
+                            std::size_t folds, const FitOptions& options = {});
+
+/// Releases of `set` whose shape matches `shape` (by name); throws InputError naming the data
+/// file and the `shape` column when none does, listing the shapes present.
+ImpactSet select_shape(const ImpactSet& set, const Shape& shape);
+
+}  // namespace ricochet::fit
