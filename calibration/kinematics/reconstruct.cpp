@@ -381,24 +381,33 @@ std::pair<std::size_t, std::size_t> best_windows(const std::vector<double>& lead
   return arg;
 }
 
-/// Time in [ta, tb] where fit.value(t) = level (bisection on the fitted polynomial); the nearer
-/// end when the fit does not cross the level there.
-double crossing_time(const PolyFit& fit, double level, double ta, double tb) {
-  double fa = fit.value(ta) - level, fb = fit.value(tb) - level;
-  if (fa == 0) return ta;
-  if (fb == 0) return tb;
-  if ((fa > 0) == (fb > 0)) return std::abs(fa) < std::abs(fb) ? ta : tb;
-  for (int it = 0; it < 200 && tb - ta > 1e-15 * std::max(1.0, std::abs(ta)); ++it) {
-    const double tm = 0.5 * (ta + tb);
-    const double fm = fit.value(tm) - level;
-    if ((fm > 0) == (fa > 0)) {
-      ta = tm;
-      fa = fm;
-    } else {
-      tb = tm;
+/// Time where the fitted free flight crosses `level`, on its falling branch (incoming flight) or
+/// its rising branch (outgoing flight). The fit is a quadratic in d = t - t_ref, so the crossing
+/// is solved exactly: it comes from all the free-flight points, not from the one noisy frame
+/// nearest to the level. When the fitted parabola never reaches the level (its apex is below),
+/// the nearer end of [ta, tb] (the last free frame and the first contact frame) is returned.
+double crossing_time(const PolyFit& fit, double level, bool falling, double ta, double tb) {
+  const double s = fit.scale;
+  const double c2 = fit.coef.size() > 2 ? fit.coef[2] / (s * s) : 0.0;
+  const double qa = c2 - 0.5 * fit.g_imposed, qb = fit.coef[1] / s, qc = fit.coef[0] - level;
+  std::vector<double> roots;
+  if (qa == 0) {
+    if (qb != 0) roots.push_back(-qc / qb);
+  } else {
+    const double disc = qb * qb - 4 * qa * qc;
+    if (disc >= 0) {
+      // Numerically stable pair of roots.
+      const double q = -0.5 * (qb + std::copysign(std::sqrt(disc), qb));
+      if (q != 0) roots.push_back(qc / q);
+      roots.push_back(q / qa);
     }
   }
-  return 0.5 * (ta + tb);
+  for (double d : roots) {
+    const double slope = 2 * qa * d + qb;
+    if (falling ? slope < 0 : slope > 0) return fit.t_ref + d;
+  }
+  const double fa = std::abs(fit.value(ta) - level), fb = std::abs(fit.value(tb) - level);
+  return fa <= fb ? ta : tb;
 }
 
 void check_track(const Track& tr) {
@@ -429,6 +438,7 @@ Track parse_track_csv(const std::string& text, const std::string& name,
                                    {"mark_y", Quantity::kLength}, {"theta", Quantity::kAngle}};
   enum { kT, kX, kY, kMx, kMy, kTheta };
   std::size_t width = 0;
+  std::vector<std::string> header_names;
   std::vector<std::array<double, 6>> rows;
   std::vector<std::size_t> row_lines;
   while (std::getline(in, line)) {
@@ -439,6 +449,8 @@ Track parse_track_csv(const std::string& text, const std::string& name,
     if (header_line == 0) {
       header_line = lineno;
       width = cells.size();
+      for (const std::string& cell : cells)
+        header_names.push_back(trim(cell.substr(0, cell.find('['))));
       for (std::size_t c = 0; c < cells.size(); ++c) {
         const std::string& cell = cells[c];
         const auto open = cell.find('[');
@@ -490,7 +502,7 @@ Track parse_track_csv(const std::string& text, const std::string& name,
     }
     if (cells.size() != width)
       throw InputError(
-          name, lineno, cells.size() < width ? cols[kT].name : "",
+          name, lineno, cells.size() < width ? header_names[cells.size()] : "(extra cell)",
           "expected " + std::to_string(width) + " cells, found " + std::to_string(cells.size()));
     std::array<double, 6> row{};
     for (std::size_t k = 0; k < cols.size(); ++k) {
@@ -594,8 +606,12 @@ Reconstruction reconstruct(const Track& track, const ReconstructOptions& options
           "the ground contact");
     const SideFit fb = fit_side(track, before, track.t[before.back()], g);
     const SideFit fa = fit_side(track, after, track.t[after.front()], g);
-    rec.contact_start_s = crossing_time(fb.y, level, track.t[c0 - 1], track.t[c0]);
-    rec.contact_end_s = crossing_time(fa.y, level, track.t[c1], track.t[c1 + 1]);
+    rec.contact_start_s = crossing_time(fb.y, level, true, track.t[c0 - 1], track.t[c0]);
+    rec.contact_end_s = crossing_time(fa.y, level, false, track.t[c1], track.t[c1 + 1]);
+    if (!(rec.contact_start_s < rec.contact_end_s))
+      throw std::invalid_argument(
+          "reconstruct: the free-flight fits cross the contact level in "
+          "the wrong order (check --ground and --radius)");
   } else {
     rec.window_method = "ballistic-residuals";
     rec.window_detected = true;
@@ -670,7 +686,10 @@ Reconstruction reconstruct(const Track& track, const ReconstructOptions& options
   else
     rec.sigma_theta_rad = dof_th > 0 ? std::sqrt(rss_th / static_cast<double>(dof_th)) : nan;
 
-  auto velocities = [&](const SideFit& f, double te, Vel3& v, Vel3& sv) {
+  auto velocities = [&](const SideFit& f, double te, Vel3& v, Vel3& sv, Vel3& pos) {
+    pos[0] = f.x.value(te);
+    pos[1] = f.y.value(te);
+    pos[2] = f.has_theta ? f.theta.value(te) : nan;
     v[kVx] = f.x.derivative(te);
     v[kVy] = f.y.derivative(te);
     sv[kVx] = rec.sigma_position_m * f.x.derivative_sd_unit(te);
@@ -678,8 +697,8 @@ Reconstruction reconstruct(const Track& track, const ReconstructOptions& options
     v[kW] = f.has_theta ? f.theta.derivative(te) : nan;
     sv[kW] = f.has_theta ? rec.sigma_theta_rad * f.theta.derivative_sd_unit(te) : nan;
   };
-  velocities(fb, rec.contact_start_s, rec.vin, rec.sigma_vin);
-  velocities(fa, rec.contact_end_s, rec.vout, rec.sigma_vout);
+  velocities(fb, rec.contact_start_s, rec.vin, rec.sigma_vin, rec.position_in);
+  velocities(fa, rec.contact_end_s, rec.vout, rec.sigma_vout, rec.position_out);
 
   // Fitted gravity: y = ... + c2 tau^2 with tau = dt / scale, so g = -2 c2 / scale^2.
   auto gravity = [&](const SideFit& f, double& gv, double& sg) {

@@ -79,6 +79,9 @@ struct ReconstructOptions {
 struct Reconstruction {
   Vel3 vin{}, vout{};              ///< velocities at the window ends (m/s, m/s, rad/s)
   Vel3 sigma_vin{}, sigma_vout{};  ///< their standard errors
+  /// Fitted positions (x [m], y [m], theta [rad]) at the window ends: with vin / vout and the
+  /// gravity below they give the fitted free-flight curves (e.g. to draw paper Fig. 8).
+  Vel3 position_in{}, position_out{};
   double contact_start_s = 0, contact_end_s = 0;
   bool window_detected = false;  ///< true when the window was detected automatically
   std::size_t points_before = 0, points_after = 0;

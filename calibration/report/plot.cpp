@@ -175,8 +175,8 @@ std::string key_clause(const std::string& key) {
   if (key.empty()) return "set key default\n";
   std::istringstream words(key);
   std::string w;
-  static const char* const kAllowed[] = {"left",   "right",   "center", "top", "bottom",
-                                         "inside", "outside", "off",    "box", "nobox"};
+  static const char* const kAllowed[] = {"left",    "right", "center", "top",   "bottom", "inside",
+                                         "outside", "off",   "box",    "nobox", "opaque"};
   while (words >> w)
     if (std::none_of(std::begin(kAllowed), std::end(kAllowed),
                      [&](const char* a) { return w == a; }))

@@ -4,6 +4,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <random>
 #include <stdexcept>
 
@@ -244,7 +245,13 @@ void write_model_h5(const StoredModel& model, const std::string& path) {
 }
 
 StoredModel read_model_h5(const std::string& path) {
-  h5::File f(path, h5::File::Mode::kRead);
+  std::optional<h5::File> opened;
+  try {
+    opened.emplace(path, h5::File::Mode::kRead);
+  } catch (const std::runtime_error& e) {
+    throw InputError(path, 0, "", std::string("cannot read the model file: ") + e.what());
+  }
+  h5::File& f = *opened;
   if (!f.exists("/transfer") || !f.has_attr("/transfer", "schema") ||
       f.attr_string("/transfer", "schema") != "ricochet-transfer-1")
     throw InputError(path, 0, "/transfer",
