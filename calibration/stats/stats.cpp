@@ -63,15 +63,28 @@ Ecdf ecdf(std::span<const double> x) {
 }
 
 KsResult ks_two_sample(std::span<const double> a, std::span<const double> b) {
-  const std::vector<double> va = finite_values(a);
-  const std::vector<double> vb = finite_values(b);
+  std::vector<double> va = finite_values(a);
+  std::vector<double> vb = finite_values(b);
   if (va.empty() || vb.empty())
     throw std::invalid_argument("two-sample Kolmogorov-Smirnov test needs two non-empty samples");
-  // OpenTURNS computes D = sup |F_a - F_b| over the pooled points and the p-value from the
-  // one-sample Kolmogorov distribution at the effective size floor(n_a n_b / (n_a + n_b)).
-  // Its statistic loop costs O((n_a + n_b)^2): fine for lab-size samples, seconds for 10^5.
-  const OT::TestResult r = OT::HypothesisTest::TwoSamplesKolmogorov(to_sample(va), to_sample(vb));
-  return {r.getStatistic(), r.getPValue()};
+  // D = sup |F_a - F_b| by a merge of the sorted samples, O(n log n). OT's own
+  // HypothesisTest::TwoSamplesKolmogorov computes the same D in O((n_a + n_b)^2) (3.8 s for
+  // 28 against 50,000 values), so only the p-value comes from OpenTURNS, exactly as that
+  // function computes it: the Kolmogorov distribution's upper tail at the effective size
+  // floor(n_a n_b / (n_a + n_b)) (tests check both against TwoSamplesKolmogorov).
+  std::sort(va.begin(), va.end());
+  std::sort(vb.begin(), vb.end());
+  const double na = static_cast<double>(va.size()), nb = static_cast<double>(vb.size());
+  std::size_t i = 0, j = 0;
+  double d = 0.0;
+  while (i < va.size() && j < vb.size()) {
+    const double v = std::min(va[i], vb[j]);
+    while (i < va.size() && va[i] <= v) ++i;
+    while (j < vb.size() && vb[j] <= v) ++j;
+    d = std::max(d, std::fabs(static_cast<double>(i) / na - static_cast<double>(j) / nb));
+  }
+  const auto effective = static_cast<OT::UnsignedInteger>(na * nb / (na + nb));
+  return {d, OT::DistFunc::pKolmogorov(std::max<OT::UnsignedInteger>(effective, 1), d, true)};
 }
 
 Correlation pearson(std::span<const double> x, std::span<const double> y) {
