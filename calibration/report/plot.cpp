@@ -300,10 +300,11 @@ void render_svg(const Figure& figure, const std::string& svg_path) {
     }
     range(script, "x", xmin, xmax);
     range(script, "y", ymin, ymax);
-    if (items.empty()) {
-      // An empty panel still occupies its place in the grid.
-      script << "plot keyentry notitle\n";
-    } else {
+    // gnuplot cannot draw axes from legend entries alone (it asserts): a panel without any
+    // drawable point gets an invisible placeholder curve, so it still renders its frame, its
+    // title and the "(no data)" entries in its place of the grid.
+    if (drawn_total == 0) items.insert(items.begin(), "-1 notitle with lines lt nodraw");
+    {
       script << "plot ";
       for (std::size_t i = 0; i < items.size(); ++i) script << (i ? ", \\\n     " : "") << items[i];
       script << "\n";

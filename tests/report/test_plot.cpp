@@ -1,0 +1,212 @@
+// Figures through the real gnuplot: series counts in the SVG, literal titles with quotes, NaN
+// breaks, empty series and panels, and clear errors when gnuplot is missing or fails.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include "report/plot.hpp"
+
+namespace ricochet {
+namespace {
+
+namespace fs = std::filesystem;
+using report::Figure;
+using report::Panel;
+using report::Series;
+
+class Plot : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("ricochet-plot-test-" + std::to_string(::getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    ::unsetenv("RICOCHET_GNUPLOT");
+  }
+  void TearDown() override {
+    ::unsetenv("RICOCHET_GNUPLOT");
+    fs::remove_all(dir_);
+  }
+  static std::string slurp(const fs::path& p) {
+    std::ifstream in(p);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+  }
+  /// gnuplot's SVG terminal wraps every plotted series in <g id="gnuplot_plot_N...">.
+  static int series_count(const std::string& svg) {
+    int n = 0;
+    for (auto pos = svg.find("<g id=\"gnuplot_plot_"); pos != std::string::npos;
+         pos = svg.find("<g id=\"gnuplot_plot_", pos + 1))
+      ++n;
+    return n;
+  }
+  static Series line(const std::string& title, int n, double slope) {
+    Series s;
+    s.title = title;
+    for (int i = 0; i < n; ++i) {
+      s.x.push_back(i);
+      s.y.push_back(slope * i);
+    }
+    return s;
+  }
+  fs::path dir_;
+};
+
+TEST_F(Plot, GridOfPanelsWithTheExpectedNumberOfSeries) {
+  Figure f;
+  f.title = "three panels";
+  f.columns = 2;
+  Panel a, b, c;
+  a.series = {line("a1", 10, 1), line("a2", 10, 2)};
+  b.series = {line("b1", 10, -1)};
+  b.series[0].style = "points";
+  c.series = {line("c1", 5, 1), line("c2", 5, 2), line("c3", 5, 3)};
+  c.series[1].style = "steps";
+  c.series[2].style = "errorbars";
+  c.series[2].ylo = {0, 1, 2, 3, 4};
+  c.series[2].yhi = {1, 2, 3, 4, 5};
+  f.panels = {a, b, c};
+  const fs::path out = dir_ / "sub" / "grid.svg";  // parent created on demand
+  report::render_svg(f, out.string());
+  const std::string svg = slurp(out);
+  ASSERT_NE(svg.find("<svg"), std::string::npos);
+  EXPECT_EQ(series_count(svg), 6);
+  EXPECT_NE(svg.find("three panels"), std::string::npos);
+}
+
+TEST_F(Plot, TitlesWithQuotesAndUnderscoresArePrintedLiterally) {
+  Figure f;
+  Panel p;
+  p.title = "operator's \"best\" V_in^x";
+  p.xlabel = "it's x";
+  p.series = {line("don't", 4, 1)};
+  f.panels = {p};
+  const fs::path out = dir_ / "quotes.svg";
+  report::render_svg(f, out.string());
+  const std::string svg = slurp(out);
+  EXPECT_EQ(series_count(svg), 1);
+  // gnuplot escapes XML itself; the characters arrive unchanged (no enhanced-text markup).
+  EXPECT_NE(svg.find("V_in^x"), std::string::npos);
+  EXPECT_NE(svg.find("don't"), std::string::npos);
+  EXPECT_NE(svg.find("operator's"), std::string::npos);
+}
+
+TEST_F(Plot, NanBreaksLinesAndEmptySeriesKeepTheirLegend) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  Figure f;
+  Panel p;
+  Series broken = line("broken", 6, 1);
+  broken.y[2] = nan;
+  broken.x[4] = std::numeric_limits<double>::infinity();
+  Series empty;
+  empty.title = "nothing";
+  Series all_nan;
+  all_nan.title = "all nan";
+  all_nan.x = {1, 2};
+  all_nan.y = {nan, nan};
+  p.series = {broken, empty, all_nan};
+  Panel blank;  // a panel without any data still renders
+  blank.title = "blank";
+  blank.series = {empty};
+  f.panels = {p, blank};
+  const fs::path out = dir_ / "nan.svg";
+  report::render_svg(f, out.string());
+  const std::string svg = slurp(out);
+  // broken, nothing, all nan; the blank panel: an invisible placeholder (gnuplot needs one
+  // drawable curve per panel) and nothing.
+  EXPECT_EQ(series_count(svg), 5);
+  EXPECT_NE(svg.find("nothing (no data)"), std::string::npos);
+  EXPECT_NE(svg.find("all nan (no data)"), std::string::npos);
+}
+
+TEST_F(Plot, LogAxesDropNonPositivePoints) {
+  Figure f;
+  Panel p;
+  p.logy = true;
+  Series s = line("log", 5, 1);  // y[0] = 0 cannot be drawn on a log axis
+  p.series = {s};
+  f.panels = {p};
+  const fs::path out = dir_ / "log.svg";
+  report::render_svg(f, out.string());
+  EXPECT_EQ(series_count(slurp(out)), 1);
+}
+
+TEST_F(Plot, EcdfPanelIsAStaircaseFromZeroToOne) {
+  const Panel p =
+      report::ecdf_panel("ecdf", "v [m/s]", {{"a", {3.0, 1.0, 2.0, std::nan("")}}, {"b", {5.0}}});
+  ASSERT_EQ(p.series.size(), 2u);
+  EXPECT_EQ(p.series[0].style, "steps");
+  EXPECT_EQ(p.series[0].x, (std::vector<double>{1, 1, 2, 3}));
+  EXPECT_EQ(p.series[0].y, (std::vector<double>{0, 1.0 / 3, 2.0 / 3, 1}));
+  EXPECT_EQ(p.series[1].y, (std::vector<double>{0, 1}));
+  Figure f;
+  f.panels = {p};
+  const fs::path out = dir_ / "ecdf.svg";
+  report::render_svg(f, out.string());
+  EXPECT_EQ(series_count(slurp(out)), 2);
+}
+
+TEST_F(Plot, MissingGnuplotIsAClearError) {
+  ::setenv("RICOCHET_GNUPLOT", "/nonexistent/gnuplot", 1);
+  Figure f;
+  Panel p;
+  p.series = {line("a", 3, 1)};
+  f.panels = {p};
+  const fs::path out = dir_ / "missing.svg";
+  try {
+    report::render_svg(f, out.string());
+    ADD_FAILURE() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("gnuplot-nox"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(Plot, FailingGnuplotIsAClearErrorAndLeavesNoFile) {
+  ::setenv("RICOCHET_GNUPLOT", "false", 1);  // exits with status 1
+  Figure f;
+  Panel p;
+  p.series = {line("a", 3, 1)};
+  f.panels = {p};
+  const fs::path out = dir_ / "failed.svg";
+  try {
+    report::render_svg(f, out.string());
+    ADD_FAILURE() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("gnuplot failed (exit status 1)"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(Plot, InconsistentFiguresAreRefusedBeforeCallingGnuplot) {
+  Figure f;
+  EXPECT_THROW(report::render_svg(f, (dir_ / "x.svg").string()), std::invalid_argument);
+  Panel p;
+  Series s = line("a", 3, 1);
+  s.y.pop_back();
+  p.series = {s};
+  f.panels = {p};
+  EXPECT_THROW(report::render_svg(f, (dir_ / "x.svg").string()), std::invalid_argument);
+  f.panels[0].series = {line("a", 3, 1)};
+  f.panels[0].series[0].style = "bars";
+  EXPECT_THROW(report::render_svg(f, (dir_ / "x.svg").string()), std::invalid_argument);
+  f.panels[0].series[0].style = "lines";
+  f.panels[0].series[0].color = "red' ; system 'touch pwned";
+  EXPECT_THROW(report::render_svg(f, (dir_ / "x.svg").string()), std::invalid_argument);
+  f.panels[0].series[0].color = "";
+  f.panels[0].key = "top; system";
+  EXPECT_THROW(report::render_svg(f, (dir_ / "x.svg").string()), std::invalid_argument);
+  EXPECT_FALSE(fs::exists(dir_ / "x.svg"));
+}
+
+}  // namespace
+}  // namespace ricochet
