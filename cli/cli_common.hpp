@@ -31,5 +31,6 @@ void add_reconstruct_command(CLI::App& app);
 void add_transfer_command(CLI::App& app);
 void add_effects_command(CLI::App& app);
 void add_simulate_command(CLI::App& app);
+void add_synth_command(CLI::App& app);
 
 }  // namespace ricochet::cli

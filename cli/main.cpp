@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   ricochet::cli::add_transfer_command(app);
   ricochet::cli::add_effects_command(app);
   ricochet::cli::add_simulate_command(app);
+  ricochet::cli::add_synth_command(app);
 
   try {
     app.parse(argc, argv);
