@@ -31,6 +31,10 @@ void add_reconstruct_command(CLI::App& app);
 void add_transfer_command(CLI::App& app);
 void add_effects_command(CLI::App& app);
 void add_simulate_command(CLI::App& app);
+void add_calibrate_command(CLI::App& app);
+void add_montecarlo_command(CLI::App& app);
+void add_sobol_command(CLI::App& app);
 void add_synth_command(CLI::App& app);
+void add_dem_command(CLI::App& app);
 
 }  // namespace ricochet::cli

@@ -18,7 +18,11 @@ int main(int argc, char** argv) {
   ricochet::cli::add_transfer_command(app);
   ricochet::cli::add_effects_command(app);
   ricochet::cli::add_simulate_command(app);
+  ricochet::cli::add_calibrate_command(app);
+  ricochet::cli::add_montecarlo_command(app);
+  ricochet::cli::add_sobol_command(app);
   ricochet::cli::add_synth_command(app);
+  ricochet::cli::add_dem_command(app);
 
   try {
     app.parse(argc, argv);

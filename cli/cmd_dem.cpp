@@ -1,0 +1,416 @@
+// `ricochet dem template|bed|impact|campaign`: the resolved model, sand as LIGGGHTS grains and the
+// block as a multisphere body, driven through the LIGGGHTS library interface with MPI.
+// See docs/commands/dem.md and docs/resolved-model.md.
+#include <mpi.h>
+
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "bed.hpp"
+#include "block_template.hpp"
+#include "campaign.hpp"
+#include "cli_common.hpp"
+#include "common/error.hpp"
+#include "common/progress.hpp"
+#include "engine/shape.hpp"
+#include "impact/impact_set.hpp"
+#include "impact_run.hpp"
+#include "params.hpp"
+
+namespace ricochet::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// MPI for the lifetime of one dem subcommand (LIGGGHTS needs it; other subcommands do not).
+class MpiSession {
+ public:
+  MpiSession() {
+    int initialized = 0;
+    MPI_Initialized(&initialized);
+    if (!initialized) {
+      MPI_Init(nullptr, nullptr);
+      owner_ = true;
+    }
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+    MPI_Comm_size(MPI_COMM_WORLD, &size_);
+  }
+  ~MpiSession() {
+    if (owner_) MPI_Finalize();
+  }
+  MpiSession(const MpiSession&) = delete;
+  MpiSession& operator=(const MpiSession&) = delete;
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+
+ private:
+  bool owner_ = false;
+  int rank_ = 0, size_ = 1;
+};
+
+struct CommonOptions {
+  std::string decks;
+  std::vector<std::string> sets;
+  std::string cache = "dem-cache";
+};
+
+void add_common(CLI::App* sub, CommonOptions& o, bool with_sets = true) {
+  sub->add_option("--decks", o.decks,
+                  "liggghts-inputs folder (default: $RICOCHET_LIGGGHTS_INPUTS or the source tree)");
+  if (with_sets)
+    sub->add_option("--set", o.sets,
+                    "Parameter override SECTION.NAME=VALUE, SECTION bed, block or run (repeatable; "
+                    "names: liggghts-inputs/common/*-defaults.in, impact/setup.in)");
+  sub->add_option("--cache", o.cache, "Bed cache folder (beds are keyed by their parameters)");
+}
+
+json bed_json(const dem::BedFiles& b) {
+  return {{"key", b.key},
+          {"prefix", b.prefix},
+          {"mode", b.mode},
+          {"grains", b.grains},
+          {"Lx_m", b.Lx_m},
+          {"Ly_m", b.Ly_m},
+          {"H_m", b.H_m},
+          {"z_surface_m", b.z_surface_m},
+          {"dt_s", b.dt_s},
+          {"settled", b.settled},
+          {"settle_time_s", b.settle_time_s}};
+}
+
+json result_json(const dem::ImpactResult& r) {
+  json j = {{"id", r.id},
+            {"status", r.status},
+            {"message", r.message},
+            {"wall_s", r.wall_s},
+            {"steps", r.steps},
+            {"grains", r.grains},
+            {"block_spheres", r.block_spheres},
+            {"dt_s", r.dt_s},
+            {"sim_time_s", r.sim_time_s},
+            {"work_dir", r.work_dir},
+            {"bed_key", r.bed_key}};
+  if (r.steps > 0 && r.wall_s > 0)
+    j["us_per_grain_step"] =
+        1e6 * r.wall_s /
+        (static_cast<double>(r.steps) * static_cast<double>(r.grains + r.block_spheres));
+  if (r.ok()) {
+    const auto& rec = r.reconstruction;
+    j["vin"] = rec.vin;
+    j["vout"] = rec.vout;
+    j["sigma_vin"] = rec.sigma_vin;
+    j["sigma_vout"] = rec.sigma_vout;
+    j["window"] = {{"method", rec.window_method},
+                   {"start_s", rec.contact_start_s},
+                   {"end_s", rec.contact_end_s},
+                   {"points_before", rec.points_before},
+                   {"points_after", rec.points_after}};
+    j["force_window_s"] = {r.force_contact_start_s, r.force_contact_end_s};
+    j["v_direct"] = {{"start", r.v_start_direct}, {"end", r.v_end_direct}};
+    j["penetration_max_m"] = r.penetration_max_m;
+    j["energy_dissipated_J"] = r.energy_dissipated_J;
+    j["energy_dissipated_frac"] = r.energy_dissipated_frac;
+    j["crater_depth_m"] = r.crater_depth_m;
+    j["crater_width_m"] = r.crater_width_m;
+  }
+  return j;
+}
+
+// ------------------------------------------------------------------ template
+
+struct TemplateOptions {
+  std::string shape = "cylinder";
+  double length_m = 0;
+  std::string mode = "slab";
+  std::string out;
+  double max_radius = 0.015, tolerance = 0.0005;
+  bool json = false;
+};
+
+void run_template(const TemplateOptions& o) {
+  const Shape shape = Shape::resolve(o.shape);
+  if (o.mode != "slab" && o.mode != "box")
+    throw InputError("<command line>", 0, "--mode", "must be slab or box");
+  const double length = o.length_m > 0 ? o.length_m : shape.length_m;
+  dem::TemplateOptions to;
+  to.max_sphere_radius_m = o.max_radius;
+  to.bump_tolerance_m = o.tolerance;
+  to.full_section_at_ends = o.mode == "slab";
+  const auto t = dem::make_sphere_template(shape, length, to);
+  dem::write_sphere_file(t, o.out + ".ms");
+  // The impact deck includes PREFIX.in from its own folder: name the sphere file through
+  // ${deck_dir} when the prefix is inside the deck's shapes/ folder, else by its absolute path.
+  const fs::path ms = fs::absolute(o.out + ".ms");
+  const std::string ref = ms.parent_path().filename() == "shapes"
+                              ? "${deck_dir}/shapes/" + ms.filename().string()
+                              : ms.string();
+  dem::write_template_include(t, ref, o.out + ".in");
+  const json j = {{"shape", shape.name},
+                  {"length_m", t.length_m},
+                  {"spheres", t.spheres.size()},
+                  {"sphere_radius_m", t.sphere_radius_m},
+                  {"spacing_m", t.spacing_m},
+                  {"mass_kg", t.mass_kg},
+                  {"inertia_kgm2", t.inertia_axis_kgm2},
+                  {"files", {o.out + ".ms", o.out + ".in"}}};
+  if (o.json)
+    print_json(j);
+  else
+    std::cout << fmt::format(
+        "{}: {} spheres of radius {} m over {} m; mass {:.4f} kg, I {:.5f} "
+        "kg m^2 -> {}.ms, {}.in\n",
+        shape.name, t.spheres.size(), t.sphere_radius_m, t.length_m, t.mass_kg, t.inertia_axis_kgm2,
+        o.out, o.out);
+}
+
+// ------------------------------------------------------------------ bed
+
+struct BedOptions {
+  CommonOptions common;
+  OutputOptions output;
+};
+
+void run_bed(const BedOptions& o) {
+  MpiSession mpi;
+  const auto decks = dem::Decks::locate(o.common.decks);
+  dem::Overrides ov;
+  for (const auto& s : o.common.sets) dem::apply_set_option(decks, s, ov);
+  if (!ov.block.empty() || !ov.run.empty())
+    throw InputError("<command line>", 0, "--set", "a bed takes bed.* parameters only");
+  bool built = false;
+  double wall = 0;
+  const auto bed = dem::ensure_bed(decks, ov.bed, o.common.cache, MPI_COMM_WORLD, &built, &wall);
+  if (mpi.rank() != 0) return;
+  json j = bed_json(bed);
+  j["built"] = built;
+  j["wall_s"] = wall;
+  j["ranks"] = mpi.size();
+  if (o.output.json)
+    print_json(j);
+  else
+    std::cout << fmt::format("bed {} ({}): {} grains, surface at {:.4f} m, dt {:.3g} s, {}{}\n",
+                             bed.key, bed.mode, bed.grains, bed.z_surface_m, bed.dt_s,
+                             built ? fmt::format("built in {:.0f} s", wall) : "from the cache",
+                             bed.settled ? "" : " -- NOT SETTLED");
+}
+
+// ------------------------------------------------------------------ impact
+
+struct ImpactOptions {
+  CommonOptions common;
+  OutputOptions output;
+  std::string shape = "cylinder";
+  std::vector<double> vin = {2.9, -2.3, -65.0};
+  double alpha_deg = 0;
+  long seed = -1;
+  std::string id = "impact";
+  std::string work = "dem-work";
+  double fps = 400;
+  std::string window;
+};
+
+void run_impact_command(const ImpactOptions& o) {
+  MpiSession mpi;
+  const auto decks = dem::Decks::locate(o.common.decks);
+  dem::ImpactSpec spec;
+  spec.id = o.id;
+  spec.shape = o.shape;
+  (void)Shape::resolve(o.shape);
+  if (o.vin.size() != 3)
+    throw InputError("<command line>", 0, "--vin", "expected vx,vy,omega (m/s, m/s, rad/s)");
+  spec.vin = {o.vin[0], o.vin[1], o.vin[2]};
+  if (!(spec.vin[kVy] < 0))
+    throw InputError("<command line>", 0, "--vin", "incident vy must be < 0");
+  spec.alpha_in_rad = o.alpha_deg * std::numbers::pi / 180.0;
+  if (o.seed >= 0) spec.seed = o.seed;
+  for (const auto& s : o.common.sets) dem::apply_set_option(decks, s, spec.params);
+  if (!o.output.out.empty()) require_extension("--out", o.output.out, {".h5", ".hdf5", ".csv"});
+  if (!o.window.empty() && o.window != "ground" && o.window != "force" && o.window != "auto")
+    throw InputError("<command line>", 0, "--window", "must be ground, force or auto");
+
+  dem::ImpactContext ctx;
+  ctx.decks = &decks;
+  ctx.extract.fps = o.fps;
+  ctx.extract.window = o.window;
+  bool built = false;
+  double bed_wall = 0;
+  ctx.bed = dem::ensure_bed(decks, dem::bed_overrides(spec), o.common.cache, MPI_COMM_WORLD, &built,
+                            &bed_wall);
+  const Shape shape = Shape::resolve(spec.shape);
+  if (mpi.rank() == 0)
+    ctx.template_include = dem::ensure_template(shape, ctx.bed, o.work + "/templates");
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (mpi.rank() != 0)
+    ctx.template_include = dem::ensure_template(shape, ctx.bed, o.work + "/templates");
+  ctx.work_dir = (fs::path(o.work) / spec.id).string();
+  std::unique_ptr<Progress> bar;
+  if (mpi.rank() == 0) bar = std::make_unique<Progress>("dem " + spec.id, 1000, !o.output.json);
+  std::size_t shown = 0;
+  ctx.progress = [&](double t, double t_max) {
+    if (!bar) return;
+    const auto now = static_cast<std::size_t>(std::clamp(1000.0 * t / t_max, 0.0, 1000.0));
+    if (now > shown) bar->advance(now - shown);
+    shown = std::max(shown, now);
+  };
+  const auto r = dem::run_impact(spec, ctx, MPI_COMM_WORLD);
+  if (bar) bar->finish();
+  if (mpi.rank() != 0) return;
+  if (!o.output.out.empty()) {
+    const std::string& out = o.output.out;
+    if (out.ends_with(".csv")) {
+      if (!r.ok())
+        throw InputError(
+            out, 0, "--out",
+            "impact " + r.status + ": no rebound to write as an impact set (" + r.message + ")");
+      ImpactSet set;
+      set.source = "ricochet dem impact";
+      set.extra_names = dem::impact_extra_names();
+      set.extra_units = dem::impact_extra_units();
+      set.impacts = {r.impact};
+      write_impact_set_csv(set, out);
+    } else {
+      dem::append_result(out, r, spec, "dem impact");
+    }
+  }
+  json j = result_json(r);
+  j["bed"] = bed_json(ctx.bed);
+  j["bed"]["built"] = built;
+  j["ranks"] = mpi.size();
+  if (o.output.json) {
+    print_json(j);
+  } else {
+    std::cout << fmt::format("{}: {} ({}) in {:.0f} s, {} steps, {} grains on {} rank(s)\n", r.id,
+                             r.status, r.message, r.wall_s, r.steps, r.grains, mpi.size());
+    if (r.ok())
+      std::cout << fmt::format(
+          "  V_in = ({:.3f}, {:.3f}, {:.2f})  V_out = ({:.3f}, {:.3f}, {:.2f})  (m/s, m/s, "
+          "rad/s)\n  penetration {:.4f} m, contact {:.4f} s, energy dissipated {:.1f} J ({:.0f} "
+          "%), crater {:.3f} m deep x {:.3f} m wide\n",
+          r.impact.vin[0], r.impact.vin[1], r.impact.vin[2], r.impact.vout[0], r.impact.vout[1],
+          r.impact.vout[2], r.penetration_max_m, r.impact.contact_duration.value_or(0),
+          r.energy_dissipated_J, 100 * r.energy_dissipated_frac, r.crater_depth_m,
+          r.crater_width_m);
+  }
+}
+
+// ------------------------------------------------------------------ campaign
+
+struct CampaignOptions {
+  std::string design;
+  std::string decks;
+  bool retry = false;
+  OutputOptions output;
+};
+
+void run_campaign_command(const CampaignOptions& o) {
+  MpiSession mpi;
+  const auto decks = dem::Decks::locate(o.decks);
+  const auto design = dem::read_campaign_design(o.design, decks);
+  if (o.output.out.empty())
+    throw InputError("<command line>", 0, "--out", "a campaign needs --out FILE.h5 (resumable)");
+  require_extension("--out", o.output.out, {".h5", ".hdf5"});
+  dem::CampaignOptions co;
+  co.out = o.output.out;
+  co.retry_crashed = o.retry;
+  co.progress = !o.output.json;
+  const auto s = dem::run_campaign(design, decks, co, MPI_COMM_WORLD);
+  if (mpi.rank() != 0) return;
+  std::map<std::string, int> counts;
+  for (const auto& e : s.entries) ++counts[e.status];
+  json j = {{"design", design.source},
+            {"name", design.name},
+            {"out", co.out},
+            {"impacts", design.impacts.size()},
+            {"ran", s.ran},
+            {"skipped_already_done", s.skipped},
+            {"groups", s.groups},
+            {"ranks", mpi.size()},
+            {"ranks_per_impact", design.ranks_per_impact},
+            {"wall_s", s.wall_s},
+            {"status_counts", counts}};
+  json list = json::array();
+  const auto& names = dem::campaign_value_names();
+  for (const auto& e : s.entries) {
+    json x = {{"id", e.id}, {"status", e.status}, {"message", e.message}};
+    for (std::size_t c = 0; c < names.size() && c < e.values.size(); ++c)
+      if (std::isfinite(e.values[c])) x[names[c]] = e.values[c];
+    list.push_back(x);
+  }
+  j["results"] = list;
+  if (o.output.json) {
+    print_json(j);
+  } else {
+    std::cout << fmt::format(
+        "campaign {}: {} impacts, {} run now, {} already done, {} group(s) of "
+        "{} rank(s), {:.0f} s\n",
+        design.name, design.impacts.size(), s.ran, s.skipped, s.groups, design.ranks_per_impact,
+        s.wall_s);
+    for (const auto& [status, n] : counts) std::cout << fmt::format("  {:>18}: {}\n", status, n);
+    std::cout << "results: " << co.out << " (/impacts, /dem/index, /dem/tracks)\n";
+  }
+}
+
+}  // namespace
+
+void add_dem_command(CLI::App& app) {
+  auto* dem = app.add_subcommand(
+      "dem", "Resolved model: LIGGGHTS sand bed + multisphere block (docs/commands/dem.md)");
+  dem->require_subcommand(1);
+
+  auto tpl = std::make_shared<TemplateOptions>();
+  auto* t = dem->add_subcommand("template", "Generate a block's multisphere template for a deck");
+  t->add_option("--shape", tpl->shape, "cylinder, triangle or a shape file (.toml)");
+  t->add_option("--length", tpl->length_m,
+                "Modelled length [m] (slab width; default: the block's)");
+  t->add_option("--mode", tpl->mode, "slab (full section at the ends) or box (rounded ends)");
+  t->add_option("--max-sphere-radius", tpl->max_radius, "Largest template sphere radius [m]");
+  t->add_option("--tolerance", tpl->tolerance, "Largest bump between spheres [m]");
+  t->add_option("--out", tpl->out, "Output prefix: writes PREFIX.ms and PREFIX.in")->required();
+  t->add_flag("--json", tpl->json, "Print one machine-readable JSON document on stdout");
+  t->callback([tpl] { run_template(*tpl); });
+
+  auto bed = std::make_shared<BedOptions>();
+  auto* b = dem->add_subcommand("bed", "Build (or reuse from the cache) a settled bed");
+  add_common(b, bed->common);
+  b->add_flag("--json", bed->output.json, "Print one machine-readable JSON document on stdout");
+  b->callback([bed] { run_bed(*bed); });
+
+  auto imp = std::make_shared<ImpactOptions>();
+  auto* i = dem->add_subcommand("impact", "Run one resolved impact on all MPI ranks");
+  add_common(i, imp->common);
+  add_output_options(i, imp->output);
+  i->add_option("--shape", imp->shape, "cylinder, triangle or a shape file (.toml)");
+  i->add_option("--vin", imp->vin, "Incident state vx,vy,omega (m/s, m/s, rad/s; paper frame)")
+      ->delimiter(',')
+      ->expected(3);
+  i->add_option("--alpha-deg", imp->alpha_deg, "Incident orientation [deg]");
+  i->add_option("--seed", imp->seed, "Replica seed (bed and insertion seeds)");
+  i->add_option("--id", imp->id, "Impact id (work folder name)");
+  i->add_option("--work", imp->work, "Work folder (per-impact logs and tracks)");
+  i->add_option("--fps", imp->fps, "Frame rate given to the reconstruction (0 = every record)");
+  i->add_option("--window", imp->window,
+                "Contact window: ground (paper Fig. 8b), force (DEM) or auto (default: ground for "
+                "discs, force otherwise)");
+  i->callback([imp] { run_impact_command(*imp); });
+
+  auto camp = std::make_shared<CampaignOptions>();
+  auto* c = dem->add_subcommand("campaign", "Run a design of impacts over MPI ranks (resumable)");
+  c->add_option("design", camp->design, "Design file (.toml)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  c->add_option("--decks", camp->decks, "liggghts-inputs folder");
+  c->add_flag("--retry-crashed", camp->retry, "Rerun impacts that were running when a run died");
+  add_output_options(c, camp->output);
+  c->callback([camp] { run_campaign_command(*camp); });
+}
+
+}  // namespace ricochet::cli

@@ -1,0 +1,104 @@
+#include "bed.hpp"
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "liggghts.hpp"
+
+namespace ricochet::dem {
+
+namespace fs = std::filesystem;
+
+BedFiles read_bed_files(const std::string& prefix) {
+  const std::string path = prefix + ".params";
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("bed: cannot read " + path);
+  BedFiles b;
+  b.prefix = prefix;
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream ls(line);
+    std::string kw, name, style, value;
+    if (ls >> kw >> name >> style >> value && kw == "variable" && style == "string")
+      b.values[name] = value;
+  }
+  auto num = [&](const char* name) {
+    const auto it = b.values.find(name);
+    if (it == b.values.end())
+      throw std::runtime_error("bed: " + path + " has no value for " + name +
+                               " (written by an older in.bed? delete it to rebuild)");
+    return std::strtod(it->second.c_str(), nullptr);
+  };
+  b.mode = b.values.count("mode") ? b.values.at("mode") : "";
+  b.grains = static_cast<long>(num("bed_grains"));
+  b.Lx_m = num("Lx_m");
+  b.Ly_m = num("Ly_m");
+  b.H_m = num("H_m");
+  b.z_surface_m = num("z_surface_m");
+  b.z_box_top_m = num("z_box_top_m");
+  b.r_max_m = std::max({num("r1_m"), num("r2_m"), num("r3_m")});
+  b.dt_s = num("bed_dt_s");
+  b.settle_time_s = num("bed_time_s");
+  b.settled = num("bed_settled") == 1.0;
+  return b;
+}
+
+BedFiles ensure_bed(const Decks& decks, const std::map<std::string, std::string>& bed_overrides,
+                    const std::string& cache_dir, MPI_Comm comm, bool* built, double* wall_s) {
+  const std::string key = bed_key(decks, bed_overrides);
+  const std::string prefix = (fs::path(cache_dir) / ("bed-" + key)).string();
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  // Another process (a parallel test, a second campaign) may be building the same bed: rank 0
+  // holds an flock on PREFIX.lock from the existence check to the end of the build.
+  int lock_fd = -1;
+  if (rank == 0) {
+    fs::create_directories(cache_dir);
+    lock_fd = ::open((prefix + ".lock").c_str(), O_RDWR | O_CREAT, 0644);
+    if (lock_fd >= 0) ::flock(lock_fd, LOCK_EX);
+  }
+  int have = 0;
+  if (rank == 0) have = fs::exists(prefix + ".restart") && fs::exists(prefix + ".params");
+  MPI_Bcast(&have, 1, MPI_INT, 0, comm);
+  if (built) *built = !have;
+  if (wall_s) *wall_s = 0;
+  if (!have) {
+    // Build under a temporary name and rename when complete: a killed build leaves no bed that
+    // looks finished, and a concurrent reader never sees half a restart file.
+    const std::string tmp = prefix + ".building";
+    const auto start = std::chrono::steady_clock::now();
+    {
+      std::vector<std::pair<std::string, std::string>> vars = {{"common", decks.common},
+                                                               {"bed", tmp}};
+      for (const auto& [name, value] : bed_overrides) vars.emplace_back(name, value);
+      Liggghts lmp(comm, prefix + ".log", prefix + ".screen", vars);
+      lmp.file(decks.bed_deck);
+    }
+    if (wall_s)
+      *wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (rank == 0) {
+      // The parameters file goes last: its presence marks a complete bed.
+      fs::rename(tmp + ".restart", prefix + ".restart");
+      fs::rename(tmp + ".params", prefix + ".params");
+    }
+    MPI_Barrier(comm);
+  }
+  if (lock_fd >= 0) {
+    ::flock(lock_fd, LOCK_UN);
+    ::close(lock_fd);
+  }
+  BedFiles b = read_bed_files(prefix);
+  b.key = key;
+  return b;
+}
+
+}  // namespace ricochet::dem

@@ -1,0 +1,448 @@
+#include "impact_run.hpp"
+
+#include <unistd.h>
+
+#include <fmt/format.h>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+
+#include "block_template.hpp"
+#include "liggghts.hpp"
+
+namespace ricochet::dem {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kGravity = 9.81;  // m/s^2, as in the decks (fix gravity 9.81)
+// The decks' fix check/timestep/gran warns above this fraction of the Rayleigh and Hertz times.
+constexpr double kTimestepLimit = 0.2;
+
+double run_param(const ImpactSpec& spec, const Decks& decks, const std::string& name) {
+  const auto it = spec.params.run.find(name);
+  if (it != spec.params.run.end()) return std::stod(it->second);
+  for (const auto& p : decks.impact_params)
+    if (p.name == name) return std::stod(p.default_value);
+  throw std::logic_error("impact deck has no parameter " + name);
+}
+
+// Bed tops along x: bins of width bin_m over [0, Lx); per bin the mean of z + r over the grains
+// whose top is within 2 r_max of the bin's highest top (the top layer), NaN for an empty bin.
+std::vector<double> profile_from(const Liggghts::LocalAtoms& atoms, const BedFiles& bed,
+                                 double bin_m, MPI_Comm comm) {
+  const auto n = static_cast<std::size_t>(std::ceil(bed.Lx_m / bin_m));
+  std::vector<double> top(n, -1e30), sum(n, 0.0), count(n, 0.0);
+  auto bin_of = [&](double x) {
+    const auto b = static_cast<long>(std::floor(x / bin_m));
+    return static_cast<std::size_t>(std::clamp<long>(b, 0, static_cast<long>(n) - 1));
+  };
+  for (std::size_t i = 0; i < atoms.x.size(); ++i)
+    if (atoms.type[i] == 1)
+      top[bin_of(atoms.x[i][0])] =
+          std::max(top[bin_of(atoms.x[i][0])], atoms.x[i][2] + atoms.radius[i]);
+  MPI_Allreduce(MPI_IN_PLACE, top.data(), static_cast<int>(n), MPI_DOUBLE, MPI_MAX, comm);
+  for (std::size_t i = 0; i < atoms.x.size(); ++i) {
+    if (atoms.type[i] != 1) continue;
+    const auto b = bin_of(atoms.x[i][0]);
+    const double z = atoms.x[i][2] + atoms.radius[i];
+    if (z > top[b] - 2 * bed.r_max_m) {
+      sum[b] += z;
+      count[b] += 1;
+    }
+  }
+  MPI_Allreduce(MPI_IN_PLACE, sum.data(), static_cast<int>(n), MPI_DOUBLE, MPI_SUM, comm);
+  MPI_Allreduce(MPI_IN_PLACE, count.data(), static_cast<int>(n), MPI_DOUBLE, MPI_SUM, comm);
+  std::vector<double> profile(n, kNaN);
+  for (std::size_t b = 0; b < n; ++b)
+    if (count[b] > 0) profile[b] = sum[b] / count[b];
+  return profile;
+}
+
+// Nearest record to each frame time t0 + k / fps (the camera samples the motion; it does not
+// average it).
+kinematics::Track frames(const Track& tr, double fps) {
+  kinematics::Track out;
+  out.source = "LIGGGHTS block track";
+  if (tr.size() == 0) return out;
+  std::size_t j = 0;
+  for (std::size_t k = 0;; ++k) {
+    const double tk = fps > 0 ? tr.t.front() + static_cast<double>(k) / fps : kNaN;
+    if (fps > 0 && tk > tr.t.back()) break;
+    if (fps <= 0) {
+      if (k >= tr.size()) break;
+      j = k;
+    } else {
+      while (j + 1 < tr.size() && std::abs(tr.t[j + 1] - tk) <= std::abs(tr.t[j] - tk)) ++j;
+      if (!out.t.empty() && tr.t[j] <= out.t.back()) continue;
+    }
+    out.t.push_back(tr.t[j]);
+    out.x.push_back(tr.x[j]);
+    out.y.push_back(tr.y[j]);
+    out.theta.push_back(tr.theta[j]);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::map<std::string, std::string> bed_overrides(const ImpactSpec& spec) {
+  auto bed = spec.params.bed;
+  if (spec.seed && !bed.count("seed")) bed["seed"] = std::to_string(liggghts_seed(*spec.seed, 0));
+  return bed;
+}
+
+const std::vector<std::string>& Track::column_names() {
+  static const std::vector<std::string> names = {
+      "t[s]",     "x[m]",   "y[m]",   "theta[rad]",     "vx[m/s]",     "vy[m/s]",
+      "w[rad/s]", "fcx[N]", "fcy[N]", "penetration[m]", "ke_block[J]", "ke_grains[J]"};
+  return names;
+}
+
+Track Track::read(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot read the block track " + path);
+  Track tr;
+  std::vector<double>* cols[] = {&tr.t,   &tr.x,           &tr.y,        &tr.theta,
+                                 &tr.vx,  &tr.vy,          &tr.w,        &tr.fcx,
+                                 &tr.fcy, &tr.penetration, &tr.ke_block, &tr.ke_grains};
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream ls(line);
+    double v[12];
+    bool complete = true;
+    for (double& x : v) {
+      std::string cell;
+      if (!(ls >> cell)) {
+        complete = false;
+        break;
+      }
+      x = std::strtod(cell.c_str(), nullptr);  // "nan" reads as NaN
+    }
+    if (!complete) continue;  // a line cut by a crash
+    if (!tr.t.empty() && v[0] <= tr.t.back()) continue;
+    for (int c = 0; c < 12; ++c) cols[c]->push_back(v[c]);
+  }
+  // The deck writes theta in (-2 pi, 2 pi]: unwrap to a continuous angle.
+  for (std::size_t i = 1; i < tr.theta.size(); ++i) {
+    double d = tr.theta[i] - tr.theta[i - 1];
+    const double turn = 2 * std::numbers::pi;
+    tr.theta[i] -= turn * std::round(d / turn);
+  }
+  return tr;
+}
+
+std::vector<double> Track::rows() const {
+  const std::vector<double>* cols[] = {&t, &x,   &y,   &theta,       &vx,       &vy,
+                                       &w, &fcx, &fcy, &penetration, &ke_block, &ke_grains};
+  std::vector<double> out;
+  out.reserve(size() * 12);
+  for (std::size_t i = 0; i < size(); ++i)
+    for (const auto* c : cols) out.push_back((*c)[i]);
+  return out;
+}
+
+std::string ensure_template(const Shape& shape, const BedFiles& bed, const std::string& dir) {
+  const bool slab = bed.mode == "slab";
+  const double length = slab ? bed.Ly_m : shape.length_m;
+  TemplateOptions options;
+  options.full_section_at_ends = slab;
+  const SphereTemplate t = make_sphere_template(shape, length, options);
+  fs::create_directories(dir);
+  const std::string base =
+      (fs::path(dir) / fmt::format("{}_{}_L{}", shape.name, bed.mode, format_value(length)))
+          .string();
+  if (!fs::exists(base + ".in")) {
+    const std::string tmp = fmt::format("{}.tmp{}", base, static_cast<long>(::getpid()));
+    write_sphere_file(t, tmp + ".ms");
+    fs::rename(tmp + ".ms", base + ".ms");
+    write_template_include(t, base + ".ms", tmp + ".in");
+    fs::rename(tmp + ".in", base + ".in");
+  }
+  return base + ".in";
+}
+
+std::string validate_setup(const ImpactSpec& spec, const Shape& shape, const Decks& decks,
+                           const BedFiles& bed) {
+  if (!(spec.vin[kVy] < 0))
+    return fmt::format("incident vy = {} m/s: the block must move downwards (vy < 0)",
+                       spec.vin[kVy]);
+  for (double v : spec.vin)
+    if (!std::isfinite(v)) return "incident state is not finite";
+  if (bed.mode == "box" && shape.length_m > bed.Ly_m)
+    return fmt::format("block length {} m does not fit the {} m wide box", shape.length_m,
+                       bed.Ly_m);
+  const double frac = run_param(spec, decks, "x_impact_frac");
+  const double t_pre = run_param(spec, decks, "t_pre_s");
+  // Same margin as the deck's end_wall criterion (setup.in: x_wall_margin).
+  const double margin = shape.bounding_radius() + 4 * bed.r_max_m;
+  const double x_contact = frac * bed.Lx_m;
+  const double x_ins = x_contact - spec.vin[kVx] * t_pre;
+  if (x_ins < margin || x_contact < margin || x_contact > bed.Lx_m - margin)
+    return fmt::format(
+        "the block would start at x = {:.3f} m and touch the bed at x = {:.3f} m, closer than "
+        "{:.3f} m (bounding radius + 4 grain radii) to an end wall of the {} m bed",
+        x_ins, x_contact, margin, bed.Lx_m);
+  const double drop = -spec.vin[kVy] * t_pre - 0.5 * kGravity * t_pre * t_pre;
+  const double y_ins = bed.z_surface_m + shape.depth_below_centroid(spec.alpha_in_rad) + drop;
+  if (y_ins + shape.bounding_radius() > bed.z_box_top_m)
+    return fmt::format(
+        "the block would be inserted at y = {:.3f} m, its top above the box top {:.3f} m "
+        "(shorten t_pre_s or raise the bed's headroom_m)",
+        y_ins, bed.z_box_top_m);
+  return "";
+}
+
+std::vector<double> surface_profile(Liggghts& lmp, const BedFiles& bed, double bin_m) {
+  return profile_from(lmp.local_atoms(), bed, bin_m, lmp.comm());
+}
+
+ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Comm comm) {
+  const Decks& decks = *ctx.decks;
+  const BedFiles& bed = ctx.bed;
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  ImpactResult r;
+  r.id = spec.id;
+  r.bed_key = bed.key;
+  r.grains = bed.grains;
+  r.dt_s = bed.dt_s;
+  r.work_dir = ctx.work_dir;
+  const Shape shape = Shape::resolve(spec.shape);
+  if (!bed.settled) {
+    r.status = "bed_not_settled";
+    r.message = "the bed " + bed.prefix + " did not meet its settling criterion";
+    return r;
+  }
+  if (const std::string why = validate_setup(spec, shape, decks, bed); !why.empty()) {
+    r.status = "invalid";
+    r.message = why;
+    return r;
+  }
+  if (rank == 0) fs::create_directories(ctx.work_dir);
+  MPI_Barrier(comm);
+  const std::string out = (fs::path(ctx.work_dir) / "impact").string();
+
+  std::vector<std::pair<std::string, std::string>> vars = {
+      {"deck_dir", decks.impact_dir},
+      {"common", decks.common},
+      {"bed", bed.prefix},
+      {"template_in", ctx.template_include},
+      {"out", out},
+      {"shape", shape.name},
+      {"vx_in_mps", format_value(spec.vin[kVx])},
+      {"vy_in_mps", format_value(spec.vin[kVy])},
+      {"w_in_radps", format_value(spec.vin[kW])},
+      {"alpha_in_deg", format_value(spec.alpha_in_rad * 180.0 / std::numbers::pi)}};
+  for (const auto& [k, v] : spec.params.block) vars.emplace_back(k, v);
+  for (const auto& [k, v] : spec.params.run) vars.emplace_back(k, v);
+  if (spec.seed && !spec.params.run.count("block_seed"))
+    vars.emplace_back("block_seed", std::to_string(liggghts_seed(*spec.seed, 1)));
+
+  const auto start = std::chrono::steady_clock::now();
+  const double crater_bin = 2 * bed.r_max_m;
+  std::vector<double> before, after;
+  double block_mass = 0, t_max = 0;
+  {
+    Liggghts lmp(comm, (fs::path(ctx.work_dir) / "log.liggghts").string(),
+                 (fs::path(ctx.work_dir) / "screen.txt").string(), vars);
+    lmp.file(decks.impact_dir + "/setup.in");
+    r.block_spheres = static_cast<long>(lmp.number("block_nspheres").value_or(0));
+    block_mass = lmp.number("block_mass_kg").value_or(0);
+    t_max = lmp.number("t_max_s").value_or(0);
+    const long chunk = static_cast<long>(lmp.number("chunk_steps").value_or(100));
+    const long expected = bed.grains + r.block_spheres;
+    if (lmp.natoms() != expected) {
+      r.status = "not_inserted";
+      r.message = fmt::format("{} atoms after the block insertion, expected {} grains + {} spheres",
+                              lmp.natoms(), bed.grains, r.block_spheres);
+    } else {
+      before = surface_profile(lmp, bed, crater_bin);
+      for (;;) {
+        lmp.command(fmt::format("run {}", chunk));
+        const double t = lmp.time_s();
+        if (lmp.natoms() != expected) {
+          r.status = "lost_atoms";
+          r.message = fmt::format(
+              "{} atoms at t = {:.4f} s, expected {}: grains or the block left "
+              "the box (time step too large?)",
+              lmp.natoms(), t, expected);
+          break;
+        }
+        bool finite = true;
+        for (const char* v : {"bx", "by", "bvx", "bvy", "bw"})
+          finite = finite && std::isfinite(lmp.number(v).value_or(kNaN));
+        if (!finite) {
+          r.status = "nan";
+          r.message = fmt::format("the block state is not finite at t = {:.4f} s", t);
+          break;
+        }
+        r.rayleigh_fraction = std::max(r.rayleigh_fraction, lmp.fix_vector("ts_check", 0));
+        r.hertz_fraction = std::max(r.hertz_fraction, lmp.fix_vector("ts_check", 1));
+        if (r.rayleigh_fraction > kTimestepLimit || r.hertz_fraction > kTimestepLimit) {
+          r.status = "timestep";
+          r.message = fmt::format(
+              "time step {:.3g} s is {:.2f} of the Rayleigh time and {:.2f} of the Hertz time "
+              "(limit {}): lower dt_frac",
+              bed.dt_s, r.rayleigh_fraction, r.hertz_fraction, kTimestepLimit);
+          break;
+        }
+        lmp.file(decks.impact_dir + "/check.in");
+        if (ctx.progress) ctx.progress(t, t_max);
+        if (lmp.string("impact_done").value_or("1") == "1") {
+          r.status = lmp.string("status").value_or("unknown");
+          break;
+        }
+      }
+      lmp.file(decks.impact_dir + "/finish.in");
+      after = surface_profile(lmp, bed, crater_bin);
+    }
+    r.steps = lmp.step();
+    r.sim_time_s = lmp.time_s();
+  }
+  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (rank != 0) return r;
+
+  // ---- Extraction (rank 0 of the instance reads the deck's track file)
+  try {
+    r.track = Track::read(out + ".track.txt");
+  } catch (const std::exception& e) {
+    if (r.ok()) {
+      r.status = "extraction_failed";
+      r.message = e.what();
+    }
+    return r;
+  }
+  const Track& tr = r.track;
+  for (double p : tr.penetration) r.penetration_max_m = std::max(r.penetration_max_m, p);
+  if (r.status == "no_rebound")
+    r.message = fmt::format(
+        "the block stayed in the bed (slower than v_rest_mps while in contact), "
+        "maximum penetration {:.4f} m",
+        r.penetration_max_m);
+  if (r.status == "timeout")
+    r.message = fmt::format("no end of the rebound within t_max_s = {} s", t_max);
+  if (r.status == "end_wall")
+    r.message = "the block came within x_wall_margin of an end wall: use a longer bed";
+  if (!r.ok()) return r;
+
+  // DEM contact-force window (the deck's criterion at full record resolution).
+  const double threshold = run_param(spec, decks, "f_contact_frac") * block_mass * kGravity;
+  std::size_t i0 = tr.size(), i1 = tr.size();
+  for (std::size_t i = 0; i < tr.size(); ++i)
+    if (std::hypot(tr.fcx[i], tr.fcy[i]) > threshold) {
+      if (i0 == tr.size()) i0 = i;
+      i1 = i;
+    }
+  if (i0 == tr.size()) {
+    r.status = "extraction_failed";
+    r.message = "no contact force in the recorded track";
+    return r;
+  }
+  i1 = std::min(i1 + 1, tr.size() - 1);  // first record after the last contact
+  r.force_contact_start_s = tr.t[i0];
+  r.force_contact_end_s = tr.t[i1];
+  r.v_start_direct = {tr.vx[i0], tr.vy[i0], tr.w[i0]};
+  r.v_end_direct = {tr.vx[i1], tr.vy[i1], tr.w[i1]};
+  // Energy lost over the contact, kinetic plus potential, for the lab-length block (the slab
+  // carries block_mass / shape.mass_kg of it).
+  const double scale = shape.mass_kg / block_mass;
+  const double e0 = tr.ke_block[i0] + block_mass * kGravity * tr.y[i0];
+  const double e1 = tr.ke_block[i1] + block_mass * kGravity * tr.y[i1];
+  r.energy_dissipated_J = (e0 - e1) * scale;
+  r.energy_dissipated_frac = (e0 - e1) / tr.ke_block[i0];
+
+  // Crater: largest drop of the surface profile under the block's path during the contact, and
+  // the width of the contiguous bins around it that dropped by more than a grain radius.
+  if (!before.empty() && before.size() == after.size()) {
+    const double reach = shape.bounding_radius();
+    const auto n = before.size();
+    std::size_t best = n;
+    for (std::size_t b = 0; b < n; ++b) {
+      const double xb = (static_cast<double>(b) + 0.5) * crater_bin;
+      if (xb < tr.x[i0] - reach || xb > tr.x[i1] + reach) continue;
+      const double drop = before[b] - after[b];
+      if (std::isfinite(drop) && (best == n || drop > before[best] - after[best])) best = b;
+    }
+    if (best < n) {
+      r.crater_depth_m = std::max(0.0, before[best] - after[best]);
+      std::size_t lo = best, hi = best;
+      auto dropped = [&](std::size_t b) { return before[b] - after[b] > bed.r_max_m; };
+      if (dropped(best)) {
+        while (lo > 0 && dropped(lo - 1)) --lo;
+        while (hi + 1 < n && dropped(hi + 1)) ++hi;
+        r.crater_width_m = static_cast<double>(hi - lo + 1) * crater_bin;
+      }
+    }
+  }
+
+  // V_in and V_out with the lab's reconstruction on camera-like frames.
+  kinematics::ReconstructOptions ro;
+  std::string window = ctx.extract.window;
+  if (window.empty()) window = shape.is_disc() ? "ground" : "force";
+  if (window == "ground") {
+    ro.ground_y_m = bed.z_surface_m;
+    ro.contact_radius_m = shape.depth_below_centroid(spec.alpha_in_rad);
+  } else if (window == "force") {
+    ro.contact_start_s = r.force_contact_start_s;
+    ro.contact_end_s = r.force_contact_end_s;
+  }
+  try {
+    r.reconstruction = kinematics::reconstruct(frames(tr, ctx.extract.fps), ro);
+  } catch (const std::exception& e) {
+    r.status = "extraction_failed";
+    r.message = std::string("reconstruction: ") + e.what();
+    return r;
+  }
+  const auto& rec = r.reconstruction;
+  if (!(rec.vout[kVy] > 0) || !(rec.vin[kVy] < 0)) {
+    r.status = "extraction_failed";
+    r.message = fmt::format("reconstructed vin_y = {:.3f}, vout_y = {:.3f} m/s: not a rebound",
+                            rec.vin[kVy], rec.vout[kVy]);
+    return r;
+  }
+  Impact& im = r.impact;
+  im.id = spec.id;
+  im.shape = shape.name;
+  im.vin = rec.vin;
+  im.vout = rec.vout;
+  im.alpha_in = spec.alpha_in_rad;
+  im.penetration = r.penetration_max_m;
+  im.contact_duration = rec.contact_end_s - rec.contact_start_s;
+  im.sigma_vin = rec.sigma_vin;
+  im.sigma_vout = rec.sigma_vout;
+  im.extra = {r.energy_dissipated_frac, r.crater_depth_m,
+              r.crater_width_m,         r.v_start_direct[kVx],
+              r.v_start_direct[kVy],    r.v_start_direct[kW],
+              r.v_end_direct[kVx],      r.v_end_direct[kVy],
+              r.v_end_direct[kW],       r.force_contact_end_s - r.force_contact_start_s};
+  r.message = fmt::format("V_out = ({:.3f} m/s, {:.3f} m/s, {:.2f} rad/s)", rec.vout[kVx],
+                          rec.vout[kVy], rec.vout[kW]);
+  return r;
+}
+
+const std::vector<std::string>& impact_extra_names() {
+  static const std::vector<std::string> names = {
+      "energy_dissipated_frac", "crater_depth",  "crater_width",
+      "vin_x_direct",           "vin_y_direct",  "win_direct",
+      "vout_x_direct",          "vout_y_direct", "wout_direct",
+      "force_contact_duration"};
+  return names;
+}
+
+const std::vector<std::string>& impact_extra_units() {
+  static const std::vector<std::string> units = {"-",     "m",   "m",   "m/s",   "m/s",
+                                                 "rad/s", "m/s", "m/s", "rad/s", "s"};
+  return units;
+}
+
+}  // namespace ricochet::dem

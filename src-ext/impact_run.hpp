@@ -1,0 +1,120 @@
+// One resolved impact: the impact deck (liggghts-inputs/impact/setup.in + check.in) run through
+// the library interface, failure detection, and the extraction of V_in and V_out with the lab's
+// reconstruction (kinematics::reconstruct, paper section 2.3).
+#pragma once
+
+#include <mpi.h>
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bed.hpp"
+#include "engine/shape.hpp"
+#include "impact/impact_set.hpp"
+#include "kinematics/reconstruct.hpp"
+#include "params.hpp"
+
+namespace ricochet::dem {
+
+/// One impact of a campaign (paper frame: x flight direction, y up, omega > 0 counter-clockwise).
+struct ImpactSpec {
+  std::string id;
+  std::string shape = "cylinder";  ///< "cylinder", "triangle" or a shape file (.toml)
+  Vel3 vin{2.9, -2.3, -65.0};      ///< incident state at first contact (m/s, m/s, rad/s)
+  double alpha_in_rad = 0;         ///< incident orientation
+  /// Replica seed: bed seed and block insertion seed become the (2 seed + 1)-th and
+  /// (2 seed + 2)-th primes above 10000. Absent: the decks' seeds (or explicit overrides).
+  std::optional<std::int64_t> seed;
+  Overrides params;  ///< bed / block / run parameter overrides
+};
+
+/// Bed overrides of a spec including its replica seed (the bed's cache key).
+std::map<std::string, std::string> bed_overrides(const ImpactSpec& spec);
+
+/// How V_in and V_out are extracted from the block's track.
+struct ExtractOptions {
+  /// Frame rate of the track given to the reconstruction [1/s]: the lab camera's 400 fps by
+  /// default (like with like); 0 = every recorded state.
+  double fps = 400;
+  /// Contact window: "ground" = the paper's geometric criterion (block centre within its contact
+  /// radius of the levelled surface, Fig. 8b), "force" = the DEM contact force window, "auto" =
+  /// the reconstruction's ballistic-residual detection; empty = ground for discs (whose contact
+  /// radius does not change as they turn), force for other shapes.
+  std::string window;
+};
+
+/// The block state recorded by the deck (paper frame), one row per record.
+struct Track {
+  std::vector<double> t, x, y, theta, vx, vy, w, fcx, fcy, penetration, ke_block, ke_grains;
+  static const std::vector<std::string>& column_names();  ///< with units, e.g. "t[s]"
+  std::size_t size() const { return t.size(); }
+  /// Reads ${out}.track.txt (fix print output); theta is unwrapped.
+  static Track read(const std::string& path);
+  /// Row-major copy (size() x 12) for HDF5.
+  std::vector<double> rows() const;
+};
+
+struct ImpactResult {
+  std::string id;
+  /// rebound (success) | no_rebound | timeout | lost_atoms | end_wall | nan | timestep |
+  /// not_inserted | invalid | bed_not_settled | extraction_failed | crashed
+  std::string status;
+  std::string message;  ///< what went wrong, or a summary
+  bool ok() const { return status == "rebound"; }
+
+  Impact impact;  ///< the impact-set row (meaningful when ok())
+  kinematics::Reconstruction reconstruction;
+  Track track;
+  double force_contact_start_s = -1, force_contact_end_s = -1;  ///< DEM contact-force window
+  double penetration_max_m = 0;
+  double energy_dissipated_J = 0;     ///< lab-length block: (KE + PE) lost over the contact
+  double energy_dissipated_frac = 0;  ///< over the block's kinetic energy at first contact
+  double crater_depth_m = 0, crater_width_m = 0;
+  Vel3 v_start_direct{}, v_end_direct{};  ///< block velocity at the force-window ends
+
+  std::string bed_key;
+  long grains = 0, steps = 0, block_spheres = 0;
+  double dt_s = 0, wall_s = 0, sim_time_s = 0;
+  double rayleigh_fraction = 0, hertz_fraction = 0;  ///< from fix check/timestep/gran
+  std::string work_dir;
+};
+
+/// Everything run_impact needs besides the spec.
+struct ImpactContext {
+  const Decks* decks = nullptr;
+  BedFiles bed;
+  std::string template_include;  ///< from ensure_template
+  std::string work_dir;          ///< this impact's folder (log, screen, track)
+  ExtractOptions extract;
+  /// Called after every chunk with (simulated time, t_max) on every rank.
+  std::function<void(double, double)> progress;
+};
+
+/// Generates (once) the multisphere template of `shape` for `bed` (slab: the slab width; box: the
+/// block's length) in `dir`; returns the LIGGGHTS include file. Deterministic content, written to
+/// a temporary name and renamed, so concurrent callers are safe.
+std::string ensure_template(const Shape& shape, const BedFiles& bed, const std::string& dir);
+
+/// Checks what would make LIGGGHTS stop with an error or give a meaningless impact (incident
+/// vy >= 0, insertion outside the box, contact too close to an end wall). Returns an empty
+/// string when the set-up is valid, else the reason.
+std::string validate_setup(const ImpactSpec& spec, const Shape& shape, const Decks& decks,
+                           const BedFiles& bed);
+
+/// Runs one impact on `comm` (collective). Never throws for a LIGGGHTS-side failure: the status
+/// says what happened. Results are complete on rank 0 of comm.
+ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Comm comm);
+
+/// Names and SI units of the extra impact-set columns of a resolved impact (Impact::extra):
+/// energy_dissipated_frac [-], crater_depth [m], crater_width [m], the block velocity at the
+/// ends of the contact-force window (vin_x_direct ... wout_direct) and force_contact_duration [s].
+const std::vector<std::string>& impact_extra_names();
+const std::vector<std::string>& impact_extra_units();
+
+/// Surface height profile of the grains along x (mean top of the top layer per bin) [m];
+/// collective over comm. Used for the crater.
+std::vector<double> surface_profile(class Liggghts& lmp, const BedFiles& bed, double bin_m);
+
+}  // namespace ricochet::dem

@@ -1,0 +1,73 @@
+// Parameters of the LIGGGHTS decks, read from the decks themselves so that the decks stay the one
+// place where defaults live (liggghts-inputs/common/grain-defaults.in, block-defaults.in and the
+// impact parameters of liggghts-inputs/impact/setup.in).
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace ricochet::dem {
+
+/// One `variable NAME index VALUE   # comment` line of a deck.
+struct DeckParam {
+  std::string name;
+  std::string default_value;
+  std::string comment;
+  bool numeric = false;  ///< the default parses as a number
+};
+
+/// Reads the index variables of a deck file, in file order. Throws std::runtime_error naming the
+/// file when it cannot be read.
+std::vector<DeckParam> read_deck_params(const std::string& path);
+
+/// Where the decks live and what they accept.
+struct Decks {
+  std::string root;                      ///< liggghts-inputs/
+  std::string bed_deck;                  ///< root/bed/in.bed
+  std::string impact_dir;                ///< root/impact (setup.in, check.in, finish.in)
+  std::string common;                    ///< root/common
+  std::vector<DeckParam> bed_params;     ///< grain-defaults.in: what makes a bed
+  std::vector<DeckParam> block_params;   ///< block-defaults.in: grain-block contact
+  std::vector<DeckParam> impact_params;  ///< setup.in: incident state and run control
+
+  /// `root` = the liggghts-inputs folder; empty = $RICOCHET_LIGGGHTS_INPUTS, else the source
+  /// tree's folder (compiled in). Throws std::runtime_error when the decks are not there.
+  static Decks locate(const std::string& root = "");
+  /// Hash (16 hex digits, FNV-1a 64) of the text of every file a bed depends on (in.bed and
+  /// common/*.in): part of the bed cache key, so editing a deck invalidates cached beds.
+  std::string bed_decks_digest() const;
+};
+
+/// Parameter overrides by section: "bed" (grain-defaults.in), "block" (block-defaults.in),
+/// "run" (setup.in). Values are LIGGGHTS text (numbers in shortest round-trip form).
+struct Overrides {
+  std::map<std::string, std::string> bed, block, run;
+};
+
+/// Checks `name` = `value` against the section's parameters and the physical bounds documented in
+/// docs/resolved-model.md (positive lengths, moduli and times; restitution in (0, 1]; friction
+/// >= 0; seed a prime > 10000; mode slab|box; rolling_model epsd2|epsd|epsd3|cdt). Throws
+/// InputError(file, line, field = "section.name") listing the known names for an unknown one.
+void check_param(const Decks& decks, const std::string& section, const std::string& name,
+                 const std::string& value, const std::string& file, std::size_t line);
+/// Applies "section.name=value" (as given to --set) to `o`, checked like check_param with
+/// file "<command line>".
+void apply_set_option(const Decks& decks, const std::string& assignment, Overrides& o);
+
+/// Effective bed parameters: the deck defaults overlaid with `bed` overrides, in deck order.
+std::vector<std::pair<std::string, std::string>> effective_bed(
+    const Decks& decks, const std::map<std::string, std::string>& bed);
+/// Cache key of a bed: hash of the effective parameters and of the decks' text.
+std::string bed_key(const Decks& decks, const std::map<std::string, std::string>& bed);
+
+/// The k-th prime above 10000 (k >= 1): maps a replica seed 0, 1, 2... to LIGGGHTS seeds, which
+/// must be primes above 10000.
+std::int64_t liggghts_seed(std::int64_t replica, std::int64_t offset = 0);
+bool is_prime(std::int64_t n);
+
+/// Shortest text of a double that reads back to the same value.
+std::string format_value(double v);
+
+}  // namespace ricochet::dem
