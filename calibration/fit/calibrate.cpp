@@ -110,9 +110,11 @@ AlphaPlan plan_alpha(const Shape& shape, const Impact& impact, const AlphaOption
   return p;
 }
 
-// Eq. 7, plus kFailedRebound when the engine saw no rebound.
-double score(const CollisionResult& r, const Vel3& measured, const ErrorOptions& options) {
-  return release_error(r.vout, measured, options) +
+// Eq. 7 (with the optional contact terms of ErrorOptions), plus kFailedRebound when the engine
+// saw no rebound.
+double score(const CollisionResult& r, const Impact& impact, const ErrorOptions& options) {
+  const auto c = contact_error_terms(r.max_penetration_m, r.contact_duration_s, impact, options);
+  return release_error(r.vout, impact.vout, options) + c[0] + c[1] +
          (r.status == CollisionStatus::kOk ? 0.0 : kFailedRebound);
 }
 
@@ -178,7 +180,7 @@ class ReleaseProblem final : public Problem {
       for (std::size_t a = 0; a < per; ++a) {
         const CollisionResult& r = res[i * per + a];
         // Marginal mode: the expected Eq. 7 over orientations.
-        err += score(r, impact_.vout, options_.error) / static_cast<double>(per);
+        err += score(r, impact_, options_.error) / static_cast<double>(per);
         for (int k = 0; k < 3; ++k) mean[k] += r.vout[k] / static_cast<double>(per);
         worst = std::max(worst, static_cast<int>(r.status));
       }
@@ -493,17 +495,22 @@ std::vector<Prediction> predict(const Model& model, const Shape& shape,
   for (std::size_t i = 0; i < set.size(); ++i) {
     const std::size_t n = first[i + 1] - first[i];
     Vel3 mean{}, sq{};
+    double h = 0, t = 0;
     int worst = 0;
     for (std::size_t c = first[i]; c < first[i + 1]; ++c) {
       for (int k = 0; k < 3; ++k) {
         mean[k] += res[c].vout[k] / static_cast<double>(n);
         sq[k] += res[c].vout[k] * res[c].vout[k] / static_cast<double>(n);
       }
+      h += res[c].max_penetration_m / static_cast<double>(n);
+      t += res[c].contact_duration_s / static_cast<double>(n);
       worst = std::max(worst, static_cast<int>(res[c].status));
     }
     out[i].vout = mean;
     for (int k = 0; k < 3; ++k)
       out[i].vout_std[k] = std::sqrt(std::max(0.0, sq[k] - mean[k] * mean[k]));
+    out[i].penetration_m = h;
+    out[i].contact_duration_s = t;
     out[i].status = static_cast<CollisionStatus>(worst);
   }
   return out;
@@ -515,8 +522,11 @@ std::vector<double> prediction_errors(const ImpactSet& set,
   if (predictions.size() != set.size())
     throw std::invalid_argument("prediction_errors: one prediction per release expected");
   std::vector<double> e(set.size());
-  for (std::size_t i = 0; i < set.size(); ++i)
-    e[i] = release_error(predictions[i].vout, set.impacts[i].vout, options);
+  for (std::size_t i = 0; i < set.size(); ++i) {
+    const auto c = contact_error_terms(predictions[i].penetration_m,
+                                       predictions[i].contact_duration_s, set.impacts[i], options);
+    e[i] = release_error(predictions[i].vout, set.impacts[i].vout, options) + c[0] + c[1];
+  }
   return e;
 }
 
@@ -566,7 +576,7 @@ class PopulationProblem final : public Problem {
     std::vector<double> out(n, 0.0);
     for (std::size_t i = 0; i < n; ++i)
       for (std::size_t c = 0; c < C; ++c)
-        out[i] += weight_[c] * score(res[i * C + c], set_.impacts[owner_[c]].vout, options_.error);
+        out[i] += weight_[c] * score(res[i * C + c], set_.impacts[owner_[c]], options_.error);
     return out;
   }
 

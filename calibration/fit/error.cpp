@@ -26,6 +26,22 @@ double release_error(const Vel3& simulated, const Vel3& measured, const ErrorOpt
   return t[0] + t[1] + t[2];
 }
 
+std::array<double, 2> contact_error_terms(double penetration_sim_m, double contact_duration_sim_s,
+                                          const Impact& impact, const ErrorOptions& options) {
+  std::array<double, 2> t{0.0, 0.0};
+  if (options.penetration && impact.penetration) {
+    const double d = std::max(*impact.penetration, options.penetration_floor_m);
+    const double r = (penetration_sim_m - *impact.penetration) / d;
+    t[0] = r * r;
+  }
+  if (options.contact_duration && impact.contact_duration) {
+    const double d = std::max(*impact.contact_duration, options.contact_duration_floor_s);
+    const double r = (contact_duration_sim_s - *impact.contact_duration) / d;
+    t[1] = r * r;
+  }
+  return t;
+}
+
 double noise_threshold(const Vel3& measured, const Vel3& sigma, const ErrorOptions& options) {
   const Vel3 d = error_scale(measured, options);
   double delta = 0;

@@ -22,6 +22,16 @@ namespace ricochet::fit {
 struct ErrorOptions {
   /// Smallest denominator per component {m/s, m/s, rad/s}; see the file comment.
   Vel3 floor = {0.1, 0.1, 1.0};
+  /// Optional contact terms (not in the paper; used by the diagnosis, docs/diagnosis.md). When
+  /// on, and the impact has the feature, the error gains
+  ///   ((h^sim - h^meas) / max(h^meas, penetration_floor_m))^2          (maximum penetration)
+  ///   ((T^sim - T^meas) / max(T^meas, contact_duration_floor_s))^2     (contact duration)
+  /// so that effects that change the contact but hardly V_out (a stiffness law) are calibrated
+  /// too. Off by default: exactly Eq. 7.
+  bool penetration = false;
+  bool contact_duration = false;
+  double penetration_floor_m = 0.5e-3;
+  double contact_duration_floor_s = 1e-3;
 };
 
 /// Denominators d_k of Eq. 7 for a measured reflected velocity.
@@ -34,6 +44,11 @@ double release_error(const Vel3& simulated, const Vel3& measured, const ErrorOpt
 /// The three terms of Eq. 7 separately (vx, vy, omega), for diagnostics.
 Vel3 release_error_terms(const Vel3& simulated, const Vel3& measured,
                          const ErrorOptions& options = {});
+
+/// The optional contact terms {penetration, contact duration} of one release (ErrorOptions);
+/// 0 for a term that is off or whose feature the impact lacks. Simulated values in m and s.
+std::array<double, 2> contact_error_terms(double penetration_sim_m, double contact_duration_sim_s,
+                                          const Impact& impact, const ErrorOptions& options);
 
 /// Expected value of Eq. 7 at the TRUE parameters caused by measurement noise alone:
 ///   Delta = sum_k (sigma_k / d_k)^2

@@ -165,6 +165,8 @@ std::vector<ReleaseFit> calibrate_releases(const Model& model, const Shape& shap
 struct Prediction {
   Vel3 vout{};               ///< (m/s, m/s, rad/s); the mean over orientations in marginal mode
   Vel3 vout_std{};           ///< spread over orientations (marginal mode), else 0
+  double penetration_m = NAN;       ///< maximum penetration [m] (mean over orientations)
+  double contact_duration_s = NAN;  ///< contact duration [s] (mean over orientations)
   double alpha_rad = NAN;    ///< orientation used; NaN for discs and marginal mode
   std::string alpha_source;  ///< "none", "data", "given", "marginal"
   CollisionStatus status = CollisionStatus::kOk;  ///< worst engine status over orientations
@@ -179,7 +181,8 @@ std::vector<Prediction> predict(const Model& model, const Shape& shape,
                                 const FitOptions& options = {},
                                 std::span<const double> alpha_rad = {});
 
-/// Eq. 7 of each prediction against the set's measured V_out.
+/// Eq. 7 of each prediction against the set's measured V_out (plus the contact terms that
+/// `options` turns on).
 std::vector<double> prediction_errors(const ImpactSet& set,
                                       const std::vector<Prediction>& predictions,
                                       const ErrorOptions& options = {});
