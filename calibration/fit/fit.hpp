@@ -163,12 +163,12 @@ std::vector<ReleaseFit> calibrate_releases(const Model& model, const Shape& shap
 
 /// Predicted reflected velocity of one release.
 struct Prediction {
-  Vel3 vout{};               ///< (m/s, m/s, rad/s); the mean over orientations in marginal mode
-  Vel3 vout_std{};           ///< spread over orientations (marginal mode), else 0
-  double penetration_m = NAN;       ///< maximum penetration [m] (mean over orientations)
+  Vel3 vout{};                 ///< (m/s, m/s, rad/s); the mean over orientations in marginal mode
+  Vel3 vout_std{};             ///< spread over orientations (marginal mode), else 0
+  double penetration_m = NAN;  ///< maximum penetration [m] (mean over orientations)
   double contact_duration_s = NAN;  ///< contact duration [s] (mean over orientations)
-  double alpha_rad = NAN;    ///< orientation used; NaN for discs and marginal mode
-  std::string alpha_source;  ///< "none", "data", "given", "marginal"
+  double alpha_rad = NAN;           ///< orientation used; NaN for discs and marginal mode
+  std::string alpha_source;         ///< "none", "data", "given", "marginal"
   CollisionStatus status = CollisionStatus::kOk;  ///< worst engine status over orientations
 };
 

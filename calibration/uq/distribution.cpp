@@ -42,7 +42,18 @@ Distribution Distribution::fitted(std::span<const double> sample, double lo, dou
   factories.add(OT::TriangularFactory());
   factories.add(OT::UniformFactory());
   OT::Scalar bic = 0;
-  const OT::Distribution best = OT::FittingTest::BestModelBIC(s, factories, bic);
+  // A family that cannot fit the sample (e.g. a Triangular mode outside its range) is skipped;
+  // OpenTURNS would warn on stderr about it, which is noise for the user: silence warnings.
+  const OT::Log::Severity flags = OT::Log::Flags();
+  OT::Log::Show(flags & ~OT::Log::WARN);
+  OT::Distribution best;
+  try {
+    best = OT::FittingTest::BestModelBIC(s, factories, bic);
+  } catch (...) {
+    OT::Log::Show(flags);
+    throw;
+  }
+  OT::Log::Show(flags);
   // Truncate to the parameter's bounds (a fitted Normal has infinite support).
   const double a = std::max(lo, best.getRange().getLowerBound()[0]);
   const double b = std::min(hi, best.getRange().getUpperBound()[0]);

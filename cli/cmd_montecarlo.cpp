@@ -1,0 +1,286 @@
+// `ricochet montecarlo --shape S --n N [--range NAME=LO:HI ...] [--vin VX,VY,W | --incident DATA]
+// [--compare DATA] [--seed K] --json`: Monte Carlo of the reflected velocities and comparison
+// of their CDFs with measurements (paper section 4.3, Figs. 15-16); optionally calibrates the
+// uniform ranges against the measured CDFs (docs/commands/montecarlo.md).
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+
+#include <fmt/format.h>
+
+#include "cli_common.hpp"
+#include "common/error.hpp"
+#include "fit/fit.hpp"
+#include "fit/fit_io.hpp"
+#include "model_options.hpp"
+#include "stats/stats.hpp"
+#include "uq/figures.hpp"
+#include "uq/montecarlo.hpp"
+#include "uq/uq_io.hpp"
+#include "uq_options.hpp"
+
+namespace ricochet::cli {
+namespace {
+
+struct MonteCarloCliOptions {
+  ModelOptions model;
+  InputOptions inputs;
+  OutputOptions output;
+  std::size_t runs = 50000;
+  std::uint64_t seed = 1;
+  std::vector<double> vin, alpha_range_deg;
+  std::string incident, compare, fitted, figures, distance = "cvm";
+  bool calibrate_ranges = false, resume = false, no_progress = false;
+  std::size_t range_runs = 2000;
+  int range_evaluations = 300, threads = 0;
+};
+
+nlohmann::json moments(const uq::MonteCarloResult& mc) {
+  nlohmann::json mean, sd;
+  for (int k = 0; k < 3; ++k) {
+    const stats::Summary s = stats::summarize(mc.component(k));
+    mean[kComponentNames[k]] = s.mean;
+    sd[kComponentNames[k]] = s.std;
+  }
+  return {{"mean", mean}, {"std", sd}};
+}
+
+// Per calibrated parameter of a calibration file: a distribution fitted to its per-release
+// values (OpenTURNS, BIC), truncated to the model's bounds.
+std::vector<uq::ParameterInput> fitted_inputs(const std::string& path, const Model& model) {
+  const auto fits = fit::read_release_fits(path);
+  if (fits.empty()) throw InputError(path, 0, "calibration", "no release in the file");
+  std::vector<uq::ParameterInput> out;
+  for (std::size_t i : fits.front().calibrated) {
+    const std::string& name = fits.front().names[i];
+    std::vector<double> v;
+    for (const auto& f : fits) v.push_back(f.value(name));
+    std::size_t m = 0;
+    try {
+      m = model.index(name);
+    } catch (const std::exception& e) {
+      throw InputError(path, 0, "names", e.what());
+    }
+    try {
+      out.push_back({name, uq::Distribution::fitted(v, model.lower(m), model.upper(m))});
+    } catch (const std::exception& e) {
+      throw InputError(path, 0, name, std::string("cannot fit a distribution: ") + e.what());
+    }
+  }
+  return out;
+}
+
+void run(const MonteCarloCliOptions& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Model model = o.model.build_model();
+  const Shape shape = o.model.build_shape();
+  if (o.runs < 2) throw InputError("<command line>", 0, "--n", "needs at least 2 runs");
+  if (!o.vin.empty() && !o.incident.empty())
+    throw InputError("<command line>", 0, "--vin", "give either --vin or --incident, not both");
+  const bool h5 = !o.output.out.empty() && !o.output.out.ends_with(".csv");
+  if (!o.output.out.empty()) require_extension("--out", o.output.out, {".csv", ".h5", ".hdf5"});
+  if (o.resume && !h5)
+    throw InputError("<command line>", 0, "--resume", "needs --out FILE.h5 (the file to continue)");
+
+  std::vector<uq::ParameterInput> inputs;
+  if (!o.fitted.empty()) {
+    inputs = fitted_inputs(o.fitted, model);
+    // Explicit ranges override the fitted distributions.
+    if (!o.inputs.ranges.empty()) {
+      const auto ranged = o.inputs.build(model);
+      for (const auto& text : o.inputs.ranges) {
+        const auto name = uq::parse_range(text, "--range").first;
+        for (const auto& in : ranged)
+          if (in.name == name) {
+            bool replaced = false;
+            for (auto& cur : inputs)
+              if (cur.name == name) cur = in, replaced = true;
+            if (!replaced) inputs.push_back(in);
+          }
+      }
+    }
+  } else {
+    inputs = o.inputs.build(model);
+  }
+
+  uq::MonteCarloOptions mc;
+  mc.runs = o.runs;
+  mc.seed = o.seed;
+  mc.engine = o.model.engine_options();
+  mc.engine.threads = o.threads;
+  mc.progress = !o.no_progress && !o.output.json;
+  if (!o.vin.empty()) mc.vin = parse_vin_option(o.vin, "--vin");
+  if (!o.alpha_range_deg.empty()) {
+    if (o.alpha_range_deg.size() != 2 || !(o.alpha_range_deg[0] < o.alpha_range_deg[1]))
+      throw InputError("<command line>", 0, "--alpha-range", "expected LO,HI in degrees, LO < HI");
+    mc.alpha_min_rad = o.alpha_range_deg[0] * M_PI / 180.0;
+    mc.alpha_max_rad = o.alpha_range_deg[1] * M_PI / 180.0;
+  }
+  ImpactSet incident;
+  if (!o.incident.empty()) {
+    incident = fit::select_shape(read_impact_set(o.incident), shape);
+    mc.incident = &incident;
+  }
+  std::unique_ptr<ImpactSet> measured;
+  if (!o.compare.empty())
+    measured = std::make_unique<ImpactSet>(fit::select_shape(read_impact_set(o.compare), shape));
+  if (o.calibrate_ranges && !measured)
+    throw InputError("<command line>", 0, "--calibrate-ranges", "needs --compare DATA");
+
+  std::unique_ptr<uq::MonteCarloStore> store;
+  if (h5)
+    store = std::make_unique<uq::MonteCarloStore>(o.output.out, model, shape, inputs, mc,
+                                                  o.incident, o.resume);
+  uq::MonteCarloResult result;
+  try {
+    result = uq::run_monte_carlo(
+        model, shape, inputs, mc,
+        [&](std::size_t begin, std::size_t end, const uq::MonteCarloResult& r) {
+          if (store) store->append(begin, end, r);
+        },
+        store ? store->done_runs() : 0);
+  } catch (const std::invalid_argument& e) {
+    throw InputError("<command line>", 0, "--range", e.what());
+  }
+  if (store) store->load(result);
+
+  nlohmann::json doc;
+  doc["runs"] = result.size();
+  doc["shape"] = shape.name;
+  doc["inputs"] = uq::inputs_json(inputs);
+  doc["settings"] = uq::to_json(mc, o.incident);
+  doc["model"] = model.to_json();
+  std::size_t failed = 0;
+  for (int s : result.status) failed += s != 0;
+  doc["failed_runs"] = failed;
+  doc["reflected"] = moments(result);
+  if (measured) {
+    const uq::CdfComparison c = uq::compare_cdfs(result, *measured);
+    doc["ks"] = uq::components_json(c.ks);
+    doc["p_value"] = uq::components_json(c.p_value);
+    doc["cvm"] = uq::components_json(c.cvm);
+    doc["compare"] = {{"data", o.compare}, {"releases", c.n_measured}};
+    if (store) store->write_json("comparison", doc);
+  }
+  std::unique_ptr<uq::MonteCarloResult> calibrated_mc;
+  if (o.calibrate_ranges) {
+    uq::RangeFitOptions rf;
+    rf.mc = mc;
+    rf.mc.runs = o.range_runs;
+    rf.mc.progress = false;
+    rf.max_evaluations = o.range_evaluations;
+    if (o.distance == "ks")
+      rf.distance = uq::RangeFitOptions::Distance::kKolmogorovSmirnov;
+    else if (o.distance != "cvm")
+      throw InputError("<command line>", 0, "--distance", "expected 'cvm' or 'ks'");
+    const uq::RangeFitResult fitr = uq::calibrate_ranges(model, shape, *measured, inputs, rf);
+    // Check the calibrated ranges with an independent full-size Monte Carlo (new seed).
+    uq::MonteCarloOptions check = mc;
+    check.seed = mc.seed + 1;
+    check.progress = false;
+    calibrated_mc = std::make_unique<uq::MonteCarloResult>(
+        uq::run_monte_carlo(model, shape, fitr.ranges, check));
+    const uq::CdfComparison c = uq::compare_cdfs(*calibrated_mc, *measured);
+    doc["range_fit"] = {{"ranges", uq::inputs_json(fitr.ranges)},
+                        {"distance", o.distance},
+                        {"objective", fitr.distance},
+                        {"objective_start", fitr.initial_distance},
+                        {"evaluations", fitr.evaluations},
+                        {"runs_per_evaluation", o.range_runs},
+                        {"check_runs", calibrated_mc->size()},
+                        {"ks", uq::components_json(c.ks)},
+                        {"p_value", uq::components_json(c.p_value)},
+                        {"cvm", uq::components_json(c.cvm)},
+                        {"seconds", fitr.seconds}};
+    if (store) store->write_json("range_fit", doc["range_fit"]);
+  }
+  if (!o.output.out.empty() && !h5) {
+    std::ofstream out(o.output.out, std::ios::trunc);
+    if (!out) throw InputError(o.output.out, 0, "--out", "cannot open the file for writing");
+    out << "# ricochet montecarlo: one row per run\n";
+    for (const auto& name : result.varied) out << name << ",";
+    out << "vin_x[m/s],vin_y[m/s],win[rad/s],alpha_in[rad],vout_x[m/s],vout_y[m/s],wout[rad/s],"
+           "status\n";
+    const std::size_t V = result.varied.size();
+    for (std::size_t i = 0; i < result.size(); ++i) {
+      for (std::size_t k = 0; k < V; ++k) out << result.inputs[i * V + k] << ",";
+      out << result.vin[i][0] << "," << result.vin[i][1] << "," << result.vin[i][2] << ","
+          << result.alpha_rad[i] << "," << result.vout[i][0] << "," << result.vout[i][1] << ","
+          << result.vout[i][2] << "," << result.status[i] << "\n";
+    }
+  }
+  if (!o.figures.empty()) {
+    std::filesystem::create_directories(o.figures);
+    std::vector<std::pair<std::string, const uq::MonteCarloResult*>> extra;
+    if (calibrated_mc) extra.push_back({"calibrated ranges", calibrated_mc.get()});
+    uq::figure_reflected_cdfs(result, measured.get(), o.figures + "/montecarlo_cdf.svg",
+                              o.fitted.empty() ? "uniform ranges" : "fitted distributions", extra);
+    if (!o.fitted.empty())
+      uq::figure_parameter_cdfs(fit::read_release_fits(o.fitted), uq::paper_ranges(),
+                                o.figures + "/montecarlo_parameters_cdf.svg");
+  }
+  doc["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  doc["simulation_seconds"] = result.seconds;
+  if (o.output.json) {
+    print_json(doc);
+    return;
+  }
+  std::cout << fmt::format("Monte Carlo: {} runs of shape {} in {:.2f} s ({} failed)\n",
+                           result.size(), shape.name, result.seconds, failed);
+  for (const auto& in : inputs)
+    std::cout << "  " << in.name << " ~ " << in.distribution.description() << "\n";
+  for (int k = 0; k < 3; ++k) {
+    const stats::Summary s = stats::summarize(result.component(k));
+    std::cout << fmt::format("  {:<3} mean {:8.3f}  std {:7.3f}", kComponentNames[k], s.mean,
+                             s.std);
+    if (measured)
+      std::cout << fmt::format("   KS {:.3f}  p = {:.3g}",
+                               doc["ks"][kComponentNames[k]].get<double>(),
+                               doc["p_value"][kComponentNames[k]].get<double>());
+    std::cout << "\n";
+  }
+  if (doc.contains("range_fit"))
+    std::cout << "Calibrated ranges:\n" << doc["range_fit"].dump(2) << "\n";
+}
+
+}  // namespace
+
+void add_montecarlo_command(CLI::App& app) {
+  auto opts = std::make_shared<MonteCarloCliOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "montecarlo", "Monte Carlo of reflected velocities and CDF comparison (paper section 4.3)");
+  add_model_options(sub, opts->model);
+  add_output_options(sub, opts->output);
+  add_input_options(sub, opts->inputs);
+  sub->add_option("--n", opts->runs, "Number of runs")->capture_default_str();
+  sub->add_option("--seed", opts->seed, "Random seed")->capture_default_str();
+  sub->add_option("--vin", opts->vin, "Fixed incident state VX,VY,W (default 2.9,-2.3,-65)")
+      ->delimiter(',');
+  sub->add_option("--incident", opts->incident, "Resample incident states from this impact set");
+  sub->add_option("--alpha-range", opts->alpha_range_deg,
+                  "Orientation range of non-disc blocks LO,HI [deg] (default -60,60)")
+      ->delimiter(',');
+  sub->add_option("--compare", opts->compare, "Measured impact set: KS per component");
+  sub->add_option("--fitted", opts->fitted,
+                  "Calibration file (ricochet calibrate --out X.h5): vary each calibrated "
+                  "parameter by a distribution fitted to its per-release values");
+  sub->add_flag("--calibrate-ranges", opts->calibrate_ranges,
+                "Fit the uniform ranges to the --compare CDFs (common random numbers)");
+  sub->add_option("--range-runs", opts->range_runs, "Runs per evaluation of the range fit")
+      ->capture_default_str();
+  sub->add_option("--range-evaluations", opts->range_evaluations,
+                  "Objective evaluations of the range fit")
+      ->capture_default_str();
+  sub->add_option("--distance", opts->distance, "Range-fit distance: cvm or ks")
+      ->capture_default_str();
+  sub->add_option("--threads", opts->threads, "OpenMP threads (0 = all)");
+  sub->add_flag("--resume", opts->resume, "Continue the run stored in --out FILE.h5");
+  sub->add_flag("--no-progress", opts->no_progress, "No progress bar");
+  sub->add_option("--figures", opts->figures, "Write SVG figures into DIR");
+  sub->callback([opts] { run(*opts); });
+}
+
+}  // namespace ricochet::cli

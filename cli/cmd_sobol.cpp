@@ -1,0 +1,126 @@
+// `ricochet sobol --shape S --n N [--range NAME=LO:HI ...] --json`: first, second and total
+// Sobol indices of the varied parameters on vx, vy, w of V_out, with bootstrap intervals
+// (OpenTURNS; paper section 4.4, Appendix B; docs/commands/sobol.md).
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include <fmt/format.h>
+
+#include "cli_common.hpp"
+#include "common/error.hpp"
+#include "model_options.hpp"
+#include "uq/figures.hpp"
+#include "uq/sobol.hpp"
+#include "uq/uq_io.hpp"
+#include "uq_options.hpp"
+
+namespace ricochet::cli {
+namespace {
+
+struct SobolCliOptions {
+  ModelOptions model;
+  InputOptions inputs;
+  OutputOptions output;
+  std::size_t n = 4096, bootstrap = 200;
+  std::uint64_t seed = 1;
+  double confidence = 0.95, alpha_deg = 0.0;
+  std::vector<double> vin;
+  std::string estimator = "saltelli", figures;
+  int threads = 0;
+};
+
+void print_text(const uq::SobolResult& r) {
+  std::cout << fmt::format(
+      "Sobol indices ({} estimator, N = {}, {} runs, {:.0f}% bootstrap intervals)\n", r.estimator,
+      r.base_size, r.evaluations, 100 * r.confidence);
+  for (std::size_t o = 0; o < r.outputs.size(); ++o) {
+    std::cout << "output " << r.outputs[o] << fmt::format(" (variance {:.4g})\n", r.variance[o]);
+    for (std::size_t i = 0; i < r.inputs.size(); ++i)
+      std::cout << fmt::format(
+          "  {:<8} first {:7.3f} [{:7.3f}, {:7.3f}]   total {:7.3f} [{:7.3f}, "
+          "{:7.3f}]\n",
+          r.inputs[i], r.first[o][i].value, r.first[o][i].lo, r.first[o][i].hi, r.total[o][i].value,
+          r.total[o][i].lo, r.total[o][i].hi);
+    for (std::size_t i = 0; i < r.inputs.size(); ++i)
+      for (std::size_t j = i + 1; j < r.inputs.size(); ++j)
+        std::cout << fmt::format("  {:<17} second {:7.3f} [{:7.3f}, {:7.3f}]\n",
+                                 r.inputs[i] + "-" + r.inputs[j], r.second[o][i][j].value,
+                                 r.second[o][i][j].lo, r.second[o][i][j].hi);
+  }
+  std::cout << "Negative values are estimation noise around zero, reported as estimated.\n";
+}
+
+void run(const SobolCliOptions& o) {
+  const Model model = o.model.build_model();
+  const Shape shape = o.model.build_shape();
+  const std::vector<uq::ParameterInput> inputs = o.inputs.build(model);
+  if (inputs.size() < 2)
+    throw InputError("<command line>", 0, "--range",
+                     "Sobol indices need at least two varied parameters");
+  if (o.n < 16) throw InputError("<command line>", 0, "--n", "base size must be at least 16");
+  if (!(o.confidence > 0 && o.confidence < 1))
+    throw InputError("<command line>", 0, "--confidence", "must lie in (0, 1)");
+  if (!o.output.out.empty()) require_extension("--out", o.output.out, {".h5", ".hdf5"});
+  uq::SobolOptions so;
+  so.base_size = o.n;
+  so.seed = o.seed;
+  so.bootstrap = o.bootstrap;
+  so.confidence = o.confidence;
+  try {
+    so.estimator = uq::parse_estimator(o.estimator);
+  } catch (const std::exception& e) {
+    throw InputError("<command line>", 0, "--estimator", e.what());
+  }
+  const Vel3 vin = o.vin.empty() ? Vel3{uq::kPaperVin[0], uq::kPaperVin[1], uq::kPaperVin[2]}
+                                 : parse_vin_option(o.vin, "--vin");
+  EngineOptions engine = o.model.engine_options();
+  engine.threads = o.threads;
+  const uq::SobolResult r =
+      uq::collision_sobol(model, shape, inputs, vin, o.alpha_deg * M_PI / 180.0, so, engine);
+  nlohmann::json settings = {{"base_size", o.n},         {"seed", o.seed},
+                             {"bootstrap", o.bootstrap}, {"confidence", o.confidence},
+                             {"estimator", o.estimator}, {"vin", {vin[0], vin[1], vin[2]}},
+                             {"alpha_deg", o.alpha_deg}, {"dt_s", engine.dt_s}};
+  if (!o.output.out.empty()) uq::write_sobol_h5(o.output.out, r, model, shape, inputs, settings);
+  if (!o.figures.empty()) {
+    std::filesystem::create_directories(o.figures);
+    uq::figure_sobol(r, o.figures + "/sobol.svg");
+  }
+  if (o.output.json) {
+    nlohmann::json doc = uq::to_json(r);
+    doc["inputs"] = uq::inputs_json(inputs);
+    doc["settings"] = settings;
+    doc["shape"] = shape.name;
+    doc["model"] = model.to_json();
+    print_json(doc);
+  } else {
+    print_text(r);
+  }
+}
+
+}  // namespace
+
+void add_sobol_command(CLI::App& app) {
+  auto opts = std::make_shared<SobolCliOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "sobol", "Sobol sensitivity indices of V_out to the model parameters (paper section 4.4)");
+  add_model_options(sub, opts->model);
+  add_output_options(sub, opts->output);
+  add_input_options(sub, opts->inputs);
+  sub->add_option("--n", opts->n, "Base sample size N (N (2d + 2) runs)")->capture_default_str();
+  sub->add_option("--seed", opts->seed, "Random seed")->capture_default_str();
+  sub->add_option("--estimator", opts->estimator, "saltelli, jansen, martinez or mauntz-kucherenko")
+      ->capture_default_str();
+  sub->add_option("--bootstrap", opts->bootstrap, "Bootstrap resamples")->capture_default_str();
+  sub->add_option("--confidence", opts->confidence, "Interval level")->capture_default_str();
+  sub->add_option("--vin", opts->vin, "Incident state VX,VY,W (default 2.9,-2.3,-65)")
+      ->delimiter(',');
+  sub->add_option("--alpha", opts->alpha_deg, "Orientation of non-disc blocks [deg]");
+  sub->add_option("--threads", opts->threads, "OpenMP threads (0 = all)");
+  sub->add_option("--figures", opts->figures, "Write SVG figures into DIR");
+  sub->callback([opts] { run(*opts); });
+}
+
+}  // namespace ricochet::cli
