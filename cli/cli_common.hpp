@@ -34,9 +34,6 @@ void add_simulate_command(CLI::App& app);
 void add_calibrate_command(CLI::App& app);
 void add_montecarlo_command(CLI::App& app);
 void add_sobol_command(CLI::App& app);
-void add_calibrate_command(CLI::App& app);
-void add_montecarlo_command(CLI::App& app);
-void add_sobol_command(CLI::App& app);
 void add_synth_command(CLI::App& app);
 void add_dem_command(CLI::App& app);
 

@@ -21,9 +21,6 @@ int main(int argc, char** argv) {
   ricochet::cli::add_calibrate_command(app);
   ricochet::cli::add_montecarlo_command(app);
   ricochet::cli::add_sobol_command(app);
-  ricochet::cli::add_calibrate_command(app);
-  ricochet::cli::add_montecarlo_command(app);
-  ricochet::cli::add_sobol_command(app);
   ricochet::cli::add_synth_command(app);
   ricochet::cli::add_dem_command(app);
 
