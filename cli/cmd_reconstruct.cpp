@@ -44,14 +44,14 @@ std::pair<double, double> parse_window(const std::string& text) {
       if (used != cell.size() || !std::isfinite(v)) throw std::invalid_argument("bad");
       return v;
     } catch (const std::exception&) {
-      throw InputError("command line", 0, "--window",
+      throw InputError("<command line>", 0, "--window",
                        "'" + cell + "' is not a time in s (expected T0,T1)");
     }
   };
   if (comma == std::string::npos)
-    throw InputError("command line", 0, "--window", "expected T0,T1 in s, got '" + text + "'");
+    throw InputError("<command line>", 0, "--window", "expected T0,T1 in s, got '" + text + "'");
   const double t0 = number(text.substr(0, comma)), t1 = number(text.substr(comma + 1));
-  if (!(t0 < t1)) throw InputError("command line", 0, "--window", "T0 must be smaller than T1");
+  if (!(t0 < t1)) throw InputError("<command line>", 0, "--window", "T0 must be smaller than T1");
   return {t0, t1};
 }
 
@@ -114,7 +114,7 @@ void run(const ReconstructCliOptions& o) {
   kinematics::Track track = kinematics::read_track_csv(o.track, o.pixel_size, o.y_down);
   if (o.sigma_position) {
     if (!(*o.sigma_position > 0))
-      throw InputError("command line", 0, "--sigma-position", "must be a positive length in m");
+      throw InputError("<command line>", 0, "--sigma-position", "must be a positive length in m");
     track.sigma_position_m = *o.sigma_position;
   }
   kinematics::ReconstructOptions opt;
@@ -126,15 +126,15 @@ void run(const ReconstructCliOptions& o) {
   if (o.free_gravity) opt.gravity_mps2.reset();
   if (o.gravity) {
     if (!(std::isfinite(*o.gravity) && *o.gravity > 0))
-      throw InputError("command line", 0, "--gravity", "must be a positive acceleration in m/s^2");
+      throw InputError("<command line>", 0, "--gravity", "must be a positive acceleration in m/s^2");
     opt.gravity_mps2 = *o.gravity;
   }
   if (o.ground.has_value() != o.radius.has_value())
-    throw InputError("command line", 0, o.ground ? "--radius" : "--ground",
+    throw InputError("<command line>", 0, o.ground ? "--radius" : "--ground",
                      "the ground-level criterion needs both --ground Y and --radius R (m)");
   opt.ground_y_m = o.ground;
   opt.contact_radius_m = o.radius;
-  if (!(o.k_sigma > 0)) throw InputError("command line", 0, "--k-sigma", "must be positive");
+  if (!(o.k_sigma > 0)) throw InputError("<command line>", 0, "--k-sigma", "must be positive");
   opt.detection_k_sigma = o.k_sigma;
   opt.detection_guard_points = o.guard;
 

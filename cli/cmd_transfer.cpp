@@ -322,11 +322,11 @@ void print_fit(const std::string& source, const FitResult& r, const FitOptions& 
 
 void run_fit(const FitOptions& o) {
   if (!o.output.out.empty()) require_extension("--out", o.output.out, {".csv", ".h5", ".hdf5"});
-  if (o.replicates == 0) throw InputError("command line", 0, "--replicates", "must be at least 1");
+  if (o.replicates == 0) throw InputError("<command line>", 0, "--replicates", "must be at least 1");
   const ImpactSet all = read_impact_set(o.data);
   const ImpactSet set = filter(all, o.where);
   if (set.empty())
-    throw InputError("command line", 0, "--where",
+    throw InputError("<command line>", 0, "--where",
                      "no release selected by '" + o.where + "' in " + o.data + " (" +
                          std::to_string(all.size()) + " releases)");
   const FitResult main = fit_set(set, o.where, o);
@@ -339,7 +339,7 @@ void run_fit(const FitOptions& o) {
   if (!o.split.empty()) {
     const auto eq = o.split.find('=');
     if (eq == std::string::npos || eq == 0 || eq + 1 == o.split.size())
-      throw InputError("command line", 0, "--split",
+      throw InputError("<command line>", 0, "--split",
                        "expected FEATURE=VALUE, e.g. vin_x=3.5, got '" + o.split + "'");
     split_feature = o.split.substr(0, eq);
     try {
@@ -347,7 +347,7 @@ void run_fit(const FitOptions& o) {
       split_value = std::stod(o.split.substr(eq + 1), &used);
       if (used != o.split.size() - eq - 1) throw std::invalid_argument("trailing characters");
     } catch (const std::exception&) {
-      throw InputError("command line", 0, "--split",
+      throw InputError("<command line>", 0, "--split",
                        "'" + o.split.substr(eq + 1) + "' is not a number");
     }
     const std::string value = o.split.substr(eq + 1);
@@ -355,7 +355,7 @@ void run_fit(const FitOptions& o) {
     for (const std::string& cond : {split_feature + "<" + value, split_feature + ">=" + value}) {
       const ImpactSet sub = filter(set, cond);
       if (sub.empty())
-        throw InputError("command line", 0, "--split",
+        throw InputError("<command line>", 0, "--split",
                          "no release with " + cond + " in the selection");
       parts.push_back(fit_set(sub, join + cond, o));
     }
@@ -440,20 +440,20 @@ Vel3 parse_vin(const std::string& text) {
   int k = 0;
   while (std::getline(s, cell, ',')) {
     if (k >= 3)
-      throw InputError("command line", 0, "--vin",
+      throw InputError("<command line>", 0, "--vin",
                        "expected three values VX,VY,W, got '" + text + "'");
     try {
       std::size_t used = 0;
       v[k] = std::stod(cell, &used);
       if (used != cell.size() || !std::isfinite(v[k])) throw std::invalid_argument("bad");
     } catch (const std::exception&) {
-      throw InputError("command line", 0, "--vin",
+      throw InputError("<command line>", 0, "--vin",
                        "'" + cell + "' is not a finite number (VX,VY,W in m/s, m/s, rad/s)");
     }
     ++k;
   }
   if (k != 3)
-    throw InputError("command line", 0, "--vin",
+    throw InputError("<command line>", 0, "--vin",
                      "expected three values VX,VY,W, got '" + text + "'");
   return v;
 }
@@ -461,12 +461,12 @@ Vel3 parse_vin(const std::string& text) {
 void run_predict(const PredictOptions& o) {
   if (!o.output.out.empty()) require_extension("--out", o.output.out, {".csv", ".h5", ".hdf5"});
   if (o.vin.empty() == o.incident.empty())
-    throw InputError("command line", 0, "--vin",
+    throw InputError("<command line>", 0, "--vin",
                      "give exactly one of --vin VX,VY,W and --incident DATA");
   if (o.model.empty() == o.from.empty())
-    throw InputError("command line", 0, "--model",
+    throw InputError("<command line>", 0, "--model",
                      "give exactly one of --model FIT.h5 and --from DATA");
-  if (o.n && *o.n == 0) throw InputError("command line", 0, "--n", "must be at least 1");
+  if (o.n && *o.n == 0) throw InputError("<command line>", 0, "--n", "must be at least 1");
 
   transfer::DiagonalModel model;
   json model_doc;
@@ -481,7 +481,7 @@ void run_predict(const PredictOptions& o) {
     const ImpactSet all = read_impact_set(o.from);
     const ImpactSet set = filter(all, o.where);
     if (set.empty())
-      throw InputError("command line", 0, "--where", "no release selected in " + o.from);
+      throw InputError("<command line>", 0, "--where", "no release selected in " + o.from);
     model = transfer::fit_diagonal(set).model;
     model_doc = {{"file", nullptr},
                  {"source", o.from},
@@ -518,7 +518,7 @@ void run_predict(const PredictOptions& o) {
   std::vector<std::string> figures;
   if (!o.figures.empty()) {
     if (incident_set.empty())
-      throw InputError("command line", 0, "--figures",
+      throw InputError("<command line>", 0, "--figures",
                        "figures compare with measurements: use --incident DATA");
     report::Figure fig;
     fig.title = "Transfer matrix (paper Eq. 2) prediction";
