@@ -242,8 +242,10 @@ void classify(ParameterInterval& iv, bool insensitive_at_upper) {
                    num(iv.bound_lo) + ")";
   } else {
     iv.status = Identifiability::kNotIdentified;
-    iv.statement = iv.name + " not identified: every value in [" + num(iv.bound_lo) + ", " +
-                   num(iv.bound_hi) + "]" + unit + " fits within the noise threshold";
+    // The near-optimal set reaches both bounds; it need not be connected, so do not claim
+    // that every value in between fits.
+    iv.statement = iv.name + " not identified: near-optimal values reach both bounds " +
+                   num(iv.bound_lo) + " and " + num(iv.bound_hi) + unit;
   }
 }
 

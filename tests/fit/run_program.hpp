@@ -1,0 +1,61 @@
+// Runs the built `ricochet` program in a per-test temporary directory, capturing stdout, stderr
+// and the exit code (shared by the calibrate, montecarlo and sobol command tests).
+#pragma once
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace ricochet::test {
+
+struct RunResult {
+  int status = -1;
+  std::string out, err;
+};
+
+inline std::string quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+class ProgramTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("ricochet-cmd-" + std::to_string(::getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+
+  // Runs `ricochet ARGS` (ARGS already shell-quoted).
+  RunResult ricochet(const std::string& args) const {
+    const auto err = dir_ / "stderr.txt";
+    const std::string cmd = quote(RICOCHET_EXE) + " " + args + " 2>" + quote(err.string());
+    RunResult run;
+    FILE* pipe = ::popen(cmd.c_str(), "r");
+    if (!pipe) return run;
+    std::array<char, 4096> buf;
+    std::size_t n;
+    while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) run.out.append(buf.data(), n);
+    const int status = ::pclose(pipe);
+    run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::ifstream in(err);
+    std::ostringstream s;
+    s << in.rdbuf();
+    run.err = s.str();
+    return run;
+  }
+  std::filesystem::path dir_;
+};
+
+}  // namespace ricochet::test
