@@ -13,13 +13,15 @@ namespace {
 
 using Point = std::array<double, 2>;
 
-// Points along the boundary of the convex polygon `poly` dilated by `d`, at most `spacing` apart,
-// including every polygon vertex's offset points (so the corners of a sharp core are covered).
-std::vector<Point> offset_ring(std::vector<Point> poly, double d, double spacing) {
+// Points along the boundary of the convex polygon `poly` dilated by `d`, at most `spacing` apart
+// on its straight parts and `arc_spacing` apart on its arcs, including every polygon vertex's
+// offset points (so the corners of a sharp core are covered).
+std::vector<Point> offset_ring(std::vector<Point> poly, double d, double spacing,
+                               double arc_spacing) {
   std::vector<Point> ring;
   if (poly.size() == 1) {
     if (d <= 0) return poly;
-    const auto n = static_cast<std::size_t>(std::ceil(2 * std::numbers::pi * d / spacing));
+    const auto n = static_cast<std::size_t>(std::ceil(2 * std::numbers::pi * d / arc_spacing));
     for (std::size_t k = 0; k < n; ++k) {
       const double a = 2 * std::numbers::pi * static_cast<double>(k) / static_cast<double>(n);
       ring.push_back({poly[0][0] + d * std::cos(a), poly[0][1] + d * std::sin(a)});
@@ -47,7 +49,7 @@ std::vector<Point> offset_ring(std::vector<Point> poly, double d, double spacing
     const double a0 = std::atan2(n0[1], n0[0]);
     double sweep = std::atan2(n1[1], n1[0]) - a0;
     while (sweep < 0) sweep += 2 * std::numbers::pi;
-    const auto n_arc = d > 0 ? static_cast<std::size_t>(std::ceil(sweep * d / spacing)) : 0;
+    const auto n_arc = d > 0 ? static_cast<std::size_t>(std::ceil(sweep * d / arc_spacing)) : 0;
     if (d <= 0) ring.push_back(poly[i]);
     for (std::size_t k = 0; k < n_arc; ++k) {
       const double a = a0 + sweep * static_cast<double>(k) / static_cast<double>(n_arc);
@@ -88,7 +90,10 @@ SphereTemplate make_sphere_template(const Shape& shape, double length_m,
       std::min(std::sqrt(8 * t.sphere_radius_m * options.bump_tolerance_m), t.sphere_radius_m);
   const double d = shape.rounding_radius_m - t.sphere_radius_m;
   std::vector<Point> poly(shape.vertices.begin(), shape.vertices.end());
-  const std::vector<Point> ring = offset_ring(poly, d, t.spacing_m);
+  // On an arc of centre radius d the surface (radius d + r_s) is farther from the centres than
+  // on a straight part: the bump grows by (d + r_s) / d, so the arc spacing shrinks by its root.
+  const double arc_spacing = t.spacing_m * std::sqrt(d / (d + t.sphere_radius_m));
+  const std::vector<Point> ring = offset_ring(poly, d, t.spacing_m, arc_spacing);
 
   const double r_s = t.sphere_radius_m;
   // Slab: the end rings sit a tenth of a sphere radius inside the side walls (a sphere centred on

@@ -184,13 +184,13 @@ std::string validate_setup(const ImpactSpec& spec, const Shape& shape, const Dec
   const double frac = run_param(spec, decks, "x_impact_frac");
   const double t_pre = run_param(spec, decks, "t_pre_s");
   // Same margin as the deck's end_wall criterion (setup.in: x_wall_margin).
-  const double margin = shape.bounding_radius() + 4 * bed.r_max_m;
+  const double margin = 2 * shape.bounding_radius() + 4 * bed.r_max_m;
   const double x_contact = frac * bed.Lx_m;
   const double x_ins = x_contact - spec.vin[kVx] * t_pre;
   if (x_ins < margin || x_contact < margin || x_contact > bed.Lx_m - margin)
     return fmt::format(
         "the block would start at x = {:.3f} m and touch the bed at x = {:.3f} m, closer than "
-        "{:.3f} m (bounding radius + 4 grain radii) to an end wall of the {} m bed",
+        "{:.3f} m (2 bounding radii + 4 grain radii) to an end wall of the {} m bed",
         x_ins, x_contact, margin, bed.Lx_m);
   const double drop = -spec.vin[kVy] * t_pre - 0.5 * kGravity * t_pre * t_pre;
   const double y_ins = bed.z_surface_m + shape.depth_below_centroid(spec.alpha_in_rad) + drop;
@@ -335,11 +335,11 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
     r.message = "the block came within x_wall_margin of an end wall: use a longer bed";
   if (!r.ok()) return r;
 
-  // DEM contact-force window (the deck's criterion at full record resolution).
+  // DEM contact-force window (the deck's criterion, check.in, at full record resolution).
   const double threshold = run_param(spec, decks, "f_contact_frac") * block_mass * kGravity;
   std::size_t i0 = tr.size(), i1 = tr.size();
   for (std::size_t i = 0; i < tr.size(); ++i)
-    if (std::hypot(tr.fcx[i], tr.fcy[i]) > threshold) {
+    if (std::hypot(tr.fcx[i], tr.fcy[i]) > threshold && tr.penetration[i] > -2 * bed.r_max_m) {
       if (i0 == tr.size()) i0 = i;
       i1 = i;
     }

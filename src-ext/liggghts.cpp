@@ -21,28 +21,36 @@ namespace {
 
 // LIGGGHTS writes a few lines to stdout whatever -screen says (e.g. read_restart prints the
 // restart's version). stdout belongs to the caller (--json promises one JSON document there):
-// point it at /dev/null while LIGGGHTS runs.
-class QuietStdout {
+// point it at /dev/null while LIGGGHTS runs. Opening a second instance in one process also prints
+// hundreds of harmless "Style collision detected" lines (its style tables are static and filled
+// again) on stderr: the constructor silences stderr too (its errors go to the screen file).
+class Quiet {
  public:
-  QuietStdout() {
+  explicit Quiet(bool also_stderr = false) {
     std::fflush(stdout);
-    saved_ = ::dup(1);
+    std::fflush(stderr);
     const int null = ::open("/dev/null", O_WRONLY);
-    if (saved_ >= 0 && null >= 0) ::dup2(null, 1);
+    for (int fd : {1, 2}) {
+      if (fd == 2 && !also_stderr) continue;
+      saved_[fd - 1] = ::dup(fd);
+      if (saved_[fd - 1] >= 0 && null >= 0) ::dup2(null, fd);
+    }
     if (null >= 0) ::close(null);
   }
-  ~QuietStdout() {
+  ~Quiet() {
     std::fflush(stdout);
-    if (saved_ >= 0) {
-      ::dup2(saved_, 1);
-      ::close(saved_);
-    }
+    std::fflush(stderr);
+    for (int fd : {1, 2})
+      if (saved_[fd - 1] >= 0) {
+        ::dup2(saved_[fd - 1], fd);
+        ::close(saved_[fd - 1]);
+      }
   }
-  QuietStdout(const QuietStdout&) = delete;
-  QuietStdout& operator=(const QuietStdout&) = delete;
+  Quiet(const Quiet&) = delete;
+  Quiet& operator=(const Quiet&) = delete;
 
  private:
-  int saved_ = -1;
+  int saved_[2] = {-1, -1};
 };
 
 }  // namespace
@@ -59,25 +67,25 @@ Liggghts::Liggghts(MPI_Comm comm, const std::string& log_path, const std::string
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
-  QuietStdout quiet;
+  Quiet quiet(/*also_stderr=*/true);
   lammps_open(static_cast<int>(args.size()), argv.data(), comm, &lmp_);
   if (!lmp_) throw std::runtime_error("LIGGGHTS: lammps_open failed");
 }
 
 Liggghts::~Liggghts() {
-  QuietStdout quiet;
+  Quiet quiet;
   if (lmp_) lammps_close(lmp_);
 }
 
 void Liggghts::file(const std::string& path) {
   std::string p = path;
-  QuietStdout quiet;
+  Quiet quiet;
   lammps_file(lmp_, p.data());
 }
 
 void Liggghts::command(const std::string& line) {
   std::string l = line;
-  QuietStdout quiet;
+  Quiet quiet;
   lammps_command(lmp_, l.data());
 }
 

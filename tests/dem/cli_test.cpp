@@ -1,0 +1,154 @@
+// The `ricochet dem` program as users run it: the same impact on 1 and 2 MPI ranks (mpirun), and
+// a campaign killed (SIGKILL) during its second impact that resumes without losing the first.
+// No MPI in this process: the programs it starts are MPI jobs of their own.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+
+#include "campaign.hpp"
+#include "common/h5.hpp"
+#include "impact/impact_set.hpp"
+
+namespace {
+
+using namespace ricochet;
+using namespace ricochet::dem;
+namespace fs = std::filesystem;
+
+// The small test bed of liggghts_test.cpp (same parameters: the same cached bed).
+const std::vector<std::string> kTestBed = {"bed.Lx_m=0.5",   "bed.Ly_m=0.06",  "bed.H_m=0.06",
+                                           "bed.r1_m=0.004", "bed.r2_m=0.005", "bed.r3_m=0.006"};
+
+fs::path temp_dir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("dem-cli-" + std::to_string(::getpid())) / name;
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+// Runs a command, returns (exit status, stdout).
+std::pair<int, std::string> shell(const std::string& cmd) {
+  std::string out;
+  FILE* p = ::popen(cmd.c_str(), "r");
+  if (!p) return {-1, out};
+  char buf[4096];
+  std::size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+  const int status = ::pclose(p);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+std::string set_args(const std::vector<std::string>& extra = {}) {
+  std::string s;
+  for (const auto& a : kTestBed) s += " --set " + a;
+  for (const auto& a : extra) s += " --set " + a;
+  return s;
+}
+
+std::string mpirun(int np) {
+  return std::string(MPIEXEC) + " --oversubscribe --allow-run-as-root -np " + std::to_string(np) +
+         " ";
+}
+
+TEST(DemEndToEnd, SameImpactOnTwoMpiRanks) {
+  const fs::path work = temp_dir("mpi");
+  const std::string common = std::string(" dem impact --json --cache ") + RICOCHET_TEST_CACHE +
+                             " --work " + work.string() + set_args();
+  const auto [rc1, out1] = shell(std::string(RICOCHET_BIN) + common + " --id serial");
+  const auto [rc2, out2] = shell(mpirun(2) + RICOCHET_BIN + common + " --id two");
+  ASSERT_EQ(rc1, 0) << out1;
+  ASSERT_EQ(rc2, 0) << out2;
+  const auto j1 = nlohmann::json::parse(out1);
+  const auto j2 = nlohmann::json::parse(out2);
+  EXPECT_EQ(j1["ranks"], 1);
+  EXPECT_EQ(j2["ranks"], 2);
+  ASSERT_EQ(j1["status"], "rebound") << j1["message"];
+  ASSERT_EQ(j2["status"], "rebound") << j2["message"];
+  EXPECT_EQ(j1["grains"], j2["grains"]);
+  // Same bed, same block: the runs agree until round-off differences grow (granular contacts
+  // are chaotic), so V_out agrees closely but not to the last digit.
+  for (int c = 0; c < 3; ++c) {
+    const double a = j1["vout"][c], b = j2["vout"][c];
+    EXPECT_NEAR(a, b, 0.1 * std::abs(a) + 0.05) << "component " << c;
+  }
+}
+
+TEST(DemCampaign, KilledCampaignResumesWithoutLosingFinishedImpacts) {
+  const fs::path work = temp_dir("resume");
+  const std::string design = (work / "design.toml").string();
+  std::ofstream(design) << "[campaign]\nname = \"resume\"\ncache_dir = \"" << RICOCHET_TEST_CACHE
+                        << "\"\nwork_dir = \"" << (work / "work").string()
+                        << "\"\n[bed]\nLx_m = 0.5\nLy_m = 0.06\nH_m = 0.06\nr1_m = 0.004\n"
+                           "r2_m = 0.005\nr3_m = 0.006\n"
+                           "[[impact]]\nid = \"first\"\nvin = [2.9, -2.3, -65.0]\n"
+                           "[[impact]]\nid = \"second\"\nvin = [3.1, -2.2, -60.0]\n";
+  const std::string out = (work / "campaign.h5").string();
+  const std::string log = (work / "first-run.log").string();
+  // First run, in the background; killed (SIGKILL, no clean-up) once the first impact is written.
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    ::dup2(fd, 2);
+    ::dup2(fd, 1);
+    ::execl(RICOCHET_BIN, RICOCHET_BIN, "dem", "campaign", design.c_str(), "--out", out.c_str(),
+            static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  bool first_done = false;
+  for (int i = 0; i < 600 && !first_done; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    std::ifstream in(log);
+    std::stringstream s;
+    s << in.rdbuf();
+    first_done = s.str().find("[dem] 1/2 first") != std::string::npos;
+    int status = 0;
+    if (::waitpid(pid, &status, WNOHANG) == pid) FAIL() << "campaign ended early:\n" << s.str();
+  }
+  ASSERT_TRUE(first_done) << "the first impact never finished";
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // the second impact is running
+  ::kill(pid, SIGKILL);
+  ::waitpid(pid, nullptr, 0);
+
+  auto index = read_campaign_index(out);
+  ASSERT_EQ(index.size(), 1u);
+  EXPECT_EQ(index[0].id, "first");
+  EXPECT_EQ(index[0].status, "rebound");
+  const auto first_values = index[0].values;
+  {
+    h5::File f(out, h5::File::Mode::kRead);
+    EXPECT_TRUE(f.exists("/dem/running/second"));  // it was running when killed
+  }
+
+  // Second run: only the unfinished impact runs; the finished one is kept as it was.
+  const auto [rc, json_text] =
+      shell(std::string(RICOCHET_BIN) + " dem campaign " + design + " --out " + out + " --json");
+  ASSERT_EQ(rc, 0) << json_text;
+  const auto j = nlohmann::json::parse(json_text);
+  EXPECT_EQ(j["ran"], 1);
+  EXPECT_EQ(j["skipped_already_done"], 1);
+  index = read_campaign_index(out);
+  ASSERT_EQ(index.size(), 2u);
+  EXPECT_EQ(index[0].id, "first");
+  for (std::size_t c = 0; c < first_values.size(); ++c)
+    if (!std::isnan(first_values[c])) EXPECT_EQ(index[0].values[c], first_values[c]) << c;
+  EXPECT_EQ(index[1].id, "second");
+  EXPECT_EQ(index[1].status, "rebound") << index[1].message;
+  const ImpactSet set = read_impact_set_h5(out);
+  EXPECT_EQ(set.size(), 2u);
+  h5::File f(out, h5::File::Mode::kRead);
+  EXPECT_FALSE(f.exists("/dem/running/second"));
+}
+
+}  // namespace

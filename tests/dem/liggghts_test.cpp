@@ -1,0 +1,171 @@
+// Real LIGGGHTS runs in this process on a small bed (about 2,000 grains): one impact end to end
+// (decks, library interface, failure checks, reconstruction, HDF5) and the failure statuses.
+// cli_test.cpp runs the `ricochet` program: 2 MPI ranks, a killed campaign that resumes.
+//
+// The bed is built once into RICOCHET_TEST_CACHE and reused by every test (the cache is keyed by
+// the bed parameters and locked while a bed is built).
+#include <gtest/gtest.h>
+#include <mpi.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+
+#include "campaign.hpp"
+#include "common/h5.hpp"
+#include "impact/impact_set.hpp"
+#include "impact_run.hpp"
+
+namespace {
+
+using namespace ricochet;
+using namespace ricochet::dem;
+namespace fs = std::filesystem;
+
+const Decks& decks() {
+  static const Decks d = Decks::locate(std::string(RICOCHET_SOURCE_DIR) + "/liggghts-inputs");
+  return d;
+}
+
+// The test bed: a 0.5 m x 0.06 m slab, 0.06 m deep, grains of 4-6 mm radius, grain parameters of
+// docs/resolved-model.md that give the cylinder a rebound. About 2,000 grains.
+const std::vector<std::string> kTestBed = {"bed.Lx_m=0.5",   "bed.Ly_m=0.06",  "bed.H_m=0.06",
+                                           "bed.r1_m=0.004", "bed.r2_m=0.005", "bed.r3_m=0.006"};
+
+Overrides test_overrides(const std::vector<std::string>& extra = {}) {
+  Overrides o;
+  for (const auto& s : kTestBed) apply_set_option(decks(), s, o);
+  for (const auto& s : extra) apply_set_option(decks(), s, o);
+  return o;
+}
+
+fs::path temp_dir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("dem-test-" + std::to_string(::getpid())) / name;
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+ImpactResult run(ImpactSpec spec, const fs::path& work, ExtractOptions extract = {}) {
+  ImpactContext ctx;
+  ctx.decks = &decks();
+  ctx.bed = ensure_bed(decks(), bed_overrides(spec), RICOCHET_TEST_CACHE, MPI_COMM_WORLD);
+  ctx.template_include =
+      ensure_template(Shape::resolve(spec.shape), ctx.bed, (work / "templates").string());
+  ctx.work_dir = (work / spec.id).string();
+  ctx.extract = extract;
+  return run_impact(spec, ctx, MPI_COMM_WORLD);
+}
+
+TEST(DemEndToEnd, OneImpactThroughLiggghtsExtractionAndHdf5) {
+  const fs::path work = temp_dir("e2e");
+  ImpactSpec spec;
+  spec.id = "e2e";
+  spec.params = test_overrides();
+  const ImpactResult r = run(spec, work);
+  ASSERT_EQ(r.status, "rebound") << r.message;
+  EXPECT_GT(r.grains, 1000);
+  EXPECT_LT(r.grains, 4000);
+  // The reconstruction (the lab's: ballistic fits at 400 frames/s around the contact window)
+  // recovers the prescribed incident state and finds a rebound.
+  const auto& rec = r.reconstruction;
+  EXPECT_NEAR(rec.vin[kVx], 2.9, 0.05);
+  EXPECT_NEAR(rec.vin[kVy], -2.3, 0.1);
+  EXPECT_NEAR(rec.vin[kW], -65.0, 1.0);
+  EXPECT_GE(rec.points_before, 3u);
+  EXPECT_GE(rec.points_after, 3u);
+  EXPECT_GT(rec.vout[kVy], 0.0);
+  EXPECT_LT(rec.vout[kVy], 2.3);  // no energy created
+  EXPECT_GT(rec.vout[kVx], 0.0);
+  EXPECT_LT(rec.vout[kVx], 4.5);
+  EXPECT_LT(rec.vout[kW], 0.0);
+  EXPECT_GT(rec.vout[kW], -65.0);
+  // The reconstructed V_out agrees with the block's own velocity after the contact.
+  EXPECT_NEAR(rec.vout[kVx], r.v_end_direct[kVx], 0.25);
+  EXPECT_NEAR(rec.vout[kVy], r.v_end_direct[kVy], 0.25);
+  EXPECT_GT(r.penetration_max_m, 0.0);
+  EXPECT_LT(r.penetration_max_m, 0.08);
+  EXPECT_GT(r.energy_dissipated_frac, 0.0);
+  EXPECT_LT(r.energy_dissipated_frac, 1.0);
+  EXPECT_GE(r.crater_depth_m, 0.0);
+  EXPECT_LT(r.rayleigh_fraction, 0.2);
+
+  // HDF5: the impact-set schema in /impacts, the track in /dem/tracks.
+  const std::string h5 = (work / "out.h5").string();
+  append_result(h5, r, spec, "test");
+  const ImpactSet set = read_impact_set_h5(h5);
+  ASSERT_EQ(set.size(), 1u);
+  EXPECT_EQ(set.impacts[0].id, "e2e");
+  EXPECT_EQ(set.impacts[0].shape, "cylinder");
+  EXPECT_DOUBLE_EQ(set.impacts[0].vout[kVy], rec.vout[kVy]);
+  EXPECT_DOUBLE_EQ(*set.impacts[0].penetration, r.penetration_max_m);
+  h5::File f(h5, h5::File::Mode::kRead);
+  std::vector<std::size_t> dims;
+  const auto track = f.read_doubles("/dem/tracks/e2e", &dims);
+  ASSERT_EQ(dims.size(), 2u);
+  EXPECT_EQ(dims[1], Track::column_names().size());
+  EXPECT_EQ(dims[0], r.track.size());
+  const auto index = read_campaign_index(h5);
+  ASSERT_EQ(index.size(), 1u);
+  EXPECT_EQ(index[0].status, "rebound");
+}
+
+TEST(DemFailures, InsertionOutsideTheBedIsRefusedBeforeLiggghts) {
+  const fs::path work = temp_dir("outside");
+  ImpactSpec spec;
+  spec.id = "outside";
+  spec.params = test_overrides({"run.x_impact_frac=0.05"});
+  const ImpactResult r = run(spec, work);
+  EXPECT_EQ(r.status, "invalid");
+  EXPECT_NE(r.message.find("end wall"), std::string::npos) << r.message;
+  EXPECT_EQ(r.steps, 0);  // LIGGGHTS was never started
+  EXPECT_FALSE(fs::exists(work / "outside" / "log.liggghts"));
+}
+
+TEST(DemFailures, TimeStepTooLargeIsDetected) {
+  const fs::path work = temp_dir("dt");
+  ImpactSpec spec;
+  spec.id = "dt";
+  spec.params = test_overrides({"run.dt_scale=3"});
+  const ImpactResult r = run(spec, work);
+  EXPECT_EQ(r.status, "timestep") << r.message;
+  EXPECT_GT(r.rayleigh_fraction, 0.2);
+  EXPECT_NE(r.message.find("Rayleigh"), std::string::npos);
+  EXPECT_FALSE(r.ok());
+}
+
+TEST(DemFailures, NoEndOfReboundWithinTheTimeLimitIsATimeout) {
+  const fs::path work = temp_dir("timeout");
+  ImpactSpec spec;
+  spec.id = "timeout";
+  spec.params = test_overrides({"run.t_max_s=0.02"});
+  const ImpactResult r = run(spec, work);
+  EXPECT_EQ(r.status, "timeout") << r.message;
+  EXPECT_GE(r.sim_time_s, 0.02);
+  EXPECT_LT(r.sim_time_s, 0.025);
+  // A failed impact is recorded with its status and no velocities.
+  const std::string h5 = (work / "out.h5").string();
+  append_result(h5, r, spec, "test");
+  const auto index = read_campaign_index(h5);
+  ASSERT_EQ(index.size(), 1u);
+  EXPECT_EQ(index[0].status, "timeout");
+  EXPECT_TRUE(std::isnan(index[0].values[3]));  // vout_x
+  h5::File f(h5, h5::File::Mode::kRead);
+  EXPECT_FALSE(f.exists("/impacts"));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  MPI_Init(&argc, &argv);
+  ::testing::InitGoogleTest(&argc, argv);
+  const int rc = RUN_ALL_TESTS();
+  MPI_Finalize();
+  return rc;
+}

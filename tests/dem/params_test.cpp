@@ -1,0 +1,204 @@
+// Deck parameters, bed cache keys and campaign designs: read from the decks themselves, checked
+// with errors that name file, line and key.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <set>
+#include <sstream>
+
+#include "campaign.hpp"
+#include "common/error.hpp"
+#include "params.hpp"
+
+namespace {
+
+using namespace ricochet::dem;
+using ricochet::InputError;
+namespace fs = std::filesystem;
+
+const Decks& decks() {
+  static const Decks d = Decks::locate(std::string(RICOCHET_SOURCE_DIR) + "/liggghts-inputs");
+  return d;
+}
+
+std::string temp_file(const std::string& name, const std::string& text) {
+  const fs::path dir = fs::temp_directory_path() / ("dem-params-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path p = dir / name;
+  std::ofstream(p) << text;
+  return p.string();
+}
+
+TEST(DeckParams, ReadFromTheDecks) {
+  std::set<std::string> bed, block, run;
+  for (const auto& p : decks().bed_params) bed.insert(p.name);
+  for (const auto& p : decks().block_params) block.insert(p.name);
+  for (const auto& p : decks().impact_params) run.insert(p.name);
+  for (const char* n : {"E_grain_Pa", "e_gg", "mu_gg", "mur_gg", "r1_m", "f1", "mode", "seed"})
+    EXPECT_TRUE(bed.count(n)) << n;
+  for (const char* n : {"E_block_Pa", "e_gb", "mu_gb", "mur_gb"}) EXPECT_TRUE(block.count(n)) << n;
+  for (const char* n : {"t_max_s", "t_flight_s", "chunk_steps", "dt_scale"})
+    EXPECT_TRUE(run.count(n)) << n;
+  // The incident state and the wiring are set by the driver, not by --set.
+  for (const char* n : {"vx_in_mps", "alpha_in_deg", "bed", "template_in", "deck_dir"})
+    EXPECT_FALSE(run.count(n)) << n;
+}
+
+// in.bed must write every bed parameter to PREFIX.params: the impact deck reads the bed's grain
+// law from there, and a parameter missing from it would silently take no value.
+TEST(DeckParams, BedDeckRecordsEveryBedParameter) {
+  std::ifstream in(decks().bed_deck);
+  std::stringstream s;
+  s << in.rdbuf();
+  for (const auto& p : decks().bed_params)
+    EXPECT_NE(s.str().find("\"variable " + p.name + " string ${" + p.name + "}\""),
+              std::string::npos)
+        << p.name << " is not written to ${bed}.params by in.bed";
+}
+
+TEST(DeckParams, ChecksNamesAndBounds) {
+  EXPECT_NO_THROW(check_param(decks(), "bed", "E_grain_Pa", "2e8", "f.toml", 3));
+  try {
+    check_param(decks(), "bed", "E_grain", "2e8", "f.toml", 7);
+    FAIL() << "unknown name accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "f.toml");
+    EXPECT_EQ(e.line(), 7u);
+    EXPECT_EQ(e.field(), "bed.E_grain");
+    EXPECT_NE(e.detail().find("E_grain_Pa"), std::string::npos);  // lists the known names
+  }
+  EXPECT_THROW(check_param(decks(), "bed", "e_gg", "1.5", "f", 1), InputError);
+  EXPECT_THROW(check_param(decks(), "bed", "e_gg", "0", "f", 1), InputError);
+  EXPECT_THROW(check_param(decks(), "bed", "mu_gg", "-0.1", "f", 1), InputError);
+  EXPECT_THROW(check_param(decks(), "bed", "r1_m", "0", "f", 1), InputError);
+  EXPECT_THROW(check_param(decks(), "bed", "E_grain_Pa", "abc", "f", 1), InputError);
+  EXPECT_THROW(check_param(decks(), "bed", "nu_grain", "0.5", "f", 1), InputError);
+  EXPECT_THROW(check_param(decks(), "bed", "mode", "slice", "f", 1), InputError);
+  EXPECT_THROW(check_param(decks(), "bed", "seed", "10001", "f", 1), InputError);  // 73 x 137
+  EXPECT_NO_THROW(check_param(decks(), "bed", "seed", "10007", "f", 1));
+  EXPECT_THROW(check_param(decks(), "run", "chunk_steps", "10.5", "f", 1), InputError);
+  EXPECT_THROW(check_param(decks(), "block", "e_gg", "0.3", "f", 1), InputError);  // wrong section
+}
+
+TEST(DeckParams, SetOption) {
+  Overrides o;
+  apply_set_option(decks(), "bed.E_grain_Pa=1e8", o);
+  apply_set_option(decks(), "block.mu_gb=0.4", o);
+  apply_set_option(decks(), "run.t_max_s=0.2", o);
+  EXPECT_EQ(o.bed.at("E_grain_Pa"), "1e8");
+  EXPECT_EQ(o.block.at("mu_gb"), "0.4");
+  EXPECT_EQ(o.run.at("t_max_s"), "0.2");
+  EXPECT_THROW(apply_set_option(decks(), "E_grain_Pa=1e8", o), InputError);
+  EXPECT_THROW(apply_set_option(decks(), "grain.E_grain_Pa=1e8", o), InputError);
+}
+
+TEST(BedKey, CanonicalAndSensitive) {
+  const auto k0 = bed_key(decks(), {});
+  EXPECT_EQ(k0.size(), 16u);
+  // The same effective parameters, written differently, name the same bed.
+  EXPECT_EQ(bed_key(decks(), {{"E_grain_Pa", "100000000"}}),
+            bed_key(decks(), {{"E_grain_Pa", "1e8"}}));
+  // Giving a parameter its default value explicitly changes nothing.
+  for (const auto& p : decks().bed_params) {
+    if (p.name == "e_gg") EXPECT_EQ(bed_key(decks(), {{"e_gg", p.default_value}}), k0);
+  }
+  EXPECT_NE(bed_key(decks(), {{"E_grain_Pa", "1e8"}}), k0);
+  EXPECT_NE(bed_key(decks(), {{"seed", "10007"}}), k0);
+}
+
+TEST(Seeds, PrimesAboveTenThousand) {
+  EXPECT_EQ(liggghts_seed(0, 0), 10007);
+  EXPECT_EQ(liggghts_seed(0, 1), 10009);
+  EXPECT_EQ(liggghts_seed(1, 0), 10037);
+  std::set<std::int64_t> seen;
+  for (int r = 0; r < 20; ++r)
+    for (int s = 0; s < 2; ++s) {
+      const auto p = liggghts_seed(r, s);
+      EXPECT_TRUE(is_prime(p));
+      EXPECT_TRUE(seen.insert(p).second);
+    }
+}
+
+TEST(Design, ExplicitImpactsAndProduct) {
+  const auto path = temp_file("design.toml", R"(
+[campaign]
+name = "t"
+ranks_per_impact = 1
+[bed]
+E_grain_Pa = 1e8
+[run]
+t_max_s = 0.2
+[[impact]]
+id = "one"
+vin = [2.9, -2.3, -65.0]
+[impact.bed]
+e_gg = 0.6
+[design]
+shape = "triangle"
+incident = [[3.0, -2.0, -20.0], [4.0, -3.0, -30.0]]
+alpha_in_deg = [0.0, 30.0]
+seeds = [0, 1]
+[design.vary]
+"block.mu_gb" = [0.3, 0.6]
+)");
+  const auto d = read_campaign_design(path, decks());
+  EXPECT_EQ(d.name, "t");
+  ASSERT_EQ(d.impacts.size(), 1u + 2 * 2 * 2 * 2);
+  EXPECT_EQ(d.impacts[0].id, "one");
+  EXPECT_EQ(d.impacts[0].params.bed.at("E_grain_Pa"), "1e+08");
+  EXPECT_EQ(d.impacts[0].params.bed.at("e_gg"), "0.6");
+  EXPECT_EQ(d.impacts[0].params.run.at("t_max_s"), "0.2");
+  const auto& last = d.impacts.back();
+  EXPECT_EQ(last.shape, "triangle");
+  EXPECT_EQ(last.vin[0], 4.0);
+  EXPECT_NEAR(last.alpha_in_rad, 30.0 * std::numbers::pi / 180.0, 1e-12);
+  EXPECT_EQ(*last.seed, 1);
+  EXPECT_EQ(last.params.block.at("mu_gb"), "0.6");
+  EXPECT_EQ(last.params.bed.at("E_grain_Pa"), "1e+08");  // common [bed] applies to the design
+  std::set<std::string> ids;
+  for (const auto& s : d.impacts) EXPECT_TRUE(ids.insert(s.id).second) << s.id;
+}
+
+TEST(Design, IncidentStatesFromTheLabFile) {
+  const auto path =
+      temp_file("lab.toml", "[design]\nincident_from = \"" + std::string(RICOCHET_SOURCE_DIR) +
+                                "/data/lab/cylinders.csv\"\nwhere = \"vin_x<2.8\"\n");
+  const auto d = read_campaign_design(path, decks());
+  ASSERT_FALSE(d.impacts.empty());
+  for (const auto& s : d.impacts) {
+    EXPECT_LT(s.vin[0], 2.8);
+    EXPECT_EQ(s.id[0], 'C');  // the lab ids
+  }
+}
+
+void expect_error(const std::string& text, std::size_t line, const std::string& field) {
+  const auto path = temp_file("bad.toml", text);
+  try {
+    read_campaign_design(path, decks());
+    FAIL() << "accepted:\n" << text;
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), path);
+    EXPECT_EQ(e.line(), line) << e.what();
+    EXPECT_EQ(e.field(), field) << e.what();
+  }
+}
+
+TEST(Design, ErrorsNameFileLineAndKey) {
+  expect_error("[campaign]\nnmae = \"x\"\n", 2, "campaign.nmae");
+  expect_error("[[impact]]\nid = \"a\"\nvin = [2.9, -2.3]\n", 3, "impact[0].vin");
+  expect_error("[[impact]]\nid = \"a\"\nvin = [2.9, 2.3, -65]\n", 3, "impact[0].vin");
+  expect_error("[bed]\nE_grain_Pa = \"soft\"\n", 2, "bed.E_grain_Pa");
+  expect_error("[[impact]]\nvin = [2.9, -2.3, -65]\nshape = \"hexagon\"\n", 3, "impact[0].shape");
+  expect_error(
+      "[[impact]]\nid = \"a\"\nvin = [2.9, -2.3, -65]\n[[impact]]\nid = \"a\"\nvin = [2.9, -2.3, "
+      "-65]\n",
+      4, "impact[1].id");
+  expect_error(
+      "[design]\nincident = [[2.9, -2.3, -65]]\n[design.vary]\n\"bed.e_gg\" = [0.3, 2.0]\n", 4,
+      "bed.e_gg");
+  expect_error("[campaign]\nname = \"empty\"\n", 0, "impact");
+}
+
+}  // namespace
