@@ -25,3 +25,8 @@ for name in ("BM_EngineBatch/1/real_time", "BM_EngineBatch/2/real_time"):
           f"|dW| = {r['dW_vs_ref_radps']:.1e} rad/s")
 PY
 fi
+
+if section dem; then
+  echo "== Resolved model (LIGGGHTS): us per grain and step, 1 vs 2 ranks; campaign scaling"
+  "$ROOT/benchmarks/bench_dem.sh" "$BUILD" "$OUT"
+fi

@@ -141,8 +141,11 @@ TEST(DemCampaign, KilledCampaignResumesWithoutLosingFinishedImpacts) {
   index = read_campaign_index(out);
   ASSERT_EQ(index.size(), 2u);
   EXPECT_EQ(index[0].id, "first");
-  for (std::size_t c = 0; c < first_values.size(); ++c)
-    if (!std::isnan(first_values[c])) EXPECT_EQ(index[0].values[c], first_values[c]) << c;
+  for (std::size_t c = 0; c < first_values.size(); ++c) {
+    if (!std::isnan(first_values[c])) {
+      EXPECT_EQ(index[0].values[c], first_values[c]) << c;
+    }
+  }
   EXPECT_EQ(index[1].id, "second");
   EXPECT_EQ(index[1].status, "rebound") << index[1].message;
   const ImpactSet set = read_impact_set_h5(out);

@@ -102,7 +102,9 @@ TEST(BedKey, CanonicalAndSensitive) {
             bed_key(decks(), {{"E_grain_Pa", "1e8"}}));
   // Giving a parameter its default value explicitly changes nothing.
   for (const auto& p : decks().bed_params) {
-    if (p.name == "e_gg") EXPECT_EQ(bed_key(decks(), {{"e_gg", p.default_value}}), k0);
+    if (p.name == "e_gg") {
+      EXPECT_EQ(bed_key(decks(), {{"e_gg", p.default_value}}), k0);
+    }
   }
   EXPECT_NE(bed_key(decks(), {{"E_grain_Pa", "1e8"}}), k0);
   EXPECT_NE(bed_key(decks(), {{"seed", "10007"}}), k0);

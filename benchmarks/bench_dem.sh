@@ -1,0 +1,100 @@
+#!/usr/bin/env bash
+# Resolved-model benchmark (issue 5, "Cost"): called by scripts/bench.sh (section dem).
+#   benchmarks/bench_dem.sh BUILD_DIR OUT_DIR
+# 1. Cost of the impact deck in microseconds per grain and step, on 1 and 2 MPI ranks, on the
+#    default quasi-2-D bed (0.6 x 0.10 x 0.10 m, grains of 3-5 mm radius, about 16,000 grains),
+#    against LIGGGHTS alone on the same settled bed (benchmarks/bench_dem_plain.in).
+# 2. Campaign scaling: 4 impacts on the small test bed with 1 rank, then with 2 ranks (2 LIGGGHTS
+#    instances side by side); efficiency = T(1) / (2 T(2)).
+# The bed is cached in OUT_DIR/dem-cache (built once, about 3 min on 2 ranks). The machine's other
+# load shows in the figures: run it on an idle machine.
+set -euo pipefail
+BUILD=$1
+OUT=$2
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+R="$BUILD/cli/ricochet"
+MPI="mpirun --oversubscribe --allow-run-as-root"
+CACHE="$OUT/dem-cache"
+WORK="$OUT/dem-work"
+mkdir -p "$CACHE" "$WORK"
+STEPS=${DEM_BENCH_STEPS:-2000}
+T_IMPACT=${DEM_BENCH_T:-0.04}
+
+echo "-- default bed (cached in $CACHE)"
+$MPI -np 2 "$R" dem bed --cache "$CACHE" --json > "$OUT/dem-bed.json"
+PREFIX=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['prefix'])" "$OUT/dem-bed.json")
+
+plain() {  # ranks -> "us_per_grain_step"
+  local np=$1 log="$WORK/plain-$1.log"
+  (cd "$WORK" && $MPI -np "$np" liggghts -in "$ROOT/benchmarks/bench_dem_plain.in" \
+      -var bed "$PREFIX" -var common "$ROOT/liggghts-inputs/common" -var steps "$STEPS" \
+      -log "$log" -screen "$WORK/plain-$np.screen" > /dev/null)
+  python3 - "$log" "$np" <<'PY'
+import re, sys
+text = open(sys.argv[1]).read()
+loops = re.findall(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms", text)
+t, procs, steps, atoms = loops[-1]
+print(f"{1e6 * float(t) / (int(steps) * int(atoms)):.4f}")
+PY
+}
+
+impact() {  # ranks -> json file
+  local np=$1
+  $MPI -np "$np" "$R" dem impact --json --cache "$CACHE" --work "$WORK" --id "bench-$np" \
+      --set run.t_max_s="$T_IMPACT" > "$WORK/impact-$np.json"
+  echo "$WORK/impact-$np.json"
+}
+
+echo "== Resolved model: cost per grain and step (impact deck vs LIGGGHTS alone on the same bed)"
+P1=$(plain 1); P2=$(plain 2)
+I1=$(impact 1); I2=$(impact 2)
+python3 - "$P1" "$P2" "$I1" "$I2" "$OUT/dem.json" <<'PY'
+import json, sys
+p1, p2 = float(sys.argv[1]), float(sys.argv[2])
+i1, i2 = (json.load(open(f)) for f in sys.argv[3:5])
+def per_grain_step(j):
+    return 1e6 * j["wall_s"] / (j["steps"] * (j["grains"] + j["block_spheres"]))
+c1, c2 = per_grain_step(i1), per_grain_step(i2)
+print(f"plain LIGGGHTS, settled bed of {i1['grains']} grains: {p1:.3f} us/grain/step on 1 rank, "
+      f"{p2:.3f} on 2 ranks (speed-up {p1 / p2:.2f})")
+print(f"impact deck ({i1['block_spheres']}-sphere cylinder, {i1['steps']} steps, status "
+      f"{i1['status']}): {c1:.3f} us/grain/step on 1 rank, {c2:.3f} on 2 ranks (speed-up "
+      f"{c1 / c2:.2f}); ratio to plain LIGGGHTS {c1 / p1:.2f} (1 rank), {c2 / p2:.2f} (2 ranks); "
+      f"target <= 1 us/grain/step on one core: {'met' if c1 <= 1.0 else 'NOT met'}")
+json.dump({"plain_us_per_grain_step": [p1, p2], "impact_us_per_grain_step": [c1, c2],
+           "grains": i1["grains"], "block_spheres": i1["block_spheres"]},
+          open(sys.argv[5], "w"), indent=2)
+PY
+
+echo "== Resolved model: campaign scaling, 4 impacts on the small test bed, 1 vs 2 ranks"
+DESIGN="$WORK/scaling.toml"
+cat > "$DESIGN" <<EOF
+[campaign]
+name = "scaling"
+cache_dir = "$CACHE"
+work_dir = "$WORK/scaling"
+[bed]
+Lx_m = 0.5
+Ly_m = 0.06
+H_m = 0.06
+r1_m = 0.004
+r2_m = 0.005
+r3_m = 0.006
+[design]
+incident = [[2.9, -2.3, -65.0], [2.7, -2.4, -70.0], [3.1, -2.2, -60.0], [2.9, -2.5, -65.0]]
+EOF
+# The bed first (not timed), then the same 4 impacts from scratch on 1 and on 2 ranks.
+$MPI -np 1 "$R" dem impact --cache "$CACHE" --work "$WORK" --id warm --json \
+  --set bed.Lx_m=0.5 --set bed.Ly_m=0.06 --set bed.H_m=0.06 --set bed.r1_m=0.004 \
+  --set bed.r2_m=0.005 --set bed.r3_m=0.006 --set run.t_max_s=0.001 > /dev/null
+for np in 1 2; do
+  rm -f "$WORK/scaling-$np.h5"
+  $MPI -np "$np" "$R" dem campaign "$DESIGN" --out "$WORK/scaling-$np.h5" --json > "$WORK/scaling-$np.json"
+done
+python3 - "$WORK/scaling-1.json" "$WORK/scaling-2.json" <<'PY'
+import json, sys
+a, b = (json.load(open(f)) for f in sys.argv[1:3])
+t1, t2 = a["wall_s"], b["wall_s"]
+print(f"4 impacts: {t1:.1f} s on 1 rank, {t2:.1f} s on 2 ranks (2 instances): speed-up {t1 / t2:.2f}, "
+      f"efficiency {t1 / (2 * t2):.0%}; statuses {a['status_counts']} / {b['status_counts']}")
+PY
