@@ -35,6 +35,7 @@ void add_calibrate_command(CLI::App& app);
 void add_montecarlo_command(CLI::App& app);
 void add_sobol_command(CLI::App& app);
 void add_synth_command(CLI::App& app);
+void add_diagnose_command(CLI::App& app);
 void add_dem_command(CLI::App& app);
 
 }  // namespace ricochet::cli

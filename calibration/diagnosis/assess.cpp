@@ -1,0 +1,349 @@
+#include "diagnosis/assess.hpp"
+
+#include <fmt/format.h>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+#include "diagnosis/synth.hpp"
+
+namespace ricochet::diagnosis {
+
+std::array<bool, kObservables> observables_of(const ImpactSet& set, const AssessOptions& o) {
+  std::array<bool, kObservables> use{true, true, true, false, false};
+  if (!o.use_features || set.empty()) return use;
+  bool h = true, t = true;
+  for (const auto& im : set.impacts) {
+    h = h && im.penetration.has_value();
+    t = t && im.contact_duration.has_value();
+  }
+  use[kObsPenetration] = h;
+  use[kObsDuration] = t;
+  return use;
+}
+
+fit::FitOptions fit_options_for(const ImpactSet& set, const AssessOptions& o) {
+  fit::FitOptions f = o.fit;
+  const auto use = observables_of(set, o);
+  f.error.penetration = use[kObsPenetration];
+  f.error.contact_duration = use[kObsDuration];
+  return f;
+}
+
+Obs error_scale(const Impact& im, const AssessOptions& o) {
+  const Vel3 d = fit::error_scale(im.vout, o.fit.error);
+  Obs out{d[0], d[1], d[2], 1.0, 1.0};
+  if (im.penetration)
+    out[kObsPenetration] = std::max(*im.penetration, o.fit.error.penetration_floor_m);
+  if (im.contact_duration)
+    out[kObsDuration] = std::max(*im.contact_duration, o.fit.error.contact_duration_floor_s);
+  return out;
+}
+
+namespace {
+
+Obs measured_of(const Impact& im) {
+  return {im.vout[0], im.vout[1], im.vout[2], im.penetration.value_or(NAN),
+          im.contact_duration.value_or(NAN)};
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+std::vector<ObsPrediction> to_observables(const std::vector<fit::Prediction>& predictions) {
+  std::vector<ObsPrediction> out(predictions.size());
+  for (std::size_t i = 0; i < predictions.size(); ++i) {
+    const fit::Prediction& p = predictions[i];
+    out[i].value = {p.vout[0], p.vout[1], p.vout[2], p.penetration_m, p.contact_duration_s};
+    out[i].spread = {p.vout_std[0], p.vout_std[1], p.vout_std[2], 0.0, 0.0};
+    out[i].status = p.status;
+  }
+  return out;
+}
+
+std::vector<ObsPrediction> predict_observables(const Model& model, const Shape& shape,
+                                               std::span<const double> params, const ImpactSet& set,
+                                               const AssessOptions& o) {
+  return to_observables(fit::predict(model, shape, params, set, fit_options_for(set, o)));
+}
+
+Obs error_terms(const Impact& im, const Obs& predicted, const std::array<bool, kObservables>& use,
+                const AssessOptions& o) {
+  const Obs d = error_scale(im, o);
+  const Obs m = measured_of(im);
+  Obs t{};
+  for (int k = 0; k < kObservables; ++k) {
+    if (!use[k]) continue;
+    const double r = (predicted[k] - m[k]) / d[k];  // Eq. 7 term (fit/error.hpp)
+    t[k] = r * r;
+  }
+  return t;
+}
+
+MeanSe mean_se(std::span<const double> x) {
+  MeanSe m;
+  m.n = x.size();
+  if (x.empty()) return m;
+  for (double v : x) m.mean += v / static_cast<double>(x.size());
+  if (x.size() > 1) {
+    double sq = 0;
+    for (double v : x) sq += (v - m.mean) * (v - m.mean);
+    m.se = std::sqrt(sq / static_cast<double>(x.size() - 1) / static_cast<double>(x.size()));
+  }
+  return m;
+}
+
+ErrorReport error_report(const ImpactSet& set, const std::vector<ObsPrediction>& predictions,
+                         const std::array<bool, kObservables>& use, const AssessOptions& o) {
+  if (predictions.size() != set.size())
+    throw std::invalid_argument("error_report: one prediction per release expected");
+  ErrorReport r;
+  const double n = static_cast<double>(set.size());
+  Obs sq{};
+  for (std::size_t i = 0; i < set.size(); ++i) {
+    const Impact& im = set.impacts[i];
+    const Obs t = error_terms(im, predictions[i].value, use, o);
+    const Obs m = measured_of(im);
+    Obs res{};
+    double e = 0;
+    for (int k = 0; k < kObservables; ++k) {
+      res[k] = use[k] ? m[k] - predictions[i].value[k] : NAN;
+      e += t[k];
+      r.term_mean[k] += t[k] / n;
+      if (use[k]) sq[k] += res[k] * res[k] / n;
+    }
+    r.per_release.push_back(e);
+    r.terms.push_back(t);
+    r.residual.push_back(res);
+  }
+  for (int k = 0; k < kObservables; ++k) r.rmse[k] = use[k] ? std::sqrt(sq[k]) : NAN;
+  r.error = mean_se(r.per_release);
+  return r;
+}
+
+NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const double> params,
+                       const ImpactSet& set, const std::array<bool, kObservables>& use,
+                       const AssessOptions& o) {
+  NoiseFloor f;
+  const std::size_t n = set.size();
+  if (n == 0) throw std::invalid_argument("noise_floor: empty impact set");
+  std::vector<Obs> d(n), m(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    d[i] = error_scale(set.impacts[i], o);
+    m[i] = measured_of(set.impacts[i]);
+  }
+
+  // Replicates: releases with identical incident state (and orientation).
+  std::map<std::array<double, 4>, std::vector<std::size_t>> groups;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Impact& im = set.impacts[i];
+    groups[{im.vin[0], im.vin[1], im.vin[2], im.alpha_in.value_or(NAN)}].push_back(i);
+  }
+  Obs pooled{};
+  std::size_t dof = 0;
+  for (const auto& [key, members] : groups) {
+    if (members.size() < 2) continue;
+    ++f.replicate_groups;
+    dof += members.size() - 1;
+    for (int k = 0; k < kObservables; ++k) {
+      if (!use[k]) continue;
+      double mean = 0;
+      for (std::size_t i : members) mean += m[i][k] / static_cast<double>(members.size());
+      for (std::size_t i : members) pooled[k] += (m[i][k] - mean) * (m[i][k] - mean);
+    }
+  }
+  // The sigma of each observable per release (physical units) before scaling.
+  std::vector<Obs> var(n);
+  if (f.replicate_groups >= 2) {
+    f.source = "replicates";
+    f.description = fmt::format(
+        "pooled within-group variance of {} groups of releases with identical incident states "
+        "({} degrees of freedom): measurement noise and release-to-release variability",
+        f.replicate_groups, dof);
+    for (std::size_t i = 0; i < n; ++i)
+      for (int k = 0; k < kObservables; ++k)
+        var[i][k] = use[k] ? pooled[k] / static_cast<double>(dof) : 0.0;
+  } else {
+    bool declared = true;
+    for (const auto& im : set.impacts) declared = declared && im.sigma_vout.has_value();
+    f.source = declared ? "declared" : "table1";
+    // Feature uncertainties: extra columns written by synth (or a campaign), else defaults.
+    auto extra_column = [&](const char* name) -> std::vector<double> {
+      const auto it = std::find(set.extra_names.begin(), set.extra_names.end(), name);
+      if (it == set.extra_names.end()) return {};
+      return set.feature(name);
+    };
+    const std::vector<double> sh = extra_column(kSigmaPenetration);
+    const std::vector<double> st = extra_column(kSigmaContactDuration);
+
+    // V_in uncertainty propagated through the calibrated model: forward differences over a step
+    // of the mean V_in uncertainty of each component.
+    const auto base = predict_observables(model, shape, params, set, o);
+    std::array<std::vector<ObsPrediction>, 3> shifted;
+    Vel3 step{};
+    for (int j = 0; j < 3; ++j) {
+      for (const auto& im : set.impacts)
+        step[j] += (im.sigma_vin ? (*im.sigma_vin)[j] : o.sigma_vin[j]) / static_cast<double>(n);
+      if (!(step[j] > 0)) continue;
+      ImpactSet moved = set;
+      for (auto& im : moved.impacts) im.vin[j] += step[j];
+      shifted[j] = predict_observables(model, shape, params, moved, o);
+    }
+    bool any_spread = false;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Impact& im = set.impacts[i];
+      const Vel3 sin = im.sigma_vin ? *im.sigma_vin : o.sigma_vin;
+      const Vel3 sout = im.sigma_vout ? *im.sigma_vout : o.fit.sigma;
+      Obs meas_sd{sout[0], sout[1], sout[2],
+                  !sh.empty() && std::isfinite(sh[i]) ? sh[i] : o.sigma_penetration_m,
+                  !st.empty() && std::isfinite(st[i]) ? st[i] : o.sigma_contact_duration_s};
+      for (int k = 0; k < kObservables; ++k) {
+        if (!use[k]) continue;
+        double prop = 0;
+        for (int j = 0; j < 3; ++j) {
+          if (shifted[j].empty()) continue;
+          const double jac = (shifted[j][i].value[k] - base[i].value[k]) / step[j];
+          if (std::isfinite(jac)) prop += jac * jac * sin[j] * sin[j];
+        }
+        const double spread = base[i].spread[k];
+        any_spread = any_spread || spread > 0;
+        var[i][k] = meas_sd[k] * meas_sd[k] + prop + spread * spread;
+      }
+    }
+    f.description =
+        std::string(declared ? "declared measurement uncertainties (sigma columns)"
+                             : "the paper's Table 1 operator scale (V_out 0.1 m/s, 0.1 m/s, "
+                               "3.4 rad/s; V_in 0.1 m/s, 0.1 m/s, 1.4 rad/s)") +
+        ", plus the V_in uncertainty propagated through the calibrated model" +
+        (any_spread ? ", plus the spread of the prediction over the unknown block orientation"
+                    : "");
+  }
+
+  f.terms.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    double e = 0;
+    for (int k = 0; k < kObservables; ++k) {
+      f.terms[i][k] = use[k] ? var[i][k] / (d[i][k] * d[i][k]) : 0.0;
+      e += f.terms[i][k];
+      f.term_mean[k] += f.terms[i][k] / static_cast<double>(n);
+      f.sigma_mean[k] += use[k] ? std::sqrt(var[i][k]) / static_cast<double>(n) : NAN;
+    }
+    f.per_release.push_back(e);
+  }
+  f.value = mean_se(f.per_release);
+
+  // Nearest-neighbour cross-check in standardised incident state (and orientation).
+  if (n >= 2) {
+    std::vector<std::array<double, 4>> x(n);
+    std::array<double, 4> sd{};
+    const bool alpha = std::all_of(set.impacts.begin(), set.impacts.end(),
+                                   [](const Impact& im) { return im.alpha_in.has_value(); });
+    for (int c = 0; c < 4; ++c) {
+      if (c == 3 && !alpha) break;
+      double mean = 0, sq = 0;
+      for (std::size_t i = 0; i < n; ++i) {
+        x[i][c] = c < 3 ? set.impacts[i].vin[c] : *set.impacts[i].alpha_in;
+        mean += x[i][c] / static_cast<double>(n);
+      }
+      for (std::size_t i = 0; i < n; ++i) sq += (x[i][c] - mean) * (x[i][c] - mean);
+      sd[c] = std::sqrt(sq / static_cast<double>(n - 1));
+    }
+    double total = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      double best = INFINITY;
+      std::size_t bj = i;
+      for (std::size_t j = 0; j < n; ++j) {
+        if (j == i) continue;
+        double dist = 0;
+        for (int c = 0; c < 4; ++c)
+          if (sd[c] > 0) dist += std::pow((x[i][c] - x[j][c]) / sd[c], 2);
+        if (dist < best) best = dist, bj = j;
+      }
+      double e = 0;
+      for (int k = 0; k < kObservables; ++k)
+        if (use[k]) e += std::pow((m[i][k] - m[bj][k]) / d[i][k], 2);
+      // A difference of two independent measurements has twice the variance of one.
+      total += 0.5 * e / static_cast<double>(n);
+    }
+    f.nearest_neighbour = total;
+  }
+  return f;
+}
+
+Assessment assess(const Model& model, const Shape& shape, const ImpactSet& set,
+                  const AssessOptions& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (set.size() < 2) throw std::invalid_argument("assess: at least two releases are needed");
+  Assessment a;
+  a.effects = model.effect_names();
+  for (std::size_t i : model.calibrated_indices()) a.calibrated.emplace_back(model.spec(i).name);
+  a.use = observables_of(set, o);
+  fit::FitOptions fo = fit_options_for(set, o);
+  fo.intervals = false;
+  fo.starts = std::max(fo.starts, o.population_starts);
+  a.population = fit::calibrate_population(model, shape, set, fo);
+  a.insample_predictions = to_observables(a.population.predictions);
+  a.insample = error_report(set, a.insample_predictions, a.use, o);
+
+  // Held-out: every fold fit starts from the full-set optimum (plus the Latin hypercube starts
+  // of the fit module), so that a fold never ends in a worse local minimum than the full set.
+  Model warm = model;
+  warm.set_values(a.population.params);
+  fit::FitOptions fh = fit_options_for(set, o);
+  fh.intervals = false;
+  fh.starts = std::max(1, o.heldout_starts);
+  a.folds = std::clamp<std::size_t>(o.folds, 2, set.size());
+  const fit::HeldOut ho = fit::heldout_predictions(warm, shape, set, a.folds, fh);
+  a.heldout_predictions = to_observables(ho.predictions);
+  a.heldout = error_report(set, a.heldout_predictions, a.use, o);
+  a.fold_params = ho.fold_params;
+  a.seconds = seconds_since(t0);
+  return a;
+}
+
+Adequacy adequacy(const Assessment& a, const NoiseFloor& floor) {
+  Adequacy q;
+  const double n = static_cast<double>(a.heldout.per_release.size());
+  const double n_train = n * static_cast<double>(a.folds - 1) / static_cast<double>(a.folds);
+  const double p = static_cast<double>(a.calibrated.size());
+  const double inflate = 1.0 + p / std::max(1.0, n_train);
+  std::vector<double> x(a.heldout.per_release.size());
+  for (std::size_t i = 0; i < x.size(); ++i)
+    x[i] = a.heldout.per_release[i] - floor.per_release[i] * inflate;
+  const MeanSe m = mean_se(x);
+  q.excess = m.mean;
+  q.excess_se = m.se;
+  q.threshold = floor.value.mean * inflate + 2.0 * m.se;
+  q.ratio = floor.value.mean > 0 ? a.heldout.error.mean / floor.value.mean : INFINITY;
+  q.adequate = m.mean <= 2.0 * m.se;
+  return q;
+}
+
+nlohmann::json to_json(const MeanSe& m) {
+  return {{"mean", m.mean}, {"se", m.se}, {"n", m.n}};
+}
+
+nlohmann::json to_json(const Obs& o, const std::array<bool, kObservables>& use) {
+  nlohmann::json j = nlohmann::json::object();
+  for (int k = 0; k < kObservables; ++k)
+    if (use[k]) j[kObservableNames[k]] = o[k];
+  return j;
+}
+
+nlohmann::json to_json(const NoiseFloor& f, const std::array<bool, kObservables>& use) {
+  return {{"value", f.value.mean},
+          {"se", f.value.se},
+          {"source", f.source},
+          {"description", f.description},
+          {"per_component", to_json(f.term_mean, use)},
+          {"sigma", to_json(f.sigma_mean, use)},
+          {"nearest_neighbour", f.nearest_neighbour},
+          {"replicate_groups", f.replicate_groups}};
+}
+
+}  // namespace ricochet::diagnosis

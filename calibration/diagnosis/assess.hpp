@@ -1,0 +1,187 @@
+// How well a model explains an impact set: calibration (through the fit module only), in-sample
+// and held-out errors per release and per component, and the noise floor (the error the model
+// cannot be blamed for). The building block of compare, diagnose and ladder (issue 6).
+//
+// The error of one release is the paper's Eq. 7 (fit/error.hpp: squared relative differences of
+// V_out^x, V_out^y, omega_out, denominators floored) plus, when the set has them, the same kind
+// of term for the maximum penetration h and the contact duration T:
+//   e_i = sum_k ((V_k^sim - V_k^meas) / d_k)^2 + ((h^sim - h^meas) / d_h)^2 + ((T^sim - T^meas) /
+//   d_T)^2 d_h = max(h^meas, 0.5 mm), d_T = max(T^meas, 1 ms).
+// The feature terms make effects that barely change V_out but change the contact itself
+// (hertz_stiffness) visible; calibration then fits them too (fit::ErrorOptions). On the paper's
+// lab data (no penetration, no duration) e_i is exactly Eq. 7.
+// The error of a model on a set is the mean of e_i over releases; its standard error is the
+// sample standard deviation of e_i over sqrt(n).
+//
+// Held-out error: k-fold cross-validation by the fit module (fit::heldout_predictions(): release
+// i in fold i mod k, each fold predicted by a population fit on the others). k = n is
+// leave-one-release-out.
+//
+// Noise floor (per release, same units as e_i): the expected e_i of the TRUE model, from
+//  - replicates, when the set has at least two groups of releases with identical incident states
+//    (and orientation): the pooled within-group variance of the measured outputs;
+//  - otherwise the declared uncertainties (sigma_vout, sigma_vin columns; sigma_penetration and
+//    sigma_contact_duration extra columns) when present;
+//  - otherwise the paper's Table 1 operator scale (fit::FitOptions::sigma for V_out; 0.1 m/s,
+//    0.1 m/s, 1.4 rad/s for V_in).
+// In the last two cases the floor is sum_k (sigma_out_k^2 + sigma_prop_k^2 + s_alpha_k^2) / d_k^2
+// where sigma_prop is the V_in uncertainty propagated through the calibrated model (finite
+// differences: the model is run from a measured, hence noisy, incident state) and s_alpha the
+// spread of the prediction over the unknown orientation of non-disc blocks without alpha_in
+// (fit::AlphaMode::kMarginal): neither is the model's fault.
+// A model is "adequate" when its held-out error is not significantly above the floor, tested
+// release by release (paired: a release with a large floor also has a large expected error):
+//   x_i = e_i^heldout - Delta_i (1 + p / n_train),   adequate  <=>  mean(x) <= 2 SE(x)
+// (p calibrated parameters: the expected excess of the true model's held-out error from
+// estimating them on n_train releases).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "effects/model.hpp"
+#include "engine/shape.hpp"
+#include "fit/fit.hpp"
+#include "impact/impact_set.hpp"
+
+namespace ricochet::diagnosis {
+
+/// Observables entering the error: the three V_out components and, when present, the maximum
+/// penetration and the contact duration.
+enum Observable : int { kObsVx = 0, kObsVy = 1, kObsW = 2, kObsPenetration = 3, kObsDuration = 4 };
+inline constexpr int kObservables = 5;
+/// Short names ("vx", "vy", "w", "penetration", "contact_duration") and labels for text.
+inline constexpr std::array<const char*, kObservables> kObservableNames = {
+    "vx", "vy", "w", "penetration", "contact_duration"};
+inline constexpr std::array<const char*, kObservables> kObservableLabels = {
+    "V_out^x", "V_out^y", "omega_out", "penetration", "contact duration"};
+inline constexpr std::array<const char*, kObservables> kObservableUnits = {"m/s", "m/s", "rad/s",
+                                                                           "m", "s"};
+using Obs = std::array<double, kObservables>;
+
+struct AssessOptions {
+  fit::FitOptions fit;    ///< calibration settings (seed, starts, alpha handling, ...)
+  std::size_t folds = 5;  ///< k of the k-fold held-out error (clamped to n)
+  /// Use penetration / contact duration terms when every release of the set has them (then
+  /// fit.error.penetration / contact_duration are switched on; their floors are d_h, d_T).
+  bool use_features = true;
+  /// V_in uncertainty when the set declares none: paper Table 1 operator scale.
+  Vel3 sigma_vin = {0.1, 0.1, 1.4};
+  /// Penetration / duration uncertainties when the set declares none (our estimates of a lab
+  /// measurement; docs/diagnosis.md).
+  double sigma_penetration_m = 0.5e-3, sigma_contact_duration_s = 1e-3;
+  /// BOBYQA runs of the full-set population fit (the population objective is multimodal in mu:
+  /// sliding and sticking contacts; the fit module's default of 4 misses the better basin on
+  /// some sets).
+  int population_starts = 8;
+  /// Warm start of the held-out fold fits: the fold fits start from the full-set optimum with
+  /// `heldout_starts` BOBYQA runs (the full fit uses fit.starts).
+  int heldout_starts = 2;
+  bool release_fits = true;       ///< compare/diagnose: per-release calibration (parameter drift)
+  bool release_intervals = true;  ///< with identifiability intervals
+};
+
+/// Which observables a set carries (all releases), given the options.
+std::array<bool, kObservables> observables_of(const ImpactSet& set, const AssessOptions& options);
+
+/// Per-observable denominators d (V_out: fit::error_scale; features: floored measured value).
+Obs error_scale(const Impact& impact, const AssessOptions& options);
+
+/// Prediction of one release's observables (the mean over orientations in marginal mode) and
+/// the spread over orientations.
+struct ObsPrediction {
+  Obs value{};
+  Obs spread{};  ///< std over the orientation grid (0 for discs and known alpha_in)
+  CollisionStatus status = CollisionStatus::kOk;
+};
+
+/// Observables of fit predictions (fit::predict).
+std::vector<ObsPrediction> to_observables(const std::vector<fit::Prediction>& predictions);
+/// Predicts every release with the full parameter vector `params` (model order) by fit::predict.
+std::vector<ObsPrediction> predict_observables(const Model& model, const Shape& shape,
+                                               std::span<const double> params, const ImpactSet& set,
+                                               const AssessOptions& options);
+/// The fit options actually used on a set: options.fit with the contact terms switched on for
+/// the observables the set carries.
+fit::FitOptions fit_options_for(const ImpactSet& set, const AssessOptions& options);
+
+/// Error terms of one release (squared scaled differences, 0 for unused observables).
+Obs error_terms(const Impact& impact, const Obs& predicted,
+                const std::array<bool, kObservables>& use, const AssessOptions& options);
+
+/// Mean of per-release values with its standard error.
+struct MeanSe {
+  double mean = 0, se = 0;
+  std::size_t n = 0;
+};
+MeanSe mean_se(std::span<const double> x);
+
+/// Errors of predictions against a set.
+struct ErrorReport {
+  std::vector<double> per_release;  ///< e_i
+  std::vector<Obs> terms;           ///< per release, per observable
+  std::vector<Obs> residual;        ///< measured - predicted, physical units
+  MeanSe error;                     ///< mean e_i
+  Obs term_mean{};                  ///< mean term per observable
+  Obs rmse{};                       ///< root mean square residual, physical units
+};
+ErrorReport error_report(const ImpactSet& set, const std::vector<ObsPrediction>& predictions,
+                         const std::array<bool, kObservables>& use, const AssessOptions& options);
+
+/// The noise floor (file comment).
+struct NoiseFloor {
+  std::string source;       ///< "replicates", "declared", "table1"
+  std::string description;  ///< one sentence saying where the numbers come from
+  std::vector<double> per_release;
+  std::vector<Obs> terms;  ///< per release, per observable
+  MeanSe value;            ///< mean over releases
+  Obs term_mean{};
+  Obs sigma_mean{};  ///< mean total standard deviation per observable (physical units)
+  /// Nearest-neighbour estimate (half the Eq. 7 distance between each release and its nearest
+  /// neighbour in standardised incident state): a model-free cross-check, biased upward by the
+  /// differences between neighbours' incident states.
+  double nearest_neighbour = 0;
+  std::size_t replicate_groups = 0;
+};
+NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const double> params,
+                       const ImpactSet& set, const std::array<bool, kObservables>& use,
+                       const AssessOptions& options);
+
+/// One model calibrated and judged on one set.
+struct Assessment {
+  std::vector<std::string> effects;      ///< the model's effects
+  std::vector<std::string> calibrated;   ///< names of the calibrated parameters
+  std::array<bool, kObservables> use{};  ///< observables in the error
+  fit::PopulationFit population;         ///< full-set population fit
+  std::vector<ObsPrediction> insample_predictions, heldout_predictions;
+  ErrorReport insample, heldout;
+  std::vector<std::vector<double>> fold_params;
+  std::size_t folds = 0;
+  double seconds = 0;
+};
+
+/// Calibrates `model` on `set` (population fit) and computes the held-out error. The model's
+/// current values are the first start point of every fit (warm start: pass a model whose values
+/// are a previous optimum, with added effects at their neutral values).
+Assessment assess(const Model& model, const Shape& shape, const ImpactSet& set,
+                  const AssessOptions& options);
+
+/// Whether the held-out error is within the noise floor (file comment), and by how much.
+struct Adequacy {
+  bool adequate = false;
+  double ratio = 0;      ///< mean held-out error / mean floor
+  double excess = 0;     ///< mean(x), see the file comment
+  double excess_se = 0;  ///< SE(x)
+  /// The largest mean held-out error judged adequate: floor (1 + p / n_train) + 2 SE(x).
+  double threshold = 0;
+};
+Adequacy adequacy(const Assessment& a, const NoiseFloor& floor);
+
+nlohmann::json to_json(const MeanSe& m);
+nlohmann::json to_json(const Obs& o, const std::array<bool, kObservables>& use);
+nlohmann::json to_json(const NoiseFloor& f, const std::array<bool, kObservables>& use);
+
+}  // namespace ricochet::diagnosis

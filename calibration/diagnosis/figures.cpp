@@ -1,0 +1,399 @@
+#include "diagnosis/figures.hpp"
+
+#include <fmt/format.h>
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+namespace ricochet::diagnosis {
+namespace {
+
+using report::Figure;
+using report::Panel;
+using report::Series;
+
+// Physical scale of an observable in figures (penetration in mm, duration in ms).
+double plot_scale(int k) {
+  return k == kObsPenetration || k == kObsDuration ? 1e3 : 1.0;
+}
+std::string plot_unit(int k) {
+  return k == kObsPenetration ? "mm" : k == kObsDuration ? "ms" : kObservableUnits[k];
+}
+
+Series points(std::string title, std::vector<double> x, std::vector<double> y,
+              std::string color = "", int pt = 7) {
+  Series s;
+  s.title = std::move(title);
+  s.x = std::move(x);
+  s.y = std::move(y);
+  s.style = "points";
+  s.color = std::move(color);
+  s.point_type = pt;
+  return s;
+}
+
+Series line(std::string title, std::vector<double> x, std::vector<double> y,
+            std::string color = "") {
+  Series s;
+  s.title = std::move(title);
+  s.x = std::move(x);
+  s.y = std::move(y);
+  s.style = "lines";
+  s.color = std::move(color);
+  return s;
+}
+
+std::pair<double, double> range_of(const std::vector<double>& v) {
+  double lo = INFINITY, hi = -INFINITY;
+  for (double x : v)
+    if (std::isfinite(x)) lo = std::min(lo, x), hi = std::max(hi, x);
+  return {lo, hi};
+}
+
+int columns_for(std::size_t panels) {
+  return static_cast<int>(std::min<std::size_t>(panels, 4));
+}
+int height_for(std::size_t panels, int per_row = 330) {
+  const std::size_t rows = (panels + 3) / 4;
+  return static_cast<int>(std::max<std::size_t>(1, rows)) * per_row;
+}
+
+}  // namespace
+
+std::vector<NamedFigure> compare_figures(const Baseline& b, const ImpactSet& set,
+                                         const std::string& title) {
+  std::vector<NamedFigure> out;
+  const Assessment& a = b.base;
+  const std::size_t n = set.size();
+  std::vector<int> used;
+  for (int k = 0; k < kObservables; ++k)
+    if (a.use[k]) used.push_back(k);
+
+  // Measured against predicted (held-out).
+  {
+    Figure f;
+    f.title = title + ": measured against held-out predicted";
+    f.columns = columns_for(used.size());
+    f.width_px = 330 * f.columns;
+    f.height_px = height_for(used.size(), 340);
+    for (int k : used) {
+      std::vector<double> x, y;
+      for (std::size_t i = 0; i < n; ++i) {
+        x.push_back(a.heldout_predictions[i].value[k] * plot_scale(k));
+        y.push_back((a.heldout_predictions[i].value[k] + a.heldout.residual[i][k]) * plot_scale(k));
+      }
+      auto [lo1, hi1] = range_of(x);
+      auto [lo2, hi2] = range_of(y);
+      const double lo = std::min(lo1, lo2), hi = std::max(hi1, hi2);
+      Panel p;
+      p.title = kObservableLabels[k];
+      p.xlabel = fmt::format("predicted [{}]", plot_unit(k));
+      p.ylabel = fmt::format("measured [{}]", plot_unit(k));
+      p.key = "top left";
+      p.series.push_back(points("releases", x, y, "#1f77b4"));
+      if (std::isfinite(lo)) p.series.push_back(line("1:1", {lo, hi}, {lo, hi}, "gray"));
+      f.panels.push_back(p);
+    }
+    out.push_back({"measured-vs-predicted",
+                   "Measured against held-out predicted values (each release predicted by a "
+                   "population fit that did not see it); the grey line is 1:1.",
+                   f});
+  }
+
+  // CDFs.
+  {
+    Figure f;
+    f.title = title + ": measured and predicted distributions";
+    f.columns = columns_for(used.size());
+    f.width_px = 330 * f.columns;
+    f.height_px = height_for(used.size(), 340);
+    for (int k : used) {
+      std::vector<double> meas, pred;
+      for (std::size_t i = 0; i < n; ++i) {
+        pred.push_back(a.heldout_predictions[i].value[k] * plot_scale(k));
+        meas.push_back((a.heldout_predictions[i].value[k] + a.heldout.residual[i][k]) *
+                       plot_scale(k));
+      }
+      Panel p =
+          report::ecdf_panel(fmt::format("{} (KS D = {:.2f}, p = {:.2g})", kObservableLabels[k],
+                                         b.ks[k].statistic, b.ks[k].p_value),
+                             fmt::format("{} [{}]", kObservableLabels[k], plot_unit(k)),
+                             {{"measured", meas}, {"predicted (held-out)", pred}});
+      f.panels.push_back(p);
+    }
+    out.push_back({"cdfs",
+                   "Empirical CDFs of the measured and held-out predicted values, with the "
+                   "two-sample Kolmogorov-Smirnov statistic and p-value.",
+                   f});
+  }
+
+  // Residuals against features, one figure per observable.
+  for (int k : used) {
+    Figure f;
+    f.title = fmt::format("{}: {} residual (measured - held-out predicted) against impact features",
+                          title, kObservableLabels[k]);
+    f.columns = columns_for(b.features.size());
+    f.width_px = 300 * f.columns;
+    f.height_px = height_for(b.features.size(), 300);
+    std::vector<double> y;
+    for (std::size_t i = 0; i < n; ++i) y.push_back(a.heldout.residual[i][k] * plot_scale(k));
+    for (const auto& feat : b.features) {
+      Panel p;
+      const Trend* t =
+          find_trend(b.residual_trends, std::string("residual ") + kObservableNames[k], feat.name);
+      p.title = t && std::isfinite(t->r) ? fmt::format("r = {:.2f}, p = {:.2g}", t->r, t->p) : "";
+      p.xlabel = feat.label;
+      p.ylabel = fmt::format("residual [{}]", plot_unit(k));
+      p.key = "off";
+      p.series.push_back(
+          points("releases", feat.values, y, t && t->significant ? "#d62728" : "#1f77b4"));
+      auto [lo, hi] = range_of(feat.values);
+      if (std::isfinite(lo)) p.series.push_back(line("zero", {lo, hi}, {0.0, 0.0}, "gray"));
+      f.panels.push_back(p);
+    }
+    out.push_back({std::string("residuals-") + kObservableNames[k],
+                   fmt::format("{} residuals against each impact feature; red panels show a "
+                               "significant trend (Pearson p < 0.01), the strongest hint of "
+                               "missing physics.",
+                               kObservableLabels[k]),
+                   f});
+  }
+
+  // Per-release calibrated parameters against features.
+  if (!b.release_fits.empty()) {
+    for (std::size_t c : b.release_fits.front().calibrated) {
+      const std::string name = b.release_fits.front().names[c];
+      Figure f;
+      f.title = fmt::format("{}: per-release calibrated {} against impact features", title, name);
+      f.columns = columns_for(b.features.size());
+      f.width_px = 300 * f.columns;
+      f.height_px = height_for(b.features.size(), 300);
+      for (const auto& feat : b.features) {
+        std::vector<double> xi, yi, xn, yn;
+        for (std::size_t i = 0; i < n; ++i) {
+          const auto* iv = b.release_fits[i].interval(name);
+          const bool ok = !iv || iv->status == fit::Identifiability::kIdentified;
+          (ok ? xi : xn).push_back(feat.values[i]);
+          (ok ? yi : yn).push_back(b.release_fits[i].params[c]);
+        }
+        const Trend* t = find_trend(b.parameter_trends, "param " + name, feat.name);
+        Panel p;
+        p.title = t && std::isfinite(t->r) ? fmt::format("r = {:.2f}, p = {:.2g}", t->r, t->p) : "";
+        p.xlabel = feat.label;
+        p.ylabel = name;
+        p.key = "off";
+        p.series.push_back(
+            points("identified", xi, yi, t && t->significant ? "#d62728" : "#1f77b4"));
+        p.series.push_back(points("not identified", xn, yn, "#999999", 6));
+        f.panels.push_back(p);
+      }
+      out.push_back({"parameter-" + name,
+                     fmt::format("Per-release calibrated {} against each impact feature (filled: "
+                                 "identified; open grey: only bounded). A constant that drifts "
+                                 "with a feature absorbs missing physics.",
+                                 name),
+                     f});
+    }
+  }
+
+  // Error per release and per regime.
+  {
+    Figure f;
+    f.title = title + ": held-out error per release and per regime";
+    f.columns = 2;
+    f.width_px = 1100;
+    f.height_px = 380;
+    Panel p1;
+    p1.title = "per release (sorted by |V_in|)";
+    p1.xlabel = "|V_in| [m/s]";
+    p1.ylabel = "error (Eq. 7 and contact terms)";
+    p1.key = "top left";
+    std::vector<double> x, e, fl;
+    for (std::size_t i = 0; i < n; ++i) {
+      x.push_back(std::hypot(set.impacts[i].vin[0], set.impacts[i].vin[1]));
+      e.push_back(a.heldout.per_release[i]);
+      fl.push_back(b.floor.per_release[i]);
+    }
+    p1.series.push_back(points("held-out error", x, e, "#d62728"));
+    p1.series.push_back(points("noise floor", x, fl, "#2ca02c", 6));
+    Panel p2;
+    p2.title = "per regime (mean +- 1 SE)";
+    p2.xlabel = "regime (1 = slowest)";
+    p2.ylabel = "mean error";
+    p2.key = "top left";
+    Series s;
+    s.title = "held-out error";
+    s.style = "errorbars";
+    s.color = "#d62728";
+    Series sf = s;
+    sf.title = "noise floor";
+    sf.color = "#2ca02c";
+    for (std::size_t r = 0; r < b.regimes.size(); ++r) {
+      const auto& g = b.regimes[r];
+      s.x.push_back(static_cast<double>(r + 1));
+      s.y.push_back(g.heldout.mean);
+      s.ylo.push_back(g.heldout.mean - g.heldout.se);
+      s.yhi.push_back(g.heldout.mean + g.heldout.se);
+      sf.x.push_back(static_cast<double>(r + 1) + 0.1);
+      sf.y.push_back(g.floor.mean);
+      sf.ylo.push_back(g.floor.mean - g.floor.se);
+      sf.yhi.push_back(g.floor.mean + g.floor.se);
+    }
+    p2.series = {s, sf};
+    p2.xmin = 0.5;
+    p2.xmax = static_cast<double>(b.regimes.size()) + 0.6;
+    p2.ymin = 0;
+    f.panels = {p1, p2};
+    out.push_back({"errors",
+                   "Held-out error per release and per regime (thirds of the releases by "
+                   "|V_in|) against the noise floor.",
+                   f});
+  }
+  return out;
+}
+
+std::vector<NamedFigure> diagnose_figures(const Diagnosis& d, const std::string& title) {
+  Figure f;
+  f.title = title + ": held-out error with each candidate effect added";
+  f.columns = 1;
+  f.width_px = 900;
+  f.height_px = 420;
+  Panel p;
+  p.xlabel = "0 = base model; 1, 2, ... = candidates in ranking order";
+  p.ylabel = "held-out error (mean +- 1 SE)";
+  p.key = "top right";
+  Series base;
+  base.title = "base model";
+  base.style = "errorbars";
+  base.color = "#1f77b4";
+  const auto& b = d.baseline;
+  base.x = {0.0};
+  base.y = {b.base.heldout.error.mean};
+  base.ylo = {b.base.heldout.error.mean - b.base.heldout.error.se};
+  base.yhi = {b.base.heldout.error.mean + b.base.heldout.error.se};
+  Series sup = base, uns = base;
+  sup.title = "supported";
+  sup.color = "#2ca02c";
+  uns.title = "not supported";
+  uns.color = "#d62728";
+  sup.x.clear(), sup.y.clear(), sup.ylo.clear(), sup.yhi.clear();
+  uns.x.clear(), uns.y.clear(), uns.ylo.clear(), uns.yhi.clear();
+  std::string names;
+  for (std::size_t i = 0; i < d.ranking.size(); ++i) {
+    const auto& c = d.ranking[i];
+    names += fmt::format("{}{}={}", names.empty() ? "" : ", ", i + 1, c.effect);
+    if (!std::isfinite(c.heldout_error)) continue;
+    Series& s = c.supported ? sup : uns;
+    s.x.push_back(static_cast<double>(i + 1));
+    s.y.push_back(c.heldout_error);
+    s.ylo.push_back(c.heldout_error - c.heldout_se);
+    s.yhi.push_back(c.heldout_error + c.heldout_se);
+  }
+  const double xmax = static_cast<double>(d.ranking.size()) + 0.5;
+  p.series = {base, sup, uns,
+              line("noise floor", {-0.5, xmax}, {b.floor.value.mean, b.floor.value.mean}, "black"),
+              line("adequacy threshold", {-0.5, xmax}, {b.adequacy.threshold, b.adequacy.threshold},
+                   "gray")};
+  p.title = names;
+  p.xmin = -0.5;
+  p.xmax = xmax;
+  p.ymin = 0;
+  f.panels = {p};
+  return {{"diagnosis",
+           "Held-out error of the base model and of the base model with each candidate effect "
+           "added and recalibrated; green: supported (the drop exceeds its uncertainty and the "
+           "penalty for the added parameters).",
+           f}};
+}
+
+std::vector<NamedFigure> ladder_figures(const Ladder& l, const std::string& title) {
+  Figure f;
+  f.title = title + ": the model ladder";
+  f.columns = 2;
+  f.width_px = 1200;
+  f.height_px = 420;
+  Panel p1;
+  p1.title = "error falling towards the noise floor";
+  p1.xlabel = "rung (0 = base; each adds one effect)";
+  p1.ylabel = "mean error";
+  p1.key = "top right";
+  Series ins, ho;
+  ins.title = "in-sample";
+  ins.style = "linespoints";
+  ins.color = "#1f77b4";
+  ho.title = "held-out (+- 1 SE)";
+  ho.style = "errorbars";
+  ho.color = "#d62728";
+  Series hol = ho;
+  hol.title = "held-out";
+  hol.style = "lines";
+  std::string names;
+  for (std::size_t r = 0; r < l.rungs.size(); ++r) {
+    const auto& a = l.rungs[r].assessment;
+    const double x = static_cast<double>(r);
+    ins.x.push_back(x);
+    ins.y.push_back(a.insample.error.mean);
+    ho.x.push_back(x);
+    ho.y.push_back(a.heldout.error.mean);
+    ho.ylo.push_back(a.heldout.error.mean - a.heldout.error.se);
+    ho.yhi.push_back(a.heldout.error.mean + a.heldout.error.se);
+    hol.x.push_back(x);
+    hol.y.push_back(a.heldout.error.mean);
+    names += fmt::format("{}{}={}", names.empty() ? "" : ", ", r,
+                         r == 0 ? std::string("base") : "+" + l.rungs[r].added);
+  }
+  const double xmax = static_cast<double>(l.rungs.size()) - 0.5;
+  p1.series = {
+      ins, ho, hol,
+      line("noise floor", {-0.5, xmax}, {l.floor.value.mean, l.floor.value.mean}, "black")};
+  p1.xmin = -0.5;
+  p1.xmax = xmax;
+  p1.ymin = 0;
+  p1.xlabel = names;
+  Panel p2;
+  p2.title = "held-out error per observable";
+  p2.xlabel = "rung";
+  p2.ylabel = "mean error term";
+  p2.key = "top right";
+  p2.logy = true;
+  if (!l.rungs.empty()) {
+    const auto& use = l.rungs.front().assessment.use;
+    const char* colors[kObservables] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b"};
+    for (int k = 0; k < kObservables; ++k) {
+      if (!use[k]) continue;
+      Series s;
+      s.title = kObservableLabels[k];
+      s.style = "linespoints";
+      s.color = colors[k];
+      Series fl = line(std::string("floor ") + kObservableLabels[k], {-0.5, xmax},
+                       {l.floor.term_mean[k], l.floor.term_mean[k]}, colors[k]);
+      for (std::size_t r = 0; r < l.rungs.size(); ++r) {
+        s.x.push_back(static_cast<double>(r));
+        s.y.push_back(l.rungs[r].assessment.heldout.term_mean[k]);
+      }
+      p2.series.push_back(s);
+      p2.series.push_back(fl);
+    }
+  }
+  p2.xmin = -0.5;
+  p2.xmax = xmax;
+  f.panels = {p1, p2};
+  return {{"ladder",
+           "Each rung adds one effect and is recalibrated; in-sample and held-out errors "
+           "against the noise floor (left) and the held-out error per observable with its own "
+           "floor (right, log scale).",
+           f}};
+}
+
+std::vector<std::string> render_all(const std::vector<NamedFigure>& figures,
+                                    const std::string& dir) {
+  std::vector<std::string> paths;
+  for (const auto& f : figures) {
+    const std::string path = (std::filesystem::path(dir) / (f.stem + ".svg")).string();
+    report::render_svg(f.figure, path);
+    paths.push_back(path);
+  }
+  return paths;
+}
+
+}  // namespace ricochet::diagnosis

@@ -1,0 +1,71 @@
+#include "diagnosis/inputs.hpp"
+
+#include <algorithm>
+#include <cstdlib>
+
+#include "common/error.hpp"
+#include "fit/fit.hpp"
+
+namespace ricochet::diagnosis {
+
+std::size_t resolve_folds(const std::string& folds, std::size_t n) {
+  if (folds == "loro") return std::max<std::size_t>(2, n);
+  char* end = nullptr;
+  const long k = std::strtol(folds.c_str(), &end, 10);
+  if (folds.empty() || *end != '\0' || k < 2)
+    throw InputError("<command line>", 0, "--folds",
+                     "'" + folds + "': expected an integer >= 2 or 'loro'");
+  return std::min<std::size_t>(static_cast<std::size_t>(k), std::max<std::size_t>(2, n));
+}
+
+DiagnoseOptions make_options(const OptionValues& v) {
+  DiagnoseOptions o;
+  (void)resolve_folds(v.folds, 1000000);  // validates the text
+  o.assess.fit.seed = v.seed;
+  o.assess.fit.threads = v.threads;
+  if (!(v.dt_s > 0 && v.dt_s < 1e-3))
+    throw InputError("<command line>", 0, "--dt", "time step must lie in (0, 1e-3) s");
+  o.assess.fit.engine.dt_s = v.dt_s;
+  if (!(v.z > 0)) throw InputError("<command line>", 0, "--z", "must be positive");
+  o.z = v.z;
+  o.candidates = v.candidates;
+  o.assess.release_fits = !v.no_release_fits;
+  o.assess.release_intervals = !v.no_intervals;
+  o.assess.use_features = !v.no_features;
+  return o;
+}
+
+Inputs load_inputs(const std::string& data, const std::string& shape_name) {
+  ImpactSet all = read_impact_set(data);
+  if (all.empty()) throw InputError(data, 0, "id", "the impact set has no release");
+  std::string name = shape_name;
+  if (name.empty()) {
+    std::vector<std::string> shapes;
+    for (const auto& im : all.impacts)
+      if (std::find(shapes.begin(), shapes.end(), im.shape) == shapes.end())
+        shapes.push_back(im.shape);
+    if (shapes.size() > 1) {
+      std::string list;
+      for (const auto& s : shapes) list += (list.empty() ? "" : ", ") + s;
+      throw InputError("<command line>", 0, "--shape",
+                       "the data hold several shapes (" + list + "): choose one with --shape");
+    }
+    name = shapes.front();
+  }
+  Inputs in;
+  try {
+    in.shape = Shape::resolve(name);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError("<command line>", 0, "--shape", e.what());
+  }
+  in.set = fit::select_shape(all, in.shape);
+  if (in.set.size() < 4)
+    throw InputError(data, 0, "shape",
+                     "only " + std::to_string(in.set.size()) + " release(s) of shape '" +
+                         in.shape.name + "': the held-out error needs at least 4");
+  return in;
+}
+
+}  // namespace ricochet::diagnosis

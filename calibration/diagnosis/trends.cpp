@@ -1,0 +1,155 @@
+#include "diagnosis/trends.hpp"
+
+#include <fmt/format.h>
+#include <algorithm>
+#include <cmath>
+
+#include "stats/stats.hpp"
+
+namespace ricochet::diagnosis {
+
+std::vector<Feature> impact_features(const ImpactSet& set,
+                                     const std::vector<ObsPrediction>& insample,
+                                     const std::vector<double>& alpha_fitted) {
+  const std::size_t n = set.size();
+  std::vector<Feature> out;
+  auto add = [&](std::string name, std::string label, bool simulated, auto value) {
+    Feature f{std::move(name), std::move(label), simulated, std::vector<double>(n)};
+    for (std::size_t i = 0; i < n; ++i) f.values[i] = value(i);
+    out.push_back(std::move(f));
+  };
+  const auto& im = set.impacts;
+  add("speed_in", "|V_in| [m/s]", false,
+      [&](std::size_t i) { return std::hypot(im[i].vin[0], im[i].vin[1]); });
+  add("abs_vin_y", "|V_in^y| [m/s]", false, [&](std::size_t i) { return std::fabs(im[i].vin[1]); });
+  add("vin_x", "V_in^x [m/s]", false, [&](std::size_t i) { return im[i].vin[0]; });
+  add("win", "omega_in [rad/s]", false, [&](std::size_t i) { return im[i].vin[2]; });
+  // Incidence angle of the velocity below the horizontal (90 deg = vertical fall).
+  add("impact_angle", "incidence angle of V_in [deg]", false,
+      [&](std::size_t i) { return std::atan2(-im[i].vin[1], im[i].vin[0]) * 180.0 / M_PI; });
+  const bool has_alpha = !im.empty() && std::all_of(im.begin(), im.end(), [](const Impact& x) {
+    return x.alpha_in.has_value();
+  });
+  if (has_alpha) {
+    add("alpha_in", "alpha_in [deg]", false,
+        [&](std::size_t i) { return *im[i].alpha_in * 180.0 / M_PI; });
+  } else if (alpha_fitted.size() == n && std::any_of(alpha_fitted.begin(), alpha_fitted.end(),
+                                                     [](double a) { return std::isfinite(a); })) {
+    add("alpha_in", "alpha_in (fitted per release) [deg]", true,
+        [&](std::size_t i) { return alpha_fitted[i] * 180.0 / M_PI; });
+  }
+  const bool has_h = !im.empty() && std::all_of(im.begin(), im.end(), [](const Impact& x) {
+    return x.penetration.has_value();
+  });
+  const bool has_t = !im.empty() && std::all_of(im.begin(), im.end(), [](const Impact& x) {
+    return x.contact_duration.has_value();
+  });
+  if (has_h)
+    add("penetration", "penetration [mm]", false,
+        [&](std::size_t i) { return *im[i].penetration * 1e3; });
+  else if (insample.size() == n)
+    add("penetration", "penetration (simulated) [mm]", true,
+        [&](std::size_t i) { return insample[i].value[kObsPenetration] * 1e3; });
+  if (has_t)
+    add("contact_duration", "contact duration [ms]", false,
+        [&](std::size_t i) { return *im[i].contact_duration * 1e3; });
+  else if (insample.size() == n)
+    add("contact_duration", "contact duration (simulated) [ms]", true,
+        [&](std::size_t i) { return insample[i].value[kObsDuration] * 1e3; });
+  return out;
+}
+
+namespace {
+
+Trend correlate(const std::string& quantity, const std::string& label, const Feature& f,
+                const std::vector<double>& y, const TrendOptions& o) {
+  Trend t;
+  t.quantity = quantity;
+  t.label = label;
+  t.feature = f.name;
+  t.feature_label = f.label;
+  const stats::Correlation c = stats::pearson(f.values, y);
+  t.r = c.r;
+  t.p = c.p_value;
+  t.n = c.n;
+  t.significant = std::isfinite(c.r) && std::isfinite(c.p_value) && c.p_value < o.alpha;
+  return t;
+}
+
+// A feature label without its unit, for sentences.
+std::string bare(const std::string& label) {
+  const auto k = label.find(" [");
+  return k == std::string::npos ? label : label.substr(0, k);
+}
+
+}  // namespace
+
+std::vector<Trend> residual_trends(const ErrorReport& report,
+                                   const std::array<bool, kObservables>& use,
+                                   const std::vector<Feature>& features, const TrendOptions& o) {
+  std::vector<Trend> out;
+  for (int k = 0; k < kObservables; ++k) {
+    if (!use[k]) continue;
+    std::vector<double> y(report.residual.size());
+    for (std::size_t i = 0; i < y.size(); ++i) y[i] = report.residual[i][k];
+    for (const auto& f : features) {
+      // The residual of a measured feature against the same feature is trivially correlated.
+      if ((k == kObsPenetration && f.name == "penetration" && !f.simulated) ||
+          (k == kObsDuration && f.name == "contact_duration" && !f.simulated))
+        continue;
+      out.push_back(correlate(std::string("residual ") + kObservableNames[k],
+                              std::string(kObservableLabels[k]) + " residual", f, y, o));
+    }
+  }
+  return out;
+}
+
+std::vector<Trend> parameter_trends(const std::vector<fit::ReleaseFit>& fits,
+                                    const std::vector<Feature>& features, const TrendOptions& o) {
+  std::vector<Trend> out;
+  if (fits.empty()) return out;
+  for (std::size_t c : fits.front().calibrated) {
+    const std::string name = fits.front().names[c];
+    std::vector<double> y(fits.size(), NAN);
+    for (std::size_t i = 0; i < fits.size(); ++i) {
+      const fit::ParameterInterval* iv = fits[i].interval(name);
+      const bool ok = !iv || iv->status == fit::Identifiability::kIdentified;
+      if (ok) y[i] = fits[i].params[c];
+    }
+    for (const auto& f : features)
+      out.push_back(correlate("param " + name, "calibrated " + name, f, y, o));
+  }
+  return out;
+}
+
+const Trend* find_trend(const std::vector<Trend>& trends, const std::string& quantity,
+                        const std::string& feature) {
+  for (const auto& t : trends)
+    if (t.quantity == quantity && t.feature == feature) return &t;
+  return nullptr;
+}
+
+std::string describe(const Trend& t) {
+  return fmt::format("{} {} with {} (r = {:.2f}, p = {:.2g}, n = {})", t.label,
+                     t.r >= 0 ? "grows" : "falls", bare(t.feature_label), t.r, t.p, t.n);
+}
+
+nlohmann::json to_json(const Trend& t) {
+  return {{"quantity", t.quantity},
+          {"feature", t.feature},
+          {"feature_label", t.feature_label},
+          {"r", std::isfinite(t.r) ? nlohmann::json(t.r) : nlohmann::json(nullptr)},
+          {"p", std::isfinite(t.p) ? nlohmann::json(t.p) : nlohmann::json(nullptr)},
+          {"n", t.n},
+          {"significant", t.significant},
+          {"text", describe(t)}};
+}
+
+nlohmann::json to_json(const std::vector<Trend>& trends, bool significant_only) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const auto& t : trends)
+    if (!significant_only || t.significant) j.push_back(to_json(t));
+  return j;
+}
+
+}  // namespace ricochet::diagnosis

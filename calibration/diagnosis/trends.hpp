@@ -1,0 +1,77 @@
+// Impact features and the trends of residuals and per-release calibrated parameters against
+// them: the residual signatures of missing physics (shared notes, physics-candidates.md).
+//
+// A trend is a Pearson correlation with its two-sided p-value (stats::pearson, OpenTURNS). It is
+// reported as significant when p < TrendOptions::alpha. Features that the set does not measure
+// (penetration, contact duration, alpha_in of the lab data) are replaced by the calibrated
+// model's simulated values, and named so ("penetration (simulated)"): a trend against a
+// simulated feature is a trend against what the model thinks happened.
+#pragma once
+
+#include <cstddef>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "diagnosis/assess.hpp"
+#include "fit/fit.hpp"
+#include "impact/impact_set.hpp"
+
+namespace ricochet::diagnosis {
+
+/// One feature of every release of a set.
+struct Feature {
+  std::string name;  ///< key: speed_in, abs_vin_y, vin_x, win, impact_angle, alpha_in,
+                     ///< penetration, contact_duration
+  std::string
+      label;  ///< for text and figures, e.g. "|V_in^y| [m/s]", "penetration (simulated) [m]"
+  bool simulated = false;  ///< from the calibrated model, not measured
+  std::vector<double> values;
+};
+
+/// Features of a set. `insample`: predictions of the calibrated model (for the simulated
+/// penetration and duration when the set lacks them); `alpha_fitted`: per-release fitted
+/// orientations (NaN where none), used when the set lacks alpha_in.
+std::vector<Feature> impact_features(const ImpactSet& set,
+                                     const std::vector<ObsPrediction>& insample,
+                                     const std::vector<double>& alpha_fitted = {});
+
+/// One correlation.
+struct Trend {
+  std::string quantity;  ///< "residual vy", "param en2"
+  std::string label;     ///< "V_out^y residual", "calibrated en2"
+  std::string feature;   ///< Feature::name
+  std::string feature_label;
+  double r = 0, p = 1;
+  std::size_t n = 0;
+  bool significant = false;
+};
+
+struct TrendOptions {
+  double alpha = 0.01;  ///< significance level of a trend
+};
+
+/// Trends of each observable's residual (measured - predicted) against each feature.
+std::vector<Trend> residual_trends(const ErrorReport& report,
+                                   const std::array<bool, kObservables>& use,
+                                   const std::vector<Feature>& features,
+                                   const TrendOptions& options = {});
+
+/// Trends of each per-release calibrated parameter against each feature, over the releases
+/// where the parameter is identified (fit::Identifiability::kIdentified), or all releases when
+/// no interval was computed.
+std::vector<Trend> parameter_trends(const std::vector<fit::ReleaseFit>& fits,
+                                    const std::vector<Feature>& features,
+                                    const TrendOptions& options = {});
+
+/// The trend of `quantity` against `feature` in `trends`, or nullptr.
+const Trend* find_trend(const std::vector<Trend>& trends, const std::string& quantity,
+                        const std::string& feature);
+
+/// "V_out^y residual falls with |V_in^y| (r = -0.82, p = 3e-06)"
+std::string describe(const Trend& t);
+
+nlohmann::json to_json(const Trend& t);
+nlohmann::json to_json(const std::vector<Trend>& trends, bool significant_only);
+
+}  // namespace ricochet::diagnosis

@@ -1,0 +1,160 @@
+// `ricochet diagnose DATA --shape S [--model FILE] --json`: which effect of the catalog is the
+// model missing? Ranks every registered effect not in the model by its held-out error after
+// recalibration (docs/commands/diagnose.md).
+#include <fstream>
+#include <iostream>
+#include <memory>
+
+#include <fmt/format.h>
+
+#include "cli_common.hpp"
+#include "common/error.hpp"
+#include "common/h5.hpp"
+#include "diagnosis/figures.hpp"
+#include "diagnosis/inputs.hpp"
+#include "model_options.hpp"
+
+namespace ricochet::cli {
+namespace {
+
+struct DiagnoseCliOptions {
+  std::string data;
+  ModelOptions model;
+  diagnosis::OptionValues values;
+  OutputOptions output;
+  std::string figures;
+  bool shape_given = false;
+};
+
+void write_out(const std::string& path, const diagnosis::Diagnosis& d, const nlohmann::json& doc) {
+  if (path.size() > 4 && path.substr(path.size() - 4) == ".csv") {
+    std::ofstream f(path);
+    if (!f) throw InputError(path, 0, "--out", "cannot open the file for writing");
+    f << "# ricochet diagnose: " << d.summary << "\n";
+    f << "# noise floor " << d.baseline.floor.value.mean << " (" << d.baseline.floor.source
+      << "), base held-out error " << d.baseline.base.heldout.error.mean << "\n";
+    f << "rank,effect,heldout_error,error_drop,drop_se,penalty,supported,signature_r,evidence\n";
+    for (std::size_t i = 0; i < d.ranking.size(); ++i) {
+      const auto& c = d.ranking[i];
+      std::string ev = c.evidence;
+      for (auto& ch : ev)
+        if (ch == '"') ch = '\'';
+      f << i + 1 << ',' << c.effect << ',' << c.heldout_error << ',' << c.error_drop << ','
+        << c.drop_se << ',' << c.penalty << ',' << (c.supported ? 1 : 0) << ',' << c.signature_r
+        << ",\"" << ev << "\"\n";
+    }
+    return;
+  }
+  h5::File f(path, h5::File::Mode::kTruncate);
+  std::vector<std::string> names, evidence;
+  std::vector<double> heldout, drop, se, supported;
+  for (const auto& c : d.ranking) {
+    names.push_back(c.effect);
+    evidence.push_back(c.evidence);
+    heldout.push_back(c.heldout_error);
+    drop.push_back(c.error_drop);
+    se.push_back(c.drop_se);
+    supported.push_back(c.supported ? 1.0 : 0.0);
+  }
+  f.write_strings("/diagnosis/ranking/effect", names);
+  f.write_strings("/diagnosis/ranking/evidence", evidence);
+  f.write("/diagnosis/ranking/heldout_error", heldout);
+  f.write("/diagnosis/ranking/error_drop", drop);
+  f.write("/diagnosis/ranking/drop_se", se);
+  f.write("/diagnosis/ranking/supported", supported);
+  f.write("/diagnosis/releases/base_heldout_error", d.baseline.base.heldout.per_release);
+  f.write("/diagnosis/releases/noise_floor", d.baseline.floor.per_release);
+  f.set_attr("/diagnosis", "verdict", d.verdict);
+  f.set_attr("/diagnosis", "noise_floor", d.baseline.floor.value.mean);
+  f.set_attr("/diagnosis", "base_error", d.baseline.base.heldout.error.mean);
+  f.set_attr("/diagnosis", "json", doc.dump());
+  f.flush();
+}
+
+void run(DiagnoseCliOptions& o) {
+  if (!o.output.out.empty()) require_extension("--out", o.output.out, {".csv", ".h5", ".hdf5"});
+  o.values.dt_s = o.model.dt_s;
+  diagnosis::DiagnoseOptions opt = diagnosis::make_options(o.values);
+  const Model model = o.model.build_model();  // loads plugins first: they become candidates
+  const auto in = diagnosis::load_inputs(o.data, o.shape_given ? o.model.shape : "");
+  opt.assess.folds = diagnosis::resolve_folds(o.values.folds, in.set.size());
+  opt.progress = !o.output.json;
+  const diagnosis::Diagnosis d = diagnosis::diagnose(model, in.shape, in.set, opt);
+  nlohmann::json doc = diagnosis::to_json(d);
+  doc["data"] = o.data;
+  doc["shape"] = in.shape.name;
+  doc["releases"] = in.set.size();
+  std::vector<std::string> figures;
+  if (!o.figures.empty()) {
+    auto figs = diagnosis::diagnose_figures(d, in.shape.name);
+    figures = diagnosis::render_all(figs, o.figures);
+    doc["figures"] = figures;
+  }
+  if (!o.output.out.empty()) write_out(o.output.out, d, doc);
+  if (o.output.json) {
+    print_json(doc);
+    return;
+  }
+  const auto& b = d.baseline;
+  std::cout << fmt::format("{} ({} releases of shape {}), model: ", o.data, in.set.size(),
+                           in.shape.name);
+  for (const auto& e : b.base.effects) std::cout << e << " ";
+  std::cout << fmt::format("\nnoise floor {:.4g} ({}: {})\n", b.floor.value.mean, b.floor.source,
+                           b.floor.description);
+  std::cout << fmt::format(
+      "base model: in-sample error {:.4g}, held-out error {:.4g} +- {:.2g} "
+      "({}-fold)\n",
+      b.base.insample.error.mean, b.base.heldout.error.mean, b.base.heldout.error.se, b.base.folds);
+  std::cout << "verdict: " << d.verdict << "\n" << d.summary << "\n\n";
+  std::cout << fmt::format("{:<4}{:<20}{:>12}{:>12}{:>10}{:>10}{:>8}\n", "rank", "effect",
+                           "held-out", "drop", "+-SE", "penalty", "sig r");
+  for (std::size_t i = 0; i < d.ranking.size(); ++i) {
+    const auto& c = d.ranking[i];
+    std::cout << fmt::format("{:<4}{:<20}{:>12.4g}{:>12.3g}{:>10.2g}{:>10.2g}{:>8.2f}{}\n", i + 1,
+                             c.effect, c.heldout_error, c.error_drop, c.drop_se, c.penalty,
+                             c.signature_r, c.supported ? "  supported" : "");
+  }
+  std::cout << "\nevidence:\n";
+  for (const auto& c : d.ranking) std::cout << "- " << c.effect << ": " << c.evidence << "\n";
+  std::cout << "\nwhat is left unexplained:\n";
+  for (const auto& u : d.unexplained) std::cout << "- " << u << "\n";
+  std::cout << fmt::format("\n({:.1f} s)\n", d.seconds);
+  for (const auto& f : figures) std::cout << "wrote " << f << "\n";
+  if (!o.output.out.empty()) std::cout << "wrote " << o.output.out << "\n";
+}
+
+}  // namespace
+
+void add_diagnose_command(CLI::App& app) {
+  auto o = std::make_shared<DiagnoseCliOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "diagnose",
+      "Rank the catalog's effects (and plugins) missing from the model by the held-out error "
+      "after adding each one and recalibrating; evidence in words");
+  sub->add_option("DATA", o->data, "Impact set (.csv, .h5)")->required();
+  add_model_options(sub, o->model);
+  sub->add_option("--folds", o->values.folds, "k of the k-fold held-out error, or loro")
+      ->capture_default_str();
+  sub->add_option("--seed", o->values.seed, "Seed of the calibration start designs")
+      ->capture_default_str();
+  sub->add_option("--z", o->values.z, "Standard errors a drop must exceed to support an effect")
+      ->capture_default_str();
+  sub->add_option("--candidate", o->values.candidates,
+                  "Only try these effects (repeatable); default: every registered effect not in "
+                  "the model");
+  sub->add_flag("--no-release-fits", o->values.no_release_fits,
+                "Skip the per-release calibration (no parameter-drift evidence; faster)");
+  sub->add_flag("--no-intervals", o->values.no_intervals,
+                "Per-release fits without identifiability intervals (faster)");
+  sub->add_flag("--no-features", o->values.no_features,
+                "Ignore penetration and contact duration even when the data have them");
+  sub->add_option("--threads", o->values.threads, "Threads (0 = all)")->capture_default_str();
+  sub->add_option("--figures", o->figures, "Write SVG figures into this directory");
+  add_output_options(sub, o->output);
+  sub->callback([o, sub] {
+    o->shape_given = sub->get_option("--shape")->count() > 0;
+    run(*o);
+  });
+}
+
+}  // namespace ricochet::cli
