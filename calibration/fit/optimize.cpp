@@ -127,10 +127,27 @@ std::vector<UnitInterval> near_optimal_intervals(Problem& problem, const LocalRe
     others[j] = 0;
     // Is u_j = v near-optimal? Tries the warm start first (often already inside), then
     // re-optimises the other variables from it, stopping as soon as the threshold is met.
+    // Path following along the profile: the other variables at u_j = v are predicted by
+    // extrapolating the last two verified points (secant); `prev` is empty before there are two.
+    std::vector<double> prev;
     auto inside = [&](double v, const std::vector<double>& warm, std::vector<double>& found) {
       std::vector<double> u = warm;
       u[j] = v;
-      double f = problem.eval(u);
+      double f = INFINITY;
+      if (!prev.empty() && prev[j] != warm[j]) {
+        const double s = (v - warm[j]) / (warm[j] - prev[j]);
+        for (std::size_t k = 0; k < d; ++k)
+          if (k != j) u[k] = std::clamp(warm[k] + s * (warm[k] - prev[k]), 0.0, 1.0);
+        f = problem.eval(u);
+        if (f > threshold) {
+          u = warm;
+          u[j] = v;
+          f = INFINITY;
+        }
+      }
+      // Then the warm start itself (often already inside), then a re-optimisation of the
+      // other variables from it, stopping as soon as the threshold is met.
+      if (f > threshold) f = problem.eval(u);
       if (f > threshold && d > 1) {
         const LocalResult r =
             minimize_local(problem, u, others, 0.05, xtol, inner_evaluations, threshold);
@@ -162,6 +179,7 @@ std::vector<UnitInterval> near_optimal_intervals(Problem& problem, const LocalRe
       const double v = std::clamp(last_in + dir * step, 0.0, 1.0);
       if (inside(v, warm, found)) {
         last_in = v;
+        prev = warm;
         warm = found;
         reached = v == bound;
         step *= 2.0;
@@ -176,6 +194,7 @@ std::vector<UnitInterval> near_optimal_intervals(Problem& problem, const LocalRe
         const double mid = 0.5 * (first_out + last_in);
         if (inside(mid, warm, found)) {
           last_in = mid;
+          prev = warm;
           warm = found;
         } else {
           first_out = mid;
