@@ -82,7 +82,9 @@ void figure_parameter_cdfs(const std::vector<fit::ReleaseFit>& fits,
     }
     try {
       const Distribution d = Distribution::fitted(values, blo, bhi);
-      p.series.push_back(cdf_series("fitted: " + d.description(), d, lo, hi, "#888888"));
+      // The full description (family and parameters) is in the JSON and HDF5 outputs; the
+      // legend stays short.
+      p.series.push_back(cdf_series("fitted (best family by BIC)", d, lo, hi, "#888888"));
     } catch (const std::exception&) {
       // Fewer than 3 distinct values: nothing to fit.
     }
