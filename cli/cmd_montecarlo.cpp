@@ -109,7 +109,7 @@ void run(const MonteCarloCliOptions& o) {
   uq::MonteCarloOptions mc;
   mc.runs = o.runs;
   mc.seed = o.seed;
-  mc.engine = o.model.engine_options();
+  mc.engine.dt_s = o.model.engine_options().dt_s;
   mc.engine.threads = o.threads;
   mc.progress = !o.no_progress && !o.output.json;
   if (!o.vin.empty()) mc.vin = parse_vin_option(o.vin, "--vin");

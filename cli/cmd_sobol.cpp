@@ -12,6 +12,7 @@
 #include "common/error.hpp"
 #include "model_options.hpp"
 #include "uq/figures.hpp"
+#include "uq/montecarlo.hpp"
 #include "uq/sobol.hpp"
 #include "uq/uq_io.hpp"
 #include "uq_options.hpp"
@@ -75,7 +76,8 @@ void run(const SobolCliOptions& o) {
   }
   const Vel3 vin = o.vin.empty() ? Vel3{uq::kPaperVin[0], uq::kPaperVin[1], uq::kPaperVin[2]}
                                  : parse_vin_option(o.vin, "--vin");
-  EngineOptions engine = o.model.engine_options();
+  EngineOptions engine = uq::MonteCarloOptions{}.engine;  // same time limit as the Monte Carlo
+  engine.dt_s = o.model.engine_options().dt_s;
   engine.threads = o.threads;
   const uq::SobolResult r =
       uq::collision_sobol(model, shape, inputs, vin, o.alpha_deg * M_PI / 180.0, so, engine);

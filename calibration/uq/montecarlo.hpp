@@ -29,7 +29,13 @@ namespace ricochet::uq {
 struct MonteCarloOptions {
   std::size_t runs = 50000;
   std::uint64_t seed = 1;
-  EngineOptions engine;  ///< dt = 1e-5 s; engine.threads = OpenMP threads (0 = all)
+  /// dt = 1e-5 s; a rebound not over after max_time_s = 0.1 s (lab contacts last 5-20 ms) is a
+  /// failed run (status no_rebound), excluded from the CDFs and counted; threads: 0 = all.
+  EngineOptions engine = [] {
+    EngineOptions e;
+    e.max_time_s = 0.1;
+    return e;
+  }();
   /// Fixed incident state (m/s, m/s, rad/s), used unless `incident` is set.
   Vel3 vin = {kPaperVin[0], kPaperVin[1], kPaperVin[2]};
   /// Resample incident states (and alpha_in when present) from these releases.
