@@ -152,7 +152,7 @@ ImpactSet parse_impact_set_csv(const std::string& text, const std::string& name)
   set.source = name;
   std::vector<FileColumn> columns;
   bool have_header = false;
-  std::unordered_map<std::string, std::size_t> id_line;
+  RowAssembler rows(name, "empty cell", "line");
 
   std::string_view all(text);
   if (all.starts_with("\xEF\xBB\xBF")) all.remove_prefix(3);  // UTF-8 byte-order mark
@@ -211,7 +211,6 @@ ImpactSet parse_impact_set_csv(const std::string& text, const std::string& name)
     Impact m;
     m.extra.assign(set.extra_names.size(), kNaN);
     // Which sigma components this row gives, to refuse a partial triple.
-    std::array<std::array<bool, 3>, 2> sigma_given{};
     for (std::size_t i = 0; i < cells.size(); ++i) {
       const FileColumn& c = columns[i];
       const std::string& cell = cells[i];
@@ -233,31 +232,9 @@ ImpactSet parse_impact_set_csv(const std::string& text, const std::string& name)
         throw InputError(name, line_no, c.name, "not a number (or out of range): '" + cell + "'");
       if (!std::isfinite(v))
         throw InputError(name, line_no, c.name, "value is not finite (NaN or inf): '" + cell + "'");
-      v *= c.to_si;
-      if (!c.spec) {
-        m.extra[c.extra_index] = v;
-        continue;
-      }
-      set_numeric(m, c.spec->col, v);
-      // schema_columns() lists the six sigma columns consecutively from kSigmaVinX.
-      const int k = static_cast<int>(c.spec->col) - static_cast<int>(Col::kSigmaVinX);
-      if (k >= 0 && k < 6) sigma_given[k / 3][k % 3] = true;
+      rows.store(m, c.spec, c.extra_index, v * c.to_si);
     }
-    for (int s = 0; s < 2; ++s) {
-      const bool any = sigma_given[s][0] || sigma_given[s][1] || sigma_given[s][2];
-      for (int k = 0; k < 3 && any; ++k)
-        if (!sigma_given[s][k])
-          throw InputError(name, line_no,
-                           schema_columns()[static_cast<int>(Col::kSigmaVinX) + 3 * s + k].name,
-                           "empty cell: give all three components of the uncertainty or none");
-    }
-    check_impact(m, set.extra_names.size(), name, line_no);
-    const auto [it, inserted] = id_line.emplace(m.id, line_no);
-    if (!inserted)
-      throw InputError(
-          name, line_no, "id",
-          "duplicate id '" + m.id + "' (first on line " + std::to_string(it->second) + ")");
-    set.impacts.push_back(std::move(m));
+    rows.finish(std::move(m), set, line_no);
   }
   if (!have_header)
     throw InputError(

@@ -159,12 +159,11 @@ ImpactSet read_impact_set_h5(const std::string& path) {
         throw InputError(path, 0, s + c, "missing dataset: " + s + "x, y and w come together");
   }
 
-  std::unordered_map<std::string, std::size_t> id_line;
+  RowAssembler rows(path, "value is NaN", "row");
   for (std::size_t i = 0; i < n_rows; ++i) {
     const std::size_t line = i + 1;  // errors name the row as index + 1
     Impact m;
     m.extra.assign(set.extra_names.size(), std::nan(""));
-    std::array<std::array<bool, 3>, 2> sigma_given{};
     for (const H5Column& c : columns) {
       if (c.spec && c.spec->dim == Dim::kText) {
         const std::string& v = c.text[i];
@@ -179,30 +178,9 @@ ImpactSet read_impact_set_h5(const std::string& path) {
         if (c.spec && c.spec->required) throw InputError(path, line, c.name, "value is NaN");
         continue;  // NaN marks an absent optional value
       }
-      if (!c.spec) {
-        m.extra[c.extra_index] = v;
-        continue;
-      }
-      set_numeric(m, c.spec->col, v);
-      // schema_columns() lists the six sigma columns consecutively from kSigmaVinX.
-      const int k = static_cast<int>(c.spec->col) - static_cast<int>(Col::kSigmaVinX);
-      if (k >= 0 && k < 6) sigma_given[k / 3][k % 3] = true;
+      rows.store(m, c.spec, c.extra_index, v);
     }
-    for (int s = 0; s < 2; ++s) {
-      const bool any = sigma_given[s][0] || sigma_given[s][1] || sigma_given[s][2];
-      for (int k = 0; k < 3 && any; ++k)
-        if (!sigma_given[s][k])
-          throw InputError(path, line,
-                           schema_columns()[static_cast<int>(Col::kSigmaVinX) + 3 * s + k].name,
-                           "value is NaN: give all three components of the uncertainty or none");
-    }
-    check_impact(m, set.extra_names.size(), path, line);
-    const auto [it, inserted] = id_line.emplace(m.id, line);
-    if (!inserted)
-      throw InputError(
-          path, line, "id",
-          "duplicate id '" + m.id + "' (first at row " + std::to_string(it->second) + ")");
-    set.impacts.push_back(std::move(m));
+    rows.finish(std::move(m), set, line);
   }
   if (file->exists(group + "/comments")) {
     try {

@@ -366,6 +366,37 @@ std::string_view trim(std::string_view text) {
   return text.substr(b, e - b + 1);
 }
 
+void RowAssembler::store(Impact& m, const ColumnSpec* spec, std::size_t extra_index,
+                         double value_si) {
+  if (!spec) {
+    m.extra[extra_index] = value_si;
+    return;
+  }
+  set_numeric(m, spec->col, value_si);
+  // schema_columns() lists the six sigma columns consecutively from kSigmaVinX.
+  const int k = static_cast<int>(spec->col) - static_cast<int>(Col::kSigmaVinX);
+  if (k >= 0 && k < 6) sigma_given_[k / 3][k % 3] = true;
+}
+
+void RowAssembler::finish(Impact&& m, ImpactSet& set, std::size_t line) {
+  for (int s = 0; s < 2; ++s) {
+    const bool any = sigma_given_[s][0] || sigma_given_[s][1] || sigma_given_[s][2];
+    for (int k = 0; k < 3 && any; ++k)
+      if (!sigma_given_[s][k])
+        throw InputError(
+            file_, line, schema_columns()[static_cast<int>(Col::kSigmaVinX) + 3 * s + k].name,
+            std::string(missing_) + ": give all three components of the uncertainty or none");
+  }
+  sigma_given_ = {};
+  check_impact(m, set.extra_names.size(), file_, line);
+  const auto [it, inserted] = id_line_.emplace(m.id, line);
+  if (!inserted)
+    throw InputError(
+        file_, line, "id",
+        "duplicate id '" + m.id + "' (first on " + place_ + " " + std::to_string(it->second) + ")");
+  set.impacts.push_back(std::move(m));
+}
+
 }  // namespace impact_detail
 
 using namespace impact_detail;

@@ -5,10 +5,12 @@
 // compiles them alone with clang (see fuzz/README.md).
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <vector>
 
 #include "impact/impact_set.hpp"
@@ -82,6 +84,28 @@ void check_impact(const Impact& impact, std::size_t n_extra, const std::string& 
                   std::size_t line);
 /// Checks extra_names / extra_units of a set (names valid, unique, not reserved; SI units).
 void check_extras_declaration(const ImpactSet& set, const std::string& file, std::size_t line);
+
+/// Assembles one row (a CSV line or an HDF5 row) into an Impact with the same rules for both
+/// file forms: numeric cells in SI, the all-or-none rule of the uncertainty triplets, the schema
+/// invariants and unique ids. `missing` words the error for an absent sigma component ("empty
+/// cell" in CSV, "value is NaN" in HDF5); `place` names the first occurrence of an id ("line",
+/// "row").
+class RowAssembler {
+ public:
+  RowAssembler(std::string file, const char* missing, const char* place)
+      : file_(std::move(file)), missing_(missing), place_(place) {}
+  /// Stores one numeric value (SI) of a schema column (`spec`) or of extra column `extra_index`.
+  void store(Impact& impact, const ColumnSpec* spec, std::size_t extra_index, double value_si);
+  /// Checks the row (n_extra extra columns expected) and appends it to `set`.
+  void finish(Impact&& impact, ImpactSet& set, std::size_t line);
+
+ private:
+  std::string file_;
+  const char* missing_;
+  const char* place_;
+  std::array<std::array<bool, 3>, 2> sigma_given_{};
+  std::unordered_map<std::string, std::size_t> id_line_;
+};
 
 /// Shortest decimal text that reads back to the same double (std::to_chars).
 std::string format_number(double value);
