@@ -7,7 +7,7 @@
 #include <string>
 
 #include "common/h5.hpp"
-#include "run_program.hpp"
+#include "support/program_test.hpp"
 
 namespace ricochet {
 namespace {

@@ -13,59 +13,26 @@
 #include <string>
 
 #include "impact/impact_set.hpp"
+#include "support/program_test.hpp"
 #include "synthetic_track.hpp"
 
 namespace ricochet {
 namespace {
 
+using test::quote;
+using test::slurp;
+using Result = test::RunResult;
+
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-struct Result {
-  int status = -1;
-  std::string out, err;
-};
-
-std::string quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-class CmdReconstruct : public ::testing::Test {
+class CmdReconstruct : public test::ProgramTest {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("ricochet-cmd-reconstruct-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    ProgramTest::SetUp();
     track_ = (dir_ / "release 01.csv").string();  // a space in the name on purpose
     std::ofstream(track_) << impact_.csv(400, 0.14, 1e-3, 0.7, 5);
   }
-  void TearDown() override { fs::remove_all(dir_); }
-  Result ricochet(const std::string& args) const {
-    const fs::path err = dir_ / "stderr.txt";
-    const std::string cmd = quote(RICOCHET_EXE) + " " + args + " 2>" + quote(err.string());
-    Result run;
-    FILE* pipe = ::popen(cmd.c_str(), "r");
-    if (!pipe) return run;
-    std::array<char, 4096> buf;
-    std::size_t n;
-    while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) run.out.append(buf.data(), n);
-    const int status = ::pclose(pipe);
-    run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    run.err = slurp(err);
-    return run;
-  }
-  fs::path dir_;
   std::string track_;
   test::SyntheticImpact impact_;
 };

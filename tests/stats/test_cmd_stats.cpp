@@ -13,61 +13,23 @@
 #include <string>
 
 #include "common/h5.hpp"
+#include "support/program_test.hpp"
 #include "table2.hpp"
 
 namespace ricochet {
 namespace {
 
+using test::quote;
+using test::RunResult;
+using test::slurp;
+using Result = test::RunResult;
+
 namespace fs = std::filesystem;
 const std::string kSource = RICOCHET_SOURCE_DIR;
 const std::string kLab = kSource + "/data/lab/";
 
-struct RunResult {
-  int status = -1;
-  std::string out;
-  std::string err;
-};
-
-std::string quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-class CmdStats : public ::testing::Test {
+class CmdStats : public test::ProgramTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("ricochet-cmd-stats-" + std::to_string(::getpid()) + "-" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  // Runs `ricochet ARGS` (already shell-quoted), capturing stdout, stderr and the exit code.
-  RunResult ricochet(const std::string& args) const {
-    const fs::path err = dir_ / "stderr.txt";
-    const std::string cmd = quote(RICOCHET_EXE) + " " + args + " 2>" + quote(err.string());
-    RunResult run;
-    FILE* pipe = ::popen(cmd.c_str(), "r");
-    if (!pipe) return run;
-    std::array<char, 4096> buf;
-    std::size_t n;
-    while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) run.out.append(buf.data(), n);
-    const int status = ::pclose(pipe);
-    run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    run.err = slurp(err);
-    return run;
-  }
-  fs::path dir_;
 };
 
 template <typename Table>

@@ -15,63 +15,27 @@
 #include <string>
 
 #include "impact/impact_set.hpp"
+#include "support/program_test.hpp"
 #include "table3.hpp"
 
 namespace ricochet {
 namespace {
 
+using test::quote;
+using test::slurp;
+using Result = test::RunResult;
+
 namespace fs = std::filesystem;
 using nlohmann::json;
 const std::string kLab = std::string(RICOCHET_SOURCE_DIR) + "/data/lab/";
 
-struct Result {
-  int status = -1;
-  std::string out, err;
-};
-
-std::string quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-class CmdTransfer : public ::testing::Test {
+class CmdTransfer : public test::ProgramTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("ricochet-cmd-transfer-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  Result ricochet(const std::string& args) const {
-    const fs::path err = dir_ / "stderr.txt";
-    const std::string cmd = quote(RICOCHET_EXE) + " " + args + " 2>" + quote(err.string());
-    Result run;
-    FILE* pipe = ::popen(cmd.c_str(), "r");
-    if (!pipe) return run;
-    std::array<char, 4096> buf;
-    std::size_t n;
-    while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) run.out.append(buf.data(), n);
-    const int status = ::pclose(pipe);
-    run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    run.err = slurp(err);
-    return run;
-  }
   json ricochet_json(const std::string& args) const {
     const Result r = ricochet(args + " --json");
     EXPECT_EQ(r.status, 0) << r.err;
     return json::parse(r.out);  // stdout holds exactly one JSON document
   }
-  fs::path dir_;
 };
 
 void expect_row(const json& doc, const test::Table3Row& row) {

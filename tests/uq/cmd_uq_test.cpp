@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/h5.hpp"
-#include "run_program.hpp"
+#include "support/program_test.hpp"
 
 namespace ricochet {
 namespace {

@@ -1,5 +1,6 @@
-// Runs the built `ricochet` program in a per-test temporary directory, capturing stdout, stderr
-// and the exit code (shared by the calibrate, montecarlo and sobol command tests).
+// Test support shared by every test that runs the built `ricochet` program (RICOCHET_EXE, set by
+// CMake): a per-test temporary directory, and a runner capturing stdout, stderr and the exit
+// code. Not a GoogleTest module of its own: tests/<module>/ include it as "support/...".
 #pragma once
 
 #include <gtest/gtest.h>
@@ -26,6 +27,13 @@ inline std::string quote(const std::string& s) {
   return q + "'";
 }
 
+inline std::string slurp(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
 class ProgramTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -49,10 +57,7 @@ class ProgramTest : public ::testing::Test {
     while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) run.out.append(buf.data(), n);
     const int status = ::pclose(pipe);
     run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    std::ifstream in(err);
-    std::ostringstream s;
-    s << in.rdbuf();
-    run.err = s.str();
+    run.err = slurp(err);
     return run;
   }
   std::filesystem::path dir_;
