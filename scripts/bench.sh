@@ -26,6 +26,16 @@ for name in ("BM_EngineBatch/1/real_time", "BM_EngineBatch/2/real_time"):
 PY
 fi
 
+if section fit; then
+  echo "== Calibration: all 59 lab releases (target < 2 s), with and without identifiability intervals"
+  "$BUILD/benchmarks/bench_fit" --benchmark_out="$OUT/fit.json" --benchmark_out_format=json
+fi
+
+if section uq; then
+  echo "== Monte Carlo: 50,000 runs (target < 0.5 s); Sobol N = 4096"
+  "$BUILD/benchmarks/bench_uq" --benchmark_out="$OUT/uq.json" --benchmark_out_format=json
+fi
+
 if section dem; then
   echo "== Resolved model (LIGGGHTS): us per grain and step, 1 vs 2 ranks; campaign scaling"
   "$ROOT/benchmarks/bench_dem.sh" "$BUILD" "$OUT"
