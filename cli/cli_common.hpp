@@ -36,6 +36,9 @@ void add_montecarlo_command(CLI::App& app);
 void add_sobol_command(CLI::App& app);
 void add_synth_command(CLI::App& app);
 void add_diagnose_command(CLI::App& app);
+void add_compare_command(CLI::App& app);
+void add_ladder_command(CLI::App& app);
+void add_report_command(CLI::App& app);
 void add_dem_command(CLI::App& app);
 
 }  // namespace ricochet::cli

@@ -148,6 +148,10 @@ void add_diagnose_command(CLI::App& app) {
                 "Per-release fits without identifiability intervals (faster)");
   sub->add_flag("--no-features", o->values.no_features,
                 "Ignore penetration and contact duration even when the data have them");
+  sub->add_option("--error", o->values.error,
+                  "Error denominators: set-mean (Eq. 7 floored at the set's mean magnitude) or "
+                  "eq7 (the paper's)")
+      ->capture_default_str();
   sub->add_option("--threads", o->values.threads, "Threads (0 = all)")->capture_default_str();
   sub->add_option("--figures", o->figures, "Write SVG figures into this directory");
   add_output_options(sub, o->output);

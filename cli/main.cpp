@@ -22,7 +22,10 @@ int main(int argc, char** argv) {
   ricochet::cli::add_montecarlo_command(app);
   ricochet::cli::add_sobol_command(app);
   ricochet::cli::add_synth_command(app);
+  ricochet::cli::add_compare_command(app);
   ricochet::cli::add_diagnose_command(app);
+  ricochet::cli::add_ladder_command(app);
+  ricochet::cli::add_report_command(app);
   ricochet::cli::add_dem_command(app);
 
   try {

@@ -24,6 +24,30 @@ std::array<bool, kObservables> observables_of(const ImpactSet& set, const Assess
   return use;
 }
 
+const char* error_scale_name(ErrorScale scale) {
+  return scale == ErrorScale::kEq7 ? "eq7" : "set-mean";
+}
+
+AssessOptions resolve_scale(const ImpactSet& set, const AssessOptions& in) {
+  AssessOptions o = in;
+  if (o.scale == ErrorScale::kEq7 || set.empty()) return o;
+  const double n = static_cast<double>(set.size());
+  Vel3 mean_v{};
+  double mean_h = 0, mean_t = 0;
+  for (const auto& im : set.impacts) {
+    for (int k = 0; k < 3; ++k) mean_v[k] += std::fabs(im.vout[k]) / n;
+    mean_h += im.penetration.value_or(0.0) / n;
+    mean_t += im.contact_duration.value_or(0.0) / n;
+  }
+  // The floors are fixed from the full set once: the held-out folds use the same ones.
+  auto& e = o.fit.error;
+  for (int k = 0; k < 3; ++k) e.floor[k] = std::max(e.floor[k], mean_v[k]);
+  e.penetration_floor_m = std::max(e.penetration_floor_m, mean_h);
+  e.contact_duration_floor_s = std::max(e.contact_duration_floor_s, mean_t);
+  o.scale = ErrorScale::kEq7;  // resolved: resolving again changes nothing
+  return o;
+}
+
 fit::FitOptions fit_options_for(const ImpactSet& set, const AssessOptions& o) {
   fit::FitOptions f = o.fit;
   const auto use = observables_of(set, o);
@@ -72,15 +96,18 @@ std::vector<ObsPrediction> predict_observables(const Model& model, const Shape& 
   return to_observables(fit::predict(model, shape, params, set, fit_options_for(set, o)));
 }
 
-Obs error_terms(const Impact& im, const Obs& predicted, const std::array<bool, kObservables>& use,
-                const AssessOptions& o) {
+Obs error_terms(const Impact& im, const ObsPrediction& predicted,
+                const std::array<bool, kObservables>& use, const AssessOptions& o) {
   const Obs d = error_scale(im, o);
   const Obs m = measured_of(im);
   Obs t{};
   for (int k = 0; k < kObservables; ++k) {
     if (!use[k]) continue;
-    const double r = (predicted[k] - m[k]) / d[k];  // Eq. 7 term (fit/error.hpp)
-    t[k] = r * r;
+    // Eq. 7 term (fit/error.hpp), expected over the orientation grid in marginal mode:
+    // E[(v(alpha) - m)^2] = (mean - m)^2 + spread^2, the objective the fit module minimises.
+    const double r = (predicted.value[k] - m[k]) / d[k];
+    const double s = predicted.spread[k] / d[k];
+    t[k] = r * r + s * s;
   }
   return t;
 }
@@ -99,7 +126,8 @@ MeanSe mean_se(std::span<const double> x) {
 }
 
 ErrorReport error_report(const ImpactSet& set, const std::vector<ObsPrediction>& predictions,
-                         const std::array<bool, kObservables>& use, const AssessOptions& o) {
+                         const std::array<bool, kObservables>& use, const AssessOptions& options) {
+  const AssessOptions o = resolve_scale(set, options);
   if (predictions.size() != set.size())
     throw std::invalid_argument("error_report: one prediction per release expected");
   ErrorReport r;
@@ -107,7 +135,7 @@ ErrorReport error_report(const ImpactSet& set, const std::vector<ObsPrediction>&
   Obs sq{};
   for (std::size_t i = 0; i < set.size(); ++i) {
     const Impact& im = set.impacts[i];
-    const Obs t = error_terms(im, predictions[i].value, use, o);
+    const Obs t = error_terms(im, predictions[i], use, o);
     const Obs m = measured_of(im);
     Obs res{};
     double e = 0;
@@ -128,7 +156,8 @@ ErrorReport error_report(const ImpactSet& set, const std::vector<ObsPrediction>&
 
 NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const double> params,
                        const ImpactSet& set, const std::array<bool, kObservables>& use,
-                       const AssessOptions& o) {
+                       const AssessOptions& options) {
+  const AssessOptions o = resolve_scale(set, options);
   NoiseFloor f;
   const std::size_t n = set.size();
   if (n == 0) throw std::invalid_argument("noise_floor: empty impact set");
@@ -212,7 +241,9 @@ NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const d
         }
         const double spread = base[i].spread[k];
         any_spread = any_spread || spread > 0;
-        var[i][k] = meas_sd[k] * meas_sd[k] + prop + spread * spread;
+        // The truth's orientation and the prediction's are both unknown: the expected
+        // error of the true model counts the spread twice (once for each).
+        var[i][k] = meas_sd[k] * meas_sd[k] + prop + 2.0 * spread * spread;
       }
     }
     f.description =
@@ -276,7 +307,8 @@ NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const d
 }
 
 Assessment assess(const Model& model, const Shape& shape, const ImpactSet& set,
-                  const AssessOptions& o) {
+                  const AssessOptions& options) {
+  const AssessOptions o = resolve_scale(set, options);
   const auto t0 = std::chrono::steady_clock::now();
   if (set.size() < 2) throw std::invalid_argument("assess: at least two releases are needed");
   Assessment a;

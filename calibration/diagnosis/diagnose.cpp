@@ -289,10 +289,15 @@ Model with_values(const Model& model, const std::vector<double>& values) {
 }
 
 Baseline compare(const Model& model, const Shape& shape, const ImpactSet& set,
-                 const DiagnoseOptions& o) {
+                 const DiagnoseOptions& options) {
+  DiagnoseOptions o = options;
+  o.assess = resolve_scale(set, options.assess);
   const auto t0 = std::chrono::steady_clock::now();
   Baseline b;
   b.base = assess(model, shape, set, o.assess);
+  const auto& ef = o.assess.fit.error;
+  b.error_floors = {ef.floor[0], ef.floor[1], ef.floor[2], ef.penetration_floor_m,
+                    ef.contact_duration_floor_s};
   const Model warm = with_values(model, b.base.population.params);
   b.floor = noise_floor(warm, shape, b.base.population.params, set, b.base.use, o.assess);
   b.adequacy = adequacy(b.base, b.floor);
@@ -326,7 +331,9 @@ Diagnosis diagnose(const Model& model, const Shape& shape, const ImpactSet& set,
 }
 
 Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, const ImpactSet& set,
-                   const DiagnoseOptions& o) {
+                   const DiagnoseOptions& options) {
+  DiagnoseOptions o = options;
+  o.assess = resolve_scale(set, options.assess);
   const auto t0 = std::chrono::steady_clock::now();
   Diagnosis d;
   d.baseline = std::move(baseline);
@@ -433,7 +440,9 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
 }
 
 Ladder ladder(const Model& model, const Shape& shape, const ImpactSet& set,
-              const std::vector<std::string>& adds, const DiagnoseOptions& o) {
+              const std::vector<std::string>& adds, const DiagnoseOptions& options) {
+  DiagnoseOptions o = options;
+  o.assess = resolve_scale(set, options.assess);
   Ladder l;
   const EffectRegistry& registry = registry_of(o);
   Model current = model;
@@ -464,11 +473,11 @@ Ladder ladder(const Model& model, const Shape& shape, const ImpactSet& set,
 }
 
 Ladder auto_ladder(const Model& model, const Shape& shape, const ImpactSet& set, int max_rounds,
-                   const DiagnoseOptions& o) {
+                   const DiagnoseOptions& o, const Diagnosis* first) {
   Ladder l;
   Model current = model;
   for (int round = 0;; ++round) {
-    Diagnosis d = diagnose(current, shape, set, o);
+    Diagnosis d = round == 0 && first ? *first : diagnose(current, shape, set, o);
     if (round == 0) {
       l.floor = d.baseline.floor;
       Rung base;
@@ -533,6 +542,7 @@ nlohmann::json to_json(const Assessment& a, const NoiseFloor& floor) {
 nlohmann::json to_json(const Baseline& b, const ImpactSet& set) {
   nlohmann::json j = to_json(b.base, b.floor);
   j["noise_floor"] = to_json(b.floor, b.base.use);
+  j["error_denominator_floors"] = to_json(b.error_floors, b.base.use);
   nlohmann::json releases = nlohmann::json::array();
   for (std::size_t i = 0; i < set.size(); ++i) {
     nlohmann::json r = {
@@ -620,6 +630,7 @@ nlohmann::json to_json(const Diagnosis& d) {
           {"unexplained", d.unexplained},
           {"noise_floor_source", b.floor.source},
           {"noise_floor_detail", to_json(b.floor, b.base.use)},
+          {"error_denominator_floors", to_json(b.error_floors, b.base.use)},
           {"base", to_json(b.base, b.floor)},
           {"residual_trends", to_json(b.residual_trends, true)},
           {"parameter_trends", to_json(b.parameter_trends, true)},

@@ -67,6 +67,8 @@ struct Baseline {
   std::vector<Regime> regimes;
   /// Two-sample KS test of the measured against the held-out predicted values, per observable.
   std::array<stats::KsResult, kObservables> ks{};
+  /// Floors of the error denominators actually used (m/s, m/s, rad/s, m, s; AssessOptions::scale).
+  Obs error_floors{};
   double seconds = 0;
 };
 Baseline compare(const Model& model, const Shape& shape, const ImpactSet& set,
@@ -122,8 +124,9 @@ Ladder ladder(const Model& model, const Shape& shape, const ImpactSet& set,
               const std::vector<std::string>& adds, const DiagnoseOptions& options);
 /// Rounds of diagnose(): adds the best supported effect until the model is adequate, no effect
 /// is supported, or `max_rounds` effects were added.
+/// `first`: an existing diagnosis of `model` on `set` (same options) used as round 0.
 Ladder auto_ladder(const Model& model, const Shape& shape, const ImpactSet& set, int max_rounds,
-                   const DiagnoseOptions& options);
+                   const DiagnoseOptions& options, const Diagnosis* first = nullptr);
 
 /// The model of a rung, with its calibrated values (to continue from it).
 Model with_values(const Model& model, const std::vector<double>& values);

@@ -32,6 +32,13 @@ DiagnoseOptions make_options(const OptionValues& v) {
   o.assess.release_fits = !v.no_release_fits;
   o.assess.release_intervals = !v.no_intervals;
   o.assess.use_features = !v.no_features;
+  if (v.error == "set-mean")
+    o.assess.scale = ErrorScale::kSetMean;
+  else if (v.error == "eq7")
+    o.assess.scale = ErrorScale::kEq7;
+  else
+    throw InputError("<command line>", 0, "--error",
+                     "'" + v.error + "': use set-mean (default) or eq7 (the paper's denominators)");
   return o;
 }
 

@@ -18,9 +18,10 @@ struct OptionValues {
   std::uint64_t seed = 1;   ///< seed of the calibration's start designs
   double z = 2.0;           ///< DiagnoseOptions::z
   std::vector<std::string> candidates;
-  bool no_release_fits = false;  ///< skip per-release calibration (faster)
-  bool no_intervals = false;     ///< per-release fits without identifiability intervals
-  bool no_features = false;      ///< ignore penetration / contact duration
+  bool no_release_fits = false;    ///< skip per-release calibration (faster)
+  bool no_intervals = false;       ///< per-release fits without identifiability intervals
+  bool no_features = false;        ///< ignore penetration / contact duration
+  std::string error = "set-mean";  ///< error denominators: set-mean or eq7 (ErrorScale)
   int threads = 0;
   double dt_s = 1e-5;
 };

@@ -61,6 +61,23 @@ std::vector<Feature> impact_features(const ImpactSet& set,
 
 namespace {
 
+// Ranks (1-based, ties averaged) of the finite values; NaN stays NaN.
+std::vector<double> ranks(const std::vector<double>& x) {
+  std::vector<std::size_t> idx;
+  for (std::size_t i = 0; i < x.size(); ++i)
+    if (std::isfinite(x[i])) idx.push_back(i);
+  std::sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) { return x[a] < x[b]; });
+  std::vector<double> r(x.size(), NAN);
+  for (std::size_t i = 0; i < idx.size();) {
+    std::size_t j = i;
+    while (j + 1 < idx.size() && x[idx[j + 1]] == x[idx[i]]) ++j;
+    const double avg = 0.5 * static_cast<double>(i + j) + 1.0;
+    for (std::size_t k = i; k <= j; ++k) r[idx[k]] = avg;
+    i = j + 1;
+  }
+  return r;
+}
+
 Trend correlate(const std::string& quantity, const std::string& label, const Feature& f,
                 const std::vector<double>& y, const TrendOptions& o) {
   Trend t;
@@ -72,7 +89,16 @@ Trend correlate(const std::string& quantity, const std::string& label, const Fea
   t.r = c.r;
   t.p = c.p_value;
   t.n = c.n;
-  t.significant = std::isfinite(c.r) && std::isfinite(c.p_value) && c.p_value < o.alpha;
+  // Spearman on the pairs where both values exist.
+  std::vector<double> xs, ys;
+  for (std::size_t i = 0; i < y.size(); ++i)
+    if (std::isfinite(y[i]) && std::isfinite(f.values[i]))
+      xs.push_back(f.values[i]), ys.push_back(y[i]);
+  const stats::Correlation s = stats::pearson(ranks(xs), ranks(ys));
+  t.rho = s.r;
+  t.p_rank = s.p_value;
+  t.significant = std::isfinite(c.r) && std::isfinite(c.p_value) && c.p_value < o.alpha &&
+                  std::isfinite(s.p_value) && s.p_value < o.alpha && s.r * c.r > 0;
   return t;
 }
 
@@ -130,8 +156,8 @@ const Trend* find_trend(const std::vector<Trend>& trends, const std::string& qua
 }
 
 std::string describe(const Trend& t) {
-  return fmt::format("{} {} with {} (r = {:.2f}, p = {:.2g}, n = {})", t.label,
-                     t.r >= 0 ? "grows" : "falls", bare(t.feature_label), t.r, t.p, t.n);
+  return fmt::format("{} {} with {} (r = {:.2f}, p = {:.2g}; rank rho = {:.2f}; n = {})", t.label,
+                     t.r >= 0 ? "grows" : "falls", bare(t.feature_label), t.r, t.p, t.rho, t.n);
 }
 
 nlohmann::json to_json(const Trend& t) {
@@ -140,6 +166,8 @@ nlohmann::json to_json(const Trend& t) {
           {"feature_label", t.feature_label},
           {"r", std::isfinite(t.r) ? nlohmann::json(t.r) : nlohmann::json(nullptr)},
           {"p", std::isfinite(t.p) ? nlohmann::json(t.p) : nlohmann::json(nullptr)},
+          {"rho", std::isfinite(t.rho) ? nlohmann::json(t.rho) : nlohmann::json(nullptr)},
+          {"p_rank", std::isfinite(t.p_rank) ? nlohmann::json(t.p_rank) : nlohmann::json(nullptr)},
           {"n", t.n},
           {"significant", t.significant},
           {"text", describe(t)}};

@@ -2,10 +2,12 @@
 // them: the residual signatures of missing physics (shared notes, physics-candidates.md).
 //
 // A trend is a Pearson correlation with its two-sided p-value (stats::pearson, OpenTURNS). It is
-// reported as significant when p < TrendOptions::alpha. Features that the set does not measure
-// (penetration, contact duration, alpha_in of the lab data) are replaced by the calibrated
-// model's simulated values, and named so ("penetration (simulated)"): a trend against a
-// simulated feature is a trend against what the model thinks happened.
+// reported as significant when p < TrendOptions::alpha AND the Spearman rank correlation (the
+// Pearson correlation of the ranks, ties averaged, with the same t-test p-value) is significant
+// too: one outlying release (lab cylinder C12) must not make a trend on its own. Features that the
+// set does not measure (penetration, contact duration, alpha_in of the lab data) are replaced by
+// the calibrated model's simulated values, and named so ("penetration (simulated)"): a trend
+// against a simulated feature is a trend against what the model thinks happened.
 #pragma once
 
 #include <cstddef>
@@ -42,7 +44,8 @@ struct Trend {
   std::string label;     ///< "V_out^y residual", "calibrated en2"
   std::string feature;   ///< Feature::name
   std::string feature_label;
-  double r = 0, p = 1;
+  double r = 0, p = 1;         ///< Pearson
+  double rho = 0, p_rank = 1;  ///< Spearman
   std::size_t n = 0;
   bool significant = false;
 };

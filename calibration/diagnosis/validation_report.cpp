@@ -1,0 +1,280 @@
+#include "diagnosis/validation_report.hpp"
+
+#include <fmt/format.h>
+#include <cmath>
+#include <filesystem>
+
+#include "diagnosis/figures.hpp"
+#include "report/html.hpp"
+#include "stats/stats.hpp"
+
+namespace ricochet::diagnosis {
+namespace {
+
+std::string g4(double v) {
+  return std::isfinite(v) ? fmt::format("{:.4g}", v) : "-";
+}
+std::string g3(double v) {
+  return std::isfinite(v) ? fmt::format("{:.3g}", v) : "-";
+}
+std::string f2(double v) {
+  return std::isfinite(v) ? fmt::format("{:.2f}", v) : "-";
+}
+
+std::string effects_text(const std::vector<std::string>& e) {
+  std::string s;
+  for (const auto& x : e) s += (s.empty() ? "" : " + ") + x;
+  return s;
+}
+
+std::string conclusion_of(const ReportSection& s) {
+  const Diagnosis& d = s.diagnosis;
+  const Baseline& b = d.baseline;
+  std::string c = fmt::format(
+      "{}: the model ({}) has a held-out error of {} against a noise floor of {} ({}), i.e. "
+      "{} x the floor: {}.",
+      s.input.label, effects_text(b.base.effects), g4(b.base.heldout.error.mean),
+      g4(b.floor.value.mean), b.floor.source, f2(b.adequacy.ratio),
+      b.adequacy.adequate ? "adequate" : "not adequate");
+  if (b.floor.nearest_neighbour > 2 * b.floor.value.mean &&
+      b.floor.nearest_neighbour > 0.5 * b.base.heldout.error.mean)
+    c += fmt::format(
+        " Releases with the most similar incident states differ from each other by an error of "
+        "{} (nearest-neighbour check), {} x the floor: much of the error is scatter between "
+        "releases (unmeasured orientation, ground preparation, measurement) that no "
+        "deterministic effect of the model can remove.",
+        g4(b.floor.nearest_neighbour), f2(b.floor.nearest_neighbour / b.floor.value.mean));
+  if (!d.ranking.empty() && d.ranking.front().supported) {
+    const auto& best = d.ranking.front();
+    c += fmt::format(" The best candidate is {} ({}): held-out error {} (drop {} +- {}).",
+                     best.effect, best.meaning, g4(best.heldout_error), g3(best.error_drop),
+                     g3(best.drop_se));
+  } else {
+    c += " No effect in the catalog is supported by the held-out error.";
+  }
+  if (s.ladder.rungs.size() > 1) {
+    const auto& last = s.ladder.rungs.back();
+    c += fmt::format(" After the ladder ({}), the held-out error is {} = {} x the floor ({}).",
+                     effects_text(last.effects), g4(last.assessment.heldout.error.mean),
+                     f2(last.adequacy.ratio), last.adequacy.adequate ? "adequate" : "not adequate");
+  }
+  if (!d.unexplained.empty()) {
+    c += " Left unexplained: ";
+    for (std::size_t i = 0; i < d.unexplained.size(); ++i) c += (i ? "; " : "") + d.unexplained[i];
+    c += ".";
+  }
+  return c;
+}
+
+void data_section(report::HtmlPage& page, const ReportSection& s) {
+  const ImpactSet& set = s.input.set;
+  page.paragraph(fmt::format("{}: {} releases of shape {} from {}.", s.input.label, set.size(),
+                             s.input.shape.name, s.input.data));
+  if (!set.comments.empty()) page.list(set.comments);
+  std::vector<std::vector<std::string>> rows;
+  const char* cols[] = {"vin_x", "vin_y", "win", "vout_x", "vout_y", "wout"};
+  const char* units[] = {"m/s", "m/s", "rad/s", "m/s", "m/s", "rad/s"};
+  for (int c = 0; c < 6; ++c) {
+    const auto sm = stats::summarize(set.feature(cols[c]));
+    rows.push_back({std::string(cols[c]) + " [" + units[c] + "]", g4(sm.mean), g3(sm.std),
+                    g4(sm.min), g4(sm.max)});
+  }
+  for (const char* f : {"alpha_in", "penetration", "contact_duration"}) {
+    const auto v = set.feature(f);
+    const auto sm = stats::summarize(v);
+    if (sm.n > 0)
+      rows.push_back({std::string(f) + (std::string(f) == "alpha_in"      ? " [rad]"
+                                        : std::string(f) == "penetration" ? " [m]"
+                                                                          : " [s]"),
+                      g4(sm.mean), g3(sm.std), g4(sm.min), g4(sm.max)});
+  }
+  page.table({"quantity", "mean", "std (n-1)", "min", "max"}, rows,
+             "Measured quantities (paper Table 2 layout)");
+}
+
+void compare_section(report::HtmlPage& page, const ReportSection& s) {
+  const Baseline& b = s.diagnosis.baseline;
+  const Assessment& a = b.base;
+  std::vector<std::vector<std::string>> params;
+  for (std::size_t i : a.population.calibrated)
+    params.push_back({a.population.names[i], g4(a.population.params[i])});
+  page.table({"parameter", "population fit"}, params,
+             "Population calibration (one parameter set for all releases, fit module)");
+  page.labelled("Noise floor",
+                fmt::format("{} from {} ({}). Nearest-neighbour check: {}.", g4(b.floor.value.mean),
+                            b.floor.source, b.floor.description, g4(b.floor.nearest_neighbour)));
+  page.labelled(
+      "Verdict",
+      fmt::format("held-out error {} +- {} ({}-fold) = {} x the floor, adequacy "
+                  "threshold {}: {}",
+                  g4(a.heldout.error.mean), g3(a.heldout.error.se), a.folds, f2(b.adequacy.ratio),
+                  g4(b.adequacy.threshold), b.adequacy.adequate ? "adequate" : "not adequate"));
+  std::vector<std::vector<std::string>> rows;
+  for (int k = 0; k < kObservables; ++k)
+    if (a.use[k])
+      rows.push_back({kObservableLabels[k], g4(a.insample.term_mean[k]), g4(a.heldout.term_mean[k]),
+                      g4(b.floor.term_mean[k]), g3(a.heldout.rmse[k]) + " " + kObservableUnits[k],
+                      f2(b.ks[k].statistic), g3(b.ks[k].p_value)});
+  rows.push_back({"total", g4(a.insample.error.mean), g4(a.heldout.error.mean),
+                  g4(b.floor.value.mean), "", "", ""});
+  page.table({"observable", "in-sample error", "held-out error", "noise floor", "held-out RMSE",
+              "KS D", "KS p"},
+             rows, "Error per observable (mean squared relative error terms of Eq. 7)");
+  std::vector<std::vector<std::string>> reg;
+  for (const auto& r : b.regimes)
+    reg.push_back({r.name, std::to_string(r.releases.size()), g4(r.heldout.mean), g3(r.heldout.se),
+                   g4(r.floor.mean)});
+  page.table({"regime", "releases", "held-out error", "SE", "noise floor"}, reg,
+             "Error per regime");
+  std::vector<std::string> trends;
+  for (const auto* ts : {&b.residual_trends, &b.parameter_trends})
+    for (const auto& t : *ts)
+      if (t.significant) trends.push_back(describe(t));
+  page.labelled("Significant trends (Pearson and Spearman p < 0.01)",
+                trends.empty() ? "none" : std::to_string(trends.size()));
+  if (!trends.empty()) page.list(trends);
+  for (const auto& f : compare_figures(b, s.input.set, s.input.label))
+    page.figure(f.figure, f.caption);
+}
+
+void diagnosis_section(report::HtmlPage& page, const ReportSection& s) {
+  const Diagnosis& d = s.diagnosis;
+  page.labelled("Verdict", d.verdict);
+  page.paragraph(d.summary);
+  std::vector<std::vector<std::string>> rows;
+  for (std::size_t i = 0; i < d.ranking.size(); ++i) {
+    const auto& c = d.ranking[i];
+    rows.push_back({std::to_string(i + 1), c.effect, g4(c.heldout_error), g3(c.error_drop),
+                    g3(c.drop_se), g3(c.penalty), f2(c.signature_r), c.supported ? "yes" : "no"});
+  }
+  page.table(
+      {"rank", "effect", "held-out error", "drop", "SE", "penalty", "signature r", "supported"},
+      rows, "Candidate effects, best first");
+  std::vector<std::string> ev;
+  for (const auto& c : d.ranking) ev.push_back(c.effect + ": " + c.evidence);
+  page.list(ev);
+  page.labelled("What it cannot explain", "");
+  page.list(d.unexplained);
+  for (const auto& f : diagnose_figures(d, s.input.label)) page.figure(f.figure, f.caption);
+}
+
+void ladder_section(report::HtmlPage& page, const ReportSection& s) {
+  const Ladder& l = s.ladder;
+  std::vector<std::vector<std::string>> rows;
+  for (std::size_t r = 0; r < l.rungs.size(); ++r) {
+    const auto& rung = l.rungs[r];
+    rows.push_back({std::to_string(r), rung.added.empty() ? "(base)" : "+" + rung.added,
+                    g4(rung.assessment.insample.error.mean), g4(rung.assessment.heldout.error.mean),
+                    g3(rung.assessment.heldout.error.se), f2(rung.adequacy.ratio),
+                    rung.adequacy.adequate ? "yes" : "no"});
+  }
+  page.table({"rung", "added", "in-sample", "held-out", "SE", "x floor", "adequate"}, rows,
+             "Model ladder chosen by rounds of diagnosis; noise floor " + g4(l.floor.value.mean));
+  if (!l.stop_reason.empty()) page.labelled("Stopped", l.stop_reason);
+  for (const auto& f : ladder_figures(l, s.input.label)) page.figure(f.figure, f.caption);
+}
+
+}  // namespace
+
+std::vector<ReportSection> analyse(const std::vector<ReportInput>& inputs, const Model& model,
+                                   const ReportOptions& o) {
+  std::vector<ReportSection> out;
+  for (const auto& in : inputs) {
+    ReportSection s;
+    s.input = in;
+    DiagnoseOptions opt = o.diagnose;
+    opt.assess.folds = std::min<std::size_t>(opt.assess.folds, in.set.size());
+    s.diagnosis = diagnose(model, in.shape, in.set, opt);
+    s.ladder = auto_ladder(model, in.shape, in.set, o.rounds, opt, &s.diagnosis);
+    s.conclusion = conclusion_of(s);
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+std::size_t write_report(const std::vector<ReportSection>& sections, const Model& model,
+                         const ReportOptions& o, const std::string& path) {
+  report::HtmlPage page(o.title);
+  page.paragraph(
+      "Compare the model with measurements, see where it fails, learn which physical effect is "
+      "missing, add it and watch the error fall. Generated by `ricochet report`; every number "
+      "comes from the fit module's calibrations (paper Eq. 7, section 4.2) and every figure is "
+      "embedded in this file.");
+  page.heading(2, "Conclusions", "conclusions");
+  std::vector<std::string> items;
+  for (const auto& s : sections) items.push_back(s.conclusion);
+  page.list(items);
+
+  page.heading(2, "Model", "model");
+  page.paragraph("Base model: " + effects_text(model.effect_names()) +
+                 ". Candidate effects: every registered effect not in the model.");
+  std::vector<std::vector<std::string>> prm;
+  for (std::size_t i = 0; i < model.parameter_count(); ++i) {
+    const auto& sp = model.spec(i);
+    prm.push_back({std::string(sp.name), std::string(sp.unit), g4(model.values()[i]),
+                   g4(model.lower(i)) + " .. " + g4(model.upper(i)),
+                   model.calibrated(i) ? "yes" : "no", std::string(sp.description)});
+  }
+  page.table({"parameter", "unit", "value", "bounds", "calibrated", "meaning"}, prm,
+             "Parameters of the base model (start values)");
+
+  page.heading(2, "Method", "method");
+  page.list({
+      "Error of a release: paper Eq. 7, the sum over V_out^x, V_out^y, omega_out of "
+      "((simulated - measured) / max(|measured|, floor))^2, plus the same kind of term for the "
+      "penetration and the contact duration when the data have them; blocks of unknown "
+      "orientation are scored by the expected error over orientations.",
+      "Held-out error: k-fold cross-validation of the population fit (each release predicted "
+      "by a fit that did not see it).",
+      "Noise floor: the expected error of the true model (replicates, declared uncertainties or "
+      "the paper's Table 1 operator scale, plus the V_in noise propagated through the model and "
+      "the orientation spread). Adequate: held-out error not significantly above it (paired "
+      "test, 2 SE).",
+      "Diagnosis: each catalog effect is added at its neutral value, recalibrated and ranked by "
+      "its penalised held-out error; supported when the paired drop exceeds 2 SE and the "
+      "penalty for the added parameters.",
+  });
+
+  for (std::size_t i = 0; i < sections.size(); ++i) {
+    const auto& s = sections[i];
+    const std::string id = fmt::format("set{}", i + 1);
+    page.heading(2, s.input.label, id);
+    page.heading(3, "Data");
+    data_section(page, s);
+    page.heading(3, "Comparison");
+    compare_section(page, s);
+    page.heading(3, "Diagnosis");
+    diagnosis_section(page, s);
+    page.heading(3, "Model ladder");
+    ladder_section(page, s);
+    page.heading(3, "Conclusion");
+    page.paragraph(s.conclusion);
+  }
+  page.write(path);
+  return page.figures();
+}
+
+nlohmann::json to_json(const std::vector<ReportSection>& sections) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& s : sections) {
+    const auto& d = s.diagnosis;
+    nlohmann::json j = {{"label", s.input.label},
+                        {"data", s.input.data},
+                        {"shape", s.input.shape.name},
+                        {"releases", s.input.set.size()},
+                        {"verdict", d.verdict},
+                        {"noise_floor", d.baseline.floor.value.mean},
+                        {"noise_floor_source", d.baseline.floor.source},
+                        {"base_error", d.baseline.base.heldout.error.mean},
+                        {"best", d.ranking.empty() ? nlohmann::json(nullptr)
+                                                   : nlohmann::json(d.ranking.front().effect)},
+                        {"best_supported", !d.ranking.empty() && d.ranking.front().supported},
+                        {"ladder", to_json(s.ladder)["rungs"]},
+                        {"conclusion", s.conclusion},
+                        {"seconds", d.seconds}};
+    out.push_back(j);
+  }
+  return out;
+}
+
+}  // namespace ricochet::diagnosis

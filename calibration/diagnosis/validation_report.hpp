@@ -1,0 +1,51 @@
+// The validation report of `ricochet report`: for each impact set (lab shapes, a LIGGGHTS
+// campaign, synthetic data) the data, the comparison of the model with it, the diagnosis, the
+// model ladder chosen by rounds of diagnosis, and conclusions, in one self-contained HTML page
+// (report/html.hpp) with every figure embedded.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "diagnosis/diagnose.hpp"
+#include "effects/model.hpp"
+#include "engine/shape.hpp"
+#include "impact/impact_set.hpp"
+
+namespace ricochet::diagnosis {
+
+/// One analysed set: its file, the releases of one shape, and a label (e.g. "lab cylinders").
+struct ReportInput {
+  std::string data;
+  std::string label;
+  ImpactSet set;
+  Shape shape;
+};
+
+struct ReportOptions {
+  DiagnoseOptions diagnose;
+  int rounds = 2;  ///< at most this many effects added by the automatic ladder
+  std::string title = "Ricochet validation report";
+};
+
+/// Results of one analysed set (also returned as JSON by `ricochet report --json`).
+struct ReportSection {
+  ReportInput input;
+  Diagnosis diagnosis;  ///< round 0 (contains the comparison)
+  Ladder ladder;        ///< automatic ladder (rung 0 = the base model)
+  std::string conclusion;
+};
+
+/// Runs compare, diagnose and the automatic ladder on every input.
+std::vector<ReportSection> analyse(const std::vector<ReportInput>& inputs, const Model& model,
+                                   const ReportOptions& options);
+
+/// Writes the HTML page to `path`; returns the number of embedded figures.
+std::size_t write_report(const std::vector<ReportSection>& sections, const Model& model,
+                         const ReportOptions& options, const std::string& path);
+
+/// Short JSON summary per section (verdict, floor, errors per rung, best effect, conclusion).
+nlohmann::json to_json(const std::vector<ReportSection>& sections);
+
+}  // namespace ricochet::diagnosis

@@ -1,0 +1,55 @@
+// Self-contained HTML pages (the validation report of `ricochet report`): text, tables and
+// figures in one file that opens in a browser with no network. Figures are gnuplot SVGs
+// (report/plot.hpp) embedded as base64 data URIs, so that the element ids of different gnuplot
+// SVGs cannot collide; styles are inline; nothing is loaded from elsewhere.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "report/plot.hpp"
+
+namespace ricochet::report {
+
+/// Escapes & < > " ' for HTML text and attribute values.
+std::string html_escape(std::string_view text);
+/// Standard base64 (RFC 4648, with padding).
+std::string base64(std::string_view bytes);
+
+/// An HTML page built piece by piece. All text arguments are plain text (escaped here).
+class HtmlPage {
+ public:
+  explicit HtmlPage(std::string title);
+
+  /// <h1>..<h4>; `id` (optional) makes it a link target of the table of contents (h2 only).
+  void heading(int level, const std::string& text, const std::string& id = "");
+  void paragraph(const std::string& text);
+  /// A paragraph with a bold lead-in, e.g. ("Verdict", "missing physics").
+  void labelled(const std::string& label, const std::string& text);
+  void list(const std::vector<std::string>& items);
+  /// A table; cells that parse as a number are right-aligned.
+  void table(const std::vector<std::string>& header,
+             const std::vector<std::vector<std::string>>& rows, const std::string& caption = "");
+  void preformatted(const std::string& text);
+  /// Embeds an SVG file (e.g. written by render_svg) as a figure with a caption. Throws
+  /// std::runtime_error naming the file if it cannot be read or is not an SVG.
+  void figure_file(const std::string& svg_path, const std::string& caption);
+  /// Renders `figure` with gnuplot into a temporary file and embeds it.
+  void figure(const Figure& figure, const std::string& caption);
+
+  /// Number of figures embedded so far.
+  std::size_t figures() const { return figures_; }
+  /// The whole page.
+  std::string html() const;
+  /// Writes the page (parent directories created). Throws std::runtime_error on failure.
+  void write(const std::string& path) const;
+
+ private:
+  std::string title_;
+  std::vector<std::pair<std::string, std::string>> toc_;  // (id, text)
+  std::string body_;
+  std::size_t figures_ = 0;
+};
+
+}  // namespace ricochet::report

@@ -1,0 +1,195 @@
+// `ricochet compare DATA --model FILE [--shape S]`: where does the model fail? Calibrates the
+// model (population and per release, through the fit module), then reports errors per
+// observable, per release and per regime, residual and parameter trends against impact
+// features, measured-vs-predicted KS tests, the noise floor and whether the model is adequate
+// (docs/commands/compare.md).
+#include <fstream>
+#include <iostream>
+#include <memory>
+
+#include <fmt/format.h>
+
+#include "cli_common.hpp"
+#include "common/error.hpp"
+#include "common/h5.hpp"
+#include "diagnosis/figures.hpp"
+#include "diagnosis/inputs.hpp"
+#include "model_options.hpp"
+
+namespace ricochet::cli {
+namespace {
+
+struct CompareCliOptions {
+  std::string data;
+  ModelOptions model;
+  diagnosis::OptionValues values;
+  OutputOptions output;
+  std::string figures;
+  bool shape_given = false;
+};
+
+// Per-release table: id, incident state, measured, held-out predicted, errors, floor.
+void write_out(const std::string& path, const diagnosis::Baseline& b, const ImpactSet& set,
+               const nlohmann::json& doc) {
+  const auto& a = b.base;
+  if (path.size() > 4 && path.substr(path.size() - 4) == ".csv") {
+    std::ofstream f(path);
+    if (!f) throw InputError(path, 0, "--out", "cannot open the file for writing");
+    f << "# ricochet compare: per release, held-out predictions (each release predicted by a "
+         "population fit that did not see it)\n";
+    f << "id,heldout_error,insample_error,noise_floor";
+    for (int k = 0; k < diagnosis::kObservables; ++k)
+      if (a.use[k])
+        f << ",predicted_" << diagnosis::kObservableNames[k] << "["
+          << diagnosis::kObservableUnits[k] << "],residual_" << diagnosis::kObservableNames[k]
+          << "[" << diagnosis::kObservableUnits[k] << "]";
+    f << "\n";
+    for (std::size_t i = 0; i < set.size(); ++i) {
+      f << set.impacts[i].id << ',' << a.heldout.per_release[i] << ',' << a.insample.per_release[i]
+        << ',' << b.floor.per_release[i];
+      for (int k = 0; k < diagnosis::kObservables; ++k)
+        if (a.use[k])
+          f << ',' << a.heldout_predictions[i].value[k] << ',' << a.heldout.residual[i][k];
+      f << "\n";
+    }
+    return;
+  }
+  {
+    // Replace any old file, then store the compared set as /impacts (the file is itself an
+    // impact set for the other tools).
+    h5::File truncate(path, h5::File::Mode::kTruncate);
+  }
+  write_impact_set_h5(set, path, "impacts");
+  h5::File f(path, h5::File::Mode::kReadWrite);
+  std::vector<std::string> ids;
+  for (const auto& im : set.impacts) ids.push_back(im.id);
+  f.write_strings("/compare/releases/id", ids);
+  f.write("/compare/releases/heldout_error", a.heldout.per_release);
+  f.write("/compare/releases/insample_error", a.insample.per_release);
+  f.write("/compare/releases/noise_floor", b.floor.per_release);
+  for (int k = 0; k < diagnosis::kObservables; ++k) {
+    if (!a.use[k]) continue;
+    std::vector<double> pred, res;
+    for (std::size_t i = 0; i < set.size(); ++i) {
+      pred.push_back(a.heldout_predictions[i].value[k]);
+      res.push_back(a.heldout.residual[i][k]);
+    }
+    const std::string n = diagnosis::kObservableNames[k];
+    f.write("/compare/releases/predicted_" + n, pred);
+    f.write("/compare/releases/residual_" + n, res);
+    f.set_attr("/compare/releases/predicted_" + n, "unit", diagnosis::kObservableUnits[k]);
+  }
+  f.write("/compare/population/params", a.population.params);
+  f.write_strings("/compare/population/names", a.population.names);
+  f.set_attr("/compare", "json", doc.dump());
+  f.set_attr("/compare", "noise_floor", b.floor.value.mean);
+  f.set_attr("/compare", "heldout_error", a.heldout.error.mean);
+  f.flush();
+}
+
+void run(CompareCliOptions& o) {
+  if (!o.output.out.empty()) require_extension("--out", o.output.out, {".csv", ".h5", ".hdf5"});
+  o.values.dt_s = o.model.dt_s;
+  diagnosis::DiagnoseOptions opt = diagnosis::make_options(o.values);
+  const Model model = o.model.build_model();
+  const auto in = diagnosis::load_inputs(o.data, o.shape_given ? o.model.shape : "");
+  opt.assess.folds = diagnosis::resolve_folds(o.values.folds, in.set.size());
+  const diagnosis::Baseline b = diagnosis::compare(model, in.shape, in.set, opt);
+  nlohmann::json doc = diagnosis::to_json(b, in.set);
+  doc["data"] = o.data;
+  doc["shape"] = in.shape.name;
+  doc["verdict"] = b.adequacy.adequate ? "adequate" : "not adequate";
+  std::vector<std::string> figures;
+  if (!o.figures.empty()) {
+    figures =
+        diagnosis::render_all(diagnosis::compare_figures(b, in.set, in.shape.name), o.figures);
+    doc["figures"] = figures;
+  }
+  if (!o.output.out.empty()) write_out(o.output.out, b, in.set, doc);
+  if (o.output.json) {
+    print_json(doc);
+    return;
+  }
+  const auto& a = b.base;
+  std::cout << fmt::format("{} ({} releases of shape {}), model:", o.data, in.set.size(),
+                           in.shape.name);
+  for (const auto& e : a.effects) std::cout << " " << e;
+  std::cout << "\npopulation fit:";
+  for (std::size_t i : a.population.calibrated)
+    std::cout << fmt::format(" {} = {:.4g}", a.population.names[i], a.population.params[i]);
+  std::cout << fmt::format("\nnoise floor {:.4g} ({}: {}); nearest-neighbour check {:.4g}\n",
+                           b.floor.value.mean, b.floor.source, b.floor.description,
+                           b.floor.nearest_neighbour);
+  std::cout << fmt::format(
+      "error (Eq. 7{}): in-sample {:.4g}, held-out {:.4g} +- {:.2g} ({}-fold) = {:.2f} x floor: "
+      "{}\n\n",
+      a.use[diagnosis::kObsPenetration] || a.use[diagnosis::kObsDuration] ? " + contact terms" : "",
+      a.insample.error.mean, a.heldout.error.mean, a.heldout.error.se, a.folds, b.adequacy.ratio,
+      b.adequacy.adequate ? "ADEQUATE (within the noise floor)" : "NOT adequate");
+  std::cout << fmt::format("{:<18}{:>12}{:>12}{:>12}{:>14}{:>10}\n", "observable", "in-sample",
+                           "held-out", "floor", "held-out RMSE", "KS p");
+  for (int k = 0; k < diagnosis::kObservables; ++k)
+    if (a.use[k])
+      std::cout << fmt::format("{:<18}{:>12.4g}{:>12.4g}{:>12.4g}{:>10.3g} {:<3}{:>10.2g}\n",
+                               diagnosis::kObservableLabels[k], a.insample.term_mean[k],
+                               a.heldout.term_mean[k], b.floor.term_mean[k], a.heldout.rmse[k],
+                               diagnosis::kObservableUnits[k], b.ks[k].p_value);
+  std::cout << "\nper regime (held-out error vs floor):\n";
+  for (const auto& r : b.regimes)
+    std::cout << fmt::format("  {:<40} n = {:>3}  {:.4g} +- {:.2g}  (floor {:.4g})\n", r.name,
+                             r.releases.size(), r.heldout.mean, r.heldout.se, r.floor.mean);
+  std::cout << "\nper release (held-out error, worst first):\n";
+  std::vector<std::size_t> order(in.set.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
+    return a.heldout.per_release[x] > a.heldout.per_release[y];
+  });
+  for (std::size_t r = 0; r < std::min<std::size_t>(order.size(), 8); ++r) {
+    const std::size_t i = order[r];
+    std::cout << fmt::format("  {:<8} {:.4g}  (floor {:.3g})\n", in.set.impacts[i].id,
+                             a.heldout.per_release[i], b.floor.per_release[i]);
+  }
+  std::cout << "\nsignificant trends (p < " << opt.trends.alpha << "):\n";
+  int shown = 0;
+  for (const auto* trends : {&b.residual_trends, &b.parameter_trends})
+    for (const auto& t : *trends)
+      if (t.significant) std::cout << "  " << diagnosis::describe(t) << "\n", ++shown;
+  if (shown == 0) std::cout << "  none\n";
+  for (const auto& f : figures) std::cout << "wrote " << f << "\n";
+  if (!o.output.out.empty()) std::cout << "wrote " << o.output.out << "\n";
+}
+
+}  // namespace
+
+void add_compare_command(CLI::App& app) {
+  auto o = std::make_shared<CompareCliOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "compare",
+      "Calibrate a model on an impact set and show where it fails: errors per observable, "
+      "release and regime, residual and parameter trends, CDFs, noise floor");
+  sub->add_option("DATA", o->data, "Impact set (.csv, .h5)")->required();
+  add_model_options(sub, o->model);
+  sub->add_option("--folds", o->values.folds, "k of the k-fold held-out error, or loro")
+      ->capture_default_str();
+  sub->add_option("--seed", o->values.seed, "Seed of the calibration start designs")
+      ->capture_default_str();
+  sub->add_flag("--no-release-fits", o->values.no_release_fits,
+                "Skip the per-release calibration (no parameter trends; faster)");
+  sub->add_flag("--no-intervals", o->values.no_intervals,
+                "Per-release fits without identifiability intervals (faster)");
+  sub->add_flag("--no-features", o->values.no_features,
+                "Ignore penetration and contact duration even when the data have them");
+  sub->add_option("--error", o->values.error,
+                  "Error denominators: set-mean (Eq. 7 floored at the set's mean magnitude) or "
+                  "eq7 (the paper's)")
+      ->capture_default_str();
+  sub->add_option("--threads", o->values.threads, "Threads (0 = all)")->capture_default_str();
+  sub->add_option("--figures", o->figures, "Write SVG figures into this directory");
+  add_output_options(sub, o->output);
+  sub->callback([o, sub] {
+    o->shape_given = sub->get_option("--shape")->count() > 0;
+    run(*o);
+  });
+}
+
+}  // namespace ricochet::cli

@@ -1,0 +1,176 @@
+// `ricochet ladder DATA --shape S --model FILE --add NAME [--add NAME ...] --json`: recalibrate
+// each rung (base, + first effect, + second effect, ...) and show the error falling towards the
+// noise floor, in-sample and held-out, per observable (docs/commands/ladder.md). With --auto N
+// the rungs are chosen by rounds of `ricochet diagnose`.
+#include <fstream>
+#include <iostream>
+#include <memory>
+
+#include <fmt/format.h>
+
+#include "cli_common.hpp"
+#include "common/error.hpp"
+#include "common/h5.hpp"
+#include "diagnosis/figures.hpp"
+#include "diagnosis/inputs.hpp"
+#include "model_options.hpp"
+
+namespace ricochet::cli {
+namespace {
+
+struct LadderCliOptions {
+  std::string data;
+  ModelOptions model;  // its --add list is the ladder, not part of the base model
+  diagnosis::OptionValues values;
+  OutputOptions output;
+  std::string figures;
+  int auto_rounds = -1;
+  bool shape_given = false;
+};
+
+void write_out(const std::string& path, const diagnosis::Ladder& l, const nlohmann::json& doc) {
+  if (path.size() > 4 && path.substr(path.size() - 4) == ".csv") {
+    std::ofstream f(path);
+    if (!f) throw InputError(path, 0, "--out", "cannot open the file for writing");
+    f << "# ricochet ladder; noise floor " << l.floor.value.mean << " (" << l.floor.source << ")\n";
+    f << "rung,added,model,insample_error,heldout_error,heldout_se,adequate";
+    const auto& use = l.rungs.front().assessment.use;
+    for (int k = 0; k < diagnosis::kObservables; ++k)
+      if (use[k]) f << ",heldout_" << diagnosis::kObservableNames[k];
+    f << "\n";
+    for (std::size_t r = 0; r < l.rungs.size(); ++r) {
+      const auto& a = l.rungs[r].assessment;
+      std::string model;
+      for (const auto& e : l.rungs[r].effects) model += (model.empty() ? "" : "+") + e;
+      f << r << ',' << l.rungs[r].added << ',' << model << ',' << a.insample.error.mean << ','
+        << a.heldout.error.mean << ',' << a.heldout.error.se << ','
+        << (l.rungs[r].adequacy.adequate ? 1 : 0);
+      for (int k = 0; k < diagnosis::kObservables; ++k)
+        if (use[k]) f << ',' << a.heldout.term_mean[k];
+      f << "\n";
+    }
+    return;
+  }
+  h5::File f(path, h5::File::Mode::kTruncate);
+  std::vector<std::string> added;
+  std::vector<double> ins, ho, se;
+  for (const auto& r : l.rungs) {
+    added.push_back(r.added.empty() ? "(base)" : r.added);
+    ins.push_back(r.assessment.insample.error.mean);
+    ho.push_back(r.assessment.heldout.error.mean);
+    se.push_back(r.assessment.heldout.error.se);
+  }
+  f.write_strings("/ladder/added", added);
+  f.write("/ladder/insample_error", ins);
+  f.write("/ladder/heldout_error", ho);
+  f.write("/ladder/heldout_se", se);
+  f.set_attr("/ladder", "noise_floor", l.floor.value.mean);
+  f.set_attr("/ladder", "json", doc.dump());
+  f.flush();
+}
+
+void run(LadderCliOptions& o) {
+  if (!o.output.out.empty()) require_extension("--out", o.output.out, {".csv", ".h5", ".hdf5"});
+  o.values.dt_s = o.model.dt_s;
+  diagnosis::DiagnoseOptions opt = diagnosis::make_options(o.values);
+  const std::vector<std::string> adds = o.model.add;
+  ModelOptions base_options = o.model;
+  base_options.add.clear();
+  const Model model = base_options.build_model();  // loads plugins, reads --model, applies --set
+  const auto& registry = EffectRegistry::global();
+  for (const auto& a : adds)
+    if (!registry.contains(a))
+      throw InputError(
+          "<command line>", 0, "--add", "unknown effect '" + a + "'; known effects: " + [&] {
+            std::string s;
+            for (const auto& n : registry.names()) s += (s.empty() ? "" : ", ") + n;
+            return s;
+          }());
+  if (adds.empty() && o.auto_rounds < 0)
+    throw InputError("<command line>", 0, "--add",
+                     "give the effects of the ladder (--add NAME, repeatable) or --auto N");
+  const auto in = diagnosis::load_inputs(o.data, o.shape_given ? o.model.shape : "");
+  opt.assess.folds = diagnosis::resolve_folds(o.values.folds, in.set.size());
+  opt.assess.release_fits = opt.assess.release_fits && o.auto_rounds >= 0;
+  opt.progress = !o.output.json;
+  const diagnosis::Ladder l =
+      o.auto_rounds >= 0 ? diagnosis::auto_ladder(model, in.shape, in.set, o.auto_rounds, opt)
+                         : diagnosis::ladder(model, in.shape, in.set, adds, opt);
+  nlohmann::json doc = diagnosis::to_json(l);
+  doc["data"] = o.data;
+  doc["shape"] = in.shape.name;
+  std::vector<std::string> figures;
+  if (!o.figures.empty()) {
+    figures = diagnosis::render_all(diagnosis::ladder_figures(l, in.shape.name), o.figures);
+    doc["figures"] = figures;
+  }
+  if (!o.output.out.empty()) write_out(o.output.out, l, doc);
+  if (o.output.json) {
+    print_json(doc);
+    return;
+  }
+  std::cout << fmt::format("{} ({} releases of shape {}); noise floor {:.4g} ({})\n\n", o.data,
+                           in.set.size(), in.shape.name, l.floor.value.mean, l.floor.source);
+  const auto& use = l.rungs.front().assessment.use;
+  std::string head = fmt::format("{:<5}{:<22}{:>11}{:>11}{:>9}{:>10}", "rung", "added", "in-sample",
+                                 "held-out", "+-SE", "x floor");
+  for (int k = 0; k < diagnosis::kObservables; ++k)
+    if (use[k]) head += fmt::format("{:>13}", diagnosis::kObservableNames[k]);
+  std::cout << head << "\n";
+  for (std::size_t r = 0; r < l.rungs.size(); ++r) {
+    const auto& rung = l.rungs[r];
+    const auto& a = rung.assessment;
+    std::string line =
+        fmt::format("{:<5}{:<22}{:>11.4g}{:>11.4g}{:>9.2g}{:>10.2f}", r,
+                    rung.added.empty() ? "(base)" : "+" + rung.added, a.insample.error.mean,
+                    a.heldout.error.mean, a.heldout.error.se, rung.adequacy.ratio);
+    for (int k = 0; k < diagnosis::kObservables; ++k)
+      if (use[k]) line += fmt::format("{:>13.4g}", a.heldout.term_mean[k]);
+    std::cout << line << (rung.adequacy.adequate ? "  adequate" : "") << "\n";
+  }
+  std::string floor_line = fmt::format("{:<5}{:<22}{:>11}{:>11.4g}{:>9}{:>10}", "", "noise floor",
+                                       "", l.floor.value.mean, "", "");
+  for (int k = 0; k < diagnosis::kObservables; ++k)
+    if (use[k]) floor_line += fmt::format("{:>13.4g}", l.floor.term_mean[k]);
+  std::cout << floor_line << "\n";
+  if (!l.stop_reason.empty()) std::cout << "\nstopped: " << l.stop_reason << "\n";
+  for (const auto& f : figures) std::cout << "wrote " << f << "\n";
+  if (!o.output.out.empty()) std::cout << "wrote " << o.output.out << "\n";
+}
+
+}  // namespace
+
+void add_ladder_command(CLI::App& app) {
+  auto o = std::make_shared<LadderCliOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "ladder",
+      "Recalibrate a ladder of models (base, + effect, + another, ...) and show the in-sample "
+      "and held-out error falling towards the noise floor");
+  sub->add_option("DATA", o->data, "Impact set (.csv, .h5)")->required();
+  add_model_options(sub, o->model);
+  sub->get_option("--add")->description(
+      "Effect added by the next rung (repeatable, in order; plugin effects too)");
+  sub->add_option("--auto", o->auto_rounds,
+                  "Choose the rungs by rounds of diagnose, at most N effects (instead of --add)");
+  sub->add_option("--folds", o->values.folds, "k of the k-fold held-out error, or loro")
+      ->capture_default_str();
+  sub->add_option("--seed", o->values.seed, "Seed of the calibration start designs")
+      ->capture_default_str();
+  sub->add_option("--z", o->values.z, "--auto: standard errors a drop must exceed")
+      ->capture_default_str();
+  sub->add_flag("--no-features", o->values.no_features,
+                "Ignore penetration and contact duration even when the data have them");
+  sub->add_option("--error", o->values.error,
+                  "Error denominators: set-mean (Eq. 7 floored at the set's mean magnitude) or "
+                  "eq7 (the paper's)")
+      ->capture_default_str();
+  sub->add_option("--threads", o->values.threads, "Threads (0 = all)")->capture_default_str();
+  sub->add_option("--figures", o->figures, "Write SVG figures into this directory");
+  add_output_options(sub, o->output);
+  sub->callback([o, sub] {
+    o->shape_given = sub->get_option("--shape")->count() > 0;
+    run(*o);
+  });
+}
+
+}  // namespace ricochet::cli

@@ -1,0 +1,120 @@
+// `ricochet report DATA [DATA ...] --out report.html`: the self-contained HTML validation report
+// (data, comparison, diagnosis, model ladder, conclusions) for every shape of every impact set
+// given (docs/commands/report.md).
+#include <algorithm>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include <fmt/format.h>
+
+#include "cli_common.hpp"
+#include "common/error.hpp"
+#include "diagnosis/inputs.hpp"
+#include "diagnosis/validation_report.hpp"
+#include "fit/fit.hpp"
+#include "model_options.hpp"
+
+namespace ricochet::cli {
+namespace {
+
+struct ReportCliOptions {
+  std::vector<std::string> data;
+  std::vector<std::string> labels;
+  ModelOptions model;
+  diagnosis::OptionValues values;
+  OutputOptions output;
+  std::string title = "Ricochet validation report";
+  int rounds = 2;
+  bool shape_given = false;
+};
+
+void run(ReportCliOptions& o) {
+  require_extension("--out", o.output.out, {".html", ".htm"});
+  o.values.dt_s = o.model.dt_s;
+  diagnosis::ReportOptions ro;
+  ro.diagnose = diagnosis::make_options(o.values);
+  ro.diagnose.progress = !o.output.json;
+  ro.diagnose.assess.folds = diagnosis::resolve_folds(o.values.folds, 1000000);
+  ro.rounds = o.rounds;
+  ro.title = o.title;
+  if (o.rounds < 0) throw InputError("<command line>", 0, "--rounds", "must be >= 0");
+  if (!o.labels.empty() && o.labels.size() != o.data.size())
+    throw InputError("<command line>", 0, "--label",
+                     "give one label per DATA file (" + std::to_string(o.data.size()) + ")");
+  const Model model = o.model.build_model();
+
+  std::vector<diagnosis::ReportInput> inputs;
+  for (std::size_t f = 0; f < o.data.size(); ++f) {
+    const ImpactSet all = read_impact_set(o.data[f]);
+    std::vector<std::string> shapes;
+    if (o.shape_given) {
+      shapes.push_back(o.model.shape);
+    } else {
+      for (const auto& im : all.impacts)
+        if (std::find(shapes.begin(), shapes.end(), im.shape) == shapes.end())
+          shapes.push_back(im.shape);
+    }
+    for (const auto& sh : shapes) {
+      diagnosis::ReportInput in;
+      in.data = o.data[f];
+      in.shape = Shape::resolve(sh);
+      in.set = fit::select_shape(all, in.shape);
+      const std::string stem = std::filesystem::path(o.data[f]).stem().string();
+      in.label = (o.labels.empty() ? stem : o.labels[f]) +
+                 (shapes.size() > 1 || o.labels.empty() ? " (" + in.shape.name + ")" : "");
+      if (in.set.size() < 4)
+        throw InputError(o.data[f], 0, "shape",
+                         "only " + std::to_string(in.set.size()) + " release(s) of shape '" + sh +
+                             "': the held-out error needs at least 4");
+      inputs.push_back(std::move(in));
+    }
+  }
+  const auto sections = diagnosis::analyse(inputs, model, ro);
+  const std::size_t figures = diagnosis::write_report(sections, model, ro, o.output.out);
+  if (o.output.json) {
+    print_json(
+        {{"out", o.output.out}, {"figures", figures}, {"sets", diagnosis::to_json(sections)}});
+    return;
+  }
+  for (const auto& s : sections) std::cout << "- " << s.conclusion << "\n";
+  std::cout << fmt::format("wrote {} ({} figures embedded)\n", o.output.out, figures);
+}
+
+}  // namespace
+
+void add_report_command(CLI::App& app) {
+  auto o = std::make_shared<ReportCliOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "report",
+      "Self-contained HTML validation report (data, comparison, diagnosis, model ladder, "
+      "conclusions) for every shape of every impact set given");
+  sub->add_option("DATA", o->data, "Impact sets (.csv, .h5): lab data, LIGGGHTS campaigns, ...")
+      ->required();
+  sub->add_option("--label", o->labels, "A label per DATA file, in order (repeatable)");
+  add_model_options(sub, o->model);
+  sub->add_option("--rounds", o->rounds, "Effects the automatic ladder may add")
+      ->capture_default_str();
+  sub->add_option("--title", o->title, "Title of the page")->capture_default_str();
+  sub->add_option("--folds", o->values.folds, "k of the k-fold held-out error, or loro")
+      ->capture_default_str();
+  sub->add_option("--seed", o->values.seed, "Seed of the calibration start designs")
+      ->capture_default_str();
+  sub->add_option("--z", o->values.z, "Standard errors a drop must exceed to support an effect")
+      ->capture_default_str();
+  sub->add_flag("--no-intervals", o->values.no_intervals,
+                "Per-release fits without identifiability intervals (faster)");
+  sub->add_option("--error", o->values.error,
+                  "Error denominators: set-mean (Eq. 7 floored at the set's mean magnitude) or "
+                  "eq7 (the paper's)")
+      ->capture_default_str();
+  sub->add_option("--threads", o->values.threads, "Threads (0 = all)")->capture_default_str();
+  add_output_options(sub, o->output);
+  sub->get_option("--out")->required()->description("The HTML file to write");
+  sub->callback([o, sub] {
+    o->shape_given = sub->get_option("--shape")->count() > 0;
+    run(*o);
+  });
+}
+
+}  // namespace ricochet::cli
