@@ -74,7 +74,7 @@ name = "scaling"
 cache_dir = "$CACHE"
 work_dir = "$WORK/scaling"
 [bed]
-Lx_m = 0.5
+Lx_m = 0.6
 Ly_m = 0.06
 H_m = 0.06
 r1_m = 0.004
@@ -85,7 +85,7 @@ incident = [[2.9, -2.3, -65.0], [2.7, -2.4, -70.0], [3.1, -2.2, -60.0], [2.9, -2
 EOF
 # The bed first (not timed), then the same 4 impacts from scratch on 1 and on 2 ranks.
 $MPI -np 1 "$R" dem impact --cache "$CACHE" --work "$WORK" --id warm --json \
-  --set bed.Lx_m=0.5 --set bed.Ly_m=0.06 --set bed.H_m=0.06 --set bed.r1_m=0.004 \
+  --set bed.Lx_m=0.6 --set bed.Ly_m=0.06 --set bed.H_m=0.06 --set bed.r1_m=0.004 \
   --set bed.r2_m=0.005 --set bed.r3_m=0.006 --set run.t_max_s=0.001 > /dev/null
 for np in 1 2; do
   rm -f "$WORK/scaling-$np.h5"

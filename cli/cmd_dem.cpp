@@ -397,9 +397,10 @@ void add_dem_command(CLI::App& app) {
   i->add_option("--id", imp->id, "Impact id (work folder name)");
   i->add_option("--work", imp->work, "Work folder (per-impact logs and tracks)");
   i->add_option("--fps", imp->fps, "Frame rate given to the reconstruction (0 = every record)");
-  i->add_option("--window", imp->window,
-                "Contact window: ground (paper Fig. 8b), force (DEM) or auto (default: ground for "
-                "discs, force otherwise)");
+  i->add_option(
+      "--window", imp->window,
+      "Contact window: force (default, DEM contact force), ground (paper Fig. 8b) or auto "
+      "(ballistic residuals)");
   i->callback([imp] { run_impact_command(*imp); });
 
   auto camp = std::make_shared<CampaignOptions>();

@@ -183,15 +183,17 @@ std::string validate_setup(const ImpactSpec& spec, const Shape& shape, const Dec
                        bed.Ly_m);
   const double frac = run_param(spec, decks, "x_impact_frac");
   const double t_pre = run_param(spec, decks, "t_pre_s");
-  // Same margin as the deck's end_wall criterion (setup.in: x_wall_margin).
-  const double margin = 2 * shape.bounding_radius() + 4 * bed.r_max_m;
+  // Same margins as the deck's end_wall criterion (setup.in: x_wall_front, x_wall_back).
+  const double front = 2 * shape.bounding_radius() + 4 * bed.r_max_m;
+  const double back = shape.bounding_radius() + 4 * bed.r_max_m;
   const double x_contact = frac * bed.Lx_m;
   const double x_ins = x_contact - spec.vin[kVx] * t_pre;
-  if (x_ins < margin || x_contact < margin || x_contact > bed.Lx_m - margin)
+  if (x_ins < back || x_contact > bed.Lx_m - front)
     return fmt::format(
-        "the block would start at x = {:.3f} m and touch the bed at x = {:.3f} m, closer than "
-        "{:.3f} m (2 bounding radii + 4 grain radii) to an end wall of the {} m bed",
-        x_ins, x_contact, margin, bed.Lx_m);
+        "the block would start at x = {:.3f} m and touch the bed at x = {:.3f} m: it must start "
+        "at least {:.3f} m from the wall behind it and touch at least {:.3f} m before the wall "
+        "ahead (bounding radius + 4 grain radii, twice the bounding radius ahead) of the {} m bed",
+        x_ins, x_contact, back, front, bed.Lx_m);
   const double drop = -spec.vin[kVy] * t_pre - 0.5 * kGravity * t_pre * t_pre;
   const double y_ins = bed.z_surface_m + shape.depth_below_centroid(spec.alpha_in_rad) + drop;
   if (y_ins + shape.bounding_radius() > bed.z_box_top_m)
@@ -251,7 +253,7 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
   const auto start = std::chrono::steady_clock::now();
   const double crater_bin = 2 * bed.r_max_m;
   std::vector<double> before, after;
-  double block_mass = 0, t_max = 0;
+  double block_mass = 0, t_max = 0, deck_contact_end = -1;
   {
     Liggghts lmp(comm, (fs::path(ctx.work_dir) / "log.liggghts").string(),
                  (fs::path(ctx.work_dir) / "screen.txt").string(), vars);
@@ -303,6 +305,7 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
           break;
         }
       }
+      deck_contact_end = lmp.number("t_contact_end").value_or(-1);
       lmp.file(decks.impact_dir + "/finish.in");
       after = surface_profile(lmp, bed, crater_bin);
     }
@@ -332,17 +335,24 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
   if (r.status == "timeout")
     r.message = fmt::format("no end of the rebound within t_max_s = {} s", t_max);
   if (r.status == "end_wall")
-    r.message = "the block came within x_wall_margin of an end wall: use a longer bed";
+    r.message =
+        "the block came too close to an end wall (setup.in: x_wall_front, x_wall_back): "
+        "use a longer bed";
   if (!r.ok()) return r;
 
-  // DEM contact-force window (the deck's criterion, check.in, at full record resolution).
+  // DEM contact-force window: the deck's criterion (check.in) at full record resolution, from the
+  // first touch to the last touch before the deck's own separation time (check.in samples chunk
+  // ends; later touches are grains thrown up with the block, whose impulses are negligible).
   const double threshold = run_param(spec, decks, "f_contact_frac") * block_mass * kGravity;
+  const double deck_end = deck_contact_end;
   std::size_t i0 = tr.size(), i1 = tr.size();
-  for (std::size_t i = 0; i < tr.size(); ++i)
+  for (std::size_t i = 0; i < tr.size(); ++i) {
+    if (tr.t[i] > deck_end) break;
     if (std::hypot(tr.fcx[i], tr.fcy[i]) > threshold && tr.penetration[i] > -2 * bed.r_max_m) {
       if (i0 == tr.size()) i0 = i;
       i1 = i;
     }
+  }
   if (i0 == tr.size()) {
     r.status = "extraction_failed";
     r.message = "no contact force in the recorded track";
@@ -388,7 +398,7 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
   // V_in and V_out with the lab's reconstruction on camera-like frames.
   kinematics::ReconstructOptions ro;
   std::string window = ctx.extract.window;
-  if (window.empty()) window = shape.is_disc() ? "ground" : "force";
+  if (window.empty()) window = "force";
   if (window == "ground") {
     ro.ground_y_m = bed.z_surface_m;
     ro.contact_radius_m = shape.depth_below_centroid(spec.alpha_in_rad);

@@ -38,10 +38,12 @@ struct ExtractOptions {
   /// Frame rate of the track given to the reconstruction [1/s]: the lab camera's 400 fps by
   /// default (like with like); 0 = every recorded state.
   double fps = 400;
-  /// Contact window: "ground" = the paper's geometric criterion (block centre within its contact
-  /// radius of the levelled surface, Fig. 8b), "force" = the DEM contact force window, "auto" =
-  /// the reconstruction's ballistic-residual detection; empty = ground for discs (whose contact
-  /// radius does not change as they turn), force for other shapes.
+  /// Contact window given to the reconstruction: "force" (default; the DEM analogue of the
+  /// operator's "the block touches the sand": contact force above f_contact_frac x weight while
+  /// the block is within two grain radii of the surface), "ground" = the paper's geometric
+  /// criterion (centre within the contact radius of the levelled surface, Fig. 8b; fails when the
+  /// block leaves from the bottom of its crater), "auto" = the reconstruction's ballistic-residual
+  /// detection. Empty = force.
   std::string window;
 };
 

@@ -79,7 +79,8 @@ std::vector<DeckParam> read_deck_params(const std::string& path) {
       p.comment.erase(0, p.comment.find_first_not_of(' '));
     }
     double v;
-    p.numeric = parse_double(value, v);
+    // A default such as ${mu_gg} refers to another (numeric) parameter.
+    p.numeric = parse_double(value, v) || value.rfind("${", 0) == 0;
     params.push_back(p);
   }
   return params;

@@ -27,7 +27,7 @@ using namespace ricochet::dem;
 namespace fs = std::filesystem;
 
 // The small test bed of liggghts_test.cpp (same parameters: the same cached bed).
-const std::vector<std::string> kTestBed = {"bed.Lx_m=0.5",   "bed.Ly_m=0.06",  "bed.H_m=0.06",
+const std::vector<std::string> kTestBed = {"bed.Lx_m=0.6",   "bed.Ly_m=0.06",  "bed.H_m=0.06",
                                            "bed.r1_m=0.004", "bed.r2_m=0.005", "bed.r3_m=0.006"};
 
 fs::path temp_dir(const std::string& name) {
@@ -89,7 +89,7 @@ TEST(DemCampaign, KilledCampaignResumesWithoutLosingFinishedImpacts) {
   const std::string design = (work / "design.toml").string();
   std::ofstream(design) << "[campaign]\nname = \"resume\"\ncache_dir = \"" << RICOCHET_TEST_CACHE
                         << "\"\nwork_dir = \"" << (work / "work").string()
-                        << "\"\n[bed]\nLx_m = 0.5\nLy_m = 0.06\nH_m = 0.06\nr1_m = 0.004\n"
+                        << "\"\n[bed]\nLx_m = 0.6\nLy_m = 0.06\nH_m = 0.06\nr1_m = 0.004\n"
                            "r2_m = 0.005\nr3_m = 0.006\n"
                            "[[impact]]\nid = \"first\"\nvin = [2.9, -2.3, -65.0]\n"
                            "[[impact]]\nid = \"second\"\nvin = [3.1, -2.2, -60.0]\n";

@@ -33,9 +33,9 @@ const Decks& decks() {
   return d;
 }
 
-// The test bed: a 0.5 m x 0.06 m slab, 0.06 m deep, grains of 4-6 mm radius, grain parameters of
+// The test bed: a 0.6 m x 0.06 m slab, 0.06 m deep, grains of 4-6 mm radius, grain parameters of
 // docs/resolved-model.md that give the cylinder a rebound. About 2,000 grains.
-const std::vector<std::string> kTestBed = {"bed.Lx_m=0.5",   "bed.Ly_m=0.06",  "bed.H_m=0.06",
+const std::vector<std::string> kTestBed = {"bed.Lx_m=0.6",   "bed.Ly_m=0.06",  "bed.H_m=0.06",
                                            "bed.r1_m=0.004", "bed.r2_m=0.005", "bed.r3_m=0.006"};
 
 Overrides test_overrides(const std::vector<std::string>& extra = {}) {
@@ -123,7 +123,7 @@ TEST(DemFailures, InsertionOutsideTheBedIsRefusedBeforeLiggghts) {
   spec.params = test_overrides({"run.x_impact_frac=0.05"});
   const ImpactResult r = run(spec, work);
   EXPECT_EQ(r.status, "invalid");
-  EXPECT_NE(r.message.find("end wall"), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("from the wall behind it"), std::string::npos) << r.message;
   EXPECT_EQ(r.steps, 0);  // LIGGGHTS was never started
   EXPECT_FALSE(fs::exists(work / "outside" / "log.liggghts"));
 }
