@@ -40,5 +40,6 @@ void add_compare_command(CLI::App& app);
 void add_ladder_command(CLI::App& app);
 void add_report_command(CLI::App& app);
 void add_dem_command(CLI::App& app);
+void add_upscale_command(CLI::App& app);
 
 }  // namespace ricochet::cli

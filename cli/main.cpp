@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   ricochet::cli::add_ladder_command(app);
   ricochet::cli::add_report_command(app);
   ricochet::cli::add_dem_command(app);
+  ricochet::cli::add_upscale_command(app);
 
   try {
     app.parse(argc, argv);

@@ -439,11 +439,22 @@ void rewrite_impact_set(const std::string& path, const std::vector<CampaignEntry
     im.shape = e.shape;
     im.vin = {col(e, "vin_x"), col(e, "vin_y"), col(e, "win")};
     im.vout = {col(e, "vout_x"), col(e, "vout_y"), col(e, "wout")};
-    im.alpha_in = col(e, "alpha_in");
-    im.penetration = col(e, "penetration");
-    im.contact_duration = col(e, "contact_duration");
-    im.sigma_vin = Vel3{col(e, "sigma_vin_x"), col(e, "sigma_vin_y"), col(e, "sigma_vin_w")};
-    im.sigma_vout = Vel3{col(e, "sigma_vout_x"), col(e, "sigma_vout_y"), col(e, "sigma_vout_w")};
+    // Optional columns are absent (not NaN) when a result does not have them.
+    auto optional = [&](const std::string& name) -> std::optional<double> {
+      const double v = col(e, name);
+      return std::isfinite(v) ? std::optional<double>(v) : std::nullopt;
+    };
+    auto triple = [&](const std::string& prefix) -> std::optional<Vel3> {
+      const Vel3 v = {col(e, prefix + "_x"), col(e, prefix + "_y"), col(e, prefix + "_w")};
+      for (double x : v)
+        if (!std::isfinite(x)) return std::nullopt;
+      return v;
+    };
+    im.alpha_in = optional("alpha_in");
+    im.penetration = optional("penetration");
+    im.contact_duration = optional("contact_duration");
+    im.sigma_vin = triple("sigma_vin");
+    im.sigma_vout = triple("sigma_vout");
     for (const auto& x : set.extra_names) im.extra.push_back(col(e, x));
     set.impacts.push_back(im);
   }
@@ -492,6 +503,13 @@ std::string spec_json(const ImpactSpec& spec) {
   return j.dump();
 }
 
+std::string params_json(const ImpactSpec& spec, const ImpactResult& r) {
+  nlohmann::json j = nlohmann::json::parse(spec_json(spec));
+  if (!r.bed_values.empty() || !r.block_values.empty())
+    j["effective"] = {{"bed", r.bed_values}, {"block", r.block_values}};
+  return j.dump();
+}
+
 std::vector<CampaignEntry> read_campaign_index(const std::string& path) {
   std::vector<CampaignEntry> out;
   if (!fs::exists(path)) return out;
@@ -515,6 +533,7 @@ std::vector<CampaignEntry> read_campaign_index(const std::string& path) {
     e.shape = s["shape"][i];
     e.bed_key = s["bed_key"][i];
     e.work_dir = s["work_dir"][i];
+    e.params = s["params"][i];
     e.values.assign(values.begin() + static_cast<long>(i * columns),
                     values.begin() + static_cast<long>((i + 1) * columns));
     out.push_back(std::move(e));

@@ -37,6 +37,7 @@ struct CampaignOptions {
 /// One row of the campaign index (every impact that ended, whatever its status).
 struct CampaignEntry {
   std::string id, status, message, shape, bed_key, work_dir;
+  std::string params;  ///< JSON: the spec (spec_json) plus "effective" bed and block parameters
   std::vector<double> values;  ///< aligned with campaign_value_names()
 };
 /// Numeric columns of /dem/index/values.
@@ -65,5 +66,7 @@ std::vector<CampaignEntry> read_campaign_index(const std::string& path);
 
 /// JSON record of a spec (shape, vin, alpha, seed, overrides).
 std::string spec_json(const ImpactSpec& spec);
+/// spec_json plus the impact's effective grain-scale parameters ("effective": {"bed", "block"}).
+std::string params_json(const ImpactSpec& spec, const ImpactResult& result);
 
 }  // namespace ricochet::dem

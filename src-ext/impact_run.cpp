@@ -219,6 +219,13 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
   r.grains = bed.grains;
   r.dt_s = bed.dt_s;
   r.work_dir = ctx.work_dir;
+  for (const auto& p : decks.bed_params)
+    if (const auto it = bed.values.find(p.name); it != bed.values.end())
+      r.bed_values[p.name] = it->second;
+  for (const auto& p : decks.block_params) {
+    const auto it = spec.params.block.find(p.name);
+    r.block_values[p.name] = it == spec.params.block.end() ? p.default_value : it->second;
+  }
   const Shape shape = Shape::resolve(spec.shape);
   if (!bed.settled) {
     r.status = "bed_not_settled";

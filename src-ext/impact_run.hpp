@@ -6,6 +6,7 @@
 #include <mpi.h>
 
 #include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -77,6 +78,9 @@ struct ImpactResult {
   Vel3 v_start_direct{}, v_end_direct{};  ///< block velocity at the force-window ends
 
   std::string bed_key;
+  /// Effective grain-scale parameters of this impact: the bed's (from its .params file) and the
+  /// grain-block contact's (deck defaults with the spec's overrides), recorded with the result.
+  std::map<std::string, std::string> bed_values, block_values;
   long grains = 0, steps = 0, block_spheres = 0;
   double dt_s = 0, wall_s = 0, sim_time_s = 0;
   double rayleigh_fraction = 0, hertz_fraction = 0;  ///< from fix check/timestep/gran

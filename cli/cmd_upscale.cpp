@@ -1,0 +1,214 @@
+// `ricochet upscale CAMPAIGN.h5`: the reduced engine's equivalent e_n^2, mu, mu_R fitted to the
+// resolved impacts of a `ricochet dem campaign`, per impact and per set of grain-scale
+// parameters, with identifiability, abacus figures and the gap to the lab. See
+// docs/commands/upscale.md.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "cli_common.hpp"
+#include "common/error.hpp"
+#include "common/h5.hpp"
+#include "fit/fit_io.hpp"
+#include "impact/impact_set.hpp"
+#include "model_options.hpp"
+#include "params.hpp"
+#include "upscale.hpp"
+
+namespace ricochet::cli {
+namespace {
+
+struct UpscaleCliOptions {
+  std::string campaign;
+  ModelOptions model;
+  std::vector<std::string> by;
+  std::string where, lab, figures, decks;
+  unsigned seed = 1;
+  int starts = 4;
+  int threads = 0;
+  bool no_intervals = false;
+  OutputOptions output;
+};
+
+nlohmann::json result_json(const dem::UpscaleResult& r) {
+  nlohmann::json impacts = nlohmann::json::array();
+  for (const auto& u : r.impacts) {
+    nlohmann::json j = fit::to_json(u.fit);
+    j["group"] = u.group;
+    j["grain"] = u.grain;
+    impacts.push_back(j);
+  }
+  nlohmann::json groups = nlohmann::json::array();
+  for (const auto& g : r.groups) {
+    std::vector<fit::ReleaseFit> member_fits;
+    for (std::size_t i : g.members) member_fits.push_back(r.impacts[i].fit);
+    groups.push_back({{"key", g.key},
+                      {"grain", g.grain},
+                      {"impacts", g.members.size()},
+                      {"population", fit::to_json(g.population)},
+                      {"per_impact_summary", fit::summary_json(member_fits)}});
+  }
+  nlohmann::json j = {{"source", r.source}, {"shape", r.shape}, {"by", r.by},
+                      {"impacts", impacts}, {"groups", groups}, {"seconds", r.seconds}};
+  if (r.campaign) j["campaign"] = fit::to_json(*r.campaign);
+  return j;
+}
+
+void write_h5(const std::string& path, const dem::UpscaleResult& r, const Model& model,
+              const Shape& shape, const fit::FitOptions& options) {
+  {
+    fit::ReleaseFitStore store(path, model, shape, r.set, options, false, "upscale/releases");
+    std::vector<fit::ReleaseFit> fits;
+    for (std::size_t i = 0; i < r.impacts.size(); ++i) {
+      store.append(i, r.impacts[i].fit);
+      fits.push_back(r.impacts[i].fit);
+    }
+    store.write_summary(fits, r.campaign ? &*r.campaign : nullptr, r.seconds);
+  }
+  h5::File f(path, h5::File::Mode::kReadWrite);
+  f.set_attr("/upscale", "source", r.source);
+  f.set_attr("/upscale", "by", nlohmann::json(r.by).dump());
+  std::vector<std::string> keys, per_impact_group;
+  for (const auto& g : r.groups) keys.push_back(g.key);
+  for (const auto& u : r.impacts) per_impact_group.push_back(u.group);
+  f.write_strings("/upscale/groups/key", keys);
+  f.write_strings("/upscale/impact_group", per_impact_group);
+  for (const auto& name : r.by) {
+    std::vector<std::string> v;
+    for (const auto& g : r.groups) v.push_back(g.grain.at(name));
+    f.write_strings("/upscale/groups/grain/" + name, v);
+  }
+  if (r.groups.empty()) return;
+  const auto& names = r.groups.front().population.names;
+  for (std::size_t c : r.groups.front().population.calibrated) {
+    std::vector<double> value, lo, hi;
+    for (const auto& g : r.groups) {
+      value.push_back(g.population.params[c]);
+      double l = NAN, h = NAN;
+      for (const auto& iv : g.population.intervals)
+        if (iv.name == names[c]) l = iv.lo, h = iv.hi;
+      lo.push_back(l);
+      hi.push_back(h);
+    }
+    f.write("/upscale/groups/" + names[c], value);
+    f.write("/upscale/groups/" + names[c] + "_lo", lo);
+    f.write("/upscale/groups/" + names[c] + "_hi", hi);
+  }
+}
+
+void run(const UpscaleCliOptions& o) {
+  if (!o.output.out.empty()) require_extension("--out", o.output.out, {".h5", ".hdf5"});
+  const auto decks = dem::Decks::locate(o.decks);
+  const Model model = o.model.build_model();
+  const Shape shape = o.model.build_shape();
+  dem::UpscaleOptions u;
+  u.by = o.by;
+  u.where = o.where;
+  u.fit.engine.dt_s = o.model.engine_options().dt_s;
+  u.fit.seed = o.seed;
+  if (o.starts < 1) throw InputError("<command line>", 0, "--starts", "must be at least 1");
+  u.fit.starts = o.starts;
+  u.fit.threads = o.threads;
+  u.fit.intervals = !o.no_intervals;
+  const dem::UpscaleResult r = dem::upscale(o.campaign, decks, model, shape, u);
+
+  std::unique_ptr<ImpactSet> lab;
+  if (!o.lab.empty())
+    lab = std::make_unique<ImpactSet>(fit::select_shape(read_impact_set(o.lab), shape));
+  std::vector<std::string> figures;
+  if (!o.figures.empty()) figures = dem::write_upscale_figures(r, o.figures, lab.get());
+  if (!o.output.out.empty()) write_h5(o.output.out, r, model, shape, u.fit);
+
+  nlohmann::json j = result_json(r);
+  j["figures"] = figures;
+  if (lab) {
+    // The gap to the lab, in numbers: mean and standard deviation of V_out on both sides.
+    nlohmann::json gap;
+    const char* names[3] = {"vout_x", "vout_y", "wout"};
+    for (int c = 0; c < 3; ++c) {
+      const auto dem_v = r.set.feature(names[c]);
+      const auto lab_v = lab->feature(names[c]);
+      auto mean_sd = [](const std::vector<double>& v) {
+        double m = 0, s = 0;
+        for (double x : v) m += x;
+        m /= static_cast<double>(v.size());
+        for (double x : v) s += (x - m) * (x - m);
+        return std::array<double, 2>{
+            m, v.size() > 1 ? std::sqrt(s / static_cast<double>(v.size() - 1)) : NAN};
+      };
+      const auto a = mean_sd(dem_v), b = mean_sd(lab_v);
+      gap[names[c]] = {
+          {"dem_mean", a[0]},          {"dem_std", a[1]},
+          {"lab_mean", b[0]},          {"lab_std", b[1]},
+          {"difference", a[0] - b[0]}, {"difference_in_lab_std", (a[0] - b[0]) / b[1]}};
+    }
+    j["gap_to_lab"] = gap;
+  }
+  if (o.output.json) {
+    print_json(j);
+    return;
+  }
+  std::cout << fmt::format(
+      "upscale {}: {} {} impacts in {} group(s) by [{}], {:.1f} s\n", r.source, r.impacts.size(),
+      r.shape, r.groups.size(),
+      [&] {
+        std::string s;
+        for (const auto& b : r.by) s += (s.empty() ? "" : ", ") + b;
+        return s;
+      }(),
+      r.seconds);
+  for (const auto& g : r.groups) {
+    std::cout << fmt::format("  group {} ({} impacts): population fit", g.key, g.members.size());
+    for (std::size_t c : g.population.calibrated)
+      std::cout << fmt::format(" {} = {:.3f}", g.population.names[c], g.population.params[c]);
+    std::cout << "\n";
+    for (const auto& iv : g.population.intervals) std::cout << "    " << iv.statement << "\n";
+  }
+  for (const auto& u2 : r.impacts) {
+    std::cout << fmt::format("  {}:", u2.id);
+    for (std::size_t c : u2.fit.calibrated)
+      std::cout << fmt::format(" {} = {:.3f}", u2.fit.names[c], u2.fit.params[c]);
+    std::cout << fmt::format("  (Eq. 7 = {:.2g})\n", u2.fit.error);
+  }
+  if (j.contains("gap_to_lab"))
+    for (const auto& [k, v] : j["gap_to_lab"].items())
+      std::cout << fmt::format(
+          "  {}: resolved {:.3f} +- {:.3f}, lab {:.3f} +- {:.3f}, gap {:+.3f} ({:+.1f} lab std)\n",
+          k, v["dem_mean"].get<double>(), v["dem_std"].get<double>(), v["lab_mean"].get<double>(),
+          v["lab_std"].get<double>(), v["difference"].get<double>(),
+          v["difference_in_lab_std"].get<double>());
+  for (const auto& f : figures) std::cout << "  figure: " << f << "\n";
+}
+
+}  // namespace
+
+void add_upscale_command(CLI::App& app) {
+  auto o = std::make_shared<UpscaleCliOptions>();
+  auto* sub = app.add_subcommand(
+      "upscale", "Fit the reduced engine's e_n^2, mu, mu_R to resolved (LIGGGHTS) impacts");
+  sub->add_option("campaign", o->campaign, "Campaign file of `ricochet dem campaign` (.h5)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  add_model_options(sub, o->model);
+  sub->add_option("--by", o->by,
+                  "Grain-scale parameters defining the groups, e.g. bed.E_grain_Pa (default: those "
+                  "that vary)");
+  sub->add_option("--where", o->where, "Select impacts, e.g. \"vin_x<3\"");
+  sub->add_option("--lab", o->lab,
+                  "Lab impact set to compare V_out with (e.g. data/lab/cylinders.csv)");
+  sub->add_option("--figures", o->figures, "Write SVG figures into DIR");
+  sub->add_option("--decks", o->decks, "liggghts-inputs folder (for the parameters' defaults)");
+  sub->add_option("--seed", o->seed, "Seed of the calibration start design");
+  sub->add_option("--starts", o->starts, "BOBYQA runs per fit");
+  sub->add_option("--threads", o->threads, "OpenMP threads (0 = all)");
+  sub->add_flag("--no-intervals", o->no_intervals, "Skip the identifiability intervals");
+  add_output_options(sub, o->output);
+  sub->callback([o] { run(*o); });
+}
+
+}  // namespace ricochet::cli
