@@ -26,7 +26,36 @@ struct SynthCliOptions {
   std::vector<std::string> scatter;
   std::string features = "alpha_in,penetration,contact_duration";
   std::string truth;
+  std::vector<std::string> box;
 };
+
+// --box NAME=LO:HI (repeatable), NAME in vin_x, vin_y, win.
+void parse_box(const std::vector<std::string>& items, diagnosis::WideBox& box) {
+  for (const auto& item : items) {
+    const auto eq = item.find('='), colon = item.find(':');
+    auto fail = [&](const std::string& why) {
+      throw InputError("<command line>", 0, "--box", "'" + item + "': " + why);
+    };
+    if (eq == std::string::npos || colon == std::string::npos || colon < eq)
+      fail("expected NAME=LO:HI, e.g. vin_x=3:6");
+    const std::string name = item.substr(0, eq);
+    char* e1 = nullptr;
+    char* e2 = nullptr;
+    const std::string a = item.substr(eq + 1, colon - eq - 1), b = item.substr(colon + 1);
+    const double lo = std::strtod(a.c_str(), &e1), hi = std::strtod(b.c_str(), &e2);
+    if (a.empty() || b.empty() || *e1 != '\0' || *e2 != '\0' || !(lo < hi))
+      fail("LO and HI must be numbers with LO < HI");
+    if (name == "vin_x")
+      box.vin_x = {lo, hi};
+    else if (name == "vin_y") {
+      if (!(hi < 0)) fail("vin_y must stay negative (falling block)");
+      box.vin_y = {lo, hi};
+    } else if (name == "win")
+      box.win = {lo, hi};
+    else
+      fail("unknown name '" + name + "' (known: vin_x, vin_y, win)");
+  }
+}
 
 void parse_features(const std::string& text, diagnosis::SynthOptions& s) {
   s.write_alpha = s.write_penetration = s.write_contact_duration = false;
@@ -83,6 +112,9 @@ void run(const SynthCliOptions& o) {
     s.scatter.emplace_back(name, sd);
   }
   parse_features(o.features, s);
+  parse_box(o.box, s.wide);
+  if (!o.box.empty() && s.design != diagnosis::Design::kWide)
+    throw InputError("<command line>", 0, "--box", "the box applies to --design wide only");
   s.engine.dt_s = o.model.engine_options().dt_s;
 
   const diagnosis::SynthResult r = diagnosis::synthesize(truth, shape, s);
@@ -131,6 +163,9 @@ void add_synth_command(CLI::App& app) {
                   "of vin_x, vin_y, win, vout_x, vout_y, wout, penetration, contact_duration; "
                   "scale=F multiplies)")
       ->capture_default_str();
+  sub->add_option("--box", o->box,
+                  "Wide design range, NAME=LO:HI with NAME in vin_x, vin_y, win (SI; "
+                  "repeatable)");
   sub->add_option("--incident", o->incident,
                   "Impact set whose incident states the lab design resamples (default: the lab "
                   "data of the shape)");

@@ -322,10 +322,16 @@ Assessment assess(const Model& model, const Shape& shape, const ImpactSet& set,
   a.insample_predictions = to_observables(a.population.predictions);
   a.insample = error_report(set, a.insample_predictions, a.use, o);
 
-  // Held-out: every fold fit starts from the full-set optimum (plus the Latin hypercube starts
-  // of the fit module), so that a fold never ends in a worse local minimum than the full set.
+  // Held-out: every fold fit refines the full-set optimum within a window (AssessOptions).
   Model warm = model;
   warm.set_values(a.population.params);
+  if (o.heldout_window < 1.0)
+    for (std::size_t i : warm.calibrated_indices()) {
+      const double v = warm.values()[i];
+      const double half = o.heldout_window * (warm.upper(i) - warm.lower(i));
+      warm.set_bounds(warm.spec(i).name, std::max(warm.lower(i), v - half),
+                      std::min(warm.upper(i), v + half));
+    }
   fit::FitOptions fh = fit_options_for(set, o);
   fh.intervals = false;
   fh.starts = std::max(1, o.heldout_starts);

@@ -97,9 +97,15 @@ struct AssessOptions {
   /// sliding and sticking contacts; the fit module's default of 4 misses the better basin on
   /// some sets).
   int population_starts = 8;
-  /// Warm start of the held-out fold fits: the fold fits start from the full-set optimum with
-  /// `heldout_starts` BOBYQA runs (the full fit uses fit.starts).
+  /// Held-out fold fits refine the full-set optimum: they start from it, with `heldout_starts`
+  /// BOBYQA runs, within +- `heldout_window` of each calibrated parameter's range around it
+  /// (clipped to its bounds; >= 1 = the whole range). Why: the population objective can have
+  /// distant minima of nearly equal training error (sliding contact with a small mu, sticking
+  /// with a large one) that predict very differently; a fold fit free to jump between them
+  /// measures the optimiser's luck, not the model. The full set chooses the basin, each fold
+  /// re-estimates the parameters within it without its releases.
   int heldout_starts = 1;
+  double heldout_window = 0.15;
   bool release_fits = true;       ///< compare/diagnose: per-release calibration (parameter drift)
   bool release_intervals = true;  ///< with identifiability intervals
 };
