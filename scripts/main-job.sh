@@ -8,7 +8,7 @@ QUICK=0
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 OUT=$ROOT/results
 mkdir -p "$OUT/figures"
-R="$BUILD/ricochet"
+R="$BUILD/cli/ricochet"
 CYL=$ROOT/data/lab/cylinders.csv
 TRI=$ROOT/data/lab/triangles.csv
 
@@ -18,4 +18,18 @@ echo "== Statistics of the lab releases (paper Table 2)"
 echo "== Transfer-matrix model (paper Eq. 2, Table 3)"
 "$R" transfer fit "$CYL" --figures "$OUT/figures" --out "$OUT/transfer-cylinders.h5"
 "$R" transfer fit "$TRI" --split vin_x=3.5 --figures "$OUT/figures" --out "$OUT/transfer-triangles.h5"
+echo "== The paper's contact law, one collision at the mean cylinder state (section 4.1)"
+"$R" simulate --vin 2.9,-2.3,-65
+echo "== Per-release calibration with identifiability (Eq. 7, Table 4)"
+"$R" calibrate "$CYL" --shape cylinder --figures "$OUT/figures" --out "$OUT/calibrate-cylinders.h5"
+if [ $QUICK -eq 0 ]; then
+  "$R" calibrate "$TRI" --shape triangle --figures "$OUT/figures" --out "$OUT/calibrate-triangles.h5"
+fi
+echo "== Monte Carlo against the measured CDFs (section 4.3, Fig. 16)"
+N_MC=50000; N_SOBOL=4096
+[ $QUICK -eq 1 ] && N_MC=5000 && N_SOBOL=512
+"$R" montecarlo --shape cylinder --n $N_MC --compare "$CYL" --seed 1 --figures "$OUT/figures" \
+  --out "$OUT/montecarlo-cylinders.h5"
+echo "== Sobol indices (section 4.4, Figs. 17-18)"
+"$R" sobol --shape cylinder --n $N_SOBOL --seed 1 --figures "$OUT/figures" --out "$OUT/sobol-cylinders.h5"
 echo "== Results in $OUT"
