@@ -24,17 +24,20 @@ echo "-- default bed (cached in $CACHE)"
 $MPI -np 2 "$R" dem bed --cache "$CACHE" --json > "$OUT/dem-bed.json"
 PREFIX=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['prefix'])" "$OUT/dem-bed.json")
 
-plain() {  # ranks -> "us_per_grain_step"
+plain() {  # ranks -> "wall_us_per_grain_step core_us_per_grain_step"
   local np=$1 log="$WORK/plain-$1.log"
-  (cd "$WORK" && $MPI -np "$np" liggghts -in "$ROOT/benchmarks/bench_dem_plain.in" \
-      -var bed "$PREFIX" -var common "$ROOT/liggghts-inputs/common" -var steps "$STEPS" \
-      -log "$log" -screen "$WORK/plain-$np.screen" > /dev/null)
-  python3 - "$log" "$np" <<'PY'
+  local cpu
+  cpu=$( { /usr/bin/time -f "%U %S" bash -c "cd '$WORK' && $MPI -np $np liggghts -in '$ROOT/benchmarks/bench_dem_plain.in' \
+      -var bed '$PREFIX' -var common '$ROOT/liggghts-inputs/common' -var steps $STEPS \
+      -log '$log' -screen '$WORK/plain-$np.screen' > /dev/null" ; } 2>&1 | tail -1)
+  python3 - "$log" "$cpu" <<'PY'
 import re, sys
 text = open(sys.argv[1]).read()
 loops = re.findall(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms", text)
 t, procs, steps, atoms = loops[-1]
-print(f"{1e6 * float(t) / (int(steps) * int(atoms)):.4f}")
+user, system = (float(x) for x in sys.argv[2].split())
+n = int(steps) * int(atoms)
+print(f"{1e6 * float(t) / n:.4f} {1e6 * (user + system) / n:.4f}")
 PY
 }
 
@@ -49,20 +52,25 @@ echo "== Resolved model: cost per grain and step (impact deck vs LIGGGHTS alone 
 P1=$(plain 1); P2=$(plain 2)
 I1=$(impact 1); I2=$(impact 2)
 python3 - "$P1" "$P2" "$I1" "$I2" "$OUT/dem.json" <<'PY'
-import json, sys
-p1, p2 = float(sys.argv[1]), float(sys.argv[2])
+import json, os, sys
+p1, p2 = ([float(x) for x in a.split()] for a in sys.argv[1:3])
 i1, i2 = (json.load(open(f)) for f in sys.argv[3:5])
-def per_grain_step(j):
-    return 1e6 * j["wall_s"] / (j["steps"] * (j["grains"] + j["block_spheres"]))
-c1, c2 = per_grain_step(i1), per_grain_step(i2)
-print(f"plain LIGGGHTS, settled bed of {i1['grains']} grains: {p1:.3f} us/grain/step on 1 rank, "
-      f"{p2:.3f} on 2 ranks (speed-up {p1 / p2:.2f})")
+def cost(j):
+    n = j["steps"] * (j["grains"] + j["block_spheres"])
+    return 1e6 * j["wall_s"] / n, 1e6 * j["cpu_s"] / n
+c1, c2 = cost(i1), cost(i2)
+print(f"load average during the run: {os.getloadavg()[0]:.1f} (2 cores; other load inflates wall times)")
+print(f"plain LIGGGHTS, settled bed of {i1['grains']} grains, wall: "
+      f"{p1[0]:.3f} us/grain/step on 1 rank, {p2[0]:.3f} on 2 ranks; CPU: {p1[1]:.3f} and "
+      f"{p2[1]:.3f} core-us/grain/step")
 print(f"impact deck ({i1['block_spheres']}-sphere cylinder, {i1['steps']} steps, status "
-      f"{i1['status']}): {c1:.3f} us/grain/step on 1 rank, {c2:.3f} on 2 ranks (speed-up "
-      f"{c1 / c2:.2f}); ratio to plain LIGGGHTS {c1 / p1:.2f} (1 rank), {c2 / p2:.2f} (2 ranks); "
-      f"target <= 1 us/grain/step on one core: {'met' if c1 <= 1.0 else 'NOT met'}")
-json.dump({"plain_us_per_grain_step": [p1, p2], "impact_us_per_grain_step": [c1, c2],
-           "grains": i1["grains"], "block_spheres": i1["block_spheres"]},
+      f"{i1['status']}): wall {c1[0]:.3f} us/grain/step on 1 rank, {c2[0]:.3f} on 2 ranks "
+      f"(speed-up {c1[0] / c2[0]:.2f}); CPU {c1[1]:.3f} and {c2[1]:.3f} core-us/grain/step; "
+      f"ratio to plain LIGGGHTS (CPU) {c1[1] / p1[1]:.2f} (1 rank), {c2[1] / p2[1]:.2f} (2 ranks); "
+      f"target <= 1 us/grain/step on one core: {'met' if c1[0] <= 1.0 else 'NOT met'}")
+json.dump({"plain_wall_cpu_us_per_grain_step": [p1, p2],
+           "impact_wall_cpu_us_per_grain_step": [c1, c2],
+           "grains": i1["grains"], "block_spheres": i1["block_spheres"], "steps": i1["steps"]},
           open(sys.argv[5], "w"), indent=2)
 PY
 
@@ -95,6 +103,8 @@ python3 - "$WORK/scaling-1.json" "$WORK/scaling-2.json" <<'PY'
 import json, sys
 a, b = (json.load(open(f)) for f in sys.argv[1:3])
 t1, t2 = a["wall_s"], b["wall_s"]
+import os
 print(f"4 impacts: {t1:.1f} s on 1 rank, {t2:.1f} s on 2 ranks (2 instances): speed-up {t1 / t2:.2f}, "
-      f"efficiency {t1 / (2 * t2):.0%}; statuses {a['status_counts']} / {b['status_counts']}")
+      f"efficiency {t1 / (2 * t2):.0%}; statuses {a['status_counts']} / {b['status_counts']}; "
+      f"load average {os.getloadavg()[0]:.1f}")
 PY

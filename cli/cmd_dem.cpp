@@ -99,10 +99,13 @@ json result_json(const dem::ImpactResult& r) {
             {"sim_time_s", r.sim_time_s},
             {"work_dir", r.work_dir},
             {"bed_key", r.bed_key}};
-  if (r.steps > 0 && r.wall_s > 0)
-    j["us_per_grain_step"] =
-        1e6 * r.wall_s /
-        (static_cast<double>(r.steps) * static_cast<double>(r.grains + r.block_spheres));
+  j["cpu_s"] = r.cpu_s;
+  if (r.steps > 0 && r.wall_s > 0) {
+    const double grain_steps =
+        static_cast<double>(r.steps) * static_cast<double>(r.grains + r.block_spheres);
+    j["us_per_grain_step"] = 1e6 * r.wall_s / grain_steps;
+    j["core_us_per_grain_step"] = 1e6 * r.cpu_s / grain_steps;
+  }
   if (r.ok()) {
     const auto& rec = r.reconstruction;
     j["vin"] = rec.vin;
@@ -233,7 +236,14 @@ void run_impact_command(const ImpactOptions& o) {
   spec.alpha_in_rad = o.alpha_deg * std::numbers::pi / 180.0;
   if (o.seed >= 0) spec.seed = o.seed;
   for (const auto& s : o.common.sets) dem::apply_set_option(decks, s, spec.params);
-  if (!o.output.out.empty()) require_extension("--out", o.output.out, {".h5", ".hdf5", ".csv"});
+  if (!o.output.out.empty()) {
+    require_extension("--out", o.output.out, {".h5", ".hdf5", ".csv"});
+    if (!o.output.out.ends_with(".csv"))
+      for (const auto& e : dem::read_campaign_index(o.output.out))
+        if (e.id == o.id)
+          throw InputError(o.output.out, 0, "--id",
+                           "impact '" + o.id + "' is already in the file: choose another --id");
+  }
   if (!o.window.empty() && o.window != "ground" && o.window != "force" && o.window != "auto")
     throw InputError("<command line>", 0, "--window", "must be ground, force or auto");
 

@@ -321,9 +321,10 @@ const std::vector<std::string>& campaign_value_names() {
         "sigma_vin_y", "sigma_vin_w", "sigma_vout_x", "sigma_vout_y",     "sigma_vout_w"};
     for (const auto& e : impact_extra_names()) n.push_back(e);
     for (const char* s :
-         {"wall_s", "steps", "grains", "block_spheres", "dt_s", "sim_time_s", "rayleigh_fraction",
-          "hertz_fraction", "force_contact_start_s", "force_contact_end_s", "energy_dissipated_J",
-          "window_start_s", "window_end_s", "points_before", "points_after", "penetration_max_m"})
+         {"wall_s", "cpu_s", "steps", "grains", "block_spheres", "dt_s", "sim_time_s",
+          "rayleigh_fraction", "hertz_fraction", "force_contact_start_s", "force_contact_end_s",
+          "energy_dissipated_J", "window_start_s", "window_end_s", "points_before", "points_after",
+          "penetration_max_m"})
       n.push_back(s);
     return n;
   }();
@@ -372,7 +373,7 @@ std::vector<double> entry_values(const ImpactResult& r) {
     k = 15 + impact_extra_names().size();
   }
   for (double x :
-       {r.wall_s, static_cast<double>(r.steps), static_cast<double>(r.grains),
+       {r.wall_s, r.cpu_s, static_cast<double>(r.steps), static_cast<double>(r.grains),
         static_cast<double>(r.block_spheres), r.dt_s, r.sim_time_s, r.rayleigh_fraction,
         r.hertz_fraction, r.force_contact_start_s, r.force_contact_end_s,
         r.ok() ? r.energy_dissipated_J : kNaN, r.ok() ? r.reconstruction.contact_start_s : kNaN,

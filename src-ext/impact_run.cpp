@@ -1,5 +1,6 @@
 #include "impact_run.hpp"
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <fmt/format.h>
@@ -65,6 +66,13 @@ std::vector<double> profile_from(const Liggghts::LocalAtoms& atoms, const BedFil
   for (std::size_t b = 0; b < n; ++b)
     if (count[b] > 0) profile[b] = sum[b] / count[b];
   return profile;
+}
+
+double process_cpu_s() {
+  rusage u{};
+  ::getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
 
 // Nearest record to each frame time t0 + k / fps (the camera samples the motion; it does not
@@ -258,6 +266,7 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
     vars.emplace_back("block_seed", std::to_string(liggghts_seed(*spec.seed, 1)));
 
   const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = process_cpu_s();
   const double crater_bin = 2 * bed.r_max_m;
   std::vector<double> before, after;
   double block_mass = 0, t_max = 0, deck_contact_end = -1;
@@ -266,6 +275,9 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
                  (fs::path(ctx.work_dir) / "screen.txt").string(), vars);
     lmp.file(decks.impact_dir + "/setup.in");
     r.block_spheres = static_cast<long>(lmp.number("block_nspheres").value_or(0));
+    r.dt_s = lmp.timestep_s();
+    // The restart carries the bed's step count on: count the impact's own steps.
+    const long first_step = lmp.step();
     block_mass = lmp.number("block_mass_kg").value_or(0);
     t_max = lmp.number("t_max_s").value_or(0);
     const long chunk = static_cast<long>(lmp.number("chunk_steps").value_or(100));
@@ -302,7 +314,7 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
           r.message = fmt::format(
               "time step {:.3g} s is {:.2f} of the Rayleigh time and {:.2f} of the Hertz time "
               "(limit {}): lower dt_frac",
-              bed.dt_s, r.rayleigh_fraction, r.hertz_fraction, kTimestepLimit);
+              r.dt_s, r.rayleigh_fraction, r.hertz_fraction, kTimestepLimit);
           break;
         }
         lmp.file(decks.impact_dir + "/check.in");
@@ -312,14 +324,22 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
           break;
         }
       }
-      deck_contact_end = lmp.number("t_contact_end").value_or(-1);
-      lmp.file(decks.impact_dir + "/finish.in");
-      after = surface_profile(lmp, bed, crater_bin);
+      // After a failure found by the driver the block state may be gone or meaningless: the
+      // deck's summary would evaluate it, so it is written only when the deck itself stopped.
+      if (r.status != "lost_atoms" && r.status != "nan" && r.status != "timestep") {
+        deck_contact_end = lmp.number("t_contact_end").value_or(-1);
+        lmp.file(decks.impact_dir + "/finish.in");
+        after = surface_profile(lmp, bed, crater_bin);
+      }
     }
-    r.steps = lmp.step();
+    r.steps = lmp.step() - first_step;
     r.sim_time_s = lmp.time_s();
   }
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  // CPU time summed over the instance's ranks: the cost in core-seconds, which the other load of
+  // a shared machine does not inflate the way it inflates the wall time.
+  r.cpu_s = process_cpu_s() - cpu_start;
+  MPI_Allreduce(MPI_IN_PLACE, &r.cpu_s, 1, MPI_DOUBLE, MPI_SUM, comm);
   if (rank != 0) return r;
 
   // ---- Extraction (rank 0 of the instance reads the deck's track file)

@@ -83,6 +83,7 @@ struct ImpactResult {
   std::map<std::string, std::string> bed_values, block_values;
   long grains = 0, steps = 0, block_spheres = 0;
   double dt_s = 0, wall_s = 0, sim_time_s = 0;
+  double cpu_s = 0;  ///< CPU time of the LIGGGHTS run, summed over the instance's ranks
   double rayleigh_fraction = 0, hertz_fraction = 0;  ///< from fix check/timestep/gran
   std::string work_dir;
 };

@@ -123,6 +123,11 @@ double Liggghts::time_s() {
   return *static_cast<double*>(lammps_extract_global(lmp_, name.data()));
 }
 
+double Liggghts::timestep_s() {
+  std::string name = "dt";
+  return *static_cast<double*>(lammps_extract_global(lmp_, name.data()));
+}
+
 long Liggghts::step() {
   std::string name = "ntimestep";
   return static_cast<long>(

@@ -41,8 +41,9 @@ class Liggghts {
   std::optional<std::string> string(const std::string& name);
   /// Element `index` of a global vector computed by fix `fix_id` (e.g. check/timestep/gran).
   double fix_vector(const std::string& fix_id, int index);
-  /// Current simulated time [s] and step.
+  /// Current simulated time [s], time step [s] and step.
   double time_s();
+  double timestep_s();
   long step();
   /// Total number of atoms (grains plus block spheres).
   long natoms();

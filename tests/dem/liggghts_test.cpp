@@ -8,6 +8,7 @@
 #include <mpi.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -114,6 +115,22 @@ TEST(DemEndToEnd, OneImpactThroughLiggghtsExtractionAndHdf5) {
   const auto index = read_campaign_index(h5);
   ASSERT_EQ(index.size(), 1u);
   EXPECT_EQ(index[0].status, "rebound");
+  // Every column of the index row is where its name says.
+  const auto& names = campaign_value_names();
+  ASSERT_EQ(index[0].values.size(), names.size());
+  auto col = [&](const std::string& n) {
+    return index[0]
+        .values[static_cast<std::size_t>(std::find(names.begin(), names.end(), n) - names.begin())];
+  };
+  EXPECT_EQ(col("vout_y"), rec.vout[kVy]);
+  EXPECT_EQ(col("steps"), static_cast<double>(r.steps));
+  EXPECT_EQ(col("grains"), static_cast<double>(r.grains));
+  EXPECT_EQ(col("cpu_s"), r.cpu_s);
+  EXPECT_EQ(col("energy_dissipated_J"), r.energy_dissipated_J);
+  EXPECT_EQ(col("penetration_max_m"), r.penetration_max_m);  // the last column
+  EXPECT_GT(r.steps, 1000);
+  EXPECT_LT(r.steps, 20000);  // the impact's own steps, not the bed's
+  EXPECT_GT(r.cpu_s, 0.0);
 }
 
 TEST(DemFailures, InsertionOutsideTheBedIsRefusedBeforeLiggghts) {
