@@ -175,6 +175,19 @@ TEST(Design, IncidentStatesFromTheLabFile) {
   }
 }
 
+// The example designs shipped with the decks are valid and mean what their comments say.
+TEST(Design, ShippedCampaignDesigns) {
+  const fs::path dir = fs::path(RICOCHET_SOURCE_DIR) / "liggghts-inputs/campaigns";
+  const auto lab = read_campaign_design((dir / "lab-cylinders.toml").string(), decks());
+  EXPECT_EQ(lab.impacts.size(), 28u);  // paper Appendix A, cylinders
+  EXPECT_EQ(lab.impacts.front().id, "C01");
+  const auto stiff = read_campaign_design((dir / "grain-stiffness.toml").string(), decks());
+  ASSERT_EQ(stiff.impacts.size(), 9u);
+  std::set<std::string> keys;
+  for (const auto& s : stiff.impacts) keys.insert(bed_key(decks(), bed_overrides(s)));
+  EXPECT_EQ(keys.size(), 9u);  // 3 stiffnesses x 3 replica beds
+}
+
 void expect_error(const std::string& text, std::size_t line, const std::string& field) {
   const auto path = temp_file("bad.toml", text);
   try {
