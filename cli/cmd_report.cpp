@@ -108,6 +108,10 @@ void add_report_command(CLI::App& app) {
                   "Error denominators: set-mean (Eq. 7 floored at the set's mean magnitude) or "
                   "eq7 (the paper's)")
       ->capture_default_str();
+  sub->add_option("--orientations", o->values.orientations,
+                  "Orientations averaged over for blocks without alpha_in (0 = the default "
+                  "6)")
+      ->capture_default_str();
   sub->add_option("--threads", o->values.threads, "Threads (0 = all)")->capture_default_str();
   add_output_options(sub, o->output);
   sub->get_option("--out")->required()->description("The HTML file to write");

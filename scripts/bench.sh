@@ -40,3 +40,9 @@ if section dem; then
   echo "== Resolved model (LIGGGHTS): us per grain and step, 1 vs 2 ranks; campaign scaling"
   "$ROOT/benchmarks/bench_dem.sh" "$BUILD" "$OUT"
 fi
+
+if section diagnosis; then
+  echo "== Diagnosis of the lab data: compare and diagnose per shape (issue 6: interactive, seconds)"
+  "$BUILD/benchmarks/bench_diagnosis" --benchmark_out="$OUT/diagnosis.json" \
+    --benchmark_out_format=json --benchmark_counters_tabular=true
+fi

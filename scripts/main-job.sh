@@ -32,4 +32,16 @@ N_MC=50000; N_SOBOL=4096
   --out "$OUT/montecarlo-cylinders.h5"
 echo "== Sobol indices (section 4.4, Figs. 17-18)"
 "$R" sobol --shape cylinder --n $N_SOBOL --seed 1 --figures "$OUT/figures" --out "$OUT/sobol-cylinders.h5"
+echo "== Compare, diagnose, model ladder and the HTML validation report (issue 6, docs/diagnosis.md)"
+# Every cached LIGGGHTS campaign with an impact set (/impacts) joins the lab data: the diagnosis
+# works on any impact set, so the resolved model is judged as a truth like the lab.
+REPORT_DATA=("$CYL"); REPORT_LABELS=(--label "lab cylinders")
+if [ $QUICK -eq 0 ]; then REPORT_DATA+=("$TRI"); REPORT_LABELS+=(--label "lab triangles"); fi
+for c in "$OUT"/dem/*.h5 "$OUT"/*campaign*.h5; do
+  [ -f "$c" ] && "$R" stats "$c" > /dev/null 2>&1 || continue
+  REPORT_DATA+=("$c"); REPORT_LABELS+=(--label "LIGGGHTS campaign $(basename "$c" .h5)")
+done
+"$R" diagnose "$CYL" --shape cylinder --figures "$OUT/figures/diagnosis-cylinders" \
+  --out "$OUT/diagnose-cylinders.h5"
+"$R" report "${REPORT_DATA[@]}" "${REPORT_LABELS[@]}" --rounds 2 --out "$OUT/report.html"
 echo "== Results in $OUT"

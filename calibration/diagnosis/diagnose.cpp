@@ -369,7 +369,9 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
           c.added_parameters.emplace_back(p.name);
         }
       }
-      c.assessment = assess(cand, shape, set, o.assess);
+      AssessOptions warm_options = o.assess;
+      warm_options.population_starts = o.assess.warm_starts;
+      c.assessment = assess(cand, shape, set, warm_options);
       for (std::size_t j : added) c.added_values.push_back(c.assessment.population.params[j]);
       c.adequacy = adequacy(c.assessment, b.floor);
       c.heldout_error = c.assessment.heldout.error.mean;
@@ -459,7 +461,9 @@ Ladder ladder(const Model& model, const Shape& shape, const ImpactSet& set,
     }
     progress.status(r == 0 ? "base" : rung.added);
     rung.effects = current.effect_names();
-    rung.assessment = assess(current, shape, set, o.assess);
+    AssessOptions rung_options = o.assess;
+    if (r > 0) rung_options.population_starts = o.assess.warm_starts;
+    rung.assessment = assess(current, shape, set, rung_options);
     current = with_values(current, rung.assessment.population.params);
     if (r == 0)
       l.floor = noise_floor(current, shape, rung.assessment.population.params, set,

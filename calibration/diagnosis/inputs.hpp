@@ -22,6 +22,7 @@ struct OptionValues {
   bool no_intervals = false;       ///< per-release fits without identifiability intervals
   bool no_features = false;        ///< ignore penetration / contact duration
   std::string error = "set-mean";  ///< error denominators: set-mean or eq7 (ErrorScale)
+  int orientations = 0;  ///< marginal orientation grid of non-disc blocks (0 = fit default)
   int threads = 0;
   double dt_s = 1e-5;
 };

@@ -1,0 +1,66 @@
+// Diagnosis speed (issue 6): "diagnosis of a whole ladder is cheap enough to be interactive:
+// seconds on the lab data". Each benchmark runs the full `ricochet diagnose` computation (base
+// population fit, 5-fold held-out error, noise floor, per-release fits with identifiability
+// intervals, and every catalog candidate recalibrated with its own 5-fold held-out error) on one
+// shape of the lab data (paper Appendix A), at the paper's time step dt = 1e-5 s.
+//
+//   BM_DiagnoseLab/0   28 cylinders
+//   BM_DiagnoseLab/1   31 triangles (orientation unknown: every prediction is an average over 6
+//                      orientations, and triangle collisions cost about 20x a cylinder's)
+//   BM_CompareLab/0,1  compare only (base model, no candidates)
+// Counters: releases, candidates tried, the base held-out error and the noise floor (checks that
+// the fast path computes the right thing; docs/diagnosis.md lists the values).
+//
+// Run: build/benchmarks/bench_diagnosis --benchmark_counters_tabular=true
+#include <benchmark/benchmark.h>
+
+#include "diagnosis/diagnose.hpp"
+
+namespace {
+
+using namespace ricochet;
+
+const std::string kLab = std::string(RICOCHET_SOURCE_DIR) + "/data/lab/";
+
+ImpactSet lab(bool triangle) {
+  return read_impact_set(kLab + (triangle ? "triangles.csv" : "cylinders.csv"));
+}
+
+void BM_DiagnoseLab(benchmark::State& state) {
+  const bool triangle = state.range(0) != 0;
+  const ImpactSet set = lab(triangle);
+  diagnosis::DiagnoseOptions o;
+  o.progress = false;
+  double base = 0, floor = 0, candidates = 0;
+  for (auto _ : state) {
+    const auto d = diagnosis::diagnose(Model::paper(),
+                                       triangle ? Shape::triangle() : Shape::cylinder(), set, o);
+    base = d.baseline.base.heldout.error.mean;
+    floor = d.baseline.floor.value.mean;
+    candidates = static_cast<double>(d.ranking.size());
+    benchmark::DoNotOptimize(d.ranking.data());
+  }
+  state.counters["releases"] = static_cast<double>(set.size());
+  state.counters["candidates"] = candidates;
+  state.counters["base_heldout_error"] = base;
+  state.counters["noise_floor"] = floor;
+}
+BENCHMARK(BM_DiagnoseLab)->Arg(0)->Arg(1)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
+
+void BM_CompareLab(benchmark::State& state) {
+  const bool triangle = state.range(0) != 0;
+  const ImpactSet set = lab(triangle);
+  diagnosis::DiagnoseOptions o;
+  o.progress = false;
+  for (auto _ : state) {
+    const auto b = diagnosis::compare(Model::paper(),
+                                      triangle ? Shape::triangle() : Shape::cylinder(), set, o);
+    benchmark::DoNotOptimize(b.base.heldout.per_release.data());
+  }
+  state.counters["releases"] = static_cast<double>(set.size());
+}
+BENCHMARK(BM_CompareLab)->Arg(0)->Arg(1)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
+
+}  // namespace
+
+BENCHMARK_MAIN();

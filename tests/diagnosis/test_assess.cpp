@@ -1,0 +1,219 @@
+// Errors, noise floor and adequacy (diagnosis/assess.hpp), trends (diagnosis/trends.hpp) and the
+// HTML writer (report/html.hpp), on real engine runs.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "diagnosis/assess.hpp"
+#include "diagnosis/synth.hpp"
+#include "diagnosis/trends.hpp"
+#include "report/html.hpp"
+
+namespace ricochet::diagnosis {
+namespace {
+
+ImpactSet synthetic(const Model& truth, std::size_t n, std::uint64_t seed, NoiseSpec noise) {
+  SynthOptions o;
+  o.n = n;
+  o.seed = seed;
+  o.design = Design::kWide;
+  o.noise = noise;
+  return synthesize(truth, Shape::cylinder(), o).set;
+}
+
+AssessOptions fast() {
+  AssessOptions o;
+  o.folds = 4;
+  return o;
+}
+
+TEST(Assess, ExactDataOfTheTrueModelHaveNoError) {
+  Model truth = Model::paper();
+  truth.set("en2", 0.2);
+  truth.set("mu", 0.4);
+  truth.set("muR", 0.15);
+  const ImpactSet set = synthetic(truth, 10, 3, NoiseSpec::none());
+  const AssessOptions o = fast();
+  const auto use = observables_of(set, o);
+  EXPECT_TRUE(use[kObsPenetration] && use[kObsDuration]);
+  const auto pred = predict_observables(truth, Shape::cylinder(), truth.values(), set, o);
+  const ErrorReport r = error_report(set, pred, use, o);
+  EXPECT_LT(r.error.mean, 1e-20);
+  // Any other parameter value has an error.
+  std::vector<double> p = truth.values();
+  p[truth.index("en2")] = 0.3;
+  const auto pred2 = predict_observables(truth, Shape::cylinder(), p, set, o);
+  EXPECT_GT(error_report(set, pred2, use, o).term_mean[kObsVy], 1e-3);
+}
+
+TEST(Assess, DeclaredNoiseFloorMatchesTheErrorOfTheTruth) {
+  // Noise on V_out only: the floor is sum_k sigma_k^2 / d_k^2 and the error of the truth
+  // averages to it.
+  Model truth = Model::paper();
+  NoiseSpec noise;
+  noise.vout = {0.1, 0.1, 3.4};
+  const ImpactSet set = synthetic(truth, 120, 5, noise);
+  AssessOptions o = fast();
+  o.use_features = false;
+  const auto use = observables_of(set, o);
+  const NoiseFloor f = noise_floor(truth, Shape::cylinder(), truth.values(), set, use, o);
+  EXPECT_EQ(f.source, "declared");
+  const auto pred = predict_observables(truth, Shape::cylinder(), truth.values(), set, o);
+  const ErrorReport r = error_report(set, pred, use, o);
+  EXPECT_NEAR(r.error.mean, f.value.mean, 3 * r.error.se) << "floor " << f.value.mean;
+  EXPECT_GT(f.value.mean, 0);
+}
+
+TEST(Assess, TableOneScaleWhenNothingIsDeclaredAndVinNoiseIsPropagated) {
+  ImpactSet lab = lab_incident_states(Shape::cylinder());
+  AssessOptions o = fast();
+  const auto use = observables_of(lab, o);
+  EXPECT_FALSE(use[kObsPenetration]);
+  const Model m = Model::paper();
+  const NoiseFloor f = noise_floor(m, Shape::cylinder(), m.values(), lab, use, o);
+  EXPECT_EQ(f.source, "table1");
+  // Without V_in noise the floor is smaller: the propagated part is there.
+  AssessOptions quiet = o;
+  quiet.sigma_vin = {0, 0, 0};
+  const NoiseFloor g = noise_floor(m, Shape::cylinder(), m.values(), lab, use, quiet);
+  EXPECT_LT(g.value.mean, f.value.mean);
+  EXPECT_GT(f.nearest_neighbour, 0);
+}
+
+TEST(Assess, ReplicatesGiveThePooledVariance) {
+  // Two groups of identical incident states, outputs with a known spread in V_out^y only.
+  ImpactSet set;
+  set.source = "replicates";
+  const double spread[4] = {-0.1, 0.1, -0.1, 0.1};
+  for (int g = 0; g < 2; ++g)
+    for (int r = 0; r < 4; ++r) {
+      Impact im;
+      im.id = "R" + std::to_string(g) + std::to_string(r);
+      im.shape = "cylinder";
+      im.vin = {3.0 + g, -2.3, -60.0};
+      im.vout = {3.0, 1.0 + spread[r], -40.0};
+      set.impacts.push_back(im);
+    }
+  AssessOptions o = fast();
+  o.scale = ErrorScale::kEq7;
+  const auto use = observables_of(set, o);
+  const Model m = Model::paper();
+  const NoiseFloor f = noise_floor(m, Shape::cylinder(), m.values(), set, use, o);
+  EXPECT_EQ(f.source, "replicates");
+  EXPECT_EQ(f.replicate_groups, 2u);
+  // Pooled variance of V_out^y: 8 * 0.01 / (8 - 2); denominator |V_out^y| = 0.9 or 1.1.
+  const double var = 8 * 0.01 / 6.0;
+  double expected = 0;
+  for (const auto& im : set.impacts) expected += var / (im.vout[1] * im.vout[1]) / 8.0;
+  EXPECT_NEAR(f.value.mean, expected, 1e-12);
+  EXPECT_EQ(f.term_mean[kObsVx], 0.0);
+}
+
+TEST(Assess, SetMeanFloorsRaiseSmallDenominators) {
+  ImpactSet lab = lab_incident_states(Shape::triangle());
+  AssessOptions o;
+  const AssessOptions r = resolve_scale(lab, o);
+  // Mean |omega_out| of the 31 triangles (paper Table 2 mean -17.32 rad/s, all but one < 0).
+  EXPECT_GT(r.fit.error.floor[2], 15.0);
+  EXPECT_EQ(resolve_scale(lab, r).fit.error.floor[2], r.fit.error.floor[2]);  // idempotent
+  o.scale = ErrorScale::kEq7;
+  EXPECT_EQ(resolve_scale(lab, o).fit.error.floor[2], 1.0);
+}
+
+TEST(Assess, TheTrueModelIsAdequateAndAWrongOneIsNot) {
+  Model truth = Model::paper();
+  truth.set("en2", 0.2);
+  truth.set("mu", 0.4);
+  truth.set("muR", 0.15);
+  const ImpactSet set = synthetic(truth, 24, 11, NoiseSpec::lab());
+  AssessOptions o = fast();
+  const Assessment a = assess(truth, Shape::cylinder(), set, o);
+  const NoiseFloor f = noise_floor(truth, Shape::cylinder(), a.population.params, set, a.use, o);
+  const Adequacy q = adequacy(a, f);
+  EXPECT_TRUE(q.adequate) << a.heldout.error.mean << " vs floor " << f.value.mean;
+  EXPECT_LE(a.insample.error.mean, a.heldout.error.mean);
+  // en2 recovered by the population fit within the noise.
+  EXPECT_NEAR(a.population.params[truth.index("en2")], 0.2, 0.05);
+
+  // Data from a very different law: the paper's law cannot be adequate.
+  Model other = Model::paper().with_effect("rate_restitution");
+  other.set("kv", 0.5);
+  other.set("en2", 0.6);
+  const ImpactSet set2 = synthetic(other, 24, 11, NoiseSpec::lab());
+  const Assessment b = assess(truth, Shape::cylinder(), set2, o);
+  const NoiseFloor g = noise_floor(truth, Shape::cylinder(), b.population.params, set2, b.use, o);
+  EXPECT_FALSE(adequacy(b, g).adequate) << b.heldout.error.mean << " vs floor " << g.value.mean;
+}
+
+TEST(Trends, PearsonAndSpearmanMustAgree) {
+  // One release far from the others in the feature and with an outlying residual (like lab
+  // cylinder C12): Pearson alone calls a trend, the rank test does not. A clean monotone trend
+  // passes both.
+  Feature f{"speed_in", "|V_in| [m/s]", false, {}};
+  ErrorReport r;
+  for (int i = 0; i < 30; ++i) {
+    f.values.push_back(i == 0 ? 0.0 : 10.0 + 0.1 * i);
+    Obs res{};
+    res[kObsVx] = i == 0 ? 5.0 : (i % 2 ? 0.1 : -0.1);  // no trend but the outlier
+    res[kObsVy] = 0.01 * i;                             // clean trend
+    r.residual.push_back(res);
+  }
+  const std::array<bool, kObservables> use{true, true, false, false, false};
+  const auto t = residual_trends(r, use, {f});
+  const Trend* vx = find_trend(t, "residual vx", "speed_in");
+  const Trend* vy = find_trend(t, "residual vy", "speed_in");
+  ASSERT_TRUE(vx && vy);
+  EXPECT_LT(vx->p, 0.01);  // Pearson alone would call it
+  EXPECT_GT(vx->p_rank, 0.01);
+  EXPECT_FALSE(vx->significant);
+  EXPECT_TRUE(vy->significant);
+  EXPECT_NEAR(vy->rho, 1.0, 1e-12);
+  EXPECT_NE(describe(*vy).find("grows with |V_in|"), std::string::npos);
+}
+
+TEST(Html, EscapeAndBase64) {
+  EXPECT_EQ(report::html_escape("<a href=\"x\">&'</a>"),
+            "&lt;a href=&quot;x&quot;&gt;&amp;&#39;&lt;/a&gt;");
+  // RFC 4648 test vectors.
+  EXPECT_EQ(report::base64(""), "");
+  EXPECT_EQ(report::base64("f"), "Zg==");
+  EXPECT_EQ(report::base64("fo"), "Zm8=");
+  EXPECT_EQ(report::base64("foo"), "Zm9v");
+  EXPECT_EQ(report::base64("foob"), "Zm9vYg==");
+  EXPECT_EQ(report::base64("fooba"), "Zm9vYmE=");
+  EXPECT_EQ(report::base64("foobar"), "Zm9vYmFy");
+}
+
+TEST(Html, PageEmbedsFiguresAndEscapesText) {
+  report::HtmlPage page("Title <1>");
+  page.heading(2, "Section & more", "s1");
+  page.paragraph("a < b");
+  page.table({"x", "y [m]"}, {{"1.5", "text"}});
+  report::Figure fig;
+  report::Panel p;
+  report::Series line;
+  line.x = {0, 1};
+  line.y = {0, 1};
+  p.series.push_back(line);
+  fig.panels = {p};
+  fig.columns = 1;
+  page.figure(fig, "a figure");
+  EXPECT_EQ(page.figures(), 1u);
+  const std::string html = page.html();
+  EXPECT_NE(html.find("<title>Title &lt;1&gt;</title>"), std::string::npos);
+  EXPECT_NE(html.find("a &lt; b"), std::string::npos);
+  EXPECT_NE(html.find("src=\"data:image/svg+xml;base64,"), std::string::npos);
+  EXPECT_NE(html.find("href=\"#s1\""), std::string::npos);
+  EXPECT_NE(html.find("<td class=\"num\">1.5</td>"), std::string::npos);
+  // Nothing is fetched from elsewhere (outside the embedded data).
+  std::string outside = html;
+  for (std::size_t k = outside.find("base64,"); k != std::string::npos;
+       k = outside.find("base64,", k + 7))
+    outside.erase(k + 7, outside.find('"', k) - (k + 7));
+  EXPECT_EQ(outside.find("http"), std::string::npos);
+  EXPECT_EQ(outside.find("src=\"/"), std::string::npos);
+  EXPECT_THROW(page.figure_file("/nonexistent.svg", "x"), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace ricochet::diagnosis

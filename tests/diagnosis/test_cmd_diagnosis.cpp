@@ -1,0 +1,250 @@
+// The synth, compare, diagnose, ladder and report commands run as real programs: JSON
+// contracts, files, errors naming the option, the truth kept out of the data, and the HTML
+// report rendered in headless Chromium with every figure shown.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <string>
+
+#include "common/h5.hpp"
+#include "impact/impact_set.hpp"
+#include "support/program_test.hpp"
+
+namespace ricochet {
+namespace {
+
+using test::quote;
+using test::RunResult;
+using test::slurp;
+namespace fs = std::filesystem;
+
+const std::string kLab = std::string(RICOCHET_SOURCE_DIR) + "/data/lab/";
+
+class CmdDiagnosis : public test::ProgramTest {
+ protected:
+  // A small synthetic set with a hidden effect, its truth in a separate file.
+  std::string make_set(const std::string& name, const std::string& extra = "") {
+    const std::string data = (dir_ / (name + ".csv")).string();
+    const RunResult r = ricochet(
+        "synth --n 14 --seed 5 --design wide --set en2=0.2 --set mu=0.4 --set muR=0.15 "
+        "--add rate_restitution --set kv=0.3 --truth " +
+        quote((dir_ / (name + ".truth.json")).string()) + " --out " + quote(data) + " " + extra);
+    EXPECT_EQ(r.status, 0) << r.err;
+    return data;
+  }
+};
+
+TEST_F(CmdDiagnosis, SynthWritesTheSchemaAndKeepsTheTruthApart) {
+  const std::string data = make_set("s", "--json");
+  const ImpactSet set = read_impact_set(data);
+  ASSERT_EQ(set.size(), 14u);
+  for (const auto& im : set.impacts) {
+    EXPECT_TRUE(im.sigma_vin && im.sigma_vout && im.penetration && im.contact_duration);
+  }
+  const std::string bytes = slurp(data);
+  EXPECT_EQ(bytes.find("rate_restitution"), std::string::npos);
+  EXPECT_EQ(bytes.find("kv"), std::string::npos);
+  const auto truth = nlohmann::json::parse(slurp(dir_ / "s.truth.json"));
+  EXPECT_NE(truth["model"].dump().find("rate_restitution"), std::string::npos);
+  EXPECT_EQ(truth["releases"].size(), 14u);
+
+  // The diagnosis sees only the data: it runs the same with the truth file gone.
+  fs::remove(dir_ / "s.truth.json");
+  const RunResult d =
+      ricochet("diagnose " + quote(data) + " --shape cylinder --no-release-fits --folds 3 --json");
+  ASSERT_EQ(d.status, 0) << d.err;
+  const auto doc = nlohmann::json::parse(d.out);
+  for (const char* key : {"verdict", "noise_floor", "base_error", "ranking", "unexplained"})
+    EXPECT_TRUE(doc.contains(key)) << key;
+  EXPECT_TRUE(doc["verdict"] == "adequate" || doc["verdict"] == "missing physics");
+  ASSERT_EQ(doc["ranking"].size(), 5u);
+  for (const auto& c : doc["ranking"])
+    for (const char* key : {"effect", "heldout_error", "error_drop", "evidence", "drop_se"})
+      EXPECT_TRUE(c.contains(key)) << key;
+  // Best first: supported effects, then by penalised held-out error.
+  for (std::size_t i = 1; i < doc["ranking"].size(); ++i) {
+    const auto& a = doc["ranking"][i - 1];
+    const auto& b = doc["ranking"][i];
+    if (a["supported"] == b["supported"] && a["penalised_heldout_error"].is_number() &&
+        b["penalised_heldout_error"].is_number()) {
+      EXPECT_LE(a["penalised_heldout_error"].get<double>(),
+                b["penalised_heldout_error"].get<double>());
+    }
+  }
+}
+
+TEST_F(CmdDiagnosis, CompareReportsPerObservableRegimeAndReleaseWithFigures) {
+  const fs::path figs = dir_ / "figs";
+  const RunResult r = ricochet("compare " + quote(kLab + "cylinders.csv") +
+                               " --no-intervals --folds 4 --json --figures " +
+                               quote(figs.string()) + " --out " + quote((dir_ / "c.h5").string()));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto doc = nlohmann::json::parse(r.out);
+  EXPECT_EQ(doc["shape"], "cylinder");
+  EXPECT_EQ(doc["releases"].size(), 28u);
+  EXPECT_EQ(doc["noise_floor"]["source"], "table1");
+  EXPECT_EQ(doc["folds"], 4);
+  EXPECT_EQ(doc["regimes"].size(), 3u);
+  for (const char* k : {"vx", "vy", "w"}) {
+    EXPECT_TRUE(doc["heldout_per_component"].contains(k));
+    EXPECT_TRUE(doc["ks"].contains(k));
+  }
+  EXPECT_FALSE(doc["heldout_per_component"].contains("penetration"));  // the lab has none
+  EXPECT_GT(doc["heldout_error"].get<double>(), 0.0);
+  ASSERT_TRUE(doc.contains("figures"));
+  for (const auto& f : doc["figures"]) {
+    const std::string svg = slurp(f.get<std::string>());
+    EXPECT_NE(svg.find("<svg"), std::string::npos) << f;
+  }
+  EXPECT_TRUE(fs::exists(figs / "residuals-vx.svg"));
+  EXPECT_TRUE(fs::exists(figs / "parameter-en2.svg"));
+  // The HDF5 output holds the compared set and the per-release results.
+  const ImpactSet back = read_impact_set((dir_ / "c.h5").string());
+  EXPECT_EQ(back.size(), 28u);
+  h5::File f((dir_ / "c.h5").string(), h5::File::Mode::kRead);
+  EXPECT_EQ(f.read_doubles("/compare/releases/heldout_error").size(), 28u);
+}
+
+TEST_F(CmdDiagnosis, LadderContract) {
+  const std::string data = make_set("l");
+  const RunResult r = ricochet("ladder " + quote(data) +
+                               " --shape cylinder --add rate_restitution --add ploughing "
+                               "--folds 3 --json --out " +
+                               quote((dir_ / "l.csv").string()));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto doc = nlohmann::json::parse(r.out);
+  ASSERT_EQ(doc["rungs"].size(), 3u);
+  EXPECT_EQ(doc["rungs"][0]["model"],
+            (std::vector<std::string>{"normal", "tangential", "rolling"}));
+  EXPECT_EQ(doc["rungs"][1]["added"], "rate_restitution");
+  for (const auto& rung : doc["rungs"]) {
+    EXPECT_TRUE(rung["insample_error"].is_number());
+    EXPECT_TRUE(rung["heldout_error"].is_number());
+    EXPECT_TRUE(rung["heldout_per_component"].contains("vy"));
+  }
+  // The hidden speed-dependent restitution makes the error fall at rung 1.
+  EXPECT_LT(doc["rungs"][1]["heldout_error"].get<double>(),
+            doc["rungs"][0]["heldout_error"].get<double>());
+  const std::string csv = slurp(dir_ / "l.csv");
+  EXPECT_NE(csv.find("rung,added,model,insample_error,heldout_error"), std::string::npos);
+}
+
+TEST_F(CmdDiagnosis, AUserPluginEffectTakesPartLikeTheBuiltIns) {
+  // The tutorial's plugin (examples/user-effect): hidden in the truth, found by the diagnosis
+  // among the built-ins, and climbed by the ladder.
+  const std::string plugin = quote(RICOCHET_PLUGIN);
+  const std::string data = (dir_ / "g.csv").string();
+  const RunResult s = ricochet("synth --plugin " + plugin +
+                               " --n 20 --seed 3 --design wide --set en2=0.2 --set mu=0.4 "
+                               "--set muR=0.15 --add grazing_restitution --set kg=1.5 --out " +
+                               quote(data));
+  ASSERT_EQ(s.status, 0) << s.err;
+  const RunResult d =
+      ricochet("diagnose " + quote(data) + " --plugin " + plugin + " --no-release-fits --json");
+  ASSERT_EQ(d.status, 0) << d.err;
+  const auto doc = nlohmann::json::parse(d.out);
+  ASSERT_EQ(doc["ranking"].size(), 6u);  // five built-in candidates and the plugin
+  EXPECT_EQ(doc["ranking"][0]["effect"], "grazing_restitution") << doc["ranking"].dump(1);
+  EXPECT_TRUE(doc["ranking"][0]["supported"].get<bool>());
+  EXPECT_FALSE(doc["ranking"][0]["evidence"].get<std::string>().empty());
+
+  const RunResult l = ricochet("ladder " + quote(data) + " --plugin " + plugin +
+                               " --add grazing_restitution --json");
+  ASSERT_EQ(l.status, 0) << l.err;
+  const auto lad = nlohmann::json::parse(l.out);
+  ASSERT_EQ(lad["rungs"].size(), 2u);
+  EXPECT_LT(lad["rungs"][1]["heldout_error"].get<double>(),
+            lad["rungs"][0]["heldout_error"].get<double>());
+  EXPECT_TRUE(lad["rungs"][1]["parameters"].contains("kg"));
+}
+
+TEST_F(CmdDiagnosis, ErrorsNameTheOption) {
+  const std::string cyl = quote(kLab + "cylinders.csv");
+  struct Bad {
+    std::string args, field;
+  };
+  for (const Bad& b : std::vector<Bad>{
+           {"diagnose " + cyl + " --folds 1", "--folds"},
+           {"diagnose " + cyl + " --folds x", "--folds"},
+           {"diagnose " + cyl + " --error relative", "--error"},
+           {"ladder " + cyl + " --add no_such_effect", "--add"},
+           {"ladder " + cyl, "--add"},
+           {"compare " + cyl + " --shape triangle", "shape"},
+           {"synth --n 3 --noise loud --out " + quote((dir_ / "x.csv").string()), "--noise"},
+           {"synth --n 3 --scatter en2 --out " + quote((dir_ / "x.csv").string()), "--scatter"},
+           {"synth --n 3 --out " + quote((dir_ / "x.txt").string()), "--out"},
+           {"report " + cyl + " --out " + quote((dir_ / "r.pdf").string()), "--out"},
+       }) {
+    const RunResult r = ricochet(b.args);
+    EXPECT_EQ(r.status, 2) << b.args << "\n" << r.err;
+    EXPECT_NE(r.err.find("'" + b.field + "'"), std::string::npos) << b.args << "\n" << r.err;
+  }
+}
+
+// Runs headless Chromium on `html` with a script that counts the images that decoded with a
+// non-zero size and writes the result into the DOM, then returns the dumped DOM.
+std::string render_in_chromium(const fs::path& html, const fs::path& dir) {
+  std::string page = slurp(html);
+  const std::string probe =
+      "<script>window.addEventListener('load',function(){var imgs=document.images,ok=0;"
+      "for(var i=0;i<imgs.length;i++){var r=imgs[i].getBoundingClientRect();"
+      "if(imgs[i].complete&&imgs[i].naturalWidth>0&&r.width>0&&r.height>0)ok++;}"
+      "var d=document.createElement('div');d.id='figure-check';"
+      "d.setAttribute('data-total',imgs.length);d.setAttribute('data-shown',ok);"
+      "document.body.appendChild(d);});</script></body>";
+  const auto k = page.rfind("</body>");
+  EXPECT_NE(k, std::string::npos);
+  page.replace(k, 7, probe);
+  const fs::path probed = dir / "probed.html";
+  std::ofstream(probed) << page;
+  const fs::path profile = dir / "chromium-profile";
+  fs::create_directories(profile);
+  const std::string cmd =
+      "/usr/bin/chromium --headless --no-sandbox --disable-gpu --disable-background-networking "
+      "--no-first-run --user-data-dir=" +
+      quote(profile.string()) + " --virtual-time-budget=20000 --dump-dom " +
+      quote("file://" + probed.string()) + " 2>/dev/null";
+  std::string out;
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  if (!pipe) return out;
+  char buf[65536];
+  std::size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, pipe)) > 0) out.append(buf, n);
+  ::pclose(pipe);
+  return out;
+}
+
+TEST_F(CmdDiagnosis, ReportRendersInHeadlessChromiumWithEveryFigureShown) {
+  ASSERT_TRUE(fs::exists("/usr/bin/chromium")) << "Debian package chromium is required";
+  const std::string data = make_set("r");
+  const fs::path html = dir_ / "report.html";
+  const RunResult r = ricochet("report " + quote(data) +
+                               " --label synthetic --rounds 1 "
+                               "--folds 3 --no-intervals --json --out " +
+                               quote(html.string()));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto doc = nlohmann::json::parse(r.out);
+  const int figures = doc["figures"].get<int>();
+  EXPECT_GE(figures, 10);
+  ASSERT_EQ(doc["sets"].size(), 1u);
+  EXPECT_FALSE(doc["sets"][0]["conclusion"].get<std::string>().empty());
+
+  const std::string page = slurp(html);
+  for (const char* section : {"Conclusions", "Model", "Method", "Data", "Comparison", "Diagnosis",
+                              "Model ladder", "Conclusion"})
+    EXPECT_NE(page.find(std::string(">") + section + "</h"), std::string::npos) << section;
+
+  const std::string dom = render_in_chromium(html, dir_);
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(
+      dom, m, std::regex("id=\"figure-check\" data-total=\"([0-9]+)\" data-shown=\"([0-9]+)\"")))
+      << dom.substr(0, 500);
+  EXPECT_EQ(std::stoi(m[1]), figures);
+  EXPECT_EQ(std::stoi(m[2]), figures) << "some figures did not render";
+}
+
+}  // namespace
+}  // namespace ricochet
