@@ -126,7 +126,8 @@ void run(const ReconstructCliOptions& o) {
   if (o.free_gravity) opt.gravity_mps2.reset();
   if (o.gravity) {
     if (!(std::isfinite(*o.gravity) && *o.gravity > 0))
-      throw InputError("<command line>", 0, "--gravity", "must be a positive acceleration in m/s^2");
+      throw InputError("<command line>", 0, "--gravity",
+                       "must be a positive acceleration in m/s^2");
     opt.gravity_mps2 = *o.gravity;
   }
   if (o.ground.has_value() != o.radius.has_value())

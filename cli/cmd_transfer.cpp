@@ -322,7 +322,8 @@ void print_fit(const std::string& source, const FitResult& r, const FitOptions& 
 
 void run_fit(const FitOptions& o) {
   if (!o.output.out.empty()) require_extension("--out", o.output.out, {".csv", ".h5", ".hdf5"});
-  if (o.replicates == 0) throw InputError("<command line>", 0, "--replicates", "must be at least 1");
+  if (o.replicates == 0)
+    throw InputError("<command line>", 0, "--replicates", "must be at least 1");
   const ImpactSet all = read_impact_set(o.data);
   const ImpactSet set = filter(all, o.where);
   if (set.empty())
