@@ -109,6 +109,13 @@ LocalResult multi_start(Problem& problem, const std::vector<double>& design, int
   LocalResult best;
   for (auto& e : ends)
     if (e.f < best.f) best = e;
+  // The best design point is an answer too: BOBYQA moves a start that lies closer than its
+  // initial step to a bound (Powell 2009) and may never evaluate it, and the result must never
+  // be worse than a start already evaluated (a warm start: a calibrated model's own values).
+  if (n > 0 && std::isfinite(design_values[order[0]]) && design_values[order[0]] < best.f) {
+    best.u.assign(design.begin() + order[0] * d, design.begin() + (order[0] + 1) * d);
+    best.f = design_values[order[0]];
+  }
   return best;
 }
 
