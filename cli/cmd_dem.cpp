@@ -180,6 +180,7 @@ void run_template(const TemplateOptions& o) {
 struct BedOptions {
   CommonOptions common;
   OutputOptions output;
+  bool dry_run = false;
 };
 
 void run_bed(const BedOptions& o) {
@@ -189,6 +190,17 @@ void run_bed(const BedOptions& o) {
   for (const auto& s : o.common.sets) dem::apply_set_option(decks, s, ov);
   if (!ov.block.empty() || !ov.run.empty())
     throw InputError("<command line>", 0, "--set", "a bed takes bed.* parameters only");
+  if (o.dry_run) {
+    const std::string key = dem::bed_key(decks, ov.bed);
+    const std::string prefix = (fs::path(o.common.cache) / ("bed-" + key)).string();
+    const bool cached = fs::exists(prefix + ".restart") && fs::exists(prefix + ".params");
+    if (mpi.rank() != 0) return;
+    if (o.output.json)
+      print_json({{"key", key}, {"prefix", prefix}, {"cached", cached}});
+    else
+      std::cout << fmt::format("bed {}: {} ({})\n", key, prefix, cached ? "cached" : "not built");
+    return;
+  }
   bool built = false;
   double wall = 0;
   const auto bed = dem::ensure_bed(decks, ov.bed, o.common.cache, MPI_COMM_WORLD, &built, &wall);
@@ -392,6 +404,7 @@ void add_dem_command(CLI::App& app) {
   auto* b = dem->add_subcommand("bed", "Build (or reuse from the cache) a settled bed");
   add_common(b, bed->common);
   b->add_flag("--json", bed->output.json, "Print one machine-readable JSON document on stdout");
+  b->add_flag("--dry-run", bed->dry_run, "Print the bed's cache key and whether it is cached");
   b->callback([bed] { run_bed(*bed); });
 
   auto imp = std::make_shared<ImpactOptions>();

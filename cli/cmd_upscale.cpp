@@ -18,6 +18,7 @@
 #include "impact/impact_set.hpp"
 #include "model_options.hpp"
 #include "params.hpp"
+#include "stats/stats.hpp"
 #include "upscale.hpp"
 
 namespace ricochet::cli {
@@ -142,10 +143,15 @@ void run(const UpscaleCliOptions& o) {
             m, v.size() > 1 ? std::sqrt(s / static_cast<double>(v.size() - 1)) : NAN};
       };
       const auto a = mean_sd(dem_v), b = mean_sd(lab_v);
-      gap[names[c]] = {
-          {"dem_mean", a[0]},          {"dem_std", a[1]},
-          {"lab_mean", b[0]},          {"lab_std", b[1]},
-          {"difference", a[0] - b[0]}, {"difference_in_lab_std", (a[0] - b[0]) / b[1]}};
+      const auto ks = stats::ks_two_sample(dem_v, lab_v);
+      gap[names[c]] = {{"dem_mean", a[0]},
+                       {"dem_std", a[1]},
+                       {"lab_mean", b[0]},
+                       {"lab_std", b[1]},
+                       {"difference", a[0] - b[0]},
+                       {"difference_in_lab_std", (a[0] - b[0]) / b[1]},
+                       {"ks_statistic", ks.statistic},
+                       {"ks_p_value", ks.p_value}};
     }
     j["gap_to_lab"] = gap;
   }
@@ -178,10 +184,12 @@ void run(const UpscaleCliOptions& o) {
   if (j.contains("gap_to_lab"))
     for (const auto& [k, v] : j["gap_to_lab"].items())
       std::cout << fmt::format(
-          "  {}: resolved {:.3f} +- {:.3f}, lab {:.3f} +- {:.3f}, gap {:+.3f} ({:+.1f} lab std)\n",
+          "  {}: resolved {:.3f} +- {:.3f}, lab {:.3f} +- {:.3f}, gap {:+.3f} ({:+.1f} lab std), "
+          "KS D = {:.2f}, p = {:.2g}\n",
           k, v["dem_mean"].get<double>(), v["dem_std"].get<double>(), v["lab_mean"].get<double>(),
           v["lab_std"].get<double>(), v["difference"].get<double>(),
-          v["difference_in_lab_std"].get<double>());
+          v["difference_in_lab_std"].get<double>(), v["ks_statistic"].get<double>(),
+          v["ks_p_value"].get<double>());
   for (const auto& f : figures) std::cout << "  figure: " << f << "\n";
 }
 

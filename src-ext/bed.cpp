@@ -68,6 +68,24 @@ BedFiles ensure_bed(const Decks& decks, const std::map<std::string, std::string>
   }
   int have = 0;
   if (rank == 0) have = fs::exists(prefix + ".restart") && fs::exists(prefix + ".params");
+  // A previous build that LIGGGHTS stopped with an error (it ends the process) left its message in
+  // the screen file: building again would stop this process too, so report it instead.
+  std::string failed;
+  if (rank == 0 && !have) {
+    std::ifstream screen(prefix + ".screen");
+    std::string line;
+    while (std::getline(screen, line))
+      if (line.rfind("ERROR", 0) == 0) failed = line;
+  }
+  int n_failed = static_cast<int>(failed.size());
+  MPI_Bcast(&n_failed, 1, MPI_INT, 0, comm);
+  failed.resize(static_cast<std::size_t>(n_failed));
+  MPI_Bcast(failed.data(), n_failed, MPI_CHAR, 0, comm);
+  if (!failed.empty()) {
+    if (lock_fd >= 0) ::close(lock_fd);
+    throw std::runtime_error("the bed " + prefix + " failed to build in an earlier run: " + failed +
+                             " (fix the parameters, or delete " + prefix + ".screen to try again)");
+  }
   MPI_Bcast(&have, 1, MPI_INT, 0, comm);
   if (built) *built = !have;
   if (wall_s) *wall_s = 0;

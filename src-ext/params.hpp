@@ -36,7 +36,8 @@ struct Decks {
   /// tree's folder (compiled in). Throws std::runtime_error when the decks are not there.
   static Decks locate(const std::string& root = "");
   /// Hash (16 hex digits, FNV-1a 64) of the text of every file a bed depends on (in.bed and
-  /// common/*.in): part of the bed cache key, so editing a deck invalidates cached beds.
+  /// common/*.in) without comments and blank lines: part of the bed cache key, so editing a
+  /// deck's commands invalidates cached beds and editing its comments does not.
   std::string bed_decks_digest() const;
 };
 
@@ -48,7 +49,7 @@ struct Overrides {
 
 /// Checks `name` = `value` against the section's parameters and the physical bounds documented in
 /// docs/resolved-model.md (positive lengths, moduli and times; restitution in (0, 1]; friction
-/// >= 0; seed a prime > 10000; mode slab|box; rolling_model epsd2|epsd|epsd3|cdt). Throws
+/// >= 0; seed a prime > 10000; mode slab|box; rolling_model epsd2|epsd|cdt). Throws
 /// InputError(file, line, field = "section.name") listing the known names for an unknown one.
 void check_param(const Decks& decks, const std::string& section, const std::string& name,
                  const std::string& value, const std::string& file, std::size_t line);

@@ -110,6 +110,21 @@ TEST(BedKey, CanonicalAndSensitive) {
   EXPECT_NE(bed_key(decks(), {{"seed", "10007"}}), k0);
 }
 
+TEST(BedKey, DeckCommandsCountCommentsDoNot) {
+  const fs::path root = fs::temp_directory_path() / ("dem-decks-" + std::to_string(::getpid()));
+  fs::remove_all(root);
+  fs::copy(std::string(RICOCHET_SOURCE_DIR) + "/liggghts-inputs", root,
+           fs::copy_options::recursive);
+  const auto key = [&] { return bed_key(Decks::locate(root.string()), {}); };
+  const std::string k0 = key();
+  EXPECT_EQ(k0, bed_key(decks(), {}));
+  std::ofstream(root / "common/materials.in", std::ios::app) << "\n# a new comment\n\n";
+  EXPECT_EQ(key(), k0);
+  std::ofstream(root / "common/materials.in", std::ios::app) << "neigh_modify every 1\n";
+  EXPECT_NE(key(), k0);
+  fs::remove_all(root);
+}
+
 TEST(Seeds, PrimesAboveTenThousand) {
   EXPECT_EQ(liggghts_seed(0, 0), 10007);
   EXPECT_EQ(liggghts_seed(0, 1), 10009);
