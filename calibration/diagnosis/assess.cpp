@@ -306,6 +306,17 @@ NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const d
   return f;
 }
 
+Model windowed(const Model& model, double window) {
+  Model m = model;
+  if (!(window < 1.0)) return m;
+  for (std::size_t i : m.calibrated_indices()) {
+    const double v = m.values()[i];
+    const double half = window * (m.upper(i) - m.lower(i));
+    m.set_bounds(m.spec(i).name, std::max(m.lower(i), v - half), std::min(m.upper(i), v + half));
+  }
+  return m;
+}
+
 Assessment assess(const Model& model, const Shape& shape, const ImpactSet& set,
                   const AssessOptions& options) {
   const AssessOptions o = resolve_scale(set, options);
@@ -319,19 +330,24 @@ Assessment assess(const Model& model, const Shape& shape, const ImpactSet& set,
   fo.intervals = false;
   fo.starts = o.population_starts;
   a.population = fit::calibrate_population(model, shape, set, fo);
+  if (o.refine_start) {
+    // A warm model (a calibrated one plus an effect at its neutral value) is also refined
+    // locally from its own values: the global search's local runs start from the best design
+    // points and can leave the calibrated basin for a worse one.
+    fit::FitOptions fl = fo;
+    fl.starts = 1;
+    fl.design_points = o.heldout_design_points;
+    const fit::PopulationFit local =
+        fit::calibrate_population(windowed(model, o.heldout_window), shape, set, fl);
+    if (local.error < a.population.error) a.population = local;
+  }
   a.insample_predictions = to_observables(a.population.predictions);
   a.insample = error_report(set, a.insample_predictions, a.use, o);
 
   // Held-out: every fold fit refines the full-set optimum within a window (AssessOptions).
   Model warm = model;
   warm.set_values(a.population.params);
-  if (o.heldout_window < 1.0)
-    for (std::size_t i : warm.calibrated_indices()) {
-      const double v = warm.values()[i];
-      const double half = o.heldout_window * (warm.upper(i) - warm.lower(i));
-      warm.set_bounds(warm.spec(i).name, std::max(warm.lower(i), v - half),
-                      std::min(warm.upper(i), v + half));
-    }
+  warm = windowed(warm, o.heldout_window);
   fit::FitOptions fh = fit_options_for(set, o);
   fh.intervals = false;
   fh.starts = std::max(1, o.heldout_starts);

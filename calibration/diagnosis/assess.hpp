@@ -108,6 +108,9 @@ struct AssessOptions {
   /// candidate effect at its neutral value, a ladder rung): the warm start keeps the base
   /// model's basin among the starts, fewer are needed.
   int warm_starts = 3;
+  /// The model's values are a calibrated optimum (warm model): also refine them locally (one
+  /// BOBYQA run within the held-out window) and keep the better of the two fits.
+  bool refine_start = false;
   /// Held-out fold fits refine the full-set optimum: they start from it, with `heldout_starts`
   /// BOBYQA runs, within +- `heldout_window` of each calibrated parameter's range around it
   /// (clipped to its bounds; >= 1 = the whole range). Why: the population objective can have
@@ -206,6 +209,10 @@ struct Assessment {
   std::size_t folds = 0;
   double seconds = 0;
 };
+
+/// The model with each calibrated parameter's bounds narrowed to +- window x its range around
+/// its current value (clipped to the bounds); window >= 1 leaves the model unchanged.
+Model windowed(const Model& model, double window);
 
 /// Calibrates `model` on `set` (population fit) and computes the held-out error. The model's
 /// current values are the first start point of every fit (warm start: pass a model whose values

@@ -1,6 +1,8 @@
 #include "diagnosis/diagnose.hpp"
 
 #include <fmt/format.h>
+#include <omp.h>
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <chrono>
@@ -352,7 +354,15 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
   const double n_train = n * static_cast<double>(base.folds - 1) / static_cast<double>(base.folds);
 
   Progress progress("diagnose", names.size(), o.progress);
-  for (const auto& name : names) {
+  // Candidates are independent: they run in parallel, each calibration on one thread (the fit
+  // module is deterministic, so the results do not depend on the thread count).
+  const int threads = std::max(
+      1, std::min<int>(o.assess.fit.threads > 0 ? o.assess.fit.threads : omp_get_max_threads(),
+                       static_cast<int>(names.size())));
+  std::vector<Candidate> tried(names.size());
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const std::string& name = names[k];
     progress.status(name);
     Candidate c;
     c.effect = name;
@@ -371,6 +381,8 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
       }
       AssessOptions warm_options = o.assess;
       warm_options.population_starts = o.assess.warm_starts;
+      warm_options.refine_start = true;
+      if (threads > 1) warm_options.fit.threads = 1;
       c.assessment = assess(cand, shape, set, warm_options);
       for (std::size_t j : added) c.added_values.push_back(c.assessment.population.params[j]);
       c.adequacy = adequacy(c.assessment, b.floor);
@@ -385,7 +397,9 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
       c.penalty = static_cast<double>(added.size()) * b.floor.value.mean / std::max(1.0, n_train);
       c.penalised_heldout = c.heldout_error + c.penalty;
       c.supported = c.error_drop - c.penalty > o.z * c.drop_se && c.error_drop > c.penalty;
-      c.signature_r = signature_r(dirs, cand, shape, set, added, o);
+      DiagnoseOptions so = o;
+      if (threads > 1) so.assess.fit.threads = 1;
+      c.signature_r = signature_r(dirs, cand, shape, set, added, so);
       c.evidence = evidence_of(c, b, base);
     } catch (const std::exception& e) {
       c.error = e.what();
@@ -394,9 +408,10 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
       c.evidence = std::string("could not be tried: ") + e.what();
       if (c.meaning.empty()) c.meaning = name;
     }
-    d.ranking.push_back(std::move(c));
+    tried[k] = std::move(c);
     progress.advance();
   }
+  d.ranking = std::move(tried);
   progress.finish();
   // Supported effects first, then by penalised held-out error.
   std::stable_sort(d.ranking.begin(), d.ranking.end(), [](const Candidate& x, const Candidate& y) {
@@ -462,7 +477,10 @@ Ladder ladder(const Model& model, const Shape& shape, const ImpactSet& set,
     progress.status(r == 0 ? "base" : rung.added);
     rung.effects = current.effect_names();
     AssessOptions rung_options = o.assess;
-    if (r > 0) rung_options.population_starts = o.assess.warm_starts;
+    if (r > 0) {
+      rung_options.population_starts = o.assess.warm_starts;
+      rung_options.refine_start = true;
+    }
     rung.assessment = assess(current, shape, set, rung_options);
     current = with_values(current, rung.assessment.population.params);
     if (r == 0)
