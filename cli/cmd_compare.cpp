@@ -14,19 +14,11 @@
 #include "common/h5.hpp"
 #include "diagnosis/figures.hpp"
 #include "diagnosis/inputs.hpp"
+#include "diagnosis_options.hpp"
 #include "model_options.hpp"
 
 namespace ricochet::cli {
 namespace {
-
-struct CompareCliOptions {
-  std::string data;
-  ModelOptions model;
-  diagnosis::OptionValues values;
-  OutputOptions output;
-  std::string figures;
-  bool shape_given = false;
-};
 
 // Per-release table: id, incident state, measured, held-out predicted, errors, floor.
 void write_out(const std::string& path, const diagnosis::Baseline& b, const ImpactSet& set,
@@ -87,7 +79,7 @@ void write_out(const std::string& path, const diagnosis::Baseline& b, const Impa
   f.flush();
 }
 
-void run(CompareCliOptions& o) {
+void run(DiagnosisCliOptions& o) {
   if (!o.output.out.empty()) require_extension("--out", o.output.out, {".csv", ".h5", ".hdf5"});
   o.values.dt_s = o.model.dt_s;
   diagnosis::DiagnoseOptions opt = diagnosis::make_options(o.values);
@@ -155,45 +147,17 @@ void run(CompareCliOptions& o) {
     for (const auto& t : *trends)
       if (t.significant) std::cout << "  " << diagnosis::describe(t) << "\n", ++shown;
   if (shown == 0) std::cout << "  none\n";
-  for (const auto& f : figures) std::cout << "wrote " << f << "\n";
-  if (!o.output.out.empty()) std::cout << "wrote " << o.output.out << "\n";
+  print_written(figures, o.output.out);
 }
 
 }  // namespace
 
 void add_compare_command(CLI::App& app) {
-  auto o = std::make_shared<CompareCliOptions>();
-  CLI::App* sub = app.add_subcommand(
-      "compare",
+  add_diagnosis_command(
+      app, "compare",
       "Calibrate a model on an impact set and show where it fails: errors per observable, "
-      "release and regime, residual and parameter trends, CDFs, noise floor");
-  sub->add_option("DATA", o->data, "Impact set (.csv, .h5)")->required();
-  add_model_options(sub, o->model);
-  sub->add_option("--folds", o->values.folds, "k of the k-fold held-out error, or loro")
-      ->capture_default_str();
-  sub->add_option("--seed", o->values.seed, "Seed of the calibration start designs")
-      ->capture_default_str();
-  sub->add_flag("--no-release-fits", o->values.no_release_fits,
-                "Skip the per-release calibration (no parameter trends; faster)");
-  sub->add_flag("--no-intervals", o->values.no_intervals,
-                "Per-release fits without identifiability intervals (faster)");
-  sub->add_flag("--no-features", o->values.no_features,
-                "Ignore penetration and contact duration even when the data have them");
-  sub->add_option("--error", o->values.error,
-                  "Error denominators: set-mean (Eq. 7 floored at the set's mean magnitude) or "
-                  "eq7 (the paper's)")
-      ->capture_default_str();
-  sub->add_option("--orientations", o->values.orientations,
-                  "Orientations averaged over for blocks without alpha_in (0 = the default "
-                  "6)")
-      ->capture_default_str();
-  sub->add_option("--threads", o->values.threads, "Threads (0 = all)")->capture_default_str();
-  sub->add_option("--figures", o->figures, "Write SVG figures into this directory");
-  add_output_options(sub, o->output);
-  sub->callback([o, sub] {
-    o->shape_given = sub->get_option("--shape")->count() > 0;
-    run(*o);
-  });
+      "release and regime, residual and parameter trends, CDFs, noise floor",
+      {.release_fits = true, .intervals = true, .features = true}, {}, run);
 }
 
 }  // namespace ricochet::cli

@@ -12,19 +12,11 @@
 #include "common/h5.hpp"
 #include "diagnosis/figures.hpp"
 #include "diagnosis/inputs.hpp"
+#include "diagnosis_options.hpp"
 #include "model_options.hpp"
 
 namespace ricochet::cli {
 namespace {
-
-struct DiagnoseCliOptions {
-  std::string data;
-  ModelOptions model;
-  diagnosis::OptionValues values;
-  OutputOptions output;
-  std::string figures;
-  bool shape_given = false;
-};
 
 void write_out(const std::string& path, const diagnosis::Diagnosis& d, const nlohmann::json& doc) {
   if (path.size() > 4 && path.substr(path.size() - 4) == ".csv") {
@@ -71,7 +63,7 @@ void write_out(const std::string& path, const diagnosis::Diagnosis& d, const nlo
   f.flush();
 }
 
-void run(DiagnoseCliOptions& o) {
+void run(DiagnosisCliOptions& o) {
   if (!o.output.out.empty()) require_extension("--out", o.output.out, {".csv", ".h5", ".hdf5"});
   o.values.dt_s = o.model.dt_s;
   diagnosis::DiagnoseOptions opt = diagnosis::make_options(o.values);
@@ -119,50 +111,22 @@ void run(DiagnoseCliOptions& o) {
   std::cout << "\nwhat is left unexplained:\n";
   for (const auto& u : d.unexplained) std::cout << "- " << u << "\n";
   std::cout << fmt::format("\n({:.1f} s)\n", d.seconds);
-  for (const auto& f : figures) std::cout << "wrote " << f << "\n";
-  if (!o.output.out.empty()) std::cout << "wrote " << o.output.out << "\n";
+  print_written(figures, o.output.out);
 }
 
 }  // namespace
 
 void add_diagnose_command(CLI::App& app) {
-  auto o = std::make_shared<DiagnoseCliOptions>();
-  CLI::App* sub = app.add_subcommand(
-      "diagnose",
+  add_diagnosis_command(
+      app, "diagnose",
       "Rank the catalog's effects (and plugins) missing from the model by the held-out error "
-      "after adding each one and recalibrating; evidence in words");
-  sub->add_option("DATA", o->data, "Impact set (.csv, .h5)")->required();
-  add_model_options(sub, o->model);
-  sub->add_option("--folds", o->values.folds, "k of the k-fold held-out error, or loro")
-      ->capture_default_str();
-  sub->add_option("--seed", o->values.seed, "Seed of the calibration start designs")
-      ->capture_default_str();
-  sub->add_option("--z", o->values.z, "Standard errors a drop must exceed to support an effect")
-      ->capture_default_str();
-  sub->add_option("--candidate", o->values.candidates,
-                  "Only try these effects (repeatable); default: every registered effect not in "
-                  "the model");
-  sub->add_flag("--no-release-fits", o->values.no_release_fits,
-                "Skip the per-release calibration (no parameter-drift evidence; faster)");
-  sub->add_flag("--no-intervals", o->values.no_intervals,
-                "Per-release fits without identifiability intervals (faster)");
-  sub->add_flag("--no-features", o->values.no_features,
-                "Ignore penetration and contact duration even when the data have them");
-  sub->add_option("--error", o->values.error,
-                  "Error denominators: set-mean (Eq. 7 floored at the set's mean magnitude) or "
-                  "eq7 (the paper's)")
-      ->capture_default_str();
-  sub->add_option("--orientations", o->values.orientations,
-                  "Orientations averaged over for blocks without alpha_in (0 = the default "
-                  "6)")
-      ->capture_default_str();
-  sub->add_option("--threads", o->values.threads, "Threads (0 = all)")->capture_default_str();
-  sub->add_option("--figures", o->figures, "Write SVG figures into this directory");
-  add_output_options(sub, o->output);
-  sub->callback([o, sub] {
-    o->shape_given = sub->get_option("--shape")->count() > 0;
-    run(*o);
-  });
+      "after adding each one and recalibrating; evidence in words",
+      {.z = "Standard errors a drop must exceed to support an effect",
+       .candidates = true,
+       .release_fits = true,
+       .intervals = true,
+       .features = true},
+      {}, run);
 }
 
 }  // namespace ricochet::cli

@@ -13,20 +13,11 @@
 #include "common/h5.hpp"
 #include "diagnosis/figures.hpp"
 #include "diagnosis/inputs.hpp"
+#include "diagnosis_options.hpp"
 #include "model_options.hpp"
 
 namespace ricochet::cli {
 namespace {
-
-struct LadderCliOptions {
-  std::string data;
-  ModelOptions model;  // its --add list is the ladder, not part of the base model
-  diagnosis::OptionValues values;
-  OutputOptions output;
-  std::string figures;
-  int auto_rounds = -1;
-  bool shape_given = false;
-};
 
 void write_out(const std::string& path, const diagnosis::Ladder& l, const nlohmann::json& doc) {
   if (path.size() > 4 && path.substr(path.size() - 4) == ".csv") {
@@ -69,7 +60,7 @@ void write_out(const std::string& path, const diagnosis::Ladder& l, const nlohma
   f.flush();
 }
 
-void run(LadderCliOptions& o) {
+void run(DiagnosisCliOptions& o, int auto_rounds) {
   if (!o.output.out.empty()) require_extension("--out", o.output.out, {".csv", ".h5", ".hdf5"});
   o.values.dt_s = o.model.dt_s;
   diagnosis::DiagnoseOptions opt = diagnosis::make_options(o.values);
@@ -86,16 +77,16 @@ void run(LadderCliOptions& o) {
             for (const auto& n : registry.names()) s += (s.empty() ? "" : ", ") + n;
             return s;
           }());
-  if (adds.empty() && o.auto_rounds < 0)
+  if (adds.empty() && auto_rounds < 0)
     throw InputError("<command line>", 0, "--add",
                      "give the effects of the ladder (--add NAME, repeatable) or --auto N");
   const auto in = diagnosis::load_inputs(o.data, o.shape_given ? o.model.shape : "");
   opt.assess.folds = diagnosis::resolve_folds(o.values.folds, in.set.size());
-  opt.assess.release_fits = opt.assess.release_fits && o.auto_rounds >= 0;
+  opt.assess.release_fits = opt.assess.release_fits && auto_rounds >= 0;
   opt.progress = !o.output.json;
   const diagnosis::Ladder l =
-      o.auto_rounds >= 0 ? diagnosis::auto_ladder(model, in.shape, in.set, o.auto_rounds, opt)
-                         : diagnosis::ladder(model, in.shape, in.set, adds, opt);
+      auto_rounds >= 0 ? diagnosis::auto_ladder(model, in.shape, in.set, auto_rounds, opt)
+                       : diagnosis::ladder(model, in.shape, in.set, adds, opt);
   nlohmann::json doc = diagnosis::to_json(l);
   doc["data"] = o.data;
   doc["shape"] = in.shape.name;
@@ -134,47 +125,26 @@ void run(LadderCliOptions& o) {
     if (use[k]) floor_line += fmt::format("{:>13.4g}", l.floor.term_mean[k]);
   std::cout << floor_line << "\n";
   if (!l.stop_reason.empty()) std::cout << "\nstopped: " << l.stop_reason << "\n";
-  for (const auto& f : figures) std::cout << "wrote " << f << "\n";
-  if (!o.output.out.empty()) std::cout << "wrote " << o.output.out << "\n";
+  print_written(figures, o.output.out);
 }
 
 }  // namespace
 
 void add_ladder_command(CLI::App& app) {
-  auto o = std::make_shared<LadderCliOptions>();
-  CLI::App* sub = app.add_subcommand(
-      "ladder",
+  auto auto_rounds = std::make_shared<int>(-1);
+  add_diagnosis_command(
+      app, "ladder",
       "Recalibrate a ladder of models (base, + effect, + another, ...) and show the in-sample "
-      "and held-out error falling towards the noise floor");
-  sub->add_option("DATA", o->data, "Impact set (.csv, .h5)")->required();
-  add_model_options(sub, o->model);
-  sub->get_option("--add")->description(
-      "Effect added by the next rung (repeatable, in order; plugin effects too)");
-  sub->add_option("--auto", o->auto_rounds,
-                  "Choose the rungs by rounds of diagnose, at most N effects (instead of --add)");
-  sub->add_option("--folds", o->values.folds, "k of the k-fold held-out error, or loro")
-      ->capture_default_str();
-  sub->add_option("--seed", o->values.seed, "Seed of the calibration start designs")
-      ->capture_default_str();
-  sub->add_option("--z", o->values.z, "--auto: standard errors a drop must exceed")
-      ->capture_default_str();
-  sub->add_flag("--no-features", o->values.no_features,
-                "Ignore penetration and contact duration even when the data have them");
-  sub->add_option("--error", o->values.error,
-                  "Error denominators: set-mean (Eq. 7 floored at the set's mean magnitude) or "
-                  "eq7 (the paper's)")
-      ->capture_default_str();
-  sub->add_option("--orientations", o->values.orientations,
-                  "Orientations averaged over for blocks without alpha_in (0 = the default "
-                  "6)")
-      ->capture_default_str();
-  sub->add_option("--threads", o->values.threads, "Threads (0 = all)")->capture_default_str();
-  sub->add_option("--figures", o->figures, "Write SVG figures into this directory");
-  add_output_options(sub, o->output);
-  sub->callback([o, sub] {
-    o->shape_given = sub->get_option("--shape")->count() > 0;
-    run(*o);
-  });
+      "and held-out error falling towards the noise floor",
+      {.z = "--auto: standard errors a drop must exceed", .features = true},
+      [auto_rounds](CLI::App* sub) {
+        sub->get_option("--add")->description(
+            "Effect added by the next rung (repeatable, in order; plugin effects too)");
+        sub->add_option("--auto", *auto_rounds,
+                        "Choose the rungs by rounds of diagnose, at most N effects (instead of "
+                        "--add)");
+      },
+      [auto_rounds](DiagnosisCliOptions& o) { run(o, *auto_rounds); });
 }
 
 }  // namespace ricochet::cli

@@ -12,6 +12,7 @@
 #include "common/error.hpp"
 #include "diagnosis/inputs.hpp"
 #include "diagnosis/validation_report.hpp"
+#include "diagnosis_options.hpp"
 #include "fit/fit.hpp"
 #include "model_options.hpp"
 
@@ -96,23 +97,9 @@ void add_report_command(CLI::App& app) {
   sub->add_option("--rounds", o->rounds, "Effects the automatic ladder may add")
       ->capture_default_str();
   sub->add_option("--title", o->title, "Title of the page")->capture_default_str();
-  sub->add_option("--folds", o->values.folds, "k of the k-fold held-out error, or loro")
-      ->capture_default_str();
-  sub->add_option("--seed", o->values.seed, "Seed of the calibration start designs")
-      ->capture_default_str();
-  sub->add_option("--z", o->values.z, "Standard errors a drop must exceed to support an effect")
-      ->capture_default_str();
-  sub->add_flag("--no-intervals", o->values.no_intervals,
-                "Per-release fits without identifiability intervals (faster)");
-  sub->add_option("--error", o->values.error,
-                  "Error denominators: set-mean (Eq. 7 floored at the set's mean magnitude) or "
-                  "eq7 (the paper's)")
-      ->capture_default_str();
-  sub->add_option("--orientations", o->values.orientations,
-                  "Orientations averaged over for blocks without alpha_in (0 = the default "
-                  "6)")
-      ->capture_default_str();
-  sub->add_option("--threads", o->values.threads, "Threads (0 = all)")->capture_default_str();
+  add_diagnosis_options(
+      sub, o->values,
+      {.z = "Standard errors a drop must exceed to support an effect", .intervals = true});
   add_output_options(sub, o->output);
   sub->get_option("--out")->required()->description("The HTML file to write");
   sub->callback([o, sub] {

@@ -1,0 +1,61 @@
+#include "diagnosis_options.hpp"
+
+#include <iostream>
+#include <memory>
+
+namespace ricochet::cli {
+
+void add_diagnosis_options(CLI::App* sub, diagnosis::OptionValues& v,
+                           const DiagnosisOptionSet& set) {
+  sub->add_option("--folds", v.folds, "k of the k-fold held-out error, or loro")
+      ->capture_default_str();
+  sub->add_option("--seed", v.seed, "Seed of the calibration start designs")->capture_default_str();
+  if (set.z) sub->add_option("--z", v.z, set.z)->capture_default_str();
+  if (set.candidates)
+    sub->add_option("--candidate", v.candidates,
+                    "Only try these effects (repeatable); default: every registered effect not "
+                    "in the model");
+  if (set.release_fits)
+    sub->add_flag("--no-release-fits", v.no_release_fits,
+                  "Skip the per-release calibration (no parameter-drift evidence; faster)");
+  if (set.intervals)
+    sub->add_flag("--no-intervals", v.no_intervals,
+                  "Per-release fits without identifiability intervals (faster)");
+  if (set.features)
+    sub->add_flag("--no-features", v.no_features,
+                  "Ignore penetration and contact duration even when the data have them");
+  sub->add_option("--error", v.error,
+                  "Error denominators: set-mean (Eq. 7 floored at the set's mean magnitude) or "
+                  "eq7 (the paper's)")
+      ->capture_default_str();
+  sub->add_option("--orientations", v.orientations,
+                  "Orientations averaged over for blocks without alpha_in (0 = the default 6)")
+      ->capture_default_str();
+  sub->add_option("--threads", v.threads, "Threads (0 = all)")->capture_default_str();
+}
+
+CLI::App* add_diagnosis_command(CLI::App& app, const std::string& name,
+                                const std::string& description, const DiagnosisOptionSet& set,
+                                const std::function<void(CLI::App*)>& extra,
+                                const std::function<void(DiagnosisCliOptions&)>& run) {
+  auto o = std::make_shared<DiagnosisCliOptions>();
+  CLI::App* sub = app.add_subcommand(name, description);
+  sub->add_option("DATA", o->data, "Impact set (.csv, .h5)")->required();
+  add_model_options(sub, o->model);
+  if (extra) extra(sub);
+  add_diagnosis_options(sub, o->values, set);
+  sub->add_option("--figures", o->figures, "Write SVG figures into this directory");
+  add_output_options(sub, o->output);
+  sub->callback([o, sub, run] {
+    o->shape_given = sub->get_option("--shape")->count() > 0;
+    run(*o);
+  });
+  return sub;
+}
+
+void print_written(const std::vector<std::string>& figures, const std::string& out) {
+  for (const auto& f : figures) std::cout << "wrote " << f << "\n";
+  if (!out.empty()) std::cout << "wrote " << out << "\n";
+}
+
+}  // namespace ricochet::cli

@@ -1,0 +1,52 @@
+// Options shared by `ricochet compare`, `diagnose`, `ladder` and `report` (docs/commands/*.md):
+// they all calibrate a model on an impact set and measure its held-out error, so the options that
+// steer that (folds, seed, error denominators, orientations, threads, ...) are declared once here.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "cli_common.hpp"
+#include "diagnosis/inputs.hpp"
+#include "model_options.hpp"
+
+namespace ricochet::cli {
+
+/// Which of the optional diagnosis options a command offers (folds, seed, error, orientations
+/// and threads are always there).
+struct DiagnosisOptionSet {
+  const char* z = nullptr;    ///< help text of --z; nullptr: no --z
+  bool candidates = false;    ///< --candidate
+  bool release_fits = false;  ///< --no-release-fits
+  bool intervals = false;     ///< --no-intervals
+  bool features = false;      ///< --no-features
+};
+
+/// What `compare`, `diagnose` and `ladder` read from their command line.
+struct DiagnosisCliOptions {
+  std::string data;  ///< the impact set (.csv, .h5)
+  ModelOptions model;
+  diagnosis::OptionValues values;
+  OutputOptions output;
+  std::string figures;  ///< directory of the SVG figures; empty: none
+  bool shape_given = false;
+};
+
+/// Adds a subcommand reading one impact set with the model, diagnosis (`set`), --figures and
+/// output options; `extra` (may be empty) declares the command's own options, after the model
+/// options; `run` is called with the parsed options.
+CLI::App* add_diagnosis_command(CLI::App& app, const std::string& name,
+                                const std::string& description, const DiagnosisOptionSet& set,
+                                const std::function<void(CLI::App*)>& extra,
+                                const std::function<void(DiagnosisCliOptions&)>& run);
+
+/// Declares the diagnosis options of `set` on `sub`, writing into `values`.
+void add_diagnosis_options(CLI::App* sub, diagnosis::OptionValues& values,
+                           const DiagnosisOptionSet& set);
+
+/// Prints "wrote FILE" for every figure and for the --out file (when given).
+void print_written(const std::vector<std::string>& figures, const std::string& out);
+
+}  // namespace ricochet::cli
