@@ -345,9 +345,6 @@ Assessment assess(const Model& model, const Shape& shape, const ImpactSet& set,
   a.insample = error_report(set, a.insample_predictions, a.use, o);
 
   // Held-out: every fold fit refines the full-set optimum within a window (AssessOptions).
-  Model warm = model;
-  warm.set_values(a.population.params);
-  warm = windowed(warm, o.heldout_window);
   fit::FitOptions fh = fit_options_for(set, o);
   fh.intervals = false;
   fh.starts = std::max(1, o.heldout_starts);
@@ -355,7 +352,45 @@ Assessment assess(const Model& model, const Shape& shape, const ImpactSet& set,
   // would cost 16 objective evaluations per parameter and fold for nothing.
   fh.design_points = o.heldout_design_points;
   a.folds = std::clamp<std::size_t>(o.folds, 2, set.size());
-  const fit::HeldOut ho = fit::heldout_predictions(warm, shape, set, a.folds, fh);
+  const auto heldout_from = [&](const std::vector<double>& optimum) {
+    Model warm = model;
+    warm.set_values(optimum);
+    return fit::heldout_predictions(windowed(warm, o.heldout_window), shape, set, a.folds, fh);
+  };
+  fit::HeldOut ho = heldout_from(a.population.params);
+
+  // The fold optima are candidates for the full-set optimum too. On a rough objective (lab
+  // triangles: rebound statuses and orientation cells switch as the parameters move) the fold
+  // fits, refining the full-set optimum on 4/5 of the data, found parameters that fit the WHOLE
+  // set better (0.836-0.884 against 0.935): the multi-start had stopped on a kink. The best
+  // fold optimum is refined on the full set and kept when it improves the in-sample fit; the
+  // held-out folds are then redone from it, so that every model's held-out error starts from
+  // an optimum of the same quality (a candidate effect warm-started from the better optimum
+  // would otherwise win for nothing).
+  std::size_t best_fold = ho.fold_params.size();
+  double best_error = a.population.error;
+  for (std::size_t k = 0; k < ho.fold_params.size(); ++k) {
+    const auto pr = fit::predict(model, shape, ho.fold_params[k], set, fo);
+    double e = 0.0;
+    for (double x : fit::prediction_errors(set, pr, fo.error)) e += x;
+    for (const auto& q : pr) e += q.status == CollisionStatus::kOk ? 0.0 : fit::kFailedRebound;
+    if (e < best_error) best_error = e, best_fold = k;
+  }
+  if (best_fold < ho.fold_params.size()) {
+    Model from = model;
+    from.set_values(ho.fold_params[best_fold]);
+    fit::FitOptions fl = fo;
+    fl.starts = 1;
+    fl.design_points = o.heldout_design_points;
+    const fit::PopulationFit polished =
+        fit::calibrate_population(windowed(from, o.heldout_window), shape, set, fl);
+    if (polished.error < a.population.error) {
+      a.population = polished;
+      a.insample_predictions = to_observables(a.population.predictions);
+      a.insample = error_report(set, a.insample_predictions, a.use, o);
+      ho = heldout_from(a.population.params);
+    }
+  }
   a.heldout_predictions = to_observables(ho.predictions);
   a.heldout = error_report(set, a.heldout_predictions, a.use, o);
   a.fold_params = ho.fold_params;

@@ -145,6 +145,27 @@ TEST(Assess, TheTrueModelIsAdequateAndAWrongOneIsNot) {
   EXPECT_FALSE(adequacy(b, g).adequate) << b.heldout.error.mean << " vs floor " << g.value.mean;
 }
 
+// The lab triangles' population objective is rough (rebound statuses and orientation cells
+// switch with the parameters): the multi-start once stopped at 0.935 while every fold fit found
+// parameters fitting the whole set better (0.827 against 0.935). On the full set, no fold's
+// optimum may now beat the full-set optimum by more than 0.5 % (the redone folds still find
+// points 0.07 % better: a rough objective has no exact optimum), and the in-sample error may
+// not exceed the held-out error.
+TEST(Assess, TheFullSetOptimumBeatsEveryFoldOptimumOnTheLabTriangles) {
+  const ImpactSet set =
+      read_impact_set(std::string(RICOCHET_SOURCE_DIR) + "/data/lab/triangles.csv");
+  const Shape shape = Shape::triangle();
+  const AssessOptions o = resolve_scale(set, AssessOptions{});
+  const Assessment a = assess(Model::paper(), shape, set, o);
+  const fit::FitOptions fo = fit_options_for(set, o);
+  ASSERT_EQ(a.fold_params.size(), a.folds);
+  for (const auto& p : a.fold_params) {
+    const auto pred = predict_observables(Model::paper(), shape, p, set, o);
+    EXPECT_GE(error_report(set, pred, a.use, o).error.mean, 0.995 * a.insample.error.mean);
+  }
+  EXPECT_LE(a.insample.error.mean, a.heldout.error.mean);
+}
+
 TEST(Trends, PearsonAndSpearmanMustAgree) {
   // One release far from the others in the feature and with an outlying residual (like lab
   // cylinder C12): Pearson alone calls a trend, the rank test does not. A clean monotone trend
