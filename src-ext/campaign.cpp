@@ -418,6 +418,22 @@ void repair_index(h5::File& f) {
   }
 }
 
+// Replicate label of an impact: what its spec says about the experiment, without the replica
+// axes (the replica seed of the bed, the position along the bed, LIGGGHTS insertion seeds, the
+// id), hashed (FNV-1a, 64 bits) into a short text. Impacts sharing it repeat one experiment:
+// the diagnosis pools their scatter into the noise floor.
+std::string replicate_label(const std::string& params_json) {
+  nlohmann::json j = nlohmann::json::parse(params_json, nullptr, false);
+  if (j.is_discarded() || !j.is_object()) return {};
+  for (const char* k : {"id", "seed", "effective"}) j.erase(k);
+  for (const auto& [section, name] : {std::pair{"run", "x_impact_frac"}, std::pair{"bed", "seed"},
+                                      std::pair{"run", "block_seed"}})
+    if (j.contains(section) && j[section].is_object()) j[section].erase(name);
+  std::uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : j.dump()) h = (h ^ c) * 1099511628211ull;
+  return fmt::format("r{:016x}", h);
+}
+
 void rewrite_impact_set(const std::string& path, const std::vector<CampaignEntry>& entries,
                         const std::string& design_name) {
   ImpactSet set;
@@ -456,6 +472,7 @@ void rewrite_impact_set(const std::string& path, const std::vector<CampaignEntry
     im.contact_duration = optional("contact_duration");
     im.sigma_vin = triple("sigma_vin");
     im.sigma_vout = triple("sigma_vout");
+    if (std::string r = replicate_label(e.params); !r.empty()) im.replicate = std::move(r);
     for (const auto& x : set.extra_names) im.extra.push_back(col(e, x));
     set.impacts.push_back(im);
   }
@@ -700,7 +717,13 @@ CampaignSummary run_campaign(const CampaignDesign& design, const Decks& decks,
   unsigned long ran = summary.ran;
   MPI_Allreduce(MPI_IN_PLACE, &ran, 1, MPI_UNSIGNED_LONG, MPI_SUM, world);
   summary.ran = ran;
-  if (wrank == 0) summary.entries = read_campaign_index(options.out);
+  if (wrank == 0) {
+    summary.entries = read_campaign_index(options.out);
+    // A finished campaign run again rewrites its impact set, so that a file written by an
+    // older version gains the newer columns (e.g. replicate) without rerunning an impact.
+    if (ran == 0 && !summary.entries.empty())
+      rewrite_impact_set(options.out, summary.entries, design.name);
+  }
   if (group != MPI_COMM_NULL) MPI_Comm_free(&group);
   summary.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;

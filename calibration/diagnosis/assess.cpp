@@ -167,11 +167,16 @@ NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const d
     m[i] = measured_of(set.impacts[i]);
   }
 
-  // Replicates: releases with identical incident state (and orientation).
-  std::map<std::array<double, 4>, std::vector<std::size_t>> groups;
+  // Replicates: releases with the same replicate label (a resolved campaign's replica beds and
+  // positions: their measured V_in differ slightly, the experiment is the same), else releases
+  // with identical incident state (and orientation).
+  std::map<std::string, std::vector<std::size_t>> groups;
   for (std::size_t i = 0; i < n; ++i) {
     const Impact& im = set.impacts[i];
-    groups[{im.vin[0], im.vin[1], im.vin[2], im.alpha_in.value_or(NAN)}].push_back(i);
+    groups[im.replicate ? "label " + *im.replicate
+                        : fmt::format("state {} {} {} {}", im.vin[0], im.vin[1], im.vin[2],
+                                      im.alpha_in.value_or(NAN))]
+        .push_back(i);
   }
   Obs pooled{};
   std::size_t dof = 0;
@@ -191,7 +196,8 @@ NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const d
   if (f.replicate_groups >= 2) {
     f.source = "replicates";
     f.description = fmt::format(
-        "pooled within-group variance of {} groups of releases with identical incident states "
+        "pooled within-group variance of {} groups of replicate releases (same replicate label "
+        "or identical incident state) "
         "({} degrees of freedom): measurement noise and release-to-release variability",
         f.replicate_groups, dof);
     for (std::size_t i = 0; i < n; ++i)

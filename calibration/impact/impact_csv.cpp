@@ -218,6 +218,7 @@ ImpactSet parse_impact_set_csv(const std::string& text, const std::string& name)
         if (c.spec->col == Col::kId) m.id = cell;
         if (c.spec->col == Col::kShape) m.shape = cell;
         if (c.spec->col == Col::kOperator && !cell.empty()) m.op = cell;
+        if (c.spec->col == Col::kReplicate && !cell.empty()) m.replicate = cell;
         if (cell.empty() && c.spec->required)
           throw InputError(name, line_no, c.name, "empty cell; every release needs one");
         continue;
@@ -296,6 +297,9 @@ std::string format_impact_set_csv(const ImpactSet& set) {
           break;
         case Col::kOperator:
           if (m.op) row += quote_if_needed(*m.op);
+          break;
+        case Col::kReplicate:
+          if (m.replicate) row += quote_if_needed(*m.replicate);
           break;
         default:
           if (const auto v = get_numeric(m, c->col)) row += format_number(*v);

@@ -170,6 +170,7 @@ ImpactSet read_impact_set_h5(const std::string& path) {
         if (c.spec->col == Col::kId) m.id = v;
         if (c.spec->col == Col::kShape) m.shape = v;
         if (c.spec->col == Col::kOperator && !v.empty()) m.op = v;
+        if (c.spec->col == Col::kReplicate && !v.empty()) m.replicate = v;
         continue;
       }
       const double v = c.values[i];
@@ -214,9 +215,10 @@ void write_impact_set_h5(const ImpactSet& set, const std::string& path, const st
       std::vector<std::string> text;
       text.reserve(n);
       for (const auto& m : set.impacts)
-        text.push_back(spec.col == Col::kId      ? m.id
-                       : spec.col == Col::kShape ? m.shape
-                                                 : m.op.value_or(""));
+        text.push_back(spec.col == Col::kId          ? m.id
+                       : spec.col == Col::kShape     ? m.shape
+                       : spec.col == Col::kReplicate ? m.replicate.value_or("")
+                                                     : m.op.value_or(""));
       file.write_strings(dset, text);
     } else {
       std::vector<double> values;

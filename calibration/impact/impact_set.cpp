@@ -139,6 +139,7 @@ const std::vector<ColumnSpec>& schema_columns() {
       {Col::kPenetration, "penetration", Dim::kLength, false},
       {Col::kContactDuration, "contact_duration", Dim::kTime, false},
       {Col::kOperator, "operator", Dim::kText, false},
+      {Col::kReplicate, "replicate", Dim::kText, false},
       {Col::kWeight, "weight", Dim::kDimensionless, false},
       {Col::kSigmaVinX, "sigma_vin_x", Dim::kVelocity, false},
       {Col::kSigmaVinY, "sigma_vin_y", Dim::kVelocity, false},
@@ -204,6 +205,7 @@ std::optional<double> get_numeric(const Impact& m, Col col) {
     case Col::kId:
     case Col::kShape:
     case Col::kOperator:
+    case Col::kReplicate:
       break;
   }
   return std::nullopt;
@@ -266,6 +268,7 @@ void set_numeric(Impact& m, Col col, double v) {
     case Col::kId:
     case Col::kShape:
     case Col::kOperator:
+    case Col::kReplicate:
       break;
   }
 }
@@ -277,6 +280,8 @@ bool has_column(const Impact& m, Col col) {
       return true;
     case Col::kOperator:
       return m.op.has_value();
+    case Col::kReplicate:
+      return m.replicate.has_value();
     default:
       return get_numeric(m, col).has_value();
   }
@@ -304,6 +309,7 @@ void check_impact(const Impact& m, std::size_t n_extra, const std::string& file,
     check_non_negative(*m.contact_duration, "contact_duration", "s", file, line);
   if (m.weight) check_non_negative(*m.weight, "weight", "-", file, line);
   if (m.op) check_text(*m.op, "operator", file, line);
+  if (m.replicate) check_text(*m.replicate, "replicate", file, line);
   const char* sigma_names[2][3] = {{"sigma_vin_x", "sigma_vin_y", "sigma_vin_w"},
                                    {"sigma_vout_x", "sigma_vout_y", "sigma_vout_w"}};
   const std::optional<Vel3>* sigmas[2] = {&m.sigma_vin, &m.sigma_vout};
@@ -555,7 +561,8 @@ Term parse_term(const std::string& raw, const std::string& where, const ImpactSe
   if (value.find_first_of("<>=!") != std::string::npos)
     bad_term(t.text, "more than one comparison operator in one condition; join with &&");
 
-  if (t.feature == "id" || t.feature == "shape" || t.feature == "operator") {
+  if (t.feature == "id" || t.feature == "shape" || t.feature == "operator" ||
+      t.feature == "replicate") {
     t.textual = true;
     if (t.op != Op::kEq && t.op != Op::kNe)
       bad_term(t.text, "'" + t.feature + "' is text: only == and != apply");
@@ -609,11 +616,12 @@ ImpactSet filter(const ImpactSet& set, const std::string& where) {
     bool keep = true;
     for (const Term& t : terms) {
       if (t.textual) {
+        const std::optional<std::string>& optional = t.feature == "operator" ? m.op : m.replicate;
         const std::string* field = t.feature == "id"      ? &m.id
                                    : t.feature == "shape" ? &m.shape
-                                   : m.op                 ? &*m.op
+                                   : optional             ? &*optional
                                                           : nullptr;
-        // A release without an operator matches no condition on the operator.
+        // A release without an operator (replicate label) matches no condition on it.
         keep = field != nullptr && compare(*field, t.op, t.text_value);
       } else {
         // A missing value (NaN) matches no condition, not even "!=".

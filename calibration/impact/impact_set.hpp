@@ -41,7 +41,11 @@ struct Impact {
   std::optional<double> penetration;       ///< maximum penetration depth [m]
   std::optional<double> contact_duration;  ///< contact duration [s]
   std::optional<std::string> op;           ///< operator who processed the record
-  std::optional<double> weight;            ///< statistical weight [-], default 1
+  /// Replicate label: releases sharing it repeat the same experiment (same nominal incident
+  /// state, block and ground parameters; e.g. a resolved campaign's replica beds or positions).
+  /// The diagnosis's noise floor pools their scatter (docs/diagnosis.md, "Noise floor").
+  std::optional<std::string> replicate;
+  std::optional<double> weight;  ///< statistical weight [-], default 1
   /// Measurement standard uncertainty of vin / vout (same units as vin / vout), when known
   /// (reconstruction standard errors, LIGGGHTS extraction errors, synthetic noise level).
   std::optional<Vel3> sigma_vin;

@@ -48,6 +48,7 @@ enum class Col {
   kPenetration,
   kContactDuration,
   kOperator,
+  kReplicate,
   kWeight,
   kSigmaVinX,
   kSigmaVinY,

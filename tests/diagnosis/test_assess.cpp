@@ -109,6 +109,40 @@ TEST(Assess, ReplicatesGiveThePooledVariance) {
   EXPECT_EQ(f.term_mean[kObsVx], 0.0);
 }
 
+// A resolved campaign's replicas (other bed, other position) reconstruct slightly different
+// V_in from the same nominal state: the replicate label groups them, exact V_in equality cannot.
+TEST(Assess, ReplicateLabelsGroupReleasesWhoseMeasuredVinDiffers) {
+  ImpactSet set;
+  set.source = "campaign";
+  const double spread[3] = {-0.1, 0.0, 0.1};
+  for (int g = 0; g < 2; ++g)
+    for (int r = 0; r < 3; ++r) {
+      Impact im;
+      im.id = "R" + std::to_string(g) + std::to_string(r);
+      im.shape = "cylinder";
+      im.vin = {3.0 + g + 0.01 * r, -2.3 - 0.003 * r, -60.0};
+      im.vout = {3.0, 1.0 + spread[r], -40.0};
+      im.sigma_vout = Vel3{1e-6, 1e-6, 1e-5};  // reconstruction errors of a clean track
+      set.impacts.push_back(im);
+    }
+  AssessOptions o = fast();
+  o.scale = ErrorScale::kEq7;
+  const auto use = observables_of(set, o);
+  const Model m = Model::paper();
+  // Without labels: no two V_in are equal, the declared (tiny) sigmas make the floor.
+  const NoiseFloor declared = noise_floor(m, Shape::cylinder(), m.values(), set, use, o);
+  EXPECT_EQ(declared.source, "declared");
+  for (auto& im : set.impacts) im.replicate = "g" + im.id.substr(1, 1);
+  const NoiseFloor f = noise_floor(m, Shape::cylinder(), m.values(), set, use, o);
+  EXPECT_EQ(f.source, "replicates");
+  EXPECT_EQ(f.replicate_groups, 2u);
+  const double var = 4 * 0.01 / 4.0;  // pooled V_out^y variance: 6 releases, 2 groups
+  double expected = 0;
+  for (const auto& im : set.impacts) expected += var / (im.vout[1] * im.vout[1]) / 6.0;
+  EXPECT_NEAR(f.value.mean, expected, 1e-12);
+  EXPECT_GT(f.value.mean, 2.0 * declared.value.mean);
+}
+
 TEST(Assess, SetMeanFloorsRaiseSmallDenominators) {
   ImpactSet lab = lab_incident_states(Shape::triangle());
   AssessOptions o;
