@@ -149,7 +149,9 @@ TEST(Engine, TriangleReContactIsPartOfTheRebound) {
     const auto r = simulate(m, Shape::triangle(), {{3.3, -2.2, -40.0}, a});
     ASSERT_NE(r.status, CollisionStatus::kNoContact);
     if (r.contact_phases > 1) ++multi;
-    if (r.status == CollisionStatus::kOk) EXPECT_GT(r.vout[kVy], 0.0);
+    if (r.status == CollisionStatus::kOk) {
+      EXPECT_GT(r.vout[kVy], 0.0);
+    }
   }
   EXPECT_GT(multi, 0);
 }
