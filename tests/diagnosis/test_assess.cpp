@@ -80,66 +80,63 @@ TEST(Assess, TableOneScaleWhenNothingIsDeclaredAndVinNoiseIsPropagated) {
   EXPECT_GT(f.nearest_neighbour, 0);
 }
 
-TEST(Assess, ReplicatesGiveThePooledVariance) {
-  // Two groups of identical incident states, outputs with a known spread in V_out^y only.
+// Two groups of replicate releases whose outputs differ only in V_out^y (by `spread`); release r
+// of group g has V_in^x = 3 + g + vin_jitter * r (the jitter mimics reconstructed V_in).
+ImpactSet replicate_groups(const std::vector<double>& spread, double vin_jitter) {
   ImpactSet set;
   set.source = "replicates";
-  const double spread[4] = {-0.1, 0.1, -0.1, 0.1};
   for (int g = 0; g < 2; ++g)
-    for (int r = 0; r < 4; ++r) {
+    for (std::size_t r = 0; r < spread.size(); ++r) {
       Impact im;
       im.id = "R" + std::to_string(g) + std::to_string(r);
       im.shape = "cylinder";
-      im.vin = {3.0 + g, -2.3, -60.0};
+      im.vin = {3.0 + g + vin_jitter * static_cast<double>(r), -2.3, -60.0};
       im.vout = {3.0, 1.0 + spread[r], -40.0};
       set.impacts.push_back(im);
     }
+  return set;
+}
+
+// The floor expected from a pooled V_out^y variance `var` (Eq. 7 denominators |V_out^y|).
+double pooled_floor(const ImpactSet& set, double var) {
+  double expected = 0;
+  for (const auto& im : set.impacts)
+    expected += var / (im.vout[1] * im.vout[1]) / static_cast<double>(set.size());
+  return expected;
+}
+
+NoiseFloor floor_of(const ImpactSet& set) {
   AssessOptions o = fast();
   o.scale = ErrorScale::kEq7;
-  const auto use = observables_of(set, o);
   const Model m = Model::paper();
-  const NoiseFloor f = noise_floor(m, Shape::cylinder(), m.values(), set, use, o);
+  return noise_floor(m, Shape::cylinder(), m.values(), set, observables_of(set, o), o);
+}
+
+TEST(Assess, ReplicatesGiveThePooledVariance) {
+  // Two groups of identical incident states, outputs with a known spread in V_out^y only.
+  const ImpactSet set = replicate_groups({-0.1, 0.1, -0.1, 0.1}, 0.0);
+  const NoiseFloor f = floor_of(set);
   EXPECT_EQ(f.source, "replicates");
   EXPECT_EQ(f.replicate_groups, 2u);
   // Pooled variance of V_out^y: 8 * 0.01 / (8 - 2); denominator |V_out^y| = 0.9 or 1.1.
-  const double var = 8 * 0.01 / 6.0;
-  double expected = 0;
-  for (const auto& im : set.impacts) expected += var / (im.vout[1] * im.vout[1]) / 8.0;
-  EXPECT_NEAR(f.value.mean, expected, 1e-12);
+  EXPECT_NEAR(f.value.mean, pooled_floor(set, 8 * 0.01 / 6.0), 1e-12);
   EXPECT_EQ(f.term_mean[kObsVx], 0.0);
 }
 
 // A resolved campaign's replicas (other bed, other position) reconstruct slightly different
 // V_in from the same nominal state: the replicate label groups them, exact V_in equality cannot.
 TEST(Assess, ReplicateLabelsGroupReleasesWhoseMeasuredVinDiffers) {
-  ImpactSet set;
-  set.source = "campaign";
-  const double spread[3] = {-0.1, 0.0, 0.1};
-  for (int g = 0; g < 2; ++g)
-    for (int r = 0; r < 3; ++r) {
-      Impact im;
-      im.id = "R" + std::to_string(g) + std::to_string(r);
-      im.shape = "cylinder";
-      im.vin = {3.0 + g + 0.01 * r, -2.3 - 0.003 * r, -60.0};
-      im.vout = {3.0, 1.0 + spread[r], -40.0};
-      im.sigma_vout = Vel3{1e-6, 1e-6, 1e-5};  // reconstruction errors of a clean track
-      set.impacts.push_back(im);
-    }
-  AssessOptions o = fast();
-  o.scale = ErrorScale::kEq7;
-  const auto use = observables_of(set, o);
-  const Model m = Model::paper();
+  ImpactSet set = replicate_groups({-0.1, 0.0, 0.1}, 0.01);
+  for (auto& im : set.impacts) im.sigma_vout = Vel3{1e-6, 1e-6, 1e-5};  // clean-track errors
   // Without labels: no two V_in are equal, the declared (tiny) sigmas make the floor.
-  const NoiseFloor declared = noise_floor(m, Shape::cylinder(), m.values(), set, use, o);
+  const NoiseFloor declared = floor_of(set);
   EXPECT_EQ(declared.source, "declared");
   for (auto& im : set.impacts) im.replicate = "g" + im.id.substr(1, 1);
-  const NoiseFloor f = noise_floor(m, Shape::cylinder(), m.values(), set, use, o);
+  const NoiseFloor f = floor_of(set);
   EXPECT_EQ(f.source, "replicates");
   EXPECT_EQ(f.replicate_groups, 2u);
-  const double var = 4 * 0.01 / 4.0;  // pooled V_out^y variance: 6 releases, 2 groups
-  double expected = 0;
-  for (const auto& im : set.impacts) expected += var / (im.vout[1] * im.vout[1]) / 6.0;
-  EXPECT_NEAR(f.value.mean, expected, 1e-12);
+  // Pooled V_out^y variance: 6 releases in 2 groups, 4 * 0.01 / (6 - 2).
+  EXPECT_NEAR(f.value.mean, pooled_floor(set, 4 * 0.01 / 4.0), 1e-12);
   EXPECT_GT(f.value.mean, 2.0 * declared.value.mean);
 }
 
