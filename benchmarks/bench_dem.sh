@@ -9,7 +9,7 @@
 # The bed is cached in OUT_DIR/dem-cache (built once, about 3 min on 2 ranks). The machine's other
 # load shows in the figures: run it on an idle machine.
 set -euo pipefail
-BUILD=$1
+BUILD=$(cd "$1" && pwd)
 OUT=$2
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 R="$BUILD/cli/ricochet"

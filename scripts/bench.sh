@@ -3,7 +3,7 @@
 # Each section runs a Google Benchmark program (or a timed command) and prints its figures;
 # ratios are computed against baselines measured in the same run.
 set -euo pipefail
-BUILD=$1; FILTER=${2:-}
+BUILD=$(cd "$1" && pwd); FILTER=${2:-}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 OUT=$ROOT/results/bench
 mkdir -p "$OUT"

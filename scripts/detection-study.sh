@@ -14,7 +14,7 @@
 # resumes where it stopped) and OUT_DIR/detection-study.md (the summary table, rewritten at the
 # end). docs/diagnosis.md quotes the numbers measured on this machine.
 set -euo pipefail
-BUILD=$1
+BUILD=$(cd "$1" && pwd)
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 OUT=${2:-$ROOT/results/detection-study}
 SEEDS=${3:-3}

@@ -2,7 +2,7 @@
 # The main job on the embedded lab data (paper Appendix A). Results go to results/.
 # usage: scripts/main-job.sh BUILD_DIR [--quick]
 set -euo pipefail
-BUILD=$1; shift
+BUILD=$(cd "$1" && pwd); shift
 QUICK=0
 [ "${1:-}" = "--quick" ] && QUICK=1
 ROOT=$(cd "$(dirname "$0")/.." && pwd)

@@ -13,7 +13,7 @@
 # 3. grain-stiffness: three grain Young's moduli x three replica beds on the small slab -> the
 #    abacus against a grain-scale parameter.
 set -euo pipefail
-BUILD=$1
+BUILD=$(cd "$1" && pwd)
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 OUT=${2:-$ROOT/results/resolved}
 RANKS=${3:-2}
