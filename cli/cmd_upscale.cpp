@@ -54,8 +54,17 @@ nlohmann::json result_json(const dem::UpscaleResult& r) {
                       {"population", fit::to_json(g.population)},
                       {"per_impact_summary", fit::summary_json(member_fits)}});
   }
-  nlohmann::json j = {{"source", r.source}, {"shape", r.shape}, {"by", r.by},
-                      {"impacts", impacts}, {"groups", groups}, {"seconds", r.seconds}};
+  nlohmann::json j = {
+      {"source", r.source},
+      {"shape", r.shape},
+      {"by", r.by},
+      {"impacts", impacts},
+      {"groups", groups},
+      {"seconds", r.seconds},
+      {"noise",
+       {{"source", r.noise_source},
+        {"sigma_vout",
+         {{"vx", r.noise_sigma[0]}, {"vy", r.noise_sigma[1]}, {"w", r.noise_sigma[2]}}}}}};
   if (r.campaign) j["campaign"] = fit::to_json(*r.campaign);
   return j;
 }
@@ -168,6 +177,11 @@ void run(const UpscaleCliOptions& o) {
         return s;
       }(),
       r.seconds);
+  std::cout << fmt::format(
+      "  noise of V_out for the intervals: {} ({:.3g} m/s, {:.3g} m/s, {:.3g} rad/s)\n",
+      r.noise_source == "replicates" ? "scatter of the replicate impacts"
+                                     : "no replicates: the lab's operator scale (paper Table 1)",
+      r.noise_sigma[0], r.noise_sigma[1], r.noise_sigma[2]);
   for (const auto& g : r.groups) {
     std::cout << fmt::format("  group {} ({} impacts): population fit", g.key, g.members.size());
     for (std::size_t c : g.population.calibrated)

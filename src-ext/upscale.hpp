@@ -51,6 +51,12 @@ struct UpscaleResult {
   std::vector<UpscaleImpact> impacts;
   std::vector<UpscaleGroup> groups;
   std::optional<fit::PopulationFit> campaign;  ///< over all impacts (when several groups)
+  /// Measurement noise of a resolved V_out used by the identifiability intervals (m/s, m/s,
+  /// rad/s), added in quadrature to each impact's reconstruction errors, and where it comes
+  /// from: "replicates" (pooled scatter of replicate impacts, replicate_groups()) or "table1"
+  /// (no replicates: the lab's operator scale, fit::FitOptions::sigma).
+  Vel3 noise_sigma{};
+  std::string noise_source;
   double seconds = 0;
 };
 

@@ -167,21 +167,12 @@ NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const d
     m[i] = measured_of(set.impacts[i]);
   }
 
-  // Replicates: releases with the same replicate label (a resolved campaign's replica beds and
-  // positions: their measured V_in differ slightly, the experiment is the same), else releases
+  // Replicates: releases sharing a replicate label (a resolved campaign's replica beds and
+  // positions: their measured V_in differ slightly, the experiment is the same), or releases
   // with identical incident state (and orientation).
-  std::map<std::string, std::vector<std::size_t>> groups;
-  for (std::size_t i = 0; i < n; ++i) {
-    const Impact& im = set.impacts[i];
-    groups[im.replicate ? "label " + *im.replicate
-                        : fmt::format("state {} {} {} {}", im.vin[0], im.vin[1], im.vin[2],
-                                      im.alpha_in.value_or(NAN))]
-        .push_back(i);
-  }
   Obs pooled{};
   std::size_t dof = 0;
-  for (const auto& [key, members] : groups) {
-    if (members.size() < 2) continue;
+  for (const auto& members : replicate_groups(set)) {
     ++f.replicate_groups;
     dof += members.size() - 1;
     for (int k = 0; k < kObservables; ++k) {

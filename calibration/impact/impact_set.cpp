@@ -8,6 +8,7 @@
 #include <charconv>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numbers>
 #include <stdexcept>
 #include <unordered_map>
@@ -633,6 +634,49 @@ ImpactSet filter(const ImpactSet& set, const std::string& where) {
     if (keep) out.impacts.push_back(m);
   }
   return out;
+}
+
+std::vector<std::vector<std::size_t>> replicate_groups(const ImpactSet& set) {
+  std::map<std::string, std::vector<std::size_t>> by_key;
+  for (std::size_t i = 0; i < set.impacts.size(); ++i) {
+    const Impact& im = set.impacts[i];
+    std::string key;
+    if (im.replicate) {
+      key = "label " + *im.replicate;
+    } else {
+      // Shortest round-trip text: two states give one key exactly when they are equal.
+      key = "state";
+      for (double v : {im.vin[0], im.vin[1], im.vin[2], im.alpha_in.value_or(NAN)}) {
+        char buf[32];
+        const auto end = std::to_chars(buf, buf + sizeof buf, v).ptr;
+        key += ' ';
+        key.append(buf, end);
+      }
+    }
+    by_key[key].push_back(i);
+  }
+  std::vector<std::vector<std::size_t>> groups;
+  for (auto& [key, members] : by_key)
+    if (members.size() >= 2) groups.push_back(std::move(members));
+  return groups;
+}
+
+Vel3 pooled_vout_sd(const ImpactSet& set, const std::vector<std::vector<std::size_t>>& groups) {
+  Vel3 ss{};
+  std::size_t dof = 0;
+  for (const auto& members : groups) {
+    if (members.size() < 2) continue;
+    dof += members.size() - 1;
+    for (int k = 0; k < 3; ++k) {
+      double mean = 0;
+      for (std::size_t i : members) mean += set.impacts[i].vout[k];
+      mean /= static_cast<double>(members.size());
+      for (std::size_t i : members) ss[k] += std::pow(set.impacts[i].vout[k] - mean, 2);
+    }
+  }
+  Vel3 sd;
+  for (int k = 0; k < 3; ++k) sd[k] = dof > 0 ? std::sqrt(ss[k] / static_cast<double>(dof)) : NAN;
+  return sd;
 }
 
 }  // namespace ricochet

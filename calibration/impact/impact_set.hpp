@@ -77,6 +77,15 @@ struct ImpactSet {
   ImpactSet with_shape(const std::string& shape) const;
 };
 
+/// Groups of replicate releases (indices into set.impacts, groups of two or more only): releases
+/// sharing a `replicate` label, and releases without one whose incident state and alpha_in are
+/// identical. Used for noise estimates (diagnosis noise floor, upscaling intervals).
+std::vector<std::vector<std::size_t>> replicate_groups(const ImpactSet& set);
+
+/// Pooled within-group standard deviation of V_out over `groups` (m/s, m/s, rad/s):
+/// sqrt(sum over groups of sum (v - group mean)^2 / (n - number of groups)). Empty groups: NaN.
+Vel3 pooled_vout_sd(const ImpactSet& set, const std::vector<std::vector<std::size_t>>& groups);
+
 /// Read an impact set; the format follows the extension (.csv, .h5/.hdf5). In CSV, an empty cell
 /// of an optional column means absent; in HDF5, NaN or "" does.
 /// Throws InputError naming file, line and column for malformed input: missing required column,

@@ -72,6 +72,10 @@ TEST(Upscale, GroupsByTheVaryingGrainParameterAndRecoversEachGroupsRestitution) 
   o.fit.threads = 1;
   const UpscaleResult r = upscale(path, decks(), paper, shape, o);
   ASSERT_EQ(r.impacts.size(), 12u);
+  // The replicas are identical here (the reduced engine is deterministic): no noise estimate
+  // from them, the intervals use the lab's operator scale.
+  EXPECT_EQ(r.noise_source, "table1");
+  EXPECT_EQ(r.noise_sigma, o.fit.sigma);
   ASSERT_EQ(r.by, std::vector<std::string>{"bed.E_grain_Pa"});  // the seed is not a group
   ASSERT_EQ(r.groups.size(), 2u);
   for (const auto& g : r.groups) {
@@ -99,6 +103,54 @@ TEST(Upscale, GroupsByTheVaryingGrainParameterAndRecoversEachGroupsRestitution) 
   const auto files = write_upscale_figures(r, (dir / "fig").string());
   EXPECT_EQ(files.size(), 2u);  // parameters vs incident state, abacus against E_grain_Pa
   for (const auto& f : files) EXPECT_GT(fs::file_size(f), 1000u);
+  fs::remove_all(dir);
+}
+
+// Replicas (here: two seeds of each incident state) that scatter give the noise of the intervals:
+// the campaign file labels them as replicates, and upscale pools their scatter.
+TEST(Upscale, ScatterOfReplicasIsTheNoiseOfTheIntervals) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("dem-upscale-noise-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string path = (dir / "campaign.h5").string();
+  const Model paper = Model::paper();
+  const std::vector<Vel3> incident = {{2.9, -2.3, -65.0}, {2.6, -2.5, -70.0}, {3.2, -2.1, -60.0}};
+  ImpactSet set;
+  for (const auto& v : incident) {
+    Impact im;
+    im.id = "x";
+    im.shape = "cylinder";
+    im.vin = v;
+    im.vout = {1.0, 1.0, -1.0};
+    set.impacts.push_back(im);
+  }
+  const auto pred = fit::predict(paper, Shape::cylinder(), paper.values(), set);
+  const Vel3 offset = {0.05, 0.02, 1.0};  // replica s0 at -offset, s1 at +offset
+  for (std::size_t k = 0; k < incident.size(); ++k)
+    for (int seed = 0; seed < 2; ++seed) {
+      ImpactSpec spec;
+      spec.id = "v" + std::to_string(k) + "-s" + std::to_string(seed);
+      spec.vin = incident[k];
+      spec.seed = seed;
+      ImpactResult r;
+      r.id = spec.id;
+      r.status = "rebound";
+      r.impact.id = spec.id;
+      r.impact.shape = "cylinder";
+      r.impact.vin = incident[k];
+      r.impact.vout = pred[k].vout;
+      for (int c = 0; c < 3; ++c) r.impact.vout[c] += (seed == 0 ? -1.0 : 1.0) * offset[c];
+      r.impact.extra.assign(impact_extra_names().size(), 0.0);
+      append_result(path, r, spec, "synthetic");
+    }
+  UpscaleOptions o;
+  o.fit.intervals = false;
+  o.fit.threads = 1;
+  const UpscaleResult r = upscale(path, decks(), paper, Shape::cylinder(), o);
+  EXPECT_EQ(r.noise_source, "replicates");
+  // Pooled SD over 3 pairs at +-offset: sqrt(3 * 2 offset^2 / 3) = sqrt(2) offset.
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(r.noise_sigma[c], std::sqrt(2.0) * offset[c], 1e-9);
   fs::remove_all(dir);
 }
 
