@@ -270,8 +270,26 @@ std::vector<std::string> unexplained_after(const Assessment& a, const NoiseFloor
   std::vector<Trend> trends = residual_trends(a.heldout, a.use, features, to);
   std::stable_sort(trends.begin(), trends.end(),
                    [](const Trend& x, const Trend& y) { return x.p < y.p; });
+  // One line per residual: its strongest trend, then the other features it also trends with.
+  // In a designed set the features move together (speeds campaign: |V_in|, V_in^x, V_in^y and
+  // omega_in all scale at once) and one line per pair buried the conclusions in 28 near-copies.
+  std::vector<std::string> quantities;
   for (const auto& t : trends)
-    if (t.significant) out.push_back(describe(t));
+    if (t.significant &&
+        std::find(quantities.begin(), quantities.end(), t.quantity) == quantities.end())
+      quantities.push_back(t.quantity);
+  for (const auto& q : quantities) {
+    std::string line, also;
+    for (const auto& t : trends) {
+      if (!t.significant || t.quantity != q) continue;
+      if (line.empty())
+        line = describe(t);
+      else
+        also += (also.empty() ? "" : ", ") + t.feature_label;
+    }
+    if (!also.empty()) line += "; also with " + also + " (features correlated in this set)";
+    out.push_back(line);
+  }
   for (int k : {kObsPenetration, kObsDuration})
     if (a.use[k])
       if (std::string s = bias_text(a.heldout, k); !s.empty()) out.push_back(s);
