@@ -12,6 +12,9 @@
 #    diagnose, ladder with the best-ranked effect).
 # 3. grain-stiffness: three grain Young's moduli x three replica beds on the small slab -> the
 #    abacus against a grain-scale parameter.
+# 4. lab-cylinders-replicas: the 28 lab states at two positions on the bed (56 impacts) -> the
+#    diagnosis of the paper's law against resolved impacts at the lab's incident states, with a
+#    replicate noise floor.
 set -euo pipefail
 BUILD=$(cd "$1" && pwd)
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
@@ -23,7 +26,7 @@ C=$ROOT/liggghts-inputs/campaigns
 mkdir -p "$OUT"
 cd "$OUT"   # the designs' cache_dir and work_dir are relative to the working directory
 
-for name in lab-cylinders speeds grain-stiffness; do
+for name in lab-cylinders speeds grain-stiffness lab-cylinders-replicas; do
   echo "== campaign $name ($(date +%H:%M:%S))"
   $MPI "$R" dem campaign "$C/$name.toml" --decks "$ROOT/liggghts-inputs" --out "$OUT/$name.h5" \
     --retry-crashed
@@ -46,4 +49,11 @@ BEST=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['ranking'
 "$R" ladder "$OUT/speeds.h5" --shape cylinder --add "$BEST" --figures "$OUT/figures/ladder-speeds" \
   --json > "$OUT/ladder-speeds.json"
 "$R" diagnose "$OUT/lab-cylinders.h5" --shape cylinder --json > "$OUT/diagnose-lab-cylinders.json"
+"$R" diagnose "$OUT/speeds.h5" --shape cylinder --no-features --json > "$OUT/diagnose-speeds-vout.json"
+"$R" upscale "$OUT/lab-cylinders-replicas.h5" --lab "$ROOT/data/lab/cylinders.csv" \
+  --figures "$OUT/figures/lab-cylinders-replicas" --json > "$OUT/upscale-lab-cylinders-replicas.json"
+for f in "" --no-features; do
+  "$R" diagnose "$OUT/lab-cylinders-replicas.h5" --shape cylinder $f --json \
+    > "$OUT/diagnose-lab-cylinders-replicas${f}.json"
+done
 echo "== done ($(date +%H:%M:%S)): results in $OUT"

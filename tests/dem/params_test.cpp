@@ -201,6 +201,17 @@ TEST(Design, ShippedCampaignDesigns) {
   std::set<std::string> keys;
   for (const auto& s : stiff.impacts) keys.insert(bed_key(decks(), bed_overrides(s)));
   EXPECT_EQ(keys.size(), 9u);  // 3 stiffnesses x 3 replica beds
+  // Position replicas share one bed (no new bed per replica: the default bed takes 9 minutes).
+  for (const char* name : {"speeds.toml", "lab-cylinders-replicas.toml", "main-job.toml"}) {
+    const auto d = read_campaign_design((dir / name).string(), decks());
+    std::set<std::string> beds;
+    for (const auto& s : d.impacts) beds.insert(bed_key(decks(), bed_overrides(s)));
+    EXPECT_EQ(beds.size(), 1u) << name;
+    EXPECT_EQ(d.impacts.size() % 2, 0u) << name;  // every state at two positions
+  }
+  EXPECT_EQ(
+      read_campaign_design((dir / "lab-cylinders-replicas.toml").string(), decks()).impacts.size(),
+      56u);
 }
 
 void expect_error(const std::string& text, std::size_t line, const std::string& field) {
