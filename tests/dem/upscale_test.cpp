@@ -24,6 +24,44 @@ const Decks& decks() {
   return d;
 }
 
+const std::vector<Vel3> kIncident = {{2.9, -2.3, -65.0}, {2.6, -2.5, -70.0}, {3.2, -2.1, -60.0}};
+
+// Appends to the campaign file `path` "resolved" impacts made by the reduced engine with the
+// truth model: kIncident x replica seeds 0 and 1 (seed 0 shifted by -offset, seed 1 by +offset),
+// ids PREFIX-vK-sS, with the bed parameter `bed_name` = `bed_value` when given.
+void append_synthetic(const std::string& path, const Model& truth, const std::string& prefix,
+                      const std::string& bed_name, const std::string& bed_value,
+                      const Vel3& offset) {
+  ImpactSet set;
+  for (const auto& v : kIncident) {
+    Impact im;
+    im.id = "x";
+    im.shape = "cylinder";
+    im.vin = v;
+    im.vout = {1.0, 1.0, -1.0};
+    set.impacts.push_back(im);
+  }
+  const auto pred = fit::predict(truth, Shape::cylinder(), truth.values(), set);
+  for (std::size_t k = 0; k < kIncident.size(); ++k)
+    for (int seed = 0; seed < 2; ++seed) {
+      ImpactSpec spec;
+      spec.id = prefix + "-v" + std::to_string(k) + "-s" + std::to_string(seed);
+      spec.vin = kIncident[k];
+      spec.seed = seed;
+      if (!bed_name.empty()) spec.params.bed[bed_name] = bed_value;
+      ImpactResult r;
+      r.id = spec.id;
+      r.status = "rebound";
+      r.impact.id = spec.id;
+      r.impact.shape = "cylinder";
+      r.impact.vin = kIncident[k];
+      r.impact.vout = pred[k].vout;
+      for (int c = 0; c < 3; ++c) r.impact.vout[c] += (seed == 0 ? -1.0 : 1.0) * offset[c];
+      r.impact.extra.assign(impact_extra_names().size(), 0.0);
+      append_result(path, r, spec, "synthetic");
+    }
+}
+
 TEST(Upscale, GroupsByTheVaryingGrainParameterAndRecoversEachGroupsRestitution) {
   const fs::path dir = fs::temp_directory_path() / ("dem-upscale-" + std::to_string(::getpid()));
   fs::remove_all(dir);
@@ -34,37 +72,10 @@ TEST(Upscale, GroupsByTheVaryingGrainParameterAndRecoversEachGroupsRestitution) 
   // Two "grain stiffnesses", each with its own true e_n^2; three incident states and two
   // replica seeds each.
   const std::vector<std::pair<std::string, double>> truth = {{"1e+08", 0.10}, {"4e+08", 0.30}};
-  const std::vector<Vel3> incident = {{2.9, -2.3, -65.0}, {2.6, -2.5, -70.0}, {3.2, -2.1, -60.0}};
   for (const auto& [stiffness, en2] : truth) {
     Model m = paper;
     m.set("en2", en2);
-    ImpactSet set;
-    for (const auto& v : incident) {
-      Impact im;
-      im.id = "x";
-      im.shape = "cylinder";
-      im.vin = v;
-      im.vout = {1.0, 1.0, -1.0};
-      set.impacts.push_back(im);
-    }
-    const auto pred = fit::predict(m, shape, m.values(), set);
-    for (std::size_t k = 0; k < incident.size(); ++k)
-      for (int seed = 0; seed < 2; ++seed) {
-        ImpactSpec spec;
-        spec.id = "E" + stiffness + "-v" + std::to_string(k) + "-s" + std::to_string(seed);
-        spec.vin = incident[k];
-        spec.seed = seed;
-        spec.params.bed["E_grain_Pa"] = stiffness;
-        ImpactResult r;
-        r.id = spec.id;
-        r.status = "rebound";
-        r.impact.id = spec.id;
-        r.impact.shape = "cylinder";
-        r.impact.vin = incident[k];
-        r.impact.vout = pred[k].vout;
-        r.impact.extra.assign(impact_extra_names().size(), 0.0);
-        append_result(path, r, spec, "synthetic");
-      }
+    append_synthetic(path, m, "E" + stiffness, "E_grain_Pa", stiffness, {0.0, 0.0, 0.0});
   }
 
   UpscaleOptions o;
@@ -115,35 +126,8 @@ TEST(Upscale, ScatterOfReplicasIsTheNoiseOfTheIntervals) {
   fs::create_directories(dir);
   const std::string path = (dir / "campaign.h5").string();
   const Model paper = Model::paper();
-  const std::vector<Vel3> incident = {{2.9, -2.3, -65.0}, {2.6, -2.5, -70.0}, {3.2, -2.1, -60.0}};
-  ImpactSet set;
-  for (const auto& v : incident) {
-    Impact im;
-    im.id = "x";
-    im.shape = "cylinder";
-    im.vin = v;
-    im.vout = {1.0, 1.0, -1.0};
-    set.impacts.push_back(im);
-  }
-  const auto pred = fit::predict(paper, Shape::cylinder(), paper.values(), set);
   const Vel3 offset = {0.05, 0.02, 1.0};  // replica s0 at -offset, s1 at +offset
-  for (std::size_t k = 0; k < incident.size(); ++k)
-    for (int seed = 0; seed < 2; ++seed) {
-      ImpactSpec spec;
-      spec.id = "v" + std::to_string(k) + "-s" + std::to_string(seed);
-      spec.vin = incident[k];
-      spec.seed = seed;
-      ImpactResult r;
-      r.id = spec.id;
-      r.status = "rebound";
-      r.impact.id = spec.id;
-      r.impact.shape = "cylinder";
-      r.impact.vin = incident[k];
-      r.impact.vout = pred[k].vout;
-      for (int c = 0; c < 3; ++c) r.impact.vout[c] += (seed == 0 ? -1.0 : 1.0) * offset[c];
-      r.impact.extra.assign(impact_extra_names().size(), 0.0);
-      append_result(path, r, spec, "synthetic");
-    }
+  append_synthetic(path, paper, "p", "", "", offset);
   UpscaleOptions o;
   o.fit.intervals = false;
   o.fit.threads = 1;
