@@ -18,6 +18,7 @@
 
 #include "campaign.hpp"
 #include "common/h5.hpp"
+#include "dem_support.hpp"
 #include "impact/impact_set.hpp"
 
 namespace {
@@ -26,9 +27,7 @@ using namespace ricochet;
 using namespace ricochet::dem;
 namespace fs = std::filesystem;
 
-// The small test bed of liggghts_test.cpp (same parameters: the same cached bed).
-const std::vector<std::string> kTestBed = {"bed.Lx_m=0.6",   "bed.Ly_m=0.06",  "bed.H_m=0.06",
-                                           "bed.r1_m=0.004", "bed.r2_m=0.005", "bed.r3_m=0.006"};
+using test::kTestBed;
 
 fs::path temp_dir(const std::string& name) {
   const fs::path d = fs::temp_directory_path() / ("dem-cli-" + std::to_string(::getpid())) / name;

@@ -20,6 +20,7 @@
 
 #include "campaign.hpp"
 #include "common/h5.hpp"
+#include "dem_support.hpp"
 #include "impact/impact_set.hpp"
 #include "impact_run.hpp"
 
@@ -29,15 +30,8 @@ using namespace ricochet;
 using namespace ricochet::dem;
 namespace fs = std::filesystem;
 
-const Decks& decks() {
-  static const Decks d = Decks::locate(std::string(RICOCHET_SOURCE_DIR) + "/liggghts-inputs");
-  return d;
-}
-
-// The test bed: a 0.6 m x 0.06 m slab, 0.06 m deep, grains of 4-6 mm radius, grain parameters of
-// docs/resolved-model.md that give the cylinder a rebound. About 2,000 grains.
-const std::vector<std::string> kTestBed = {"bed.Lx_m=0.6",   "bed.Ly_m=0.06",  "bed.H_m=0.06",
-                                           "bed.r1_m=0.004", "bed.r2_m=0.005", "bed.r3_m=0.006"};
+using test::decks;
+using test::kTestBed;
 
 Overrides test_overrides(const std::vector<std::string>& extra = {}) {
   Overrides o;

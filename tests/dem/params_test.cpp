@@ -10,6 +10,7 @@
 
 #include "campaign.hpp"
 #include "common/error.hpp"
+#include "dem_support.hpp"
 #include "params.hpp"
 
 namespace {
@@ -18,10 +19,7 @@ using namespace ricochet::dem;
 using ricochet::InputError;
 namespace fs = std::filesystem;
 
-const Decks& decks() {
-  static const Decks d = Decks::locate(std::string(RICOCHET_SOURCE_DIR) + "/liggghts-inputs");
-  return d;
-}
+using test::decks;
 
 std::string temp_file(const std::string& name, const std::string& text) {
   const fs::path dir = fs::temp_directory_path() / ("dem-params-" + std::to_string(::getpid()));

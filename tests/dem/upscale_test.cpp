@@ -9,6 +9,7 @@
 
 #include "campaign.hpp"
 #include "common/error.hpp"
+#include "dem_support.hpp"
 #include "effects/model.hpp"
 #include "fit/fit.hpp"
 #include "upscale.hpp"
@@ -19,10 +20,7 @@ using namespace ricochet;
 using namespace ricochet::dem;
 namespace fs = std::filesystem;
 
-const Decks& decks() {
-  static const Decks d = Decks::locate(std::string(RICOCHET_SOURCE_DIR) + "/liggghts-inputs");
-  return d;
-}
+using test::decks;
 
 const std::vector<Vel3> kIncident = {{2.9, -2.3, -65.0}, {2.6, -2.5, -70.0}, {3.2, -2.1, -60.0}};
 

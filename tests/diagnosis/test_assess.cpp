@@ -21,6 +21,15 @@ ImpactSet synthetic(const Model& truth, std::size_t n, std::uint64_t seed, Noise
   return synthesize(truth, Shape::cylinder(), o).set;
 }
 
+// The paper's law with the base parameters of the synthetic tests (en2 0.2, mu 0.4, muR 0.15).
+Model base_truth() {
+  Model truth = Model::paper();
+  truth.set("en2", 0.2);
+  truth.set("mu", 0.4);
+  truth.set("muR", 0.15);
+  return truth;
+}
+
 AssessOptions fast() {
   AssessOptions o;
   o.folds = 4;
@@ -28,10 +37,7 @@ AssessOptions fast() {
 }
 
 TEST(Assess, ExactDataOfTheTrueModelHaveNoError) {
-  Model truth = Model::paper();
-  truth.set("en2", 0.2);
-  truth.set("mu", 0.4);
-  truth.set("muR", 0.15);
+  const Model truth = base_truth();
   const ImpactSet set = synthetic(truth, 10, 3, NoiseSpec::none());
   const AssessOptions o = fast();
   const auto use = observables_of(set, o);
@@ -152,10 +158,7 @@ TEST(Assess, SetMeanFloorsRaiseSmallDenominators) {
 }
 
 TEST(Assess, TheTrueModelIsAdequateAndAWrongOneIsNot) {
-  Model truth = Model::paper();
-  truth.set("en2", 0.2);
-  truth.set("mu", 0.4);
-  truth.set("muR", 0.15);
+  const Model truth = base_truth();
   const ImpactSet set = synthetic(truth, 24, 11, NoiseSpec::lab());
   AssessOptions o = fast();
   const Assessment a = assess(truth, Shape::cylinder(), set, o);
