@@ -170,17 +170,16 @@ NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const d
   // Replicates: releases sharing a replicate label (a resolved campaign's replica beds and
   // positions: their measured V_in differ slightly, the experiment is the same), or releases
   // with identical incident state (and orientation).
-  Obs pooled{};
+  const auto replicas = replicate_groups(set);
+  f.replicate_groups = replicas.size();
   std::size_t dof = 0;
-  for (const auto& members : replicate_groups(set)) {
-    ++f.replicate_groups;
-    dof += members.size() - 1;
-    for (int k = 0; k < kObservables; ++k) {
-      if (!use[k]) continue;
-      double mean = 0;
-      for (std::size_t i : members) mean += m[i][k] / static_cast<double>(members.size());
-      for (std::size_t i : members) pooled[k] += (m[i][k] - mean) * (m[i][k] - mean);
-    }
+  for (const auto& members : replicas) dof += members.size() - 1;
+  Obs pooled{};
+  std::vector<double> x(n);
+  for (int k = 0; k < kObservables; ++k) {
+    if (!use[k]) continue;
+    for (std::size_t i = 0; i < n; ++i) x[i] = m[i][k];
+    pooled[k] = pooled_variance(x, replicas);
   }
   // The sigma of each observable per release (physical units) before scaling.
   std::vector<Obs> var(n);
@@ -192,8 +191,7 @@ NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const d
         "({} degrees of freedom): measurement noise and release-to-release variability",
         f.replicate_groups, dof);
     for (std::size_t i = 0; i < n; ++i)
-      for (int k = 0; k < kObservables; ++k)
-        var[i][k] = use[k] ? pooled[k] / static_cast<double>(dof) : 0.0;
+      for (int k = 0; k < kObservables; ++k) var[i][k] = use[k] ? pooled[k] : 0.0;
   } else {
     bool declared = true;
     for (const auto& im : set.impacts) declared = declared && im.sigma_vout.has_value();

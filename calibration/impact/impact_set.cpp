@@ -661,21 +661,28 @@ std::vector<std::vector<std::size_t>> replicate_groups(const ImpactSet& set) {
   return groups;
 }
 
-Vel3 pooled_vout_sd(const ImpactSet& set, const std::vector<std::vector<std::size_t>>& groups) {
-  Vel3 ss{};
+double pooled_variance(std::span<const double> x,
+                       const std::vector<std::vector<std::size_t>>& groups) {
+  double ss = 0;
   std::size_t dof = 0;
   for (const auto& members : groups) {
     if (members.size() < 2) continue;
     dof += members.size() - 1;
-    for (int k = 0; k < 3; ++k) {
-      double mean = 0;
-      for (std::size_t i : members) mean += set.impacts[i].vout[k];
-      mean /= static_cast<double>(members.size());
-      for (std::size_t i : members) ss[k] += std::pow(set.impacts[i].vout[k] - mean, 2);
-    }
+    double mean = 0;
+    for (std::size_t i : members) mean += x[i];
+    mean /= static_cast<double>(members.size());
+    for (std::size_t i : members) ss += (x[i] - mean) * (x[i] - mean);
   }
+  return dof > 0 ? ss / static_cast<double>(dof) : NAN;
+}
+
+Vel3 pooled_vout_sd(const ImpactSet& set, const std::vector<std::vector<std::size_t>>& groups) {
   Vel3 sd;
-  for (int k = 0; k < 3; ++k) sd[k] = dof > 0 ? std::sqrt(ss[k] / static_cast<double>(dof)) : NAN;
+  std::vector<double> x(set.size());
+  for (int k = 0; k < 3; ++k) {
+    for (std::size_t i = 0; i < set.size(); ++i) x[i] = set.impacts[i].vout[k];
+    sd[k] = std::sqrt(pooled_variance(x, groups));
+  }
   return sd;
 }
 

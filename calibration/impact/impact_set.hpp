@@ -18,6 +18,7 @@
 #include <array>
 #include <cstddef>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -82,8 +83,14 @@ struct ImpactSet {
 /// identical. Used for noise estimates (diagnosis noise floor, upscaling intervals).
 std::vector<std::vector<std::size_t>> replicate_groups(const ImpactSet& set);
 
+/// Pooled within-group variance of the values x[i] over `groups`: the sum over groups of
+/// sum (x - group mean)^2, over its degrees of freedom (members - number of groups). NaN when
+/// there is none.
+double pooled_variance(std::span<const double> x,
+                       const std::vector<std::vector<std::size_t>>& groups);
+
 /// Pooled within-group standard deviation of V_out over `groups` (m/s, m/s, rad/s):
-/// sqrt(sum over groups of sum (v - group mean)^2 / (n - number of groups)). Empty groups: NaN.
+/// sqrt(pooled_variance) per component.
 Vel3 pooled_vout_sd(const ImpactSet& set, const std::vector<std::vector<std::size_t>>& groups);
 
 /// Read an impact set; the format follows the extension (.csv, .h5/.hdf5). In CSV, an empty cell
