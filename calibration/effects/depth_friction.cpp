@@ -11,6 +11,13 @@ constexpr ParameterSpec kParams[] = {
     {"a_mu", "1/m", 0.0, 2000.0, 0.0, 0.0, true, "friction hardening per metre of penetration"},
 };
 
+// Signature: the shared notes' residual and parameter trends of this family.
+constexpr SignatureTrend kSignature[] = {
+    {"param mu", "penetration"},
+    {"residual vx", "penetration"},
+    {"residual w", "penetration"},
+};
+
 class DepthFriction final : public Effect {
  public:
   std::string_view name() const override { return "depth_friction"; }
@@ -22,6 +29,9 @@ class DepthFriction final : public Effect {
     return "Lu, Caviezel, Christen et al. (2019) Landslides 16 (RAMMS::ROCKFALL scarring)";
   }
   Stage stage() const override { return Stage::kCoefficient; }
+  Signature signature() const override {
+    return {"friction hardening with penetration depth", kSignature};
+  }
   std::span<const ParameterSpec> parameters() const override { return kParams; }
 
   void apply(const ContactBatch& c, const double* const* p, double* const*) const override {

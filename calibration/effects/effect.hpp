@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstddef>
 #include <span>
+#include <string>
 #include <string_view>
 
 namespace ricochet {
@@ -84,6 +85,31 @@ struct ContactBatch {
   double* fy_body = nullptr;  ///< force at the centre of mass, y [N]
 };
 
+/// One trend that the diagnosis expects when this effect is missing from a model: a quantity of
+/// the base model (a held-out residual or a per-release calibrated parameter) against an impact
+/// feature (diagnosis/trends.hpp).
+///   quantity: "residual vx" | "residual vy" | "residual w" | "residual penetration" |
+///             "residual contact_duration" | "param <name>" (a calibrated base parameter)
+///   feature:  speed_in | abs_vin_y | vin_x | win | impact_angle | alpha_in | penetration |
+///             contact_duration
+struct SignatureTrend {
+  std::string_view quantity;
+  std::string_view feature;
+};
+
+/// What an effect stands for and what its absence looks like (its signature): the diagnosis
+/// tests these trends and cites them as evidence; the physics notes
+/// (shared notes, physics-candidates.md) are their source for the built-ins.
+struct Signature {
+  std::string_view meaning;                ///< in words, e.g. "speed-dependent restitution"
+  std::span<const SignatureTrend> trends;  ///< empty for the paper's own law
+  /// Contact features (penetration, duration) are biased when the effect is missing.
+  bool contact_bias = false;
+  /// A member of a generated family (effects/coefficient_law.hpp) rather than a hand-written
+  /// catalog effect: the diagnosis screens these before calibrating them.
+  bool generated = false;
+};
+
 /// Interface of a physical effect. Implementations are stateless (all history lives in the
 /// engine's state arrays), so one instance serves every thread.
 class Effect {
@@ -97,6 +123,13 @@ class Effect {
   virtual Stage stage() const = 0;
   virtual std::span<const ParameterSpec> parameters() const = 0;
   virtual std::span<const StateSpec> state() const { return {}; }
+  /// The effect's signature (see Signature). Every built-in declares one (tested); a plugin
+  /// that does not is diagnosed by its held-out error alone, with summary() as its meaning.
+  virtual Signature signature() const { return {}; }
+  /// The effect as a law with numbers and units, e.g.
+  /// "mu_R = mu_R0 (1 + c |omega|), c = 0.012 s/rad". `values`: this effect's parameters in
+  /// declaration order. Default: equation() followed by "name = value unit" for each parameter.
+  virtual std::string law(std::span<const double> values) const;
 
   /// Adds this effect's contribution at one contact slot for all lanes of `c`.
   /// params[k][i]: value of the k-th declared parameter in lane i.

@@ -17,6 +17,13 @@ constexpr ParameterSpec kParams[] = {
     {"h_ref", "m", 1e-4, 0.05, 2e-3, NAN, false, "penetration at which kn_eff = kn"},
 };
 
+// Signature: the shared notes' residual and parameter trends of this family.
+constexpr SignatureTrend kSignature[] = {
+    {"residual contact_duration", "speed_in"},
+    {"residual penetration", "speed_in"},
+    {"residual contact_duration", "abs_vin_y"},
+};
+
 class HertzStiffness final : public Effect {
  public:
   std::string_view name() const override { return "hertz_stiffness"; }
@@ -30,6 +37,9 @@ class HertzStiffness final : public Effect {
     return "Hertz contact, k ~ sqrt(h) (Johnson 1985, Contact Mechanics); Thornton & Ning (1998)";
   }
   Stage stage() const override { return Stage::kCoefficient; }
+  Signature signature() const override {
+    return {"a normal stiffness growing with penetration (Hertz-like bearing)", kSignature, true};
+  }
   std::span<const ParameterSpec> parameters() const override { return kParams; }
 
   void apply(const ContactBatch& c, const double* const* p, double* const*) const override {

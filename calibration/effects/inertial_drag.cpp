@@ -13,6 +13,14 @@ constexpr ParameterSpec kParams[] = {
     {"cd", "kg/m", 0.0, 5000.0, 0.0, 0.0, true, "drag coefficient m/d1 (0 = no drag)"},
 };
 
+// Signature: the shared notes' residual and parameter trends of this family.
+constexpr SignatureTrend kSignature[] = {
+    {"residual vy", "speed_in"},
+    {"residual vx", "speed_in"},
+    {"residual penetration", "speed_in"},
+    {"param en2", "speed_in"},
+};
+
 class InertialDrag final : public Effect {
  public:
   std::string_view name() const override { return "inertial_drag"; }
@@ -26,6 +34,9 @@ class InertialDrag final : public Effect {
     return "Katsuragi & Durian (2007) Nature Physics 3, 420-423";
   }
   Stage stage() const override { return Stage::kNormal; }
+  Signature signature() const override {
+    return {"inertial drag of the sand (a force growing with the speed squared)", kSignature};
+  }
   std::span<const ParameterSpec> parameters() const override { return kParams; }
 
   void apply(const ContactBatch& c, const double* const* p, double* const*) const override {

@@ -28,6 +28,9 @@ class Normal final : public Effect {
     return "Garcia et al. (2020) JGR Earth Surf. 125, Eq. 3-4; Banton et al. (2009)";
   }
   Stage stage() const override { return Stage::kNormal; }
+  Signature signature() const override {
+    return {"the paper's normal contact law (Eq. 3)", {}};
+  }
   std::span<const ParameterSpec> parameters() const override { return kParams; }
   std::span<const StateSpec> state() const override { return kState; }
 

@@ -22,6 +22,13 @@ constexpr ParameterSpec kParams[] = {
 };
 constexpr double kVelocityEpsilon = 0.01;  // m/s
 
+// Signature: the shared notes' residual and parameter trends of this family.
+constexpr SignatureTrend kSignature[] = {
+    {"residual vx", "penetration"},
+    {"param mu", "penetration"},
+    {"param muR", "penetration"},
+};
+
 class Ploughing final : public Effect {
  public:
   std::string_view name() const override { return "ploughing"; }
@@ -36,6 +43,9 @@ class Ploughing final : public Effect {
            "(soil abutment of triangles)";
   }
   Stage stage() const override { return Stage::kBody; }
+  Signature signature() const override {
+    return {"passive earth pressure (ploughing) growing with the depth squared", kSignature};
+  }
   std::span<const ParameterSpec> parameters() const override { return kParams; }
 
   void apply(const ContactBatch& c, const double* const* p, double* const*) const override {

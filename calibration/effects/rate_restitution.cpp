@@ -17,6 +17,13 @@ constexpr ParameterSpec kParams[] = {
 };
 constexpr StateSpec kState[] = {{"v0", "m/s"}};
 
+// Signature: the shared notes' residual and parameter trends of this family.
+constexpr SignatureTrend kSignature[] = {
+    {"residual vy", "abs_vin_y"},
+    {"param en2", "abs_vin_y"},
+    {"param en2", "speed_in"},
+};
+
 class RateRestitution final : public Effect {
  public:
   std::string_view name() const override { return "rate_restitution"; }
@@ -30,6 +37,9 @@ class RateRestitution final : public Effect {
     return "Bourrier, Dorren, Nicot, Berger & Darve (2009) Geomorphology 107; PlatRock";
   }
   Stage stage() const override { return Stage::kCoefficient; }
+  Signature signature() const override {
+    return {"speed-dependent restitution", kSignature};
+  }
   std::span<const ParameterSpec> parameters() const override { return kParams; }
   std::span<const StateSpec> state() const override { return kState; }
 

@@ -3,6 +3,7 @@
 #include <dlfcn.h>
 
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include "effects/builtin.hpp"
@@ -23,6 +24,18 @@ std::string_view stage_name(Stage stage) {
       return "body";
   }
   return "?";
+}
+
+std::string Effect::law(std::span<const double> values) const {
+  std::string out(equation());
+  const auto specs = parameters();
+  for (std::size_t i = 0; i < specs.size() && i < values.size(); ++i) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.4g", values[i]);
+    out += (i == 0 ? ", " : ", ") + std::string(specs[i].name) + " = " + buf;
+    if (specs[i].unit != "-") out += " " + std::string(specs[i].unit);
+  }
+  return out;
 }
 
 EffectRegistry EffectRegistry::with_builtins() {
