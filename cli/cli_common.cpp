@@ -1,5 +1,8 @@
 #include "cli_common.hpp"
 
+#include <filesystem>
+#include <fstream>
+
 #include <iostream>
 
 #include "common/error.hpp"
@@ -11,7 +14,9 @@ void add_output_options(CLI::App* sub, OutputOptions& options) {
   sub->add_option("--out", options.out, "Write results to FILE (.csv or .h5 by extension)");
 }
 
-void print_json(const nlohmann::json& doc) { std::cout << doc.dump(2) << std::endl; }
+void print_json(const nlohmann::json& doc) {
+  std::cout << doc.dump(2) << std::endl;
+}
 
 void require_extension(const std::string& option, const std::string& path,
                        std::initializer_list<const char*> allowed) {
@@ -23,6 +28,22 @@ void require_extension(const std::string& option, const std::string& path,
     list += std::string(list.empty() ? "" : ", ") + ext;
   }
   throw InputError(path, 0, option, "unsupported file extension; use one of " + list);
+}
+
+void write_text_file(const std::string& path, const std::string& text, const std::string& option) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+    if (!f) throw InputError(path, 0, option, "cannot open the file for writing");
+    f << text;
+    if (!f.flush()) throw InputError(path, 0, option, "write failed");
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    throw InputError(path, 0, option, "cannot move the written file into place");
+  }
 }
 
 }  // namespace ricochet::cli

@@ -25,6 +25,10 @@ void print_json(const nlohmann::json& doc);
 void require_extension(const std::string& option, const std::string& path,
                        std::initializer_list<const char*> allowed);
 
+/// Writes `text` to `path` through a temporary file renamed into place (nothing half-written is
+/// left behind); throws an InputError naming the option when the file cannot be written.
+void write_text_file(const std::string& path, const std::string& text, const std::string& option);
+
 // One registration function per subcommand, called in order by main.cpp (explicit registry).
 void add_stats_command(CLI::App& app);
 void add_reconstruct_command(CLI::App& app);

@@ -83,6 +83,11 @@ void run(DiagnosisCliOptions& o) {
     doc["figures"] = figures;
   }
   if (!o.output.out.empty()) write_out(o.output.out, d, doc);
+  if (!o.write_model.empty()) {
+    require_extension("--write-model", o.write_model, {".toml"});
+    write_text_file(o.write_model, diagnosis::best_model(model, d).to_toml(), "--write-model");
+    doc["model_file"] = o.write_model;
+  }
   if (o.output.json) {
     print_json(doc);
     return;
@@ -98,14 +103,20 @@ void run(DiagnosisCliOptions& o) {
       "({}-fold)\n",
       b.base.insample.error.mean, b.base.heldout.error.mean, b.base.heldout.error.se, b.base.folds);
   std::cout << "verdict: " << d.verdict << "\n" << d.summary << "\n\n";
-  std::cout << fmt::format("{:<4}{:<20}{:>12}{:>12}{:>10}{:>10}{:>8}\n", "rank", "effect",
-                           "held-out", "drop", "+-SE", "penalty", "sig r");
+  std::cout << fmt::format("{:<5}{:<36}{:>10}{:>10}{:>9}{:>9}{:>7}\n", "rank", "effect", "held-out",
+                           "drop", "+-SE", "Holm p", "sig r");
   for (std::size_t i = 0; i < d.ranking.size(); ++i) {
     const auto& c = d.ranking[i];
-    std::cout << fmt::format("{:<4}{:<20}{:>12.4g}{:>12.3g}{:>10.2g}{:>10.2g}{:>8.2f}{}\n", i + 1,
-                             c.effect, c.heldout_error, c.error_drop, c.drop_se, c.penalty,
+    std::cout << fmt::format("{:<5}{:<36}{:>10.4g}{:>10.3g}{:>9.2g}{:>9.2g}{:>7.2f}{}\n", i + 1,
+                             c.effect, c.heldout_error, c.error_drop, c.drop_se, c.p_holm,
                              c.signature_r, c.supported ? "  supported" : "");
+    if (c.supported && !c.law.empty()) std::cout << "     law: " << c.law << "\n";
   }
+  if (!d.screened_out.empty())
+    std::cout << fmt::format(
+        "({} generated laws left out by the score-test screen; they count "
+        "in the Holm family of {})\n",
+        d.screened_out.size(), d.family_size);
   std::cout << "\nevidence:\n";
   for (const auto& c : d.ranking) std::cout << "- " << c.effect << ": " << c.evidence << "\n";
   std::cout << "\nwhat is left unexplained:\n";
@@ -121,11 +132,12 @@ void add_diagnose_command(CLI::App& app) {
       app, "diagnose",
       "Rank the catalog's effects (and plugins) missing from the model by the held-out error "
       "after adding each one and recalibrating; evidence in words",
-      {.z = "Standard errors a drop must exceed to support an effect",
+      {.alpha = "Family-wise error rate of the candidate tests (Holm)",
        .candidates = true,
        .release_fits = true,
        .intervals = true,
-       .features = true},
+       .features = true,
+       .write_model = true},
       {}, run);
 }
 

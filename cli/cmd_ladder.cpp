@@ -136,7 +136,7 @@ void add_ladder_command(CLI::App& app) {
       app, "ladder",
       "Recalibrate a ladder of models (base, + effect, + another, ...) and show the in-sample "
       "and held-out error falling towards the noise floor",
-      {.z = "--auto: standard errors a drop must exceed", .features = true},
+      {.alpha = "--auto: family-wise error rate of the candidate tests (Holm)", .features = true},
       [auto_rounds](CLI::App* sub) {
         sub->get_option("--add")->description(
             "Effect added by the next rung (repeatable, in order; plugin effects too)");

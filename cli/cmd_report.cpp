@@ -99,7 +99,7 @@ void add_report_command(CLI::App& app) {
   sub->add_option("--title", o->title, "Title of the page")->capture_default_str();
   add_diagnosis_options(
       sub, o->values,
-      {.z = "Standard errors a drop must exceed to support an effect", .intervals = true});
+      {.alpha = "Family-wise error rate of the candidate tests (Holm)", .intervals = true});
   add_output_options(sub, o->output);
   sub->get_option("--out")->required()->description("The HTML file to write");
   sub->callback([o, sub] {

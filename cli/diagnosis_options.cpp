@@ -10,7 +10,18 @@ void add_diagnosis_options(CLI::App* sub, diagnosis::OptionValues& v,
   sub->add_option("--folds", v.folds, "k of the k-fold held-out error, or loro")
       ->capture_default_str();
   sub->add_option("--seed", v.seed, "Seed of the calibration start designs")->capture_default_str();
-  if (set.z) sub->add_option("--z", v.z, set.z)->capture_default_str();
+  sub->add_option("--repeats", v.repeats,
+                  "Partitions of the repeated k-fold held-out error (each a different random "
+                  "split into folds)")
+      ->capture_default_str();
+  if (set.alpha) {
+    sub->add_option("--alpha", v.alpha, set.alpha)->capture_default_str();
+    sub->add_option("--screen", v.screen,
+                    "Generated coefficient laws calibrated after the score-test screen")
+        ->capture_default_str();
+    sub->add_flag("--no-pairs", v.no_pairs,
+                  "Do not try pairs of candidates when no single one is enough");
+  }
   if (set.candidates)
     sub->add_option("--candidate", v.candidates,
                     "Only try these effects (repeatable); default: every registered effect not "
@@ -45,6 +56,10 @@ CLI::App* add_diagnosis_command(CLI::App& app, const std::string& name,
   if (extra) extra(sub);
   add_diagnosis_options(sub, o->values, set);
   sub->add_option("--figures", o->figures, "Write SVG figures into this directory");
+  if (set.write_model)
+    sub->add_option("--write-model", o->write_model,
+                    "Write the best model found (with its calibrated values) as a model file "
+                    "(.toml) that calibrate, ladder, montecarlo and sobol read");
   add_output_options(sub, o->output);
   sub->callback([o, sub, run] {
     o->shape_given = sub->get_option("--shape")->count() > 0;

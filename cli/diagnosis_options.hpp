@@ -17,11 +17,13 @@ namespace ricochet::cli {
 /// Which of the optional diagnosis options a command offers (folds, seed, error, orientations
 /// and threads are always there).
 struct DiagnosisOptionSet {
-  const char* z = nullptr;    ///< help text of --z; nullptr: no --z
+  const char* alpha =
+      nullptr;  ///< help text of --alpha; nullptr: no --alpha (nor --screen, --no-pairs)
   bool candidates = false;    ///< --candidate
   bool release_fits = false;  ///< --no-release-fits
   bool intervals = false;     ///< --no-intervals
   bool features = false;      ///< --no-features
+  bool write_model = false;   ///< --write-model
 };
 
 /// What `compare`, `diagnose` and `ladder` read from their command line.
@@ -30,7 +32,8 @@ struct DiagnosisCliOptions {
   ModelOptions model;
   diagnosis::OptionValues values;
   OutputOptions output;
-  std::string figures;  ///< directory of the SVG figures; empty: none
+  std::string figures;      ///< directory of the SVG figures; empty: none
+  std::string write_model;  ///< model file (TOML) of the best model found; empty: none
   bool shape_given = false;
 };
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <stdexcept>
 
@@ -39,13 +40,24 @@ AssessOptions resolve_scale(const ImpactSet& set, const AssessOptions& in) {
     mean_h += im.penetration.value_or(0.0) / n;
     mean_t += im.contact_duration.value_or(0.0) / n;
   }
-  // The floors are fixed from the full set once: the held-out folds use the same ones.
+  // Resolved once per set; a fold re-resolves on its training releases (resolve_scale_on).
+  o.unresolved_error = in.fit.error;
   auto& e = o.fit.error;
   for (int k = 0; k < 3; ++k) e.floor[k] = std::max(e.floor[k], mean_v[k]);
   e.penetration_floor_m = std::max(e.penetration_floor_m, mean_h);
   e.contact_duration_floor_s = std::max(e.contact_duration_floor_s, mean_t);
   o.scale = ErrorScale::kEq7;  // resolved: resolving again changes nothing
   return o;
+}
+
+AssessOptions resolve_scale_on(const ImpactSet& subset, const AssessOptions& options) {
+  AssessOptions o = options;
+  if (o.unresolved_error) {
+    o.fit.error = *o.unresolved_error;
+    o.scale = ErrorScale::kSetMean;
+    o.unresolved_error.reset();
+  }
+  return resolve_scale(subset, o);
 }
 
 fit::FitOptions fit_options_for(const ImpactSet& set, const AssessOptions& o) {
@@ -251,6 +263,7 @@ NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const d
   }
 
   f.terms.resize(n);
+  f.variance = var;
   for (std::size_t i = 0; i < n; ++i) {
     double e = 0;
     for (int k = 0; k < kObservables; ++k) {
@@ -312,13 +325,68 @@ Model windowed(const Model& model, double window) {
   return m;
 }
 
+namespace {
+
+// splitmix64 (Steele, Lea & Flood 2014): a seeded generator whose stream is the same on every
+// platform, so a CV design depends only on its arguments.
+std::uint64_t splitmix64(std::uint64_t& state) {
+  std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+ImpactSet subset_of(const ImpactSet& set, const std::vector<std::size_t>& index) {
+  ImpactSet out = set;
+  out.impacts.clear();
+  for (std::size_t i : index) out.impacts.push_back(set.impacts[i]);
+  return out;
+}
+
+}  // namespace
+
+CvDesign make_cv_design(std::size_t n, std::size_t folds, std::size_t repeats, std::uint64_t seed) {
+  if (folds < 2 || folds > n)
+    throw std::invalid_argument("cross-validation: folds must lie in [2, number of releases]");
+  if (repeats < 1) throw std::invalid_argument("cross-validation: repeats must be >= 1");
+  CvDesign cv;
+  cv.n = n, cv.folds = folds, cv.repeats = repeats, cv.seed = seed;
+  std::uint64_t state = seed * 0x2545F4914F6CDD1Dull + 0x1234567ull;
+  for (std::size_t r = 0; r < repeats; ++r) {
+    std::vector<std::size_t> perm(n);
+    for (std::size_t i = 0; i < n; ++i) perm[i] = i;
+    for (std::size_t i = n - 1; i > 0; --i)  // Fisher-Yates
+      std::swap(perm[i], perm[splitmix64(state) % (i + 1)]);
+    for (std::size_t f = 0; f < folds; ++f) {
+      std::vector<std::size_t> test, train;
+      for (std::size_t p = 0; p < n; ++p) (p % folds == f ? test : train).push_back(perm[p]);
+      std::sort(test.begin(), test.end());
+      std::sort(train.begin(), train.end());
+      cv.test.push_back(std::move(test));
+      cv.train.push_back(std::move(train));
+    }
+  }
+  return cv;
+}
+
+std::vector<double> carry_values(const Model& to, const std::vector<std::string>& from_names,
+                                 const std::vector<double>& from_values) {
+  std::vector<double> v = to.values();
+  for (std::size_t k = 0; k < from_names.size() && k < from_values.size(); ++k)
+    for (std::size_t i = 0; i < to.parameter_count(); ++i)
+      if (to.spec(i).name == from_names[k]) v[i] = from_values[k];
+  return v;
+}
+
 Assessment assess(const Model& model, const Shape& shape, const ImpactSet& set,
-                  const AssessOptions& options) {
+                  const AssessOptions& options, const Assessment* warm) {
   const AssessOptions o = resolve_scale(set, options);
   const auto t0 = std::chrono::steady_clock::now();
   if (set.size() < 2) throw std::invalid_argument("assess: at least two releases are needed");
+  const std::size_t n = set.size();
   Assessment a;
   a.effects = model.effect_names();
+  a.names = model.parameter_names();
   for (std::size_t i : model.calibrated_indices()) a.calibrated.emplace_back(model.spec(i).name);
   a.use = observables_of(set, o);
   fit::FitOptions fo = fit_options_for(set, o);
@@ -331,66 +399,134 @@ Assessment assess(const Model& model, const Shape& shape, const ImpactSet& set,
     // points and can leave the calibrated basin for a worse one.
     fit::FitOptions fl = fo;
     fl.starts = 1;
-    fl.design_points = o.heldout_design_points;
+    fl.design_points = o.fold_warm_design_points;
     const fit::PopulationFit local =
-        fit::calibrate_population(windowed(model, o.heldout_window), shape, set, fl);
+        fit::calibrate_population(windowed(model, 0.15), shape, set, fl);
     if (local.error < a.population.error) a.population = local;
   }
-  a.insample_predictions = to_observables(a.population.predictions);
-  a.insample = error_report(set, a.insample_predictions, a.use, o);
 
-  // Held-out: every fold fit refines the full-set optimum within a window (AssessOptions).
-  fit::FitOptions fh = fit_options_for(set, o);
-  fh.intervals = false;
-  fh.starts = std::max(1, o.heldout_starts);
-  // The warm start is the best point of the window in practice: a space-filling design of it
-  // would cost 16 objective evaluations per parameter and fold for nothing.
-  fh.design_points = o.heldout_design_points;
-  a.folds = std::clamp<std::size_t>(o.folds, 2, set.size());
-  const auto heldout_from = [&](const std::vector<double>& optimum) {
-    Model warm = model;
-    warm.set_values(optimum);
-    return fit::heldout_predictions(windowed(warm, o.heldout_window), shape, set, a.folds, fh);
-  };
-  fit::HeldOut ho = heldout_from(a.population.params);
+  // Held-out: every split is fitted on its training releases alone (file comment).
+  if (warm) {
+    if (warm->cv.n != n)
+      throw std::invalid_argument("assess: the warm assessment is of another set");
+    a.cv = warm->cv;
+  } else {
+    a.cv = make_cv_design(n, std::clamp<std::size_t>(o.folds, 2, n),
+                          std::max<std::size_t>(1, o.repeats), o.fit.seed);
+  }
+  a.folds = a.cv.folds;
+  const std::size_t R = a.cv.repeats;
+  a.fold_params.resize(a.cv.splits());
+  a.split_error.resize(a.cv.splits());
+  a.repeat_error.assign(R, std::vector<double>(n, NAN));
+  std::vector<Obs> pred_sum(n, Obs{}), spread_sum(n, Obs{}), term_sum(n, Obs{}), inv_sum(n, Obs{});
+  std::vector<int> worst(n, 0);
+  for (std::size_t j = 0; j < a.cv.splits(); ++j) {
+    const ImpactSet train = subset_of(set, a.cv.train[j]);
+    const ImpactSet test = subset_of(set, a.cv.test[j]);
+    const AssessOptions oj = resolve_scale_on(train, options);
+    fit::FitOptions fj = fit_options_for(train, oj);
+    fj.intervals = false;
+    Model start = model;
+    if (warm) {
+      start.set_values(carry_values(model, warm->names, warm->fold_params[j]));
+      fj.starts = o.fold_warm_starts;
+      fj.design_points = o.fold_warm_design_points;
+    } else {
+      fj.starts = o.fold_starts;
+    }
+    const fit::PopulationFit pf = fit::calibrate_population(start, shape, train, fj);
+    a.fold_params[j] = pf.params;
+    const auto pred = predict_observables(model, shape, pf.params, test, oj);
+    const std::size_t r = j / a.cv.folds;
+    double sum = 0;
+    for (std::size_t t = 0; t < test.size(); ++t) {
+      const std::size_t i = a.cv.test[j][t];
+      const Obs terms = error_terms(test.impacts[t], pred[t], a.use, oj);
+      const Obs d = error_scale(test.impacts[t], oj);
+      double e = 0;
+      for (int k = 0; k < kObservables; ++k) {
+        e += terms[k];
+        term_sum[i][k] += terms[k];
+        pred_sum[i][k] += pred[t].value[k];
+        spread_sum[i][k] += pred[t].spread[k];
+        inv_sum[i][k] += a.use[k] ? 1.0 / (d[k] * d[k]) : 0.0;
+      }
+      worst[i] = std::max(worst[i], static_cast<int>(pred[t].status));
+      a.repeat_error[r][i] = e;
+      sum += e;
+    }
+    a.split_error[j] = sum / static_cast<double>(test.size());
+  }
+  const double rr = static_cast<double>(R);
+  a.heldout_predictions.resize(n);
+  a.heldout_inv_scale2.resize(n);
+  ErrorReport& h = a.heldout;
+  Obs sq{};
+  for (std::size_t i = 0; i < n; ++i) {
+    ObsPrediction& p = a.heldout_predictions[i];
+    Obs terms{}, res{};
+    double e = 0;
+    const Impact& im = set.impacts[i];
+    const Obs m{im.vout[0], im.vout[1], im.vout[2], im.penetration.value_or(NAN),
+                im.contact_duration.value_or(NAN)};
+    for (int k = 0; k < kObservables; ++k) {
+      p.value[k] = pred_sum[i][k] / rr;
+      p.spread[k] = spread_sum[i][k] / rr;
+      terms[k] = term_sum[i][k] / rr;
+      a.heldout_inv_scale2[i][k] = inv_sum[i][k] / rr;
+      e += terms[k];
+      res[k] = a.use[k] ? m[k] - p.value[k] : NAN;
+      h.term_mean[k] += terms[k] / static_cast<double>(n);
+      if (a.use[k]) sq[k] += res[k] * res[k] / static_cast<double>(n);
+    }
+    p.status = static_cast<CollisionStatus>(worst[i]);
+    h.per_release.push_back(e);
+    h.terms.push_back(terms);
+    h.residual.push_back(res);
+  }
+  for (int k = 0; k < kObservables; ++k) h.rmse[k] = a.use[k] ? std::sqrt(sq[k]) : NAN;
+  h.error = mean_se(h.per_release);
 
   // The fold optima are candidates for the full-set optimum too. On a rough objective (lab
-  // triangles: rebound statuses and orientation cells switch as the parameters move) the fold
-  // fits, refining the full-set optimum on 4/5 of the data, found parameters that fit the WHOLE
-  // set better (0.836-0.884 against 0.935): the multi-start had stopped on a kink. The best
-  // fold optimum is refined on the full set and kept when it improves the in-sample fit; the
-  // held-out folds are then redone from it, so that every model's held-out error starts from
-  // an optimum of the same quality (a candidate effect warm-started from the better optimum
-  // would otherwise win for nothing).
-  std::size_t best_fold = ho.fold_params.size();
+  // triangles: rebound statuses and orientation cells switch as the parameters move) fold fits
+  // have found parameters fitting the WHOLE set better than the full-set multi-start (0.827
+  // against 0.935): it had stopped on a kink. The best fold optimum is then refined on the full
+  // set. This touches the full-set (in-sample) fit only: the held-out predictions above never
+  // depend on it.
+  std::size_t best_fold = a.fold_params.size();
   double best_error = a.population.error;
-  for (std::size_t k = 0; k < ho.fold_params.size(); ++k) {
-    const auto pr = fit::predict(model, shape, ho.fold_params[k], set, fo);
+  for (std::size_t k = 0; k < a.fold_params.size(); ++k) {
+    const auto pr = fit::predict(model, shape, a.fold_params[k], set, fo);
     double e = 0.0;
     for (double x : fit::prediction_errors(set, pr, fo.error)) e += x;
     for (const auto& q : pr) e += q.status == CollisionStatus::kOk ? 0.0 : fit::kFailedRebound;
     if (e < best_error) best_error = e, best_fold = k;
   }
-  if (best_fold < ho.fold_params.size()) {
+  if (best_fold < a.fold_params.size()) {
     Model from = model;
-    from.set_values(ho.fold_params[best_fold]);
+    from.set_values(a.fold_params[best_fold]);
     fit::FitOptions fl = fo;
     fl.starts = 1;
-    fl.design_points = o.heldout_design_points;
+    fl.design_points = o.fold_warm_design_points;
     const fit::PopulationFit polished =
-        fit::calibrate_population(windowed(from, o.heldout_window), shape, set, fl);
-    if (polished.error < a.population.error) {
-      a.population = polished;
-      a.insample_predictions = to_observables(a.population.predictions);
-      a.insample = error_report(set, a.insample_predictions, a.use, o);
-      ho = heldout_from(a.population.params);
-    }
+        fit::calibrate_population(windowed(from, 0.15), shape, set, fl);
+    if (polished.error < a.population.error) a.population = polished;
   }
-  a.heldout_predictions = to_observables(ho.predictions);
-  a.heldout = error_report(set, a.heldout_predictions, a.use, o);
-  a.fold_params = ho.fold_params;
+  a.insample_predictions = to_observables(a.population.predictions);
+  a.insample = error_report(set, a.insample_predictions, a.use, o);
   a.seconds = seconds_since(t0);
   return a;
+}
+
+std::vector<double> floor_on_heldout_scale(const Assessment& a, const NoiseFloor& floor) {
+  const std::size_t n = a.heldout.per_release.size();
+  if (floor.variance.size() != n || a.heldout_inv_scale2.size() != n) return floor.per_release;
+  std::vector<double> f(n, 0.0);
+  for (std::size_t i = 0; i < n; ++i)
+    for (int k = 0; k < kObservables; ++k)
+      if (a.use[k]) f[i] += floor.variance[i][k] * a.heldout_inv_scale2[i][k];
+  return f;
 }
 
 Adequacy adequacy(const Assessment& a, const NoiseFloor& floor) {
@@ -399,14 +535,15 @@ Adequacy adequacy(const Assessment& a, const NoiseFloor& floor) {
   const double n_train = n * static_cast<double>(a.folds - 1) / static_cast<double>(a.folds);
   const double p = static_cast<double>(a.calibrated.size());
   const double inflate = 1.0 + p / std::max(1.0, n_train);
+  const std::vector<double> f = floor_on_heldout_scale(a, floor);
   std::vector<double> x(a.heldout.per_release.size());
-  for (std::size_t i = 0; i < x.size(); ++i)
-    x[i] = a.heldout.per_release[i] - floor.per_release[i] * inflate;
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = a.heldout.per_release[i] - f[i] * inflate;
   const MeanSe m = mean_se(x);
+  const double floor_mean = mean_se(f).mean;
   q.excess = m.mean;
   q.excess_se = m.se;
-  q.threshold = floor.value.mean * inflate + 2.0 * m.se;
-  q.ratio = floor.value.mean > 0 ? a.heldout.error.mean / floor.value.mean : INFINITY;
+  q.threshold = floor_mean * inflate + 2.0 * m.se;
+  q.ratio = floor_mean > 0 ? a.heldout.error.mean / floor_mean : INFINITY;
   q.adequate = m.mean <= 2.0 * m.se;
   return q;
 }

@@ -19,9 +19,16 @@
 // The error of a model on a set is the mean of e_i over releases; its standard error is the
 // sample standard deviation of e_i over sqrt(n).
 //
-// Held-out error: k-fold cross-validation by the fit module (fit::heldout_predictions(): release
-// i in fold i mod k, each fold predicted by a population fit on the others). k = n is
-// leave-one-release-out.
+// Held-out error: repeated k-fold cross-validation, leak-free (docs/diagnosis.md, "Held-out
+// error"). The releases are dealt into k folds by R seeded random permutations (CvDesign); each
+// of the R k splits is predicted by a population fit on its training releases ALONE: the fit's
+// start values, multi-start design, bounds and error denominators (the set-mean floors) come
+// from the model as given and from the training releases, never from the full-set optimum or
+// the held-out releases. A candidate effect or ladder rung is warm-started, split by split, from
+// the base model's optimum on the same training releases (Assessment passed as `warm`). A
+// release's held-out error is the mean over the R repeats of its error in the split that held
+// it out, with that split's denominators. Because it never sees its own measured outputs, a
+// release's held-out prediction does not move when they change (tested).
 //
 // Noise floor (per release, same units as e_i): the expected e_i of the TRUE model, from
 //  - replicates, when the set has at least two groups of releases with identical incident states
@@ -45,7 +52,9 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -111,17 +120,18 @@ struct AssessOptions {
   /// The model's values are a calibrated optimum (warm model): also refine them locally (one
   /// BOBYQA run within the held-out window) and keep the better of the two fits.
   bool refine_start = false;
-  /// Held-out fold fits refine the full-set optimum: they start from it, with `heldout_starts`
-  /// BOBYQA runs, within +- `heldout_window` of each calibrated parameter's range around it
-  /// (clipped to its bounds; >= 1 = the whole range). Why: the population objective can have
-  /// distant minima of nearly equal training error (sliding contact with a small mu, sticking
-  /// with a large one) that predict very differently; a fold fit free to jump between them
-  /// measures the optimiser's luck, not the model. The full set chooses the basin, each fold
-  /// re-estimates the parameters within it without its releases.
-  int heldout_starts = 1;
-  int heldout_design_points = 2;  ///< Latin hypercube points besides the warm start, per fold
-  double heldout_window = 0.15;
-  bool release_fits = true;       ///< compare/diagnose: per-release calibration (parameter drift)
+  std::size_t repeats = 2;  ///< R of the repeated k-fold (independent random partitions)
+  /// Fold fits of a model as given (cold: the base model): BOBYQA runs from the best points of
+  /// the model's values plus a Latin hypercube of 16 points per calibrated parameter.
+  int fold_starts = 4;
+  /// Fold fits warm-started from the base model's fold optimum (candidates, rungs): BOBYQA runs
+  /// and extra Latin hypercube points besides the warm start.
+  int fold_warm_starts = 2;
+  int fold_warm_design_points = 6;
+  bool release_fits = true;  ///< compare/diagnose: per-release calibration (parameter drift)
+  /// Set by resolve_scale(): the error options before the set-mean floors were applied, so that
+  /// a subset (a fold's training releases) can be resolved on its own releases.
+  std::optional<fit::ErrorOptions> unresolved_error;
   bool release_intervals = true;  ///< with identifiability intervals
 };
 
@@ -129,6 +139,9 @@ struct AssessOptions {
 /// contact floors). Every function below resolves its options on the set it is given; callers
 /// that compute errors themselves resolve once on the full set.
 AssessOptions resolve_scale(const ImpactSet& set, const AssessOptions& options);
+/// The options resolved on `subset` alone, whether or not `options` were already resolved on a
+/// larger set (a fold's denominators come from its training releases only).
+AssessOptions resolve_scale_on(const ImpactSet& subset, const AssessOptions& options);
 
 /// Which observables a set carries (all releases), given the options.
 std::array<bool, kObservables> observables_of(const ImpactSet& set, const AssessOptions& options);
@@ -180,6 +193,8 @@ ErrorReport error_report(const ImpactSet& set, const std::vector<ObsPrediction>&
 
 /// The noise floor (file comment).
 struct NoiseFloor {
+  /// Per release, per observable: the variance behind the floor (physical units squared).
+  std::vector<Obs> variance;
   std::string source;       ///< "replicates", "declared", "table1"
   std::string description;  ///< one sentence saying where the numbers come from
   std::vector<double> per_release;
@@ -197,15 +212,41 @@ NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const d
                        const ImpactSet& set, const std::array<bool, kObservables>& use,
                        const AssessOptions& options);
 
+/// The train/test splits of a repeated k-fold (see the file comment): split r k + f holds out
+/// fold f of partition r. Depends only on n, folds, repeats and the seed.
+struct CvDesign {
+  std::size_t n = 0, folds = 0, repeats = 0;
+  std::uint64_t seed = 0;
+  std::vector<std::vector<std::size_t>> test;   ///< per split, held-out releases (ascending)
+  std::vector<std::vector<std::size_t>> train;  ///< per split, training releases (ascending)
+  std::size_t splits() const { return test.size(); }
+};
+/// Throws std::invalid_argument unless 2 <= folds <= n and repeats >= 1.
+CvDesign make_cv_design(std::size_t n, std::size_t folds, std::size_t repeats, std::uint64_t seed);
+
 /// One model calibrated and judged on one set.
 struct Assessment {
   std::vector<std::string> effects;      ///< the model's effects
   std::vector<std::string> calibrated;   ///< names of the calibrated parameters
+  std::vector<std::string> names;        ///< all parameter names (model order)
   std::array<bool, kObservables> use{};  ///< observables in the error
   fit::PopulationFit population;         ///< full-set population fit
-  std::vector<ObsPrediction> insample_predictions, heldout_predictions;
-  ErrorReport insample, heldout;
-  std::vector<std::vector<double>> fold_params;
+  std::vector<ObsPrediction> insample_predictions;
+  /// Mean over the repeats of each release's held-out predictions (value and spread).
+  std::vector<ObsPrediction> heldout_predictions;
+  ErrorReport insample;
+  /// per_release / terms: mean over repeats of the split-scaled error; residual: measured minus
+  /// the mean held-out prediction.
+  ErrorReport heldout;
+  CvDesign cv;
+  std::vector<std::vector<double>> fold_params;  ///< per split, all parameters (model order)
+  /// Per split: mean held-out error of its test releases (the unit of the corrected t-test).
+  std::vector<double> split_error;
+  /// [repeat][release]: the held-out error of the release in that repeat.
+  std::vector<std::vector<double>> repeat_error;
+  /// Per release, per observable: mean over repeats of 1 / d^2 (the split's denominators),
+  /// to put a noise floor's variances on the held-out error's scale.
+  std::vector<Obs> heldout_inv_scale2;
   std::size_t folds = 0;
   double seconds = 0;
 };
@@ -214,11 +255,17 @@ struct Assessment {
 /// its current value (clipped to the bounds); window >= 1 leaves the model unchanged.
 Model windowed(const Model& model, double window);
 
+/// The parameter vector of `to` with every parameter that `from_names` also has set to its
+/// value in `from_values` (others keep `to`'s values: an added effect stays at its neutral).
+std::vector<double> carry_values(const Model& to, const std::vector<std::string>& from_names,
+                                 const std::vector<double>& from_values);
+
 /// Calibrates `model` on `set` (population fit) and computes the held-out error. The model's
-/// current values are the first start point of every fit (warm start: pass a model whose values
-/// are a previous optimum, with added effects at their neutral values).
+/// current values are the first start point of the full-set fit. `warm`: an assessment of the
+/// base model on the same set and options (hence the same CvDesign); each split's fit then
+/// starts from the base model's optimum on that split's training releases (file comment).
 Assessment assess(const Model& model, const Shape& shape, const ImpactSet& set,
-                  const AssessOptions& options);
+                  const AssessOptions& options, const Assessment* warm = nullptr);
 
 /// Whether the held-out error is within the noise floor (file comment), and by how much.
 struct Adequacy {
@@ -230,6 +277,8 @@ struct Adequacy {
   double threshold = 0;
 };
 Adequacy adequacy(const Assessment& a, const NoiseFloor& floor);
+/// The floor of each release on the held-out error's scale (the splits' denominators).
+std::vector<double> floor_on_heldout_scale(const Assessment& a, const NoiseFloor& floor);
 
 nlohmann::json to_json(const MeanSe& m);
 nlohmann::json to_json(const Obs& o, const std::array<bool, kObservables>& use);

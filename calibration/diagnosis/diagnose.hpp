@@ -1,23 +1,38 @@
-// Compare a model with an impact set, diagnose which effect of the catalog is missing, and climb
-// the ladder of models (issue 6). Every calibration is done by the fit module (fit/fit.hpp)
-// through assess() (diagnosis/assess.hpp); this file only judges.
+// Compare a model with an impact set, diagnose which effect is missing, and climb the ladder of
+// models (issues 6 and 10). Every calibration is done by the fit module (fit/fit.hpp) through
+// assess() (diagnosis/assess.hpp): leak-free repeated k-fold held-out errors. The files:
+//   compare.cpp    compare(): the base model, its noise floor, trends, regimes, KS tests
+//   ranking.cpp    diagnose(): candidates judged by held-out error, multiplicity-controlled
+//   signature.cpp  the score test and the effects' declared signatures (Effect::signature())
+//   scatter.cpp    the population scatter of the calibrated parameters (scatter.hpp)
+//   evidence.cpp   words with numbers: evidence, verdict summary, what is left unexplained
+//   ladder.cpp     ladder(), auto_ladder()
+//   diagnosis_json.cpp  the JSON documents (docs/commands/*.md)
 //
 // compare():  the model calibrated on the set (population and per release), the noise floor,
 //             errors per observable, per release and per regime (thirds of |V_in|), residual
-//             and parameter trends against impact features, measured-vs-predicted KS tests.
-// diagnose(): every registered effect not in the model (plugins included) is added at its
-//             neutral value (so the new model starts exactly at the calibrated base model),
-//             recalibrated, and judged by its held-out error. Ranking key: the penalised held-out
-//             error  heldout + p_added * floor / n_train  (the expected held-out cost of fitting
-//             p_added useless parameters). An effect is SUPPORTED when its penalised drop
-//             exceeds z standard errors of the paired per-release drops:
-//               drop - p_added * floor / n_train > z * SE(drop_i),   drop_i = e_i^base - e_i^cand
-//             (held-out errors of the same release, so the comparison is paired).
-//             Evidence in words combines the drop, the observable whose error falls most, the
-//             effect's own signature (a score test: the correlation of the base model's scaled
-//             residuals with the change the effect makes to the predictions, both projected off
-//             the base parameters' directions) and the residual/parameter trends that the
-//             shared notes associate with the effect.
+//             and parameter trends against impact features (Holm-controlled family), KS tests.
+// diagnose(): candidates are the registered effects not in the model: the hand-written catalog,
+//             plugins, and the generated coefficient laws (effects/coefficient_law.hpp). The
+//             generated family is screened by the score test (signature r, computed on the
+//             base model's directions, no calibration) and its `screen` best enter; every
+//             entering candidate is added at its neutral value, recalibrated split by split
+//             from the base model's fold optima, and judged by the corrected resampled t-test
+//             of its held-out error drop (stats::corrected_resampled_t: one mean drop per
+//             split, Nadeau & Bengio 2003). Holm's step-down over the WHOLE family (screened-
+//             out generated laws count as untested hypotheses) controls the family-wise error:
+//               supported  <=>  Holm-adjusted p < alpha  and  drop > penalty,
+//             penalty = p_added * floor / n_train (the expected held-out cost of fitting p_added
+//             useless parameters). When the best single term leaves the model above its floor,
+//             pairs of the best candidates are tried too (a sparse search; each pair counts in
+//             the family). Ranking: supported first, then by penalised held-out error.
+//             Verdict, never contradicting the ranking (docs/diagnosis.md, "Verdict"):
+//               "missing physics"  a candidate is supported (named), or, with none supported, a
+//                                  residual or parameter trend survives Holm (unnamed);
+//               "scatter"          above the measurement floor, nothing supported, no trend:
+//                                  release-to-release scatter, with the population spread of
+//                                  the parameters that explains it (scatter.hpp);
+//               "adequate"         within the measurement floor, nothing supported.
 // ladder():   rungs base, base + E1, base + E1 + E2, ... each recalibrated (warm start from the
 //             previous rung, the new effect at its neutral value) with in-sample and held-out
 //             errors per observable. auto_ladder() picks each next effect by diagnose().
@@ -28,6 +43,7 @@
 #include <vector>
 
 #include "diagnosis/assess.hpp"
+#include "diagnosis/scatter.hpp"
 #include "diagnosis/trends.hpp"
 #include "effects/registry.hpp"
 #include "stats/stats.hpp"
@@ -37,7 +53,13 @@ namespace ricochet::diagnosis {
 struct DiagnoseOptions {
   AssessOptions assess;
   TrendOptions trends;
-  double z = 2.0;  ///< standard errors a drop must exceed to support an effect
+  /// Family-wise error rate of the candidate tests (Holm over the whole family).
+  double alpha = 0.05;
+  /// Generated candidates (coefficient laws) calibrated after the score-test screen.
+  std::size_t screen = 4;
+  /// Try pairs of the best candidates when no single one brings the model within its floor.
+  bool pairs = true;
+  std::size_t pair_pool = 3;  ///< pairs among this many best single candidates
   /// Effects to try; empty = every effect of the registry not in the model.
   std::vector<std::string> candidates;
   /// Registry of effects (built-ins and loaded plugins); nullptr = EffectRegistry::global().
@@ -65,6 +87,7 @@ struct Baseline {
   std::vector<Trend> residual_trends;   ///< held-out residuals
   std::vector<Trend> parameter_trends;  ///< per-release calibrated parameters
   std::vector<Regime> regimes;
+  PopulationScatter scatter;  ///< the parameters' release-to-release spread (scatter.hpp)
   /// Two-sample KS test of the measured against the held-out predicted values, per observable.
   std::array<stats::KsResult, kObservables> ks{};
   /// Floors of the error denominators actually used (m/s, m/s, rad/s, m, s; AssessOptions::scale).
@@ -76,26 +99,48 @@ Baseline compare(const Model& model, const Shape& shape, const ImpactSet& set,
 
 /// One candidate effect, judged.
 struct Candidate {
-  std::string effect;
+  std::string effect;                         ///< registry name; "a+b" for a pair
+  std::vector<std::string> effects;           ///< the effects added (one, or two for a pair)
+  bool generated = false;                     ///< a generated coefficient law (or a pair with one)
+  std::string law;                            ///< the added physics as a law with numbers and units
   std::string meaning;                        ///< what the effect stands for, in words
   std::vector<std::string> added_parameters;  ///< its calibrated parameters
   std::vector<double> added_values;           ///< their population-fit values
   Assessment assessment;                      ///< base + effect, recalibrated
   Adequacy adequacy;                          ///< of base + effect against the noise floor
   double heldout_error = 0, heldout_se = 0;
-  double error_drop = 0, drop_se = 0;  ///< base - candidate held-out error, paired SE
-  double penalty = 0;                  ///< p_added * floor / n_train
-  double penalised_heldout = 0;        ///< ranking key
+  double error_drop = 0;  ///< base - candidate held-out error (mean over releases)
+  /// Corrected standard error of the drop (corrected resampled t-test over the splits).
+  double drop_se = 0;
+  double t = 0;                  ///< corrected resampled t statistic
+  double p_value = 1;            ///< one-sided p of the drop (H0: no improvement)
+  double p_holm = 1;             ///< Holm-adjusted over the family
+  std::size_t family_size = 0;   ///< hypotheses in the Holm family
+  bool contact_bias = false;     ///< the effect's signature includes a contact-feature bias
+  double penalty = 0;            ///< p_added * floor / n_train
+  double penalised_heldout = 0;  ///< ranking key
   bool supported = false;
   double signature_r = NAN;  ///< score-test correlation (see file comment)
-  std::string evidence;      ///< words with numbers
-  std::string error;         ///< non-empty when the effect could not be tried
+  /// Declared signature trends of the effect found significant in the base model (as text).
+  std::vector<std::string> signature_trends;
+  std::string evidence;  ///< words with numbers
+  std::string error;     ///< non-empty when the effect could not be tried
+};
+
+/// A generated candidate left out by the score-test screen.
+struct Screened {
+  std::string effect;
+  double signature_r = NAN;
 };
 
 struct Diagnosis {
   Baseline baseline;
-  std::string verdict;                   ///< "adequate" | "missing physics"
-  std::vector<Candidate> ranking;        ///< best first
+  std::string verdict;                 ///< "adequate" | "scatter" | "missing physics"
+  std::vector<Candidate> ranking;      ///< best first (candidates that were calibrated)
+  std::vector<Screened> screened_out;  ///< generated candidates not calibrated
+  std::size_t family_size = 0;         ///< hypotheses in the Holm family
+  /// With no supported candidate: the Holm-significant trends (unnamed missing physics).
+  std::vector<std::string> unnamed_structure;
   std::string summary;                   ///< one or two sentences
   std::vector<std::string> unexplained;  ///< residual structure left after the best candidate
   double seconds = 0;
@@ -110,6 +155,7 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
 struct Rung {
   std::vector<std::string> effects;
   std::string added;  ///< empty for the base rung
+  std::string law;    ///< the added effect as a law with numbers (Effect::law)
   Assessment assessment;
   Adequacy adequacy;
 };
@@ -130,6 +176,10 @@ Ladder auto_ladder(const Model& model, const Shape& shape, const ImpactSet& set,
 
 /// The model of a rung, with its calibrated values (to continue from it).
 Model with_values(const Model& model, const std::vector<double>& values);
+/// The base model plus the best supported candidate of `d` with its calibrated values (the
+/// model file `diagnose --write-model` writes); the base model when nothing is supported.
+Model best_model(const Model& base, const Diagnosis& d,
+                 const EffectRegistry& registry = EffectRegistry::global());
 
 nlohmann::json to_json(const Assessment& a, const NoiseFloor& floor);
 nlohmann::json to_json(const Baseline& b, const ImpactSet& set);

@@ -26,8 +26,15 @@ DiagnoseOptions make_options(const OptionValues& v) {
   if (!(v.dt_s > 0 && v.dt_s < 1e-3))
     throw InputError("<command line>", 0, "--dt", "time step must lie in (0, 1e-3) s");
   o.assess.fit.engine.dt_s = v.dt_s;
-  if (!(v.z > 0)) throw InputError("<command line>", 0, "--z", "must be positive");
-  o.z = v.z;
+  if (!(v.alpha > 0 && v.alpha < 1))
+    throw InputError("<command line>", 0, "--alpha", "must lie in (0, 1)");
+  o.alpha = v.alpha;
+  if (v.repeats < 1 || v.repeats > 20)
+    throw InputError("<command line>", 0, "--repeats", "must lie in [1, 20]");
+  o.assess.repeats = v.repeats;
+  if (v.screen > 1000) throw InputError("<command line>", 0, "--screen", "must lie in [0, 1000]");
+  o.screen = v.screen;
+  o.pairs = !v.no_pairs;
   o.candidates = v.candidates;
   o.assess.release_fits = !v.no_release_fits;
   o.assess.release_intervals = !v.no_intervals;

@@ -16,7 +16,11 @@ namespace ricochet::diagnosis {
 struct OptionValues {
   std::string folds = "5";  ///< number of folds, or "loro" (leave one release out)
   std::uint64_t seed = 1;   ///< seed of the calibration's start designs
-  double z = 2.0;           ///< DiagnoseOptions::z
+  // Defaults are the library's (one place: DiagnoseOptions / AssessOptions).
+  double alpha = DiagnoseOptions{}.alpha;         ///< family-wise error rate
+  std::size_t repeats = AssessOptions{}.repeats;  ///< repeated k-fold partitions
+  std::size_t screen = DiagnoseOptions{}.screen;  ///< generated laws calibrated
+  bool no_pairs = false;                          ///< skip the pair search
   std::vector<std::string> candidates;
   bool no_release_fits = false;    ///< skip per-release calibration (faster)
   bool no_intervals = false;       ///< per-release fits without identifiability intervals

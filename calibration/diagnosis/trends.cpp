@@ -97,8 +97,7 @@ Trend correlate(const std::string& quantity, const std::string& label, const Fea
   const stats::Correlation s = stats::pearson(ranks(xs), ranks(ys));
   t.rho = s.r;
   t.p_rank = s.p_value;
-  t.significant = std::isfinite(c.r) && std::isfinite(c.p_value) && c.p_value < o.alpha &&
-                  std::isfinite(s.p_value) && s.p_value < o.alpha && s.r * c.r > 0;
+  (void)o;  // significance is decided over the family (control_family)
   return t;
 }
 
@@ -127,6 +126,7 @@ std::vector<Trend> residual_trends(const ErrorReport& report,
                               std::string(kObservableLabels[k]) + " residual", f, y, o));
     }
   }
+  control_family({&out}, o.alpha);
   return out;
 }
 
@@ -145,7 +145,27 @@ std::vector<Trend> parameter_trends(const std::vector<fit::ReleaseFit>& fits,
     for (const auto& f : features)
       out.push_back(correlate("param " + name, "calibrated " + name, f, y, o));
   }
+  control_family({&out}, o.alpha);
   return out;
+}
+
+void control_family(const std::vector<std::vector<Trend>*>& groups, double alpha) {
+  std::vector<Trend*> all;
+  for (auto* g : groups)
+    for (auto& t : *g) all.push_back(&t);
+  std::vector<double> p, q;
+  for (const Trend* t : all) {
+    p.push_back(std::isfinite(t->p) ? t->p : NAN);
+    q.push_back(std::isfinite(t->p_rank) ? t->p_rank : NAN);
+  }
+  const std::vector<double> hp = stats::holm_adjust(p), hq = stats::holm_adjust(q);
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    Trend& t = *all[i];
+    t.p_holm = hp[i];
+    t.p_rank_holm = hq[i];
+    t.significant = std::isfinite(t.r) && std::isfinite(hp[i]) && hp[i] < alpha &&
+                    std::isfinite(hq[i]) && hq[i] < alpha && t.rho * t.r > 0;
+  }
 }
 
 const Trend* find_trend(const std::vector<Trend>& trends, const std::string& quantity,
@@ -156,8 +176,9 @@ const Trend* find_trend(const std::vector<Trend>& trends, const std::string& qua
 }
 
 std::string describe(const Trend& t) {
-  return fmt::format("{} {} with {} (r = {:.2f}, p = {:.2g}; rank rho = {:.2f}; n = {})", t.label,
-                     t.r >= 0 ? "grows" : "falls", bare(t.feature_label), t.r, t.p, t.rho, t.n);
+  return fmt::format(
+      "{} {} with {} (r = {:.2f}, p = {:.2g}, Holm-adjusted {:.2g}; rank rho = {:.2f}; n = {})",
+      t.label, t.r >= 0 ? "grows" : "falls", bare(t.feature_label), t.r, t.p, t.p_holm, t.rho, t.n);
 }
 
 nlohmann::json to_json(const Trend& t) {
@@ -168,6 +189,7 @@ nlohmann::json to_json(const Trend& t) {
           {"p", std::isfinite(t.p) ? nlohmann::json(t.p) : nlohmann::json(nullptr)},
           {"rho", std::isfinite(t.rho) ? nlohmann::json(t.rho) : nlohmann::json(nullptr)},
           {"p_rank", std::isfinite(t.p_rank) ? nlohmann::json(t.p_rank) : nlohmann::json(nullptr)},
+          {"p_holm", std::isfinite(t.p_holm) ? nlohmann::json(t.p_holm) : nlohmann::json(nullptr)},
           {"n", t.n},
           {"significant", t.significant},
           {"text", describe(t)}};

@@ -1,10 +1,14 @@
 // Impact features and the trends of residuals and per-release calibrated parameters against
 // them: the residual signatures of missing physics (shared notes, physics-candidates.md).
 //
-// A trend is a Pearson correlation with its two-sided p-value (stats::pearson, OpenTURNS). It is
-// reported as significant when p < TrendOptions::alpha AND the Spearman rank correlation (the
-// Pearson correlation of the ranks, ties averaged, with the same t-test p-value) is significant
-// too: one outlying release (lab cylinder C12) must not make a trend on its own. Features that the
+// A trend is a Pearson correlation with its two-sided p-value (stats::pearson, OpenTURNS). Many
+// trends are tested at once (every residual and parameter against every feature, about 40), so
+// significance is decided over the family with Holm's step-down (stats::holm_adjust), which
+// controls the family-wise error rate at TrendOptions::alpha: a trend is significant when its
+// Holm-adjusted Pearson p AND its Holm-adjusted Spearman p (the Pearson correlation of the ranks,
+// ties averaged) are below alpha with the same sign: one outlying release (lab cylinder C12)
+// must not make a trend on its own. residual_trends() and parameter_trends() control their own
+// family; control_family() re-decides over a union (compare() does it over both). Features that the
 // set does not measure (penetration, contact duration, alpha_in of the lab data) are replaced by
 // the calibrated model's simulated values, and named so ("penetration (simulated)"): a trend
 // against a simulated feature is a trend against what the model thinks happened.
@@ -44,14 +48,15 @@ struct Trend {
   std::string label;     ///< "V_out^y residual", "calibrated en2"
   std::string feature;   ///< Feature::name
   std::string feature_label;
-  double r = 0, p = 1;         ///< Pearson
-  double rho = 0, p_rank = 1;  ///< Spearman
+  double r = 0, p = 1;                 ///< Pearson
+  double rho = 0, p_rank = 1;          ///< Spearman
+  double p_holm = 1, p_rank_holm = 1;  ///< Holm-adjusted over the family
   std::size_t n = 0;
   bool significant = false;
 };
 
 struct TrendOptions {
-  double alpha = 0.01;  ///< significance level of a trend
+  double alpha = 0.05;  ///< family-wise error rate of the trend tests (Holm)
 };
 
 /// Trends of each observable's residual (measured - predicted) against each feature.
@@ -66,6 +71,9 @@ std::vector<Trend> residual_trends(const ErrorReport& report,
 std::vector<Trend> parameter_trends(const std::vector<fit::ReleaseFit>& fits,
                                     const std::vector<Feature>& features,
                                     const TrendOptions& options = {});
+
+/// Decides `significant` over the union of `groups` (Holm, family-wise level alpha).
+void control_family(const std::vector<std::vector<Trend>*>& groups, double alpha);
 
 /// The trend of `quantity` against `feature` in `trends`, or nullptr.
 const Trend* find_trend(const std::vector<Trend>& trends, const std::string& quantity,

@@ -118,4 +118,75 @@ Correlation pearson(std::span<const double> x, std::span<const double> y) {
   return c;
 }
 
+double student_t_upper_tail(double t, double dof) {
+  if (!(dof > 0)) throw std::invalid_argument("student_t_upper_tail: dof must be positive");
+  if (std::isnan(t)) return kNaN;
+  return OT::DistFunc::pStudent(dof, t, /*tail=*/true);
+}
+
+double chi_square_upper_tail(double x, double dof) {
+  if (!(dof > 0)) throw std::invalid_argument("chi_square_upper_tail: dof must be positive");
+  if (!(x > 0)) return 1.0;
+  // chi^2_k = Gamma(k/2, scale 2): P(X > x) = Q(k/2, x/2).
+  return OT::DistFunc::pGamma(0.5 * dof, 0.5 * x, /*tail=*/true);
+}
+
+std::vector<double> holm_adjust(std::span<const double> p, std::size_t family_size) {
+  const std::size_t m = std::max(family_size, p.size());
+  std::vector<std::size_t> order(p.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  auto value = [&](std::size_t i) { return std::isnan(p[i]) ? 1.0 : p[i]; };
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return value(a) < value(b); });
+  std::vector<double> out(p.size(), kNaN);
+  double running = 0.0;
+  for (std::size_t r = 0; r < order.size(); ++r) {
+    const std::size_t i = order[r];
+    // Step-down: the r-th smallest p is multiplied by (m - r); adjusted values are monotone.
+    running = std::max(running, std::min(1.0, static_cast<double>(m - r) * value(i)));
+    out[i] = std::isnan(p[i]) ? kNaN : running;
+  }
+  return out;
+}
+
+ResampledTest corrected_resampled_t(std::span<const double> d, double n_test, double n_train) {
+  ResampledTest r;
+  r.splits = d.size();
+  if (d.empty()) return r;
+  for (double x : d) r.mean += x / static_cast<double>(d.size());
+  if (d.size() < 2 || !(n_train > 0)) {
+    r.se = kNaN, r.t = kNaN, r.p_value = kNaN;
+    return r;
+  }
+  double s2 = 0;
+  for (double x : d) s2 += (x - r.mean) * (x - r.mean);
+  s2 /= static_cast<double>(d.size() - 1);
+  const double J = static_cast<double>(d.size());
+  r.se = std::sqrt((1.0 / J + n_test / n_train) * s2);
+  if (r.se > 0) {
+    r.t = r.mean / r.se;
+    r.p_value = student_t_upper_tail(r.t, J - 1.0);
+  } else {
+    // Identical differences on every split: certain when positive, impossible otherwise.
+    r.t = r.mean > 0 ? INFINITY : r.mean < 0 ? -INFINITY : 0.0;
+    r.p_value = r.mean > 0 ? 0.0 : 1.0;
+  }
+  return r;
+}
+
+Proportion wilson(std::size_t successes, std::size_t n, double alpha) {
+  Proportion w;
+  if (n == 0) return w;
+  const double z = OT::DistFunc::qNormal(1.0 - alpha / 2.0);
+  const double nn = static_cast<double>(n);
+  const double ph = static_cast<double>(successes) / nn;
+  const double denom = 1.0 + z * z / nn;
+  const double centre = (ph + z * z / (2.0 * nn)) / denom;
+  const double half = z * std::sqrt(ph * (1.0 - ph) / nn + z * z / (4.0 * nn * nn)) / denom;
+  w.rate = ph;
+  w.lo = std::max(0.0, centre - half);
+  w.hi = std::min(1.0, centre + half);
+  return w;
+}
+
 }  // namespace ricochet::stats

@@ -46,4 +46,38 @@ struct Correlation {
 };
 Correlation pearson(std::span<const double> x, std::span<const double> y);
 
+/// Upper tail P(T > t) of Student's t distribution with `dof` degrees of freedom (OpenTURNS
+/// DistFunc). dof must be positive.
+double student_t_upper_tail(double t, double dof);
+
+/// Upper tail P(X > x) of the chi-square distribution with `dof` degrees of freedom.
+double chi_square_upper_tail(double x, double dof);
+
+/// Holm's step-down adjustment (Holm 1979, Scand. J. Statist. 6:65): adjusted p-values that
+/// control the family-wise error rate over the whole family, in the input order. NaN p-values
+/// count as 1 and stay NaN. `family_size` >= p.size() counts hypotheses that were not tested
+/// (p = 1, e.g. candidates screened out); 0 means p.size().
+std::vector<double> holm_adjust(std::span<const double> p, std::size_t family_size = 0);
+
+/// Corrected resampled t-test (Nadeau & Bengio 2003, Machine Learning 52:239; Bouckaert & Frank
+/// 2004 for repeated k-fold): `d` holds one mean difference per train/test split (J splits, each
+/// with n_test test and n_train training releases). The splits share training data, so the
+/// variance of the mean is (1/J + n_test/n_train) s^2 rather than s^2 / J.
+///   t = mean(d) / sqrt((1/J + n_test/n_train) s^2),  dof = J - 1.
+struct ResampledTest {
+  double mean = 0;
+  double se = 0;  ///< corrected standard error of the mean
+  double t = 0;
+  double p_value = 1;  ///< one-sided, H0: mean <= 0
+  std::size_t splits = 0;
+};
+ResampledTest corrected_resampled_t(std::span<const double> d, double n_test, double n_train);
+
+/// Wilson score interval of a binomial proportion (successes out of n) at two-sided level
+/// 1 - alpha (Wilson 1927, JASA 22:209). n = 0 gives [0, 1].
+struct Proportion {
+  double rate = 0, lo = 0, hi = 1;
+};
+Proportion wilson(std::size_t successes, std::size_t n, double alpha = 0.05);
+
 }  // namespace ricochet::stats

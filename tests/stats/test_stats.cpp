@@ -234,3 +234,52 @@ TEST(Stats, KsMatchesOpenTurnsTwoSampleTest) {
     EXPECT_NEAR(ours.p_value, ot.getPValue(), 1e-12) << f;
   }
 }
+
+namespace ricochet::stats {
+namespace {
+
+// Holm (1979): p = (0.01, 0.04, 0.03, 0.005) -> sorted 0.005, 0.01, 0.03, 0.04 times 4, 3, 2, 1
+// = 0.02, 0.03, 0.06, 0.04 -> monotone 0.02, 0.03, 0.06, 0.06 (by hand).
+TEST(Multiplicity, HolmAdjustmentByHand) {
+  const std::vector<double> p{0.01, 0.04, 0.03, 0.005};
+  const auto a = holm_adjust(p);
+  EXPECT_NEAR(a[3], 0.02, 1e-15);
+  EXPECT_NEAR(a[0], 0.03, 1e-15);
+  EXPECT_NEAR(a[2], 0.06, 1e-15);
+  EXPECT_NEAR(a[1], 0.06, 1e-15);
+  // Untested members of the family (screened out) count: m = 10.
+  const auto b = holm_adjust(std::vector<double>{0.004}, 10);
+  EXPECT_NEAR(b[0], 0.04, 1e-15);
+  EXPECT_TRUE(std::isnan(holm_adjust(std::vector<double>{NAN, 0.01})[0]));
+}
+
+// Wilson (1927): 9 of 10 at 95 %: [0.5958, 0.9821] (e.g. Newcombe 1998, Stat. Med. 17:857,
+// Table I, method 3, for 81/263 reproduced below too).
+TEST(Multiplicity, WilsonIntervalsMatchNewcombe) {
+  const Proportion w = wilson(9, 10);
+  EXPECT_NEAR(w.lo, 0.5958, 5e-4);
+  EXPECT_NEAR(w.hi, 0.9821, 5e-4);
+  const Proportion v = wilson(81, 263);
+  EXPECT_NEAR(v.lo, 0.2553, 5e-4);
+  EXPECT_NEAR(v.hi, 0.3662, 5e-4);
+  const Proportion z = wilson(0, 40);
+  EXPECT_NEAR(z.lo, 0.0, 1e-15);
+  EXPECT_NEAR(z.hi, 0.0876, 5e-4);
+}
+
+// Nadeau & Bengio (2003): the variance of the mean of J split differences is inflated by
+// n_test/n_train; by hand for d = (1, 2, 3, 4): mean 2.5, s^2 = 5/3, J = 4, n_test/n_train =
+// 1/4: se = sqrt((1/4 + 1/4) 5/3) = 0.9129, t = 2.7386, one-sided p of Student(3) = 0.0357.
+TEST(Multiplicity, CorrectedResampledTTestByHand) {
+  const std::vector<double> d{1, 2, 3, 4};
+  const ResampledTest t = corrected_resampled_t(d, 10, 40);
+  EXPECT_NEAR(t.mean, 2.5, 1e-12);
+  EXPECT_NEAR(t.se, 0.912871, 1e-6);
+  EXPECT_NEAR(t.t, 2.738613, 1e-6);
+  EXPECT_NEAR(t.p_value, 0.03569, 2e-4);
+  EXPECT_NEAR(student_t_upper_tail(0.0, 5.0), 0.5, 1e-12);
+  EXPECT_NEAR(chi_square_upper_tail(3.841459, 1.0), 0.05, 1e-6);
+}
+
+}  // namespace
+}  // namespace ricochet::stats

@@ -1,0 +1,188 @@
+// The JSON documents of compare, diagnose and ladder (docs/commands/*.md).
+#include <cmath>
+
+#include "diagnosis/diagnose.hpp"
+
+namespace ricochet::diagnosis {
+
+nlohmann::json to_json(const Assessment& a, const NoiseFloor& floor) {
+  nlohmann::json params = nlohmann::json::object();
+  for (std::size_t i = 0; i < a.population.names.size(); ++i)
+    params[a.population.names[i]] = a.population.params[i];
+  const Adequacy q = adequacy(a, floor);
+  return {{"model", a.effects},
+          {"calibrated", a.calibrated},
+          {"parameters", params},
+          {"insample_error", a.insample.error.mean},
+          {"insample_se", a.insample.error.se},
+          {"heldout_error", a.heldout.error.mean},
+          {"heldout_se", a.heldout.error.se},
+          {"folds", a.folds},
+          {"repeats", a.cv.repeats},
+          {"insample_per_component", to_json(a.insample.term_mean, a.use)},
+          {"heldout_per_component", to_json(a.heldout.term_mean, a.use)},
+          {"heldout_rmse", to_json(a.heldout.rmse, a.use)},
+          {"adequate", q.adequate},
+          {"ratio_to_floor", q.ratio},
+          {"adequacy_threshold", q.threshold},
+          {"excess_over_floor", q.excess},
+          {"excess_se", q.excess_se},
+          {"seconds", a.seconds}};
+}
+
+nlohmann::json to_json(const Baseline& b, const ImpactSet& set) {
+  nlohmann::json j = to_json(b.base, b.floor);
+  j["noise_floor"] = to_json(b.floor, b.base.use);
+  j["error_denominator_floors"] = to_json(b.error_floors, b.base.use);
+  nlohmann::json releases = nlohmann::json::array();
+  for (std::size_t i = 0; i < set.size(); ++i) {
+    nlohmann::json r = {
+        {"id", set.impacts[i].id},
+        {"heldout_error", b.base.heldout.per_release[i]},
+        {"insample_error", b.base.insample.per_release[i]},
+        {"noise_floor", b.floor.per_release[i]},
+        {"heldout_predicted", to_json(b.base.heldout_predictions[i].value, b.base.use)},
+        {"heldout_residual", to_json(b.base.heldout.residual[i], b.base.use)}};
+    if (!b.release_fits.empty()) {
+      nlohmann::json p = nlohmann::json::object();
+      const auto& f = b.release_fits[i];
+      for (std::size_t c : f.calibrated) {
+        nlohmann::json e = {{"value", f.params[c]}};
+        if (const auto* iv = f.interval(f.names[c])) {
+          e["interval"] = {iv->lo, iv->hi};
+          e["identifiability"] = fit::identifiability_name(iv->status);
+        }
+        p[f.names[c]] = e;
+      }
+      r["release_fit"] = {{"error", f.error}, {"params", p}};
+      if (std::isfinite(f.alpha_rad)) r["release_fit"]["alpha_in_rad"] = f.alpha_rad;
+    }
+    releases.push_back(r);
+  }
+  j["releases"] = releases;
+  nlohmann::json regimes = nlohmann::json::array();
+  for (const auto& r : b.regimes)
+    regimes.push_back({{"name", r.name},
+                       {"n", r.releases.size()},
+                       {"heldout_error", r.heldout.mean},
+                       {"heldout_se", r.heldout.se},
+                       {"noise_floor", r.floor.mean}});
+  j["regimes"] = regimes;
+  j["scatter"] = to_json(b.scatter);
+  nlohmann::json ks = nlohmann::json::object();
+  for (int k = 0; k < kObservables; ++k)
+    if (b.base.use[k])
+      ks[kObservableNames[k]] = {{"statistic", b.ks[k].statistic}, {"p_value", b.ks[k].p_value}};
+  j["ks"] = ks;
+  j["residual_trends"] = to_json(b.residual_trends, true);
+  j["parameter_trends"] = to_json(b.parameter_trends, true);
+  j["features"] = nlohmann::json::array();
+  for (const auto& f : b.features)
+    j["features"].push_back({{"name", f.name}, {"label", f.label}, {"simulated", f.simulated}});
+  return j;
+}
+
+nlohmann::json to_json(const Candidate& c, const std::array<bool, kObservables>& use) {
+  nlohmann::json params = nlohmann::json::object();
+  for (std::size_t i = 0; i < c.added_parameters.size() && i < c.added_values.size(); ++i)
+    params[c.added_parameters[i]] = c.added_values[i];
+  auto num = [](double v) {
+    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+  };
+  nlohmann::json j = {{"effect", c.effect},
+                      {"effects", c.effects},
+                      {"generated", c.generated},
+                      {"law", c.law},
+                      {"t", num(c.t)},
+                      {"p_value", num(c.p_value)},
+                      {"p_holm", num(c.p_holm)},
+                      {"signature_trends", c.signature_trends},
+                      {"heldout_error", num(c.heldout_error)},
+                      {"error_drop", num(c.error_drop)},
+                      {"evidence", c.evidence},
+                      {"drop_se", num(c.drop_se)},
+                      {"penalty", num(c.penalty)},
+                      {"penalised_heldout_error", num(c.penalised_heldout)},
+                      {"supported", c.supported},
+                      {"adequate_after", c.adequacy.adequate},
+                      {"signature_r", num(c.signature_r)},
+                      {"meaning", c.meaning},
+                      {"parameters", params}};
+  if (c.error.empty()) {
+    j["insample_error"] = c.assessment.insample.error.mean;
+    j["heldout_per_component"] = to_json(c.assessment.heldout.term_mean, use);
+  } else {
+    j["error"] = c.error;
+  }
+  return j;
+}
+
+nlohmann::json to_json(const Diagnosis& d) {
+  const Baseline& b = d.baseline;
+  nlohmann::json ranking = nlohmann::json::array();
+  for (const auto& c : d.ranking) ranking.push_back(to_json(c, b.base.use));
+  nlohmann::json screened = nlohmann::json::array();
+  for (const auto& s : d.screened_out)
+    screened.push_back({{"effect", s.effect},
+                        {"signature_r", std::isfinite(s.signature_r) ? nlohmann::json(s.signature_r)
+                                                                     : nlohmann::json(nullptr)}});
+  return {{"verdict", d.verdict},
+          {"family_size", d.family_size},
+          {"screened_out", screened},
+          {"unnamed_structure", d.unnamed_structure},
+          {"scatter", to_json(b.scatter)},
+          {"cv",
+           {{"folds", b.base.cv.folds},
+            {"repeats", b.base.cv.repeats},
+            {"splits", b.base.cv.splits()},
+            {"seed", b.base.cv.seed}}},
+          {"noise_floor", b.floor.value.mean},
+          {"base_error", b.base.heldout.error.mean},
+          {"ranking", ranking},
+          {"summary", d.summary},
+          {"unexplained", d.unexplained},
+          {"noise_floor_source", b.floor.source},
+          {"noise_floor_detail", to_json(b.floor, b.base.use)},
+          {"error_denominator_floors", to_json(b.error_floors, b.base.use)},
+          {"base", to_json(b.base, b.floor)},
+          {"residual_trends", to_json(b.residual_trends, true)},
+          {"parameter_trends", to_json(b.parameter_trends, true)},
+          {"observables", to_json(Obs{1, 1, 1, 1, 1}, b.base.use)},
+          {"seconds", d.seconds}};
+}
+
+nlohmann::json to_json(const Ladder& l) {
+  nlohmann::json rungs = nlohmann::json::array();
+  for (const auto& r : l.rungs) {
+    nlohmann::json j = to_json(r.assessment, l.floor);
+    j["added"] = r.added.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.added);
+    j["law"] = r.law.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.law);
+    rungs.push_back(j);
+  }
+  nlohmann::json j = {
+      {"rungs", rungs},
+      {"noise_floor", l.floor.value.mean},
+      {"noise_floor_detail",
+       to_json(l.floor, l.rungs.empty()
+                            ? std::array<bool, kObservables>{true, true, true, false, false}
+                            : l.rungs.front().assessment.use)}};
+  if (!l.rounds.empty()) {
+    nlohmann::json rounds = nlohmann::json::array();
+    for (const auto& d : l.rounds) {
+      nlohmann::json r = {{"verdict", d.verdict}, {"summary", d.summary}};
+      if (!d.ranking.empty())
+        r["best"] = {{"effect", d.ranking.front().effect},
+                     {"law", d.ranking.front().law},
+                     {"p_holm", d.ranking.front().p_holm},
+                     {"supported", d.ranking.front().supported},
+                     {"error_drop", d.ranking.front().error_drop},
+                     {"drop_se", d.ranking.front().drop_se}};
+      rounds.push_back(r);
+    }
+    j["rounds"] = rounds;
+    j["stop_reason"] = l.stop_reason;
+  }
+  return j;
+}
+
+}  // namespace ricochet::diagnosis

@@ -1,0 +1,156 @@
+#include "diagnosis/evidence.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace ricochet::diagnosis::detail {
+
+std::string bias_text(const ErrorReport& r, int k) {
+  std::vector<double> x;
+  for (const auto& res : r.residual) x.push_back(res[k]);
+  const MeanSe m = mean_se(x);
+  if (!(m.se > 0)) return {};
+  const double t = m.mean / m.se;
+  if (std::fabs(t) < 3) return {};
+  const double scale = k == kObsPenetration ? 1e3 : k == kObsDuration ? 1e3 : 1.0;
+  const char* unit = k == kObsPenetration ? "mm" : k == kObsDuration ? "ms" : kObservableUnits[k];
+  return fmt::format("measured {} is {} than predicted by {:.3g} {} on average (t = {:.1f})",
+                     kObservableLabels[k], m.mean > 0 ? "larger" : "smaller",
+                     std::fabs(m.mean) * scale, unit, t);
+}
+
+std::string evidence_of(const Candidate& c, const Baseline& b, const DiagnoseOptions& o) {
+  const Assessment& base = b.base;
+  std::vector<std::string> parts;
+  parts.push_back(fmt::format(
+      "held-out error {:.4g} vs {:.4g} for the base model (drop {:.3g} +- {:.2g} over {} "
+      "splits, corrected t = {:.2f}, p = {:.2g}, Holm-adjusted over {} candidates {:.2g}; "
+      "penalty for {} added parameter{} {:.2g}; noise floor {:.4g})",
+      c.heldout_error, base.heldout.error.mean, c.error_drop, c.drop_se, base.cv.splits(), c.t,
+      c.p_value, c.family_size, c.p_holm, c.added_parameters.size(),
+      c.added_parameters.size() == 1 ? "" : "s", c.penalty, b.floor.value.mean));
+  // The observable whose error falls most.
+  int best_k = -1;
+  double best_drop = 0;
+  for (int k = 0; k < kObservables; ++k) {
+    if (!base.use[k]) continue;
+    const double d = base.heldout.term_mean[k] - c.assessment.heldout.term_mean[k];
+    if (d > best_drop) best_drop = d, best_k = k;
+  }
+  if (best_k >= 0)
+    parts.push_back(fmt::format("the {} error falls most ({:.3g} -> {:.3g})",
+                                kObservableLabels[best_k], base.heldout.term_mean[best_k],
+                                c.assessment.heldout.term_mean[best_k]));
+  if (std::isfinite(c.signature_r))
+    parts.push_back(fmt::format("its score test {} the base model's residuals (r = {:.2f})",
+                                std::fabs(c.signature_r) > 0.3 ? "matches" : "weakly matches",
+                                c.signature_r));
+  if (!c.law.empty()) parts.push_back("calibrated law: " + c.law);
+  for (const auto& s : c.signature_trends) parts.push_back(s);
+  if (c.contact_bias)
+    for (int k : {kObsPenetration, kObsDuration})
+      if (base.use[k])
+        if (std::string s = bias_text(base.heldout, k); !s.empty()) parts.push_back(s);
+  std::string text;
+  for (const auto& p : parts) text += (text.empty() ? "" : "; ") + p;
+  text += c.supported ? ": consistent with " + c.meaning
+                      : fmt::format(
+                            ": not supported (Holm-adjusted p {:.2g} >= {:.2g}, or the drop does "
+                            "not exceed its penalty)",
+                            c.p_holm, o.alpha);
+  return text;
+}
+
+std::string summary_of(const Diagnosis& d, const DiagnoseOptions& o) {
+  const Baseline& b = d.baseline;
+  const Assessment& base = b.base;
+  const Candidate* best =
+      !d.ranking.empty() && d.ranking.front().supported ? &d.ranking.front() : nullptr;
+  const std::string floor_text =
+      fmt::format("held-out error {:.4g} is {:.2f} x the measurement noise floor {:.4g}",
+                  base.heldout.error.mean, b.adequacy.ratio, b.floor.value.mean);
+  if (best)
+    return fmt::format(
+        "Missing physics: {}. Found: {} ({}), supported at family-wise level {:.2g} (Holm-"
+        "adjusted p {:.2g} over {} candidates): {}. Held-out error {:.4g} -> {:.4g}{}.",
+        floor_text, best->effect, best->meaning, o.alpha, best->p_holm, d.family_size,
+        best->law.empty() ? best->effect : best->law, base.heldout.error.mean, best->heldout_error,
+        best->adequacy.adequate ? ", within the noise floor" : ", still above the noise floor");
+  if (d.verdict == "missing physics") {
+    std::string s = fmt::format(
+        "Missing physics beyond the candidates: {}, no candidate of {} is supported, but the "
+        "residuals keep a deterministic structure (Holm-controlled): ",
+        floor_text, d.family_size);
+    for (std::size_t i = 0; i < d.unnamed_structure.size(); ++i)
+      s += (i ? "; " : "") + d.unnamed_structure[i];
+    return s + ".";
+  }
+  if (d.verdict == "scatter")
+    return fmt::format(
+        "Scatter beyond the measurement noise, no deterministic trend: {}; no candidate of {} "
+        "is supported and no residual or parameter trend survives the multiplicity control. "
+        "The excess is explained by the {}.",
+        floor_text, d.family_size,
+        b.scatter.computed ? b.scatter.description
+                           : std::string("spread of the ground's parameters between releases"));
+  return fmt::format(
+      "The model is adequate: held-out error {:.4g} is within the noise floor {:.4g} ({}; "
+      "threshold {:.4g}); no candidate of {} is supported.",
+      base.heldout.error.mean, b.floor.value.mean, b.floor.source, b.adequacy.threshold,
+      d.family_size);
+}
+
+std::vector<std::string> unexplained_after(const Assessment& a, const NoiseFloor& floor,
+                                           const Adequacy& q, const std::vector<Feature>& features,
+                                           const TrendOptions& to, const std::string& who) {
+  std::vector<std::string> out;
+  out.push_back(fmt::format(
+      "{}: held-out error {:.4g} = {:.2f} x the noise floor {:.4g} ({})", who, a.heldout.error.mean,
+      q.ratio, floor.value.mean,
+      q.adequate ? "within the floor" : fmt::format("above the threshold {:.4g}", q.threshold)));
+  // Per-observable excess over the floor.
+  for (int k = 0; k < kObservables; ++k) {
+    if (!a.use[k]) continue;
+    const double ratio =
+        floor.term_mean[k] > 0 ? a.heldout.term_mean[k] / floor.term_mean[k] : INFINITY;
+    if (ratio > 2)
+      out.push_back(fmt::format("{} error {:.3g} is {:.1f} x its noise floor {:.3g}",
+                                kObservableLabels[k], a.heldout.term_mean[k], ratio,
+                                floor.term_mean[k]));
+  }
+  std::vector<Trend> trends = residual_trends(a.heldout, a.use, features, to);  // Holm inside
+  std::stable_sort(trends.begin(), trends.end(),
+                   [](const Trend& x, const Trend& y) { return x.p < y.p; });
+  // One line per residual: its strongest trend, then the other features it also trends with.
+  // In a designed set the features move together (speeds campaign: |V_in|, V_in^x, V_in^y and
+  // omega_in all scale at once) and one line per pair buried the conclusions in 28 near-copies.
+  std::vector<std::string> quantities;
+  for (const auto& t : trends)
+    if (t.significant &&
+        std::find(quantities.begin(), quantities.end(), t.quantity) == quantities.end())
+      quantities.push_back(t.quantity);
+  for (const auto& q : quantities) {
+    std::string line, also;
+    for (const auto& t : trends) {
+      if (!t.significant || t.quantity != q) continue;
+      if (line.empty())
+        line = describe(t);
+      else
+        also += (also.empty() ? "" : ", ") + t.feature_label;
+    }
+    if (!also.empty()) line += "; also with " + also + " (features correlated in this set)";
+    out.push_back(line);
+  }
+  for (int k : {kObsPenetration, kObsDuration})
+    if (a.use[k])
+      if (std::string s = bias_text(a.heldout, k); !s.empty()) out.push_back(s);
+  if (out.size() == 1 && !q.adequate)
+    out.push_back(
+        "no residual trend with any impact feature: unstructured scatter (e.g. "
+        "release-to-release variability of the ground, or a noise floor set too low)");
+  return out;
+}
+
+}  // namespace ricochet::diagnosis::detail

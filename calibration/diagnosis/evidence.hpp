@@ -1,0 +1,30 @@
+// Words with numbers for the diagnosis: each candidate's evidence, the verdict's summary, and
+// what is left unexplained. Internal to the diagnosis module; every number comes from the
+// structures of diagnose.hpp, nothing is computed here but text.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "diagnosis/diagnose.hpp"
+
+namespace ricochet::diagnosis::detail {
+
+/// Mean residual of observable k with its t statistic, when |t| >= 3 (a bias, e.g. the contact
+/// always too long); empty otherwise.
+std::string bias_text(const ErrorReport& r, int k);
+
+/// The evidence of a judged candidate: the drop and its corrected test, the observable whose
+/// error falls most, the score test, the calibrated law, the declared signature trends found.
+std::string evidence_of(const Candidate& c, const Baseline& b, const DiagnoseOptions& o);
+
+/// One or two sentences for the verdict of `d` (ranking, verdict and scatter already set).
+std::string summary_of(const Diagnosis& d, const DiagnoseOptions& o);
+
+/// What a model leaves unexplained: its ratio to the floor, observables far above their floor,
+/// one line per residual with a Holm-significant trend, contact biases.
+std::vector<std::string> unexplained_after(const Assessment& a, const NoiseFloor& floor,
+                                           const Adequacy& q, const std::vector<Feature>& features,
+                                           const TrendOptions& to, const std::string& who);
+
+}  // namespace ricochet::diagnosis::detail

@@ -1,0 +1,113 @@
+// ladder() and auto_ladder(): models of growing physics, each judged by its held-out error
+// (diagnose.hpp).
+#include <fmt/format.h>
+
+#include "common/error.hpp"
+#include "common/progress.hpp"
+#include "diagnosis/diagnose.hpp"
+
+namespace ricochet::diagnosis {
+namespace {
+
+const EffectRegistry& registry_of(const DiagnoseOptions& o) {
+  return o.registry ? *o.registry : EffectRegistry::global();
+}
+
+std::string law_of(const Model& m, const std::string& effect, const EffectRegistry& registry) {
+  const Effect& e = registry.get(effect);
+  std::vector<double> v;
+  for (const auto& p : e.parameters()) v.push_back(m.value(p.name));
+  return e.law(v);
+}
+
+}  // namespace
+
+Ladder ladder(const Model& model, const Shape& shape, const ImpactSet& set,
+              const std::vector<std::string>& adds, const DiagnoseOptions& options) {
+  DiagnoseOptions o = options;
+  o.assess = resolve_scale(set, options.assess);
+  Ladder l;
+  const EffectRegistry& registry = registry_of(o);
+  Model current = model;
+  Progress progress("ladder", adds.size() + 1, o.progress);
+  for (std::size_t r = 0; r <= adds.size(); ++r) {
+    Rung rung;
+    if (r > 0) {
+      rung.added = adds[r - 1];
+      try {
+        current = current.with_effect(rung.added, /*at_neutral=*/true, registry);
+      } catch (const std::exception& e) {
+        throw InputError("<command line>", 0, "--add", e.what());
+      }
+    }
+    progress.status(r == 0 ? "base" : rung.added);
+    rung.effects = current.effect_names();
+    AssessOptions rung_options = o.assess;
+    if (r > 0) {
+      rung_options.population_starts = o.assess.warm_starts;
+      rung_options.refine_start = true;
+    }
+    // Each rung's splits start from the previous rung's optima on the same training releases.
+    rung.assessment =
+        assess(current, shape, set, rung_options, r > 0 ? &l.rungs.back().assessment : nullptr);
+    current = with_values(current, rung.assessment.population.params);
+    if (r > 0) rung.law = law_of(current, rung.added, registry);
+    if (r == 0)
+      l.floor = noise_floor(current, shape, rung.assessment.population.params, set,
+                            rung.assessment.use, o.assess);
+    rung.adequacy = adequacy(rung.assessment, l.floor);
+    l.rungs.push_back(std::move(rung));
+    progress.advance();
+  }
+  progress.finish();
+  return l;
+}
+
+Ladder auto_ladder(const Model& model, const Shape& shape, const ImpactSet& set, int max_rounds,
+                   const DiagnoseOptions& o, const Diagnosis* first) {
+  Ladder l;
+  Model current = model;
+  for (int round = 0;; ++round) {
+    Diagnosis d = round == 0 && first ? *first : diagnose(current, shape, set, o);
+    if (round == 0) {
+      l.floor = d.baseline.floor;
+      Rung base;
+      base.effects = current.effect_names();
+      base.assessment = d.baseline.base;
+      base.adequacy = d.baseline.adequacy;
+      l.rungs.push_back(std::move(base));
+    }
+    const bool supported = !d.ranking.empty() && d.ranking.front().supported;
+    const std::string verdict = d.verdict;
+    l.rounds.push_back(d);
+    if (!supported) {
+      l.stop_reason = verdict == "adequate"
+                          ? "the model is adequate (held-out error within the noise floor) and no "
+                            "candidate is supported"
+                      : verdict == "scatter"
+                          ? "no candidate is supported: the excess over the measurement floor is "
+                            "release-to-release scatter"
+                          : "no candidate is supported, but a residual trend remains (missing "
+                            "physics beyond the candidates)";
+      break;
+    }
+    if (round >= max_rounds) {
+      l.stop_reason = fmt::format("stopped after {} rounds", max_rounds);
+      break;
+    }
+    const Candidate& best = d.ranking.front();
+    const EffectRegistry& registry = registry_of(o);
+    for (const auto& e : best.effects) current = current.with_effect(e, true, registry);
+    current = with_values(current, best.assessment.population.params);
+    Rung rung;
+    rung.added = best.effect;
+    rung.law = best.law;
+    rung.effects = current.effect_names();
+    rung.assessment = best.assessment;
+    rung.adequacy = adequacy(best.assessment, l.floor);
+    l.rungs.push_back(std::move(rung));
+  }
+  return l;
+}
+
+}  // namespace ricochet::diagnosis
