@@ -301,8 +301,9 @@ std::vector<NamedFigure> diagnose_figures(const Diagnosis& d, const std::string&
   f.panels = {p};
   return {{"diagnosis",
            "Held-out error of the base model and of the base model with each candidate effect "
-           "added and recalibrated; green: supported (the drop exceeds its uncertainty and the "
-           "penalty for the added parameters).",
+           "added and recalibrated; green: supported (the drop passes the corrected resampled "
+           "t-test under Holm's family-wise control and exceeds the penalty for the added "
+           "parameters).",
            f}};
 }
 

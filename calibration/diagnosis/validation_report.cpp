@@ -44,14 +44,7 @@ std::string conclusion_of(const ReportSection& s) {
         "releases (unmeasured orientation, ground preparation, measurement) that no "
         "deterministic effect of the model can remove.",
         g4(b.floor.nearest_neighbour), f2(b.floor.nearest_neighbour / b.floor.value.mean));
-  if (!d.ranking.empty() && d.ranking.front().supported) {
-    const auto& best = d.ranking.front();
-    c += fmt::format(" The best candidate is {} ({}): held-out error {} (drop {} +- {}).",
-                     best.effect, best.meaning, g4(best.heldout_error), g3(best.error_drop),
-                     g3(best.drop_se));
-  } else {
-    c += " No effect in the catalog is supported by the held-out error.";
-  }
+  c += " Verdict: " + d.verdict + ". " + d.summary;
   if (s.ladder.rungs.size() > 1) {
     const auto& last = s.ladder.rungs.back();
     c += fmt::format(" After the ladder ({}), the held-out error is {} = {} x the floor ({}).",
@@ -224,15 +217,19 @@ std::size_t write_report(const std::vector<ReportSection>& sections, const Model
       "((simulated - measured) / max(|measured|, floor))^2, plus the same kind of term for the "
       "penetration and the contact duration when the data have them; blocks of unknown "
       "orientation are scored by the expected error over orientations.",
-      "Held-out error: k-fold cross-validation of the population fit (each release predicted "
-      "by a fit that did not see it).",
+      "Held-out error: leak-free repeated k-fold cross-validation of the population fit (each "
+      "release predicted by fits that saw neither it nor anything computed from it: start "
+      "values, bounds and error scales come from the training releases).",
       "Noise floor: the expected error of the true model (replicates, declared uncertainties or "
       "the paper's Table 1 operator scale, plus the V_in noise propagated through the model and "
       "the orientation spread). Adequate: held-out error not significantly above it (paired "
       "test, 2 SE).",
-      "Diagnosis: each catalog effect is added at its neutral value, recalibrated and ranked by "
-      "its penalised held-out error; supported when the paired drop exceeds 2 SE and the "
-      "penalty for the added parameters.",
+      "Diagnosis: each candidate (catalog, plugins, and generated coefficient laws after a "
+      "score-test screen) is added at its neutral value, recalibrated split by split and ranked "
+      "by its penalised held-out error; supported when its drop passes the corrected "
+      "resampled t-test under Holm's family-wise control at 0.05 and exceeds the penalty for "
+      "the added parameters. Verdicts: adequate, scatter (release-to-release spread of the "
+      "parameters, no deterministic trend), missing physics.",
   });
 
   for (std::size_t i = 0; i < sections.size(); ++i) {

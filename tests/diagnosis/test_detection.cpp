@@ -4,6 +4,11 @@
 // error within the noise floor. Also: no false alarm without a hidden effect, two hidden effects
 // found by two rounds of the ladder, and the honest limit of an effect invisible in V_out.
 //
+// These sets are made by the engine that is diagnosed, with the catalog's own forms: an inverse
+// crime, kept as a regression test of the machinery on the catalog alone (candidates = the
+// hand-written catalog). The honest tests, on truths made by an independent simulator with other
+// forms, scatter and the generated laws competing, are in tests/detection/.
+//
 // Design of every set (docs/diagnosis.md, "Tests"): 30 cylinder releases, wide incident design,
 // lab measurement noise (paper Table 1 scale), base parameters en2 = 0.2, mu = 0.4, muR = 0.15
 // unless the case says otherwise, seed 11. The magnitudes are those of the detection study where
@@ -54,8 +59,19 @@ ImpactSet hidden_set(const HiddenCase& c) {
   return set;
 }
 
+// The hand-written catalog: registered effects that are neither the paper's law nor generated.
+std::vector<std::string> catalog() {
+  std::vector<std::string> out;
+  const Model paper = Model::paper();
+  for (const auto& n : EffectRegistry::global().names())
+    if (!paper.has_effect(n) && !EffectRegistry::global().get(n).signature().generated)
+      out.push_back(n);
+  return out;
+}
+
 DiagnoseOptions options() {
   DiagnoseOptions o;
+  o.candidates = catalog();
   o.assess.release_intervals = false;  // parameter trends without intervals: faster
   o.progress = false;
   return o;
@@ -80,7 +96,8 @@ TEST_P(HiddenEffect, RankedFirstSupportedAndBringsTheErrorWithinTheFloor) {
   const Candidate& best = d.ranking.front();
   EXPECT_EQ(best.effect, c.effects.front()) << ranking_text(d);
   EXPECT_TRUE(best.supported) << ranking_text(d);
-  EXPECT_GT(best.error_drop, 2 * best.drop_se);
+  EXPECT_LT(best.p_holm, 0.05);
+  EXPECT_EQ(d.verdict, "missing physics");
   EXPECT_TRUE(best.adequacy.adequate)
       << "held-out " << best.heldout_error << " vs floor " << d.baseline.floor.value.mean;
   EXPECT_LE(best.heldout_error, best.adequacy.threshold);
@@ -88,8 +105,8 @@ TEST_P(HiddenEffect, RankedFirstSupportedAndBringsTheErrorWithinTheFloor) {
   EXPECT_GT(d.baseline.base.heldout.error.mean, best.heldout_error);
   EXPECT_NE(best.evidence.find("consistent with"), std::string::npos) << best.evidence;
   EXPECT_NE(best.evidence.find("held-out error"), std::string::npos);
-  // Every other effect of the catalog was tried.
-  EXPECT_EQ(d.ranking.size(), EffectRegistry::global().names().size() - 3);
+  // Every effect of the catalog was tried (and pairs only if one was not enough).
+  EXPECT_GE(d.ranking.size(), catalog().size());
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -118,8 +135,7 @@ TEST(HiddenEffect, NoHiddenEffectNoFalseAlarm) {
   const Diagnosis d = diagnose(Model::paper(), Shape::cylinder(), set, options());
   for (const auto& c : d.ranking) EXPECT_FALSE(c.supported) << ranking_text(d);
   EXPECT_EQ(d.verdict, "adequate") << ranking_text(d);
-  EXPECT_NE(d.summary.find("No effect in the catalog is supported"), std::string::npos)
-      << d.summary;
+  EXPECT_NE(d.summary.find("no candidate of"), std::string::npos) << d.summary;
 }
 
 TEST(HiddenEffect, StiffnessIsInvisibleInVelocitiesAlone) {
