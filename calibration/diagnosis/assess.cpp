@@ -416,6 +416,13 @@ Assessment assess(const Model& model, const Shape& shape, const ImpactSet& set,
   }
   a.folds = a.cv.folds;
   const std::size_t R = a.cv.repeats;
+  // Calibrated parameters the warm assessment's model does not have (the added effect's).
+  std::vector<std::size_t> added;
+  if (warm)
+    for (std::size_t i : model.calibrated_indices())
+      if (std::find(warm->names.begin(), warm->names.end(), model.spec(i).name) ==
+          warm->names.end())
+        added.push_back(i);
   a.fold_params.resize(a.cv.splits());
   a.split_error.resize(a.cv.splits());
   a.repeat_error.assign(R, std::vector<double>(n, NAN));
@@ -427,15 +434,26 @@ Assessment assess(const Model& model, const Shape& shape, const ImpactSet& set,
     const AssessOptions oj = resolve_scale_on(train, options);
     fit::FitOptions fj = fit_options_for(train, oj);
     fj.intervals = false;
-    Model start = model;
+    fit::PopulationFit pf;
     if (warm) {
-      start.set_values(carry_values(model, warm->names, warm->fold_params[j]));
+      // Local refinements from the base model's fold optimum, with the added parameters at
+      // their start value and along a line through their range (AssessOptions::fold_warm_*).
       fj.starts = o.fold_warm_starts;
       fj.design_points = o.fold_warm_design_points;
+      const std::vector<double> from = carry_values(model, warm->names, warm->fold_params[j]);
+      for (double frac : o.fold_added_line) {
+        Model start = model;
+        std::vector<double> v = from;
+        for (std::size_t i : added)
+          if (frac >= 0) v[i] = model.lower(i) + frac * (model.upper(i) - model.lower(i));
+        start.set_values(v);
+        fit::PopulationFit f = fit::calibrate_population(start, shape, train, fj);
+        if (pf.params.empty() || f.error < pf.error) pf = std::move(f);
+      }
     } else {
       fj.starts = o.fold_starts;
+      pf = fit::calibrate_population(model, shape, train, fj);
     }
-    const fit::PopulationFit pf = fit::calibrate_population(start, shape, train, fj);
     a.fold_params[j] = pf.params;
     const auto pred = predict_observables(model, shape, pf.params, test, oj);
     const std::size_t r = j / a.cv.folds;

@@ -59,7 +59,8 @@ struct DiagnoseOptions {
   std::size_t screen = 4;
   /// Try pairs of the best candidates when no single one brings the model within its floor.
   bool pairs = true;
-  std::size_t pair_pool = 3;  ///< pairs among this many best single candidates
+  /// Pairs among this many best single candidates with an uncorrected p below alpha.
+  std::size_t pair_pool = 3;
   /// Effects to try; empty = every effect of the registry not in the model.
   std::vector<std::string> candidates;
   /// Registry of effects (built-ins and loaded plugins); nullptr = EffectRegistry::global().

@@ -18,6 +18,7 @@ nlohmann::json to_json(const Assessment& a, const NoiseFloor& floor) {
           {"heldout_error", a.heldout.error.mean},
           {"heldout_se", a.heldout.error.se},
           {"folds", a.folds},
+          {"split_errors", a.split_error},
           {"repeats", a.cv.repeats},
           {"insample_per_component", to_json(a.insample.term_mean, a.use)},
           {"heldout_per_component", to_json(a.heldout.term_mean, a.use)},
@@ -109,6 +110,7 @@ nlohmann::json to_json(const Candidate& c, const std::array<bool, kObservables>&
                       {"meaning", c.meaning},
                       {"parameters", params}};
   if (c.error.empty()) {
+    j["split_errors"] = c.assessment.split_error;
     j["insample_error"] = c.assessment.insample.error.mean;
     j["heldout_per_component"] = to_json(c.assessment.heldout.term_mean, use);
   } else {

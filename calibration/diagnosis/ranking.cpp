@@ -209,8 +209,12 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
       !d.ranking.empty() && d.ranking.front().error.empty() && d.ranking.front().adequacy.adequate;
   if (o.pairs && !single_enough && b.adequacy.adequate == false) {
     std::vector<const Candidate*> pool;
+    // Only singles with some evidence of their own (uncorrected p < alpha) are paired: a pair
+    // of two effects that each do nothing is rarely more than their sum, and each pair tried
+    // enlarges the Holm family.
     for (const auto& c : d.ranking)
-      if (c.error.empty() && c.error_drop > 0 && pool.size() < o.pair_pool) pool.push_back(&c);
+      if (c.error.empty() && c.error_drop > 0 && c.p_value < o.alpha && pool.size() < o.pair_pool)
+        pool.push_back(&c);
     std::vector<std::vector<std::string>> pair_jobs;
     std::vector<const Assessment*> from;
     for (std::size_t x = 0; x < pool.size(); ++x)

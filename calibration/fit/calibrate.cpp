@@ -215,11 +215,12 @@ class ReleaseProblem final : public Problem {
 // Unit design of the start search: the model's own values first, then a Latin hypercube.
 std::vector<double> start_design(const ParameterBox& box, const Model& model, std::size_t dim,
                                  const FitOptions& options) {
-  const std::size_t n =
-      options.design_points > 0 ? static_cast<std::size_t>(options.design_points) : 16 * dim;
   std::vector<double> design(dim, 0.5);  // alpha (if any) starts at the middle of its range
   for (std::size_t k = 0; k < box.size(); ++k)
     design[k] = box.to_unit(k, model.values()[box.index[k]]);
+  if (options.design_points < 0) return design;  // a local refinement of the model's values
+  const std::size_t n =
+      options.design_points > 0 ? static_cast<std::size_t>(options.design_points) : 16 * dim;
   const std::vector<double> lhs = lhs_unit_design(dim, n, options.seed);
   design.insert(design.end(), lhs.begin(), lhs.end());
   return design;

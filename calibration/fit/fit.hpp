@@ -99,10 +99,12 @@ struct FitOptions {
     e.max_time_s = 0.1;
     return e;
   }();
-  ErrorOptions error;         ///< Eq. 7 denominators
-  std::uint64_t seed = 1;     ///< seed of the Latin hypercube start design
-  int starts = 4;             ///< BOBYQA runs per fit, from the best design points
-  int design_points = 0;      ///< size of the start design; 0 = 16 per fitted variable
+  ErrorOptions error;      ///< Eq. 7 denominators
+  std::uint64_t seed = 1;  ///< seed of the Latin hypercube start design
+  int starts = 4;          ///< BOBYQA runs per fit, from the best design points
+  /// Size of the start design besides the model's own values; 0 = 16 per fitted variable;
+  /// negative = none (a local refinement from the model's values).
+  int design_points = 0;
   int max_evaluations = 300;  ///< per BOBYQA run
   double xtol = 1e-3;         ///< BOBYQA step tolerance, in units of the bound range
   AlphaOptions alpha;         ///< unknown incidence angle of non-disc blocks
