@@ -512,24 +512,26 @@ Assessment assess(const Model& model, const Shape& shape, const ImpactSet& set,
   // against 0.935): it had stopped on a kink. The best fold optimum is then refined on the full
   // set. This touches the full-set (in-sample) fit only: the held-out predictions above never
   // depend on it.
-  std::size_t best_fold = a.fold_params.size();
-  double best_error = a.population.error;
+  // Fold optima ranked by the full-set objective (expected error over orientations, as the fit
+  // module minimises, plus the failed-rebound penalty); the two best that beat the full-set
+  // optimum are refined locally on the full set.
+  std::vector<std::pair<double, std::size_t>> better;
   for (std::size_t k = 0; k < a.fold_params.size(); ++k) {
     const auto pr = fit::predict(model, shape, a.fold_params[k], set, fo);
-    double e = 0.0;
-    for (double x : fit::prediction_errors(set, pr, fo.error)) e += x;
+    const ErrorReport r = error_report(set, to_observables(pr), a.use, o);
+    double e = r.error.mean * static_cast<double>(n);
     for (const auto& q : pr) e += q.status == CollisionStatus::kOk ? 0.0 : fit::kFailedRebound;
-    if (e < best_error) best_error = e, best_fold = k;
+    if (e < a.population.error) better.emplace_back(e, k);
   }
-  if (best_fold < a.fold_params.size()) {
+  std::sort(better.begin(), better.end());
+  for (std::size_t t = 0; t < better.size() && t < 2; ++t) {
     Model from = model;
-    from.set_values(a.fold_params[best_fold]);
+    from.set_values(a.fold_params[better[t].second]);
     fit::FitOptions fl = fo;
     fl.starts = 1;
-    fl.design_points = o.fold_warm_design_points;
-    const fit::PopulationFit polished =
-        fit::calibrate_population(windowed(from, 0.15), shape, set, fl);
-    if (polished.error < a.population.error) a.population = polished;
+    fl.design_points = -1;
+    fit::PopulationFit polished = fit::calibrate_population(windowed(from, 0.15), shape, set, fl);
+    if (polished.error < a.population.error) a.population = std::move(polished);
   }
   a.insample_predictions = to_observables(a.population.predictions);
   a.insample = error_report(set, a.insample_predictions, a.use, o);

@@ -111,12 +111,16 @@ struct Candidate {
   Adequacy adequacy;                          ///< of base + effect against the noise floor
   double heldout_error = 0, heldout_se = 0;
   double error_drop = 0;  ///< base - candidate held-out error (mean over releases)
-  /// Corrected standard error of the drop (corrected resampled t-test over the splits).
+  /// Standard error of the drop: error_drop / t (the test itself is on the splits' log error
+  /// ratios, ranking.cpp).
   double drop_se = 0;
-  double t = 0;                  ///< corrected resampled t statistic
-  double p_value = 1;            ///< one-sided p of the drop (H0: no improvement)
-  double p_holm = 1;             ///< Holm-adjusted over the family
-  std::size_t family_size = 0;   ///< hypotheses in the Holm family
+  double t = 0;                 ///< corrected resampled t statistic
+  double p_value = 1;           ///< one-sided p of the drop (H0: no improvement)
+  double p_holm = 1;            ///< Holm-adjusted over the family
+  std::size_t family_size = 0;  ///< hypotheses in the Holm family
+  /// A pair: its held-out error is also significantly below its first effect's alone
+  /// (corrected resampled t-test at alpha); a pair is supported only then.
+  bool beats_first = false;
   bool contact_bias = false;     ///< the effect's signature includes a contact-feature bias
   double penalty = 0;            ///< p_added * floor / n_train
   double penalised_heldout = 0;  ///< ranking key

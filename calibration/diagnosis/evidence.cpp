@@ -48,6 +48,9 @@ std::string evidence_of(const Candidate& c, const Baseline& b, const DiagnoseOpt
                                 std::fabs(c.signature_r) > 0.3 ? "matches" : "weakly matches",
                                 c.signature_r));
   if (!c.law.empty()) parts.push_back("calibrated law: " + c.law);
+  if (c.effects.size() > 1)
+    parts.push_back(c.beats_first ? "the pair beats its first effect alone"
+                                  : "the pair does not beat its first effect alone");
   for (const auto& s : c.signature_trends) parts.push_back(s);
   if (c.contact_bias)
     for (int k : {kObsPenetration, kObsDuration})

@@ -113,6 +113,12 @@ PopulationScatter population_scatter(const Model& warm, const Shape& shape, cons
       L.s[i][kk] = std::max(floor.variance[i][obs[k]] * inflate, 1e-30);
     }
   out.sd = minimise(L, hi);
+  const double best = L.nll(out.sd);
+  for (std::size_t c = 0; c < cal.size(); ++c) {
+    std::vector<double> t = out.sd;
+    t[c] = 0.0;
+    out.identified.push_back(L.nll(t) - best >= 0.5);
+  }
   out.lr = std::max(0.0, 2.0 * (L.nll(std::vector<double>(cal.size(), 0.0)) - L.nll(out.sd)));
   out.p_value =
       cal.empty() ? 1.0 : stats::chi_square_upper_tail(out.lr, static_cast<double>(cal.size()));
@@ -155,7 +161,10 @@ nlohmann::json to_json(const PopulationScatter& s) {
   if (!s.computed) return nullptr;
   nlohmann::json params = nlohmann::json::object();
   for (std::size_t c = 0; c < s.names.size(); ++c)
-    params[s.names[c]] = {{"value", s.value[c]}, {"sd", s.sd[c]}, {"unit", s.units[c]}};
+    params[s.names[c]] = {{"value", s.value[c]},
+                          {"sd", s.sd[c]},
+                          {"sd_identified", static_cast<bool>(s.identified[c])},
+                          {"unit", s.units[c]}};
   return {{"parameters", params},
           {"likelihood_ratio", s.lr},
           {"p_value", s.p_value},

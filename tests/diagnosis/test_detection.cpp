@@ -9,7 +9,7 @@
 // hand-written catalog). The honest tests, on truths made by an independent simulator with other
 // forms, scatter and the generated laws competing, are in tests/detection/.
 //
-// Design of every set (docs/diagnosis.md, "Tests"): 30 cylinder releases, wide incident design,
+// Design of every set (docs/diagnosis.md, "Tests"): 40 cylinder releases, wide incident design,
 // lab measurement noise (paper Table 1 scale), base parameters en2 = 0.2, mu = 0.4, muR = 0.15
 // unless the case says otherwise, seed 11. The magnitudes are those of the detection study where
 // detection is reliable (not marginal), so that the tests check the method, not luck.
@@ -46,7 +46,7 @@ ImpactSet hidden_set(const HiddenCase& c) {
   truth.set("muR", 0.15);
   for (const auto& [name, v] : c.values) truth.set(name, v);
   SynthOptions o;
-  o.n = 30;
+  o.n = 40;
   o.seed = 11;
   o.design = Design::kWide;
   o.noise = c.noise;
