@@ -69,14 +69,13 @@ void run(DiagnosisCliOptions& o, int auto_rounds) {
   base_options.add.clear();
   const Model model = base_options.build_model();  // loads plugins, reads --model, applies --set
   const auto& registry = EffectRegistry::global();
-  for (const auto& a : adds)
-    if (!registry.contains(a))
-      throw InputError(
-          "<command line>", 0, "--add", "unknown effect '" + a + "'; known effects: " + [&] {
-            std::string s;
-            for (const auto& n : registry.names()) s += (s.empty() ? "" : ", ") + n;
-            return s;
-          }());
+  for (const auto& a : adds) {
+    try {
+      (void)registry.get(a);  // its error lists the known effects
+    } catch (const std::exception& e) {
+      throw InputError("<command line>", 0, "--add", e.what());
+    }
+  }
   if (adds.empty() && auto_rounds < 0)
     throw InputError("<command line>", 0, "--add",
                      "give the effects of the ladder (--add NAME, repeatable) or --auto N");
@@ -96,6 +95,11 @@ void run(DiagnosisCliOptions& o, int auto_rounds) {
     doc["figures"] = figures;
   }
   if (!o.output.out.empty()) write_out(o.output.out, l, doc);
+  if (!o.write_model.empty()) {
+    require_extension("--write-model", o.write_model, {".toml"});
+    write_text_file(o.write_model, diagnosis::ladder_model(model, l).to_toml(), "--write-model");
+    doc["model_file"] = o.write_model;
+  }
   if (o.output.json) {
     print_json(doc);
     return;
@@ -118,6 +122,7 @@ void run(DiagnosisCliOptions& o, int auto_rounds) {
     for (int k = 0; k < diagnosis::kObservables; ++k)
       if (use[k]) line += fmt::format("{:>13.4g}", a.heldout.term_mean[k]);
     std::cout << line << (rung.adequacy.adequate ? "  adequate" : "") << "\n";
+    if (!rung.law.empty()) std::cout << "     law: " << rung.law << "\n";
   }
   std::string floor_line = fmt::format("{:<5}{:<22}{:>11}{:>11.4g}{:>9}{:>10}", "", "noise floor",
                                        "", l.floor.value.mean, "", "");
@@ -136,7 +141,9 @@ void add_ladder_command(CLI::App& app) {
       app, "ladder",
       "Recalibrate a ladder of models (base, + effect, + another, ...) and show the in-sample "
       "and held-out error falling towards the noise floor",
-      {.alpha = "--auto: family-wise error rate of the candidate tests (Holm)", .features = true},
+      {.alpha = "--auto: family-wise error rate of the candidate tests (Holm)",
+       .features = true,
+       .write_model = true},
       [auto_rounds](CLI::App* sub) {
         sub->get_option("--add")->description(
             "Effect added by the next rung (repeatable, in order; plugin effects too)");

@@ -181,6 +181,9 @@ Ladder auto_ladder(const Model& model, const Shape& shape, const ImpactSet& set,
 
 /// The model of a rung, with its calibrated values (to continue from it).
 Model with_values(const Model& model, const std::vector<double>& values);
+/// The last rung of a ladder as a model with its calibrated values (`ladder --write-model`).
+Model ladder_model(const Model& base, const Ladder& l,
+                   const EffectRegistry& registry = EffectRegistry::global());
 /// The base model plus the best supported candidate of `d` with its calibrated values (the
 /// model file `diagnose --write-model` writes); the base model when nothing is supported.
 Model best_model(const Model& base, const Diagnosis& d,

@@ -107,7 +107,8 @@ std::string summary_of(const Diagnosis& d, const DiagnoseOptions& o) {
 
 std::vector<std::string> unexplained_after(const Assessment& a, const NoiseFloor& floor,
                                            const Adequacy& q, const std::vector<Feature>& features,
-                                           const TrendOptions& to, const std::string& who) {
+                                           const TrendOptions& to, const std::string& who,
+                                           const std::vector<Trend>* given) {
   std::vector<std::string> out;
   out.push_back(fmt::format(
       "{}: held-out error {:.4g} = {:.2f} x the noise floor {:.4g} ({})", who, a.heldout.error.mean,
@@ -123,7 +124,9 @@ std::vector<std::string> unexplained_after(const Assessment& a, const NoiseFloor
                                 kObservableLabels[k], a.heldout.term_mean[k], ratio,
                                 floor.term_mean[k]));
   }
-  std::vector<Trend> trends = residual_trends(a.heldout, a.use, features, to);  // Holm inside
+  // The base model's trends were decided in compare()'s family (residuals and parameters);
+  // a candidate's residual trends form their own family.
+  std::vector<Trend> trends = given ? *given : residual_trends(a.heldout, a.use, features, to);
   std::stable_sort(trends.begin(), trends.end(),
                    [](const Trend& x, const Trend& y) { return x.p < y.p; });
   // One line per residual: its strongest trend, then the other features it also trends with.

@@ -25,6 +25,7 @@ std::string summary_of(const Diagnosis& d, const DiagnoseOptions& o);
 /// one line per residual with a Holm-significant trend, contact biases.
 std::vector<std::string> unexplained_after(const Assessment& a, const NoiseFloor& floor,
                                            const Adequacy& q, const std::vector<Feature>& features,
-                                           const TrendOptions& to, const std::string& who);
+                                           const TrendOptions& to, const std::string& who,
+                                           const std::vector<Trend>* given = nullptr);
 
 }  // namespace ricochet::diagnosis::detail

@@ -110,4 +110,18 @@ Ladder auto_ladder(const Model& model, const Shape& shape, const ImpactSet& set,
   return l;
 }
 
+Model ladder_model(const Model& base, const Ladder& l, const EffectRegistry& registry) {
+  Model m = base;
+  for (std::size_t r = 1; r < l.rungs.size(); ++r) {
+    const std::string& added = l.rungs[r].added;
+    for (std::size_t a = 0, b; a <= added.size(); a = b + 1) {
+      b = added.find('+', a);
+      if (b == std::string::npos) b = added.size();
+      m = m.with_effect(added.substr(a, b - a), /*at_neutral=*/true, registry);
+    }
+  }
+  if (!l.rungs.empty()) m.set_values(l.rungs.back().assessment.population.params);
+  return m;
+}
+
 }  // namespace ricochet::diagnosis

@@ -297,8 +297,8 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
     d.unexplained = detail::unexplained_after(best->assessment, b.floor, best->adequacy, b.features,
                                               o.trends, "after adding " + best->effect);
   else
-    d.unexplained =
-        detail::unexplained_after(base, b.floor, b.adequacy, b.features, o.trends, "base model");
+    d.unexplained = detail::unexplained_after(base, b.floor, b.adequacy, b.features, o.trends,
+                                              "base model", &b.residual_trends);
   d.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() + b.seconds;
   return d;
