@@ -2,6 +2,7 @@
 // HTML writer (report/html.hpp), on real engine runs.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "diagnosis/assess.hpp"
@@ -264,6 +265,34 @@ TEST(Assess, CrossValidationDesignIsAPartitionPerRepeat) {
   EXPECT_EQ(make_cv_design(23, 5, 3, 7).test, cv.test);
   EXPECT_NE(make_cv_design(23, 5, 3, 8).test, cv.test);
   EXPECT_THROW(make_cv_design(3, 5, 1, 1), std::invalid_argument);
+}
+
+// Effect knowledge lives in the effects (issue 10): every registered effect says what it stands
+// for, and every candidate (an effect outside the paper's law) which residuals or calibrated
+// parameters it should move, against which features the diagnosis computes.
+TEST(Signatures, EveryRegisteredEffectDeclaresOne) {
+  const Model paper = Model::paper();
+  const std::vector<std::string> quantities = {"residual vx", "residual vy", "residual w",
+                                               "residual penetration",
+                                               "residual contact_duration"};
+  const std::vector<std::string> features = {"speed_in",     "abs_vin_y", "vin_x",
+                                             "win",          "impact_angle", "alpha_in",
+                                             "penetration", "contact_duration"};
+  for (const Effect* e : EffectRegistry::global().all()) {
+    const Signature s = e->signature();
+    EXPECT_FALSE(s.meaning.empty()) << e->name();
+    if (paper.has_effect(e->name())) continue;
+    EXPECT_FALSE(s.trends.empty()) << e->name();
+    for (const auto& t : s.trends) {
+      const std::string q(t.quantity), f(t.feature);
+      const bool param = q.rfind("param ", 0) == 0;
+      EXPECT_TRUE(param || std::find(quantities.begin(), quantities.end(), q) != quantities.end())
+          << e->name() << ": " << q;
+      if (param) EXPECT_NO_THROW((void)paper.index(q.substr(6))) << e->name() << ": " << q;
+      EXPECT_NE(std::find(features.begin(), features.end(), f), features.end())
+          << e->name() << ": " << f;
+    }
+  }
 }
 
 TEST(Trends, PearsonAndSpearmanMustAgree) {
