@@ -42,7 +42,16 @@ if section dem; then
 fi
 
 if section diagnosis; then
-  echo "== Diagnosis of the lab data: compare and diagnose per shape (issue 6: interactive, seconds)"
+  echo "== Diagnosis of the lab data, leak-free: compare and diagnose per shape (issue 10: lab"
+  echo "   cylinders <= 3 s on 2 cores), against 50,000 plain scalar collisions in the same run"
   "$BUILD/benchmarks/bench_diagnosis" --benchmark_out="$OUT/diagnosis.json" \
     --benchmark_out_format=json --benchmark_counters_tabular=true
+  python3 - "$OUT/diagnosis.json" <<'PY'
+import json, sys
+b = {x["name"]: x["real_time"] for x in json.load(open(sys.argv[1]))["benchmarks"]}
+ref = next(v for k, v in b.items() if k.startswith("BM_PlainScalarReference50k"))
+for k, v in b.items():
+    if k.startswith("BM_DiagnoseLab") or k.startswith("BM_CompareLab"):
+        print(f"{k}: {v:.2f} s = {v / ref:.2f} x the reference's 50,000 collisions ({ref:.2f} s)")
+PY
 fi
