@@ -253,8 +253,9 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
           const double p = stats::corrected_resampled_t(dj, n_test, nn - n_test).p_value;
           c.beats_first = std::isfinite(p) && p < o.alpha;
         }
-        d.ranking.push_back(std::move(c));
       }
+      // Only now: `from` points into d.ranking, which the insertion may reallocate.
+      for (auto& c : pairs) d.ranking.push_back(std::move(c));
     }
   }
 
