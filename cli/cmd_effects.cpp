@@ -4,6 +4,7 @@
 
 #include "cli_common.hpp"
 #include "common/error.hpp"
+#include "effects/coefficient_law.hpp"
 #include "effects/registry.hpp"
 
 namespace ricochet::cli {
@@ -34,6 +35,8 @@ nlohmann::json describe(const Effect& e) {
     q["neutral"] = std::isnan(p.neutral) ? nlohmann::json(nullptr) : nlohmann::json(p.neutral);
     j["parameters"].push_back(q);
   }
+  j["generated"] = e.signature().generated;
+  j["meaning"] = std::string(e.signature().meaning);
   j["state"] = nlohmann::json::array();
   for (const auto& s : e.state())
     j["state"].push_back({{"name", std::string(s.name)}, {"unit", std::string(s.unit)}});
@@ -65,7 +68,13 @@ void run(const EffectsOptions& o) {
     print_json(nlohmann::json{{"effects", j}});
     return;
   }
+  // Without a NAME the generated family is one paragraph, not 40 entries (its JSON lists all).
+  std::size_t generated = 0;
   for (const Effect* e : list) {
+    if (o.name.empty() && e->signature().generated) {
+      ++generated;
+      continue;
+    }
     std::printf("%-18s [%s] %s\n", std::string(e->name()).c_str(),
                 std::string(stage_name(e->stage())).c_str(), std::string(e->summary()).c_str());
     if (!o.name.empty()) {
@@ -78,6 +87,12 @@ void run(const EffectsOptions& o) {
                   std::isnan(p.neutral) ? "" : (", neutral " + std::to_string(p.neutral)).c_str(),
                   std::string(p.description).c_str());
   }
+  if (generated > 0)
+    std::printf(
+        "\n%zu %s:\n  linear: C_eff = C (1 + c x), parameter c_<C>_<x>; power: C_eff = C "
+        "(x / x_ref)^p, parameter p_<C>_<x>; neutral 0\n  `ricochet effects "
+        "muR_spin_linear` shows one; docs/effects/coefficient_law.md\n",
+        generated, effects::coefficient_law_family_text().c_str());
 }
 
 }  // namespace

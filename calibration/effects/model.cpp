@@ -1,5 +1,7 @@
 #include "effects/model.hpp"
 
+#include "effects/coefficient_law.hpp"
+
 #include <toml++/toml.h>
 #include <algorithm>
 #include <cmath>
@@ -203,6 +205,15 @@ nlohmann::json Model::to_json() const {
 std::string Model::to_toml() const {
   std::ostringstream s;
   s.precision(17);
+  // Generated laws are written by name (exact round trip of the effect order); a comment shows
+  // each as its law (a [[law]] table with coefficient, variable and form is the same effect).
+  for (std::size_t e = 0; e < effects_.size(); ++e)
+    if (effects_[e]->signature().generated) {
+      std::vector<double> v(values_.begin() + static_cast<std::ptrdiff_t>(offsets_[e]),
+                            values_.begin() + static_cast<std::ptrdiff_t>(
+                                                  offsets_[e] + effects_[e]->parameters().size()));
+      s << "# " << effects_[e]->name() << ": " << effects_[e]->law(v) << "\n";
+    }
   s << "effects = [";
   for (std::size_t i = 0; i < effects_.size(); ++i)
     s << (i ? ", " : "") << '"' << effects_[i]->name() << '"';
@@ -245,9 +256,10 @@ Model Model::from_toml_string(const std::string& text, const std::string& name,
   }
   for (const auto& [key, node] : table) {
     const std::string k(key.str());
-    if (k != "effects" && k != "calibrate" && k != "parameters" && k != "bounds")
+    if (k != "effects" && k != "calibrate" && k != "parameters" && k != "bounds" && k != "law")
       throw InputError(name, line_of(node), k,
-                       "unknown key; a model file has effects, calibrate, [parameters], [bounds]");
+                       "unknown key; a model file has effects, calibrate, [parameters], [bounds], "
+                       "[[law]]");
   }
   const toml::array* effects = table["effects"].as_array();
   if (!effects)
@@ -266,6 +278,40 @@ Model Model::from_toml_string(const std::string& text, const std::string& name,
       }
     }
     names.push_back(*s);
+  }
+  // [[law]] tables: generated coefficient laws given by their configuration.
+  if (const toml::node_view<toml::node> laws = table["law"]; laws) {
+    const toml::array* arr = laws.as_array();
+    if (!arr)
+      throw InputError(name, line_of(*laws.node()), "law",
+                       "expected [[law]] tables with coefficient, variable and form");
+    for (const auto& entry : *arr) {
+      const toml::table* t = entry.as_table();
+      if (!t)
+        throw InputError(name, line_of(entry), "law",
+                         "expected a table with coefficient, variable and form");
+      std::string field[3];
+      const char* keys[3] = {"coefficient", "variable", "form"};
+      for (int k = 0; k < 3; ++k) {
+        auto v = (*t)[keys[k]].value<std::string>();
+        if (!v)
+          throw InputError(name, line_of(entry), std::string("law.") + keys[k],
+                           "missing or not a string; " + effects::coefficient_law_family_text());
+        field[k] = *v;
+      }
+      for (const auto& [key, node] : *t) {
+        const std::string kk(key.str());
+        if (kk != "coefficient" && kk != "variable" && kk != "form")
+          throw InputError(name, line_of(node), "law." + kk,
+                           "unknown key; a [[law]] has coefficient, variable and form");
+      }
+      try {
+        (void)effects::make_coefficient_law(field[0], field[1], field[2]);
+      } catch (const std::exception& ex) {
+        throw InputError(name, line_of(entry), "law", ex.what());
+      }
+      names.push_back(effects::coefficient_law_name(field[0], field[1], field[2]));
+    }
   }
   Model m;
   try {

@@ -11,6 +11,10 @@
 //   cd = 50.0                                 # kg/m
 //   [bounds]                                  # optional narrower calibration bounds
 //   mu = [0.0, 1.0]
+//   [[law]]                                   # optional generated coefficient laws
+//   coefficient = "muR"                       #   (effects/coefficient_law.hpp); the same as
+//   variable = "spin"                         #   naming "muR_spin_linear" in `effects`
+//   form = "linear"
 #pragma once
 
 #include <cstddef>

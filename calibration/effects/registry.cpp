@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "effects/builtin.hpp"
+#include "effects/coefficient_law.hpp"
 
 namespace ricochet {
 
@@ -49,6 +50,8 @@ EffectRegistry EffectRegistry::with_builtins() {
   r.add(effects::make_ploughing());
   r.add(effects::make_depth_friction());
   r.add(effects::make_hertz_stiffness());
+  // The generated family: every coefficient as a linear or power function of a variable.
+  for (auto& law : effects::make_coefficient_laws()) r.add(std::move(law));
   return r;
 }
 
@@ -89,10 +92,19 @@ void EffectRegistry::check_and_store(std::shared_ptr<const Effect> effect) {
 const Effect& EffectRegistry::get(std::string_view name) const {
   for (const auto& e : effects_)
     if (e->name() == name) return *e;
+  // The generated family is described by its pattern rather than 40 names.
   std::string known;
-  for (const auto& e : effects_) known += (known.empty() ? "" : ", ") + std::string(e->name());
-  throw std::invalid_argument("unknown effect '" + std::string(name) +
-                              "'; known effects: " + known);
+  bool generated = false;
+  for (const auto& e : effects_) {
+    if (e->signature().generated) {
+      generated = true;
+      continue;
+    }
+    known += (known.empty() ? "" : ", ") + std::string(e->name());
+  }
+  throw std::invalid_argument(
+      "unknown effect '" + std::string(name) + "'; known effects: " + known +
+      (generated ? "; and the " + effects::coefficient_law_family_text() : std::string()));
 }
 
 bool EffectRegistry::contains(std::string_view name) const {
