@@ -441,12 +441,25 @@ Assessment assess(const Model& model, const Shape& shape, const ImpactSet& set,
       fj.starts = o.fold_warm_starts;
       fj.design_points = o.fold_warm_design_points;
       const std::vector<double> from = carry_values(model, warm->names, warm->fold_params[j]);
+      // A line through the added parameters' range (the warm value first), scored on the
+      // training releases by one prediction batch each; local refinements start from the best
+      // `fold_refinements` points of the line.
+      std::vector<std::pair<double, std::vector<double>>> line;
       for (double frac : o.fold_added_line) {
-        Model start = model;
         std::vector<double> v = from;
         for (std::size_t i : added)
           if (frac >= 0) v[i] = model.lower(i) + frac * (model.upper(i) - model.lower(i));
-        start.set_values(v);
+        const auto pr = fit::predict(model, shape, v, train, fj);
+        double e = 0;
+        for (double x : fit::prediction_errors(train, pr, fj.error)) e += x;
+        for (const auto& q : pr) e += q.status == CollisionStatus::kOk ? 0.0 : fit::kFailedRebound;
+        line.emplace_back(e, std::move(v));
+      }
+      std::stable_sort(line.begin(), line.end(),
+                       [](const auto& x, const auto& y) { return x.first < y.first; });
+      for (std::size_t t = 0; t < line.size() && t < o.fold_refinements; ++t) {
+        Model start = model;
+        start.set_values(line[t].second);
         fit::PopulationFit f = fit::calibrate_population(start, shape, train, fj);
         if (pf.params.empty() || f.error < pf.error) pf = std::move(f);
       }
