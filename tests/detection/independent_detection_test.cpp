@@ -53,8 +53,12 @@ class IndependentDetection : public test::ProgramTest {
   // The verdict never contradicts the ranking.
   static void expect_consistent(const nlohmann::json& d) {
     const bool top = !d["ranking"].empty() && d["ranking"][0]["supported"].get<bool>();
-    if (top) EXPECT_EQ(d["verdict"], "missing physics");
-    if (d["verdict"] == "missing physics" && !top) EXPECT_FALSE(d["unnamed_structure"].empty());
+    if (top) {
+      EXPECT_EQ(d["verdict"], "missing physics");
+    }
+    if (d["verdict"] == "missing physics" && !top) {
+      EXPECT_FALSE(d["unnamed_structure"].empty());
+    }
   }
   std::array<double, 3> shift_{};
 };

@@ -288,7 +288,9 @@ TEST(Signatures, EveryRegisteredEffectDeclaresOne) {
       const bool param = q.rfind("param ", 0) == 0;
       EXPECT_TRUE(param || std::find(quantities.begin(), quantities.end(), q) != quantities.end())
           << e->name() << ": " << q;
-      if (param) EXPECT_NO_THROW((void)paper.index(q.substr(6))) << e->name() << ": " << q;
+      if (param) {
+        EXPECT_NO_THROW((void)paper.index(q.substr(6))) << e->name() << ": " << q;
+      }
       EXPECT_NE(std::find(features.begin(), features.end(), f), features.end())
           << e->name() << ": " << f;
     }
