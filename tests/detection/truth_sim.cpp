@@ -204,7 +204,7 @@ TruthSet make_set(const SetOptions& o) {
       sum[k] += d;
       sq[k] += d * d;
     }
-    char id[16];
+    char id[32];
     std::snprintf(id, sizeof id, "T%03zu", out.set.size() + 1);
     im.id = id;
     im.shape = "cylinder";
