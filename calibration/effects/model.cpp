@@ -1,16 +1,16 @@
 #include "effects/model.hpp"
 
-#include "effects/coefficient_law.hpp"
-
 #include <toml++/toml.h>
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <span>
 #include <sstream>
 #include <stdexcept>
 
 #include "common/error.hpp"
+#include "effects/coefficient_law.hpp"
 
 namespace ricochet {
 
@@ -205,25 +205,46 @@ nlohmann::json Model::to_json() const {
 std::string Model::to_toml() const {
   std::ostringstream s;
   s.precision(17);
-  // Generated laws are written by name (exact round trip of the effect order); a comment shows
-  // each as its law (a [[law]] table with coefficient, variable and form is the same effect).
+  // Generated coefficient laws are written as [[law]] tables. Read back, those land after the
+  // coefficient-stage effects named in `effects`; a law that precedes a hand-written coefficient
+  // effect therefore keeps its name in `effects`, so that the order of the factors, and with it
+  // every bit of a result, survives the round trip.
+  std::size_t first_table = 0;  // effects before this index are written by name
   for (std::size_t e = 0; e < effects_.size(); ++e)
-    if (effects_[e]->signature().generated) {
-      std::vector<double> v(values_.begin() + static_cast<std::ptrdiff_t>(offsets_[e]),
-                            values_.begin() + static_cast<std::ptrdiff_t>(
-                                                  offsets_[e] + effects_[e]->parameters().size()));
-      s << "# " << effects_[e]->name() << ": " << effects_[e]->law(v) << "\n";
-    }
+    if (effects_[e]->stage() == Stage::kCoefficient &&
+        !effects::parse_coefficient_law_name(effects_[e]->name()))
+      first_table = e + 1;
+  std::vector<std::string> law_text(effects_.size());
+  for (std::size_t e = 0; e < effects_.size(); ++e) {
+    if (!effects::parse_coefficient_law_name(effects_[e]->name())) continue;
+    const std::vector<double> v(
+        values_.begin() + static_cast<std::ptrdiff_t>(offsets_[e]),
+        values_.begin() +
+            static_cast<std::ptrdiff_t>(offsets_[e] + effects_[e]->parameters().size()));
+    law_text[e] = effects_[e]->law(v);
+    if (e < first_table) s << "# " << effects_[e]->name() << ": " << law_text[e] << "\n";
+  }
   s << "effects = [";
-  for (std::size_t i = 0; i < effects_.size(); ++i)
-    s << (i ? ", " : "") << '"' << effects_[i]->name() << '"';
-  s << "]\ncalibrate = [";
   bool first = true;
+  for (std::size_t e = 0; e < effects_.size(); ++e) {
+    if (e >= first_table && effects::parse_coefficient_law_name(effects_[e]->name())) continue;
+    s << (first ? "" : ", ") << '"' << effects_[e]->name() << '"';
+    first = false;
+  }
+  s << "]\ncalibrate = [";
+  first = true;
   for (auto i : calibrated_indices()) {
     s << (first ? "" : ", ") << '"' << specs_[i].name << '"';
     first = false;
   }
-  s << "]\n\n[parameters]\n";
+  s << "]\n";
+  for (std::size_t e = first_table; e < effects_.size(); ++e) {
+    const auto law = effects::parse_coefficient_law_name(effects_[e]->name());
+    if (!law) continue;
+    s << "\n# " << law_text[e] << "\n[[law]]\ncoefficient = \"" << law->coefficient
+      << "\"\nvariable = \"" << law->variable << "\"\nform = \"" << law->form << "\"\n";
+  }
+  s << "\n[parameters]\n";
   for (std::size_t i = 0; i < specs_.size(); ++i)
     s << specs_[i].name << " = " << values_[i] << "  # " << specs_[i].unit << "\n";
   s << "\n[bounds]\n";
@@ -280,37 +301,45 @@ Model Model::from_toml_string(const std::string& text, const std::string& name,
     names.push_back(*s);
   }
   // [[law]] tables: generated coefficient laws given by their configuration.
-  if (const toml::node_view<toml::node> laws = table["law"]; laws) {
-    const toml::array* arr = laws.as_array();
-    if (!arr)
-      throw InputError(name, line_of(*laws.node()), "law",
-                       "expected [[law]] tables with coefficient, variable and form");
+  if (const toml::node* laws = table.get("law")) {
+    const toml::array* arr = laws->as_array();
+    if (!arr || !arr->is_array_of_tables())
+      throw InputError(name, line_of(*laws), "law",
+                       "expected [[law]] tables with coefficient, variable and form; " +
+                           effects::coefficient_law_family_text());
+    const char* keys[3] = {"coefficient", "variable", "form"};
+    const std::span<const std::string_view> accepted[3] = {
+        effects::law_coefficients(), effects::law_variables(), effects::law_forms()};
+    const auto accepted_text = [&](int k) {
+      std::string out = "; accepted: ";
+      for (std::size_t i = 0; i < accepted[k].size(); ++i)
+        out += (i ? ", " : "") + std::string(accepted[k][i]);
+      return out;
+    };
     for (const auto& entry : *arr) {
-      const toml::table* t = entry.as_table();
-      if (!t)
-        throw InputError(name, line_of(entry), "law",
-                         "expected a table with coefficient, variable and form");
-      std::string field[3];
-      const char* keys[3] = {"coefficient", "variable", "form"};
-      for (int k = 0; k < 3; ++k) {
-        auto v = (*t)[keys[k]].value<std::string>();
-        if (!v)
-          throw InputError(name, line_of(entry), std::string("law.") + keys[k],
-                           "missing or not a string; " + effects::coefficient_law_family_text());
-        field[k] = *v;
-      }
-      for (const auto& [key, node] : *t) {
+      const toml::table& t = *entry.as_table();
+      for (const auto& [key, node] : t) {
         const std::string kk(key.str());
-        if (kk != "coefficient" && kk != "variable" && kk != "form")
+        if (kk != keys[0] && kk != keys[1] && kk != keys[2])
           throw InputError(name, line_of(node), "law." + kk,
                            "unknown key; a [[law]] has coefficient, variable and form");
       }
-      try {
-        (void)effects::make_coefficient_law(field[0], field[1], field[2]);
-      } catch (const std::exception& ex) {
-        throw InputError(name, line_of(entry), "law", ex.what());
+      std::string field[3];
+      for (int k = 0; k < 3; ++k) {
+        const std::string key = std::string("law.") + keys[k];
+        const toml::node* node = t.get(keys[k]);
+        if (!node) throw InputError(name, line_of(entry), key, "missing" + accepted_text(k));
+        auto v = node->value<std::string>();
+        if (!v) throw InputError(name, line_of(*node), key, "expected a string" + accepted_text(k));
+        if (std::find(accepted[k].begin(), accepted[k].end(), *v) == accepted[k].end())
+          throw InputError(name, line_of(*node), key,
+                           "unknown " + std::string(keys[k]) + " '" + *v + "'" + accepted_text(k));
+        field[k] = *v;
       }
-      names.push_back(effects::coefficient_law_name(field[0], field[1], field[2]));
+      const std::string law = effects::coefficient_law_name(field[0], field[1], field[2]);
+      if (std::find(names.begin(), names.end(), law) != names.end())
+        throw InputError(name, line_of(entry), "law", "'" + law + "' is already in the model");
+      names.push_back(law);
     }
   }
   Model m;

@@ -13,8 +13,13 @@
 //   mu = [0.0, 1.0]
 //   [[law]]                                   # optional generated coefficient laws
 //   coefficient = "muR"                       #   (effects/coefficient_law.hpp); the same as
-//   variable = "spin"                         #   naming "muR_spin_linear" in `effects`
-//   form = "linear"
+//   variable = "spin"                         #   naming "muR_spin_linear" in `effects`; one
+//   form = "linear"                           #   [[law]] table per law
+// A [[law]] error (unknown coefficient, variable or form, missing or unknown key, a law named
+// twice) is an InputError naming the file, the line and the key (law.variable, ...) and listing
+// the accepted values. to_toml() writes generated laws back as [[law]] tables, with the law and
+// its numbers in a comment; a law that must precede a hand-written coefficient effect to keep
+// the model's order keeps its name in `effects` instead (the round trip is exact either way).
 #pragma once
 
 #include <cstddef>
