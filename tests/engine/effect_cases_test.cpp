@@ -1,6 +1,9 @@
 // Data-driven tests: one file per effect in tests/engine/effects/<name>.toml, run by this one
 // program (the LAMMPS force-style test pattern). Every registered effect must have a test file
-// and a documentation page docs/effects/<name>.md.
+// and a documentation page docs/effects/<name>.md. The generated coefficient laws
+// (Signature::generated) share one page, docs/effects/coefficient_law.md, and one file,
+// tests/engine/effects/coefficient_law.toml, whose entries each name their effect: every
+// generated law needs a case there.
 //
 // [[case]] entries hold regression references (V_out); RICOCHET_REGENERATE=1 rewrites them.
 // [[trend]] entries are physics (e.g. "more en2, higher rebound") and are never regenerated.
@@ -12,8 +15,10 @@
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <set>
 #include <sstream>
 
+#include "effects/coefficient_law.hpp"
 #include "effects/model.hpp"
 #include "effects/registry.hpp"
 #include "engine/engine.hpp"
@@ -30,8 +35,10 @@ struct CaseSetup {
   CollisionCase c;
 };
 
+// The entry's own `effect` (the generated family's file) or the file's.
 CaseSetup setup(const toml::table& file, const toml::table& entry) {
-  const std::string effect = *file["effect"].value<std::string>();
+  const std::string effect =
+      entry["effect"].value_or(file["effect"].value_or(std::string("normal")));
   Model model = Model::paper();
   if (!model.has_effect(effect)) model = model.with_effect(effect);
   const std::string shape =
@@ -54,36 +61,35 @@ double output_of(const CollisionResult& r, const std::string& name) {
   throw std::invalid_argument("unknown output " + name);
 }
 
-class EffectCases : public ::testing::TestWithParam<std::string> {};
-
-TEST_P(EffectCases, ReferencesAndTrends) {
-  const fs::path path = kSource / "tests/engine/effects" / (GetParam() + ".toml");
-  ASSERT_TRUE(fs::exists(path)) << "every registered effect needs a test file: " << path;
-  ASSERT_TRUE(fs::exists(kSource / "docs/effects" / (GetParam() + ".md")))
-      << "every registered effect needs a doc page docs/effects/" << GetParam() << ".md";
+// Runs the [[case]] references (or rewrites them under RICOCHET_REGENERATE) and the [[trend]]
+// physics of one file; returns the effects its entries cover.
+std::set<std::string> run_file(const fs::path& path) {
+  std::set<std::string> covered;
   const toml::table file = toml::parse_file(path.string());
-  ASSERT_EQ(file["effect"].value_or(std::string()), GetParam());
-
   const bool regenerate = std::getenv("RICOCHET_REGENERATE") != nullptr;
   std::vector<std::string> fresh;
   const toml::array* cases = file["case"].as_array();
-  ASSERT_TRUE(cases && !cases->empty()) << path;
+  EXPECT_TRUE(cases && !cases->empty()) << path;
+  if (!cases) return covered;
   for (const auto& node : *cases) {
     const toml::table& entry = *node.as_table();
     const CaseSetup run = setup(file, entry);
+    covered.insert(entry["effect"].value_or(file["effect"].value_or(std::string())));
     const auto r = simulate(run.model, run.shape, run.c);
-    EXPECT_EQ(r.status, CollisionStatus::kOk) << path;
+    EXPECT_EQ(r.status, CollisionStatus::kOk) << path << " line " << entry.source().begin.line;
     std::ostringstream s;
     s.precision(10);
     s << "vout = [" << r.vout[0] << ", " << r.vout[1] << ", " << r.vout[2] << "]";
     fresh.push_back(s.str());
     const toml::array* ref = entry["vout"].as_array();
     if (regenerate) continue;
-    ASSERT_TRUE(ref && ref->size() == 3)
+    EXPECT_TRUE(ref && ref->size() == 3)
         << path << ": no reference; run with RICOCHET_REGENERATE=1";
+    if (!ref || ref->size() != 3) continue;
     for (std::size_t k = 0; k < 3; ++k) {
       const double want = *ref->get(k)->value<double>();
-      EXPECT_NEAR(r.vout[k], want, 1e-6 * (1.0 + std::fabs(want))) << path << " component " << k;
+      EXPECT_NEAR(r.vout[k], want, 1e-6 * (1.0 + std::fabs(want)))
+          << path << " line " << entry.source().begin.line << " component " << k;
     }
   }
   if (regenerate) {
@@ -121,20 +127,51 @@ TEST_P(EffectCases, ReferencesAndTrends) {
       }
     }
   }
+  return covered;
 }
 
-// The hand-written effects; the generated coefficient laws share one doc page and are tested in
-// coefficient_law_test.cpp.
-std::vector<std::string> hand_written() {
+class EffectCases : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(EffectCases, ReferencesAndTrends) {
+  const fs::path path = kSource / "tests/engine/effects" / (GetParam() + ".toml");
+  ASSERT_TRUE(fs::exists(path)) << "every registered effect needs a test file: " << path;
+  ASSERT_TRUE(fs::exists(kSource / "docs/effects" / (GetParam() + ".md")))
+      << "every registered effect needs a doc page docs/effects/" << GetParam() << ".md";
+  ASSERT_EQ(toml::parse_file(path.string())["effect"].value_or(std::string()), GetParam());
+  run_file(path);
+}
+
+std::vector<std::string> registered(bool generated) {
   std::vector<std::string> out;
   const EffectRegistry r = EffectRegistry::with_builtins();
   for (const auto& n : r.names())
-    if (!r.get(n).signature().generated) out.push_back(n);
+    if (r.get(n).signature().generated == generated) out.push_back(n);
   return out;
 }
 
-INSTANTIATE_TEST_SUITE_P(Registry, EffectCases, ::testing::ValuesIn(hand_written()),
+INSTANTIATE_TEST_SUITE_P(Registry, EffectCases, ::testing::ValuesIn(registered(false)),
                          [](const auto& info) { return info.param; });
+
+// The generated family: one page that documents every coefficient, variable and form, one file
+// with a reference case for every generated law (more physics in coefficient_law_test.cpp).
+TEST(EffectCases, GeneratedFamilySharesOnePageAndOneFile) {
+  const fs::path page = kSource / "docs/effects/coefficient_law.md";
+  ASSERT_TRUE(fs::exists(page)) << "the generated coefficient laws need " << page;
+  std::ifstream in(page);
+  std::stringstream text;
+  text << in.rdbuf();
+  const EffectRegistry r = EffectRegistry::with_builtins();
+  const std::set<std::string> covered =
+      run_file(kSource / "tests/engine/effects/coefficient_law.toml");
+  for (const auto& name : registered(true)) {
+    const auto config = effects::parse_coefficient_law_name(name);
+    ASSERT_TRUE(config) << name << " is generated but not a coefficient law";
+    for (std::string_view part : {config->coefficient, config->variable, config->form})
+      EXPECT_NE(text.str().find("`" + std::string(part) + "`"), std::string::npos)
+          << page << " does not document `" << part << "` (" << name << ")";
+    EXPECT_TRUE(covered.count(name)) << "no case for " << name << " in coefficient_law.toml";
+  }
+}
 
 }  // namespace
 }  // namespace ricochet
