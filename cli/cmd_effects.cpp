@@ -1,5 +1,6 @@
 // `ricochet effects [NAME]`: the registry of physical effects (docs/commands/effects.md).
 #include <cmath>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "cli_common.hpp"
@@ -41,6 +42,36 @@ nlohmann::json describe(const Effect& e) {
   for (const auto& s : e.state())
     j["state"].push_back({{"name", std::string(s.name)}, {"unit", std::string(s.unit)}});
   return j;
+}
+
+// The generated coefficient laws in a few lines: one per coefficient, one per variable.
+void print_generated_family(const std::vector<const Effect*>& list) {
+  std::size_t total = 0;
+  std::map<std::string_view, std::size_t> per_coefficient;
+  for (const Effect* e : list)
+    if (const auto law = effects::parse_coefficient_law_name(e->name())) {
+      ++per_coefficient[law->coefficient];
+      ++total;
+    }
+  std::printf(
+      "\nGenerated coefficient laws <coefficient>_<variable>_<form> (%zu effects, stage "
+      "coefficient; docs/effects/coefficient_law.md):\n",
+      total);
+  for (auto c : effects::law_coefficients()) {
+    if (!per_coefficient.count(c)) continue;
+    const std::string cs(c);
+    std::printf(
+        "  %-4s %2zu laws  %s_<variable>_linear: c_%s_<tag>, %s_<variable>_power: p_%s_<tag>\n",
+        cs.c_str(), per_coefficient[c], cs.c_str(), cs.c_str(), cs.c_str(), cs.c_str());
+  }
+  std::printf("  %-16s %-6s %-6s %6s %6s\n", "variable", "tag", "unit", "x_ref", "x_hi");
+  for (const auto& v : effects::law_variable_info())
+    std::printf("  %-16s %-6s %-6s %6g %6g\n", std::string(v.name).c_str(),
+                std::string(v.tag).c_str(), std::string(v.unit).c_str(), v.x_ref, v.x_hi);
+  std::printf(
+      "  linear: C_eff = C (1 + c x), c in [-0.9/x_hi, 3/x_ref]; power: C_eff = C (max(x, 1e-3 "
+      "x_ref) / x_ref)^p, p in [-1.5, 1.5];\n  factor clamped to [0.02, 50], neutral at 0. One in "
+      "detail: ricochet effects muR_spin_linear\n");
 }
 
 void run(const EffectsOptions& o) {
@@ -87,12 +118,7 @@ void run(const EffectsOptions& o) {
                   std::isnan(p.neutral) ? "" : (", neutral " + std::to_string(p.neutral)).c_str(),
                   std::string(p.description).c_str());
   }
-  if (generated > 0)
-    std::printf(
-        "\n%zu %s:\n  linear: C_eff = C (1 + c x), parameter c_<C>_<x>; power: C_eff = C "
-        "(x / x_ref)^p, parameter p_<C>_<x>; neutral 0\n  `ricochet effects "
-        "muR_spin_linear` shows one; docs/effects/coefficient_law.md\n",
-        generated, effects::coefficient_law_family_text().c_str());
+  if (generated > 0) print_generated_family(list);
 }
 
 }  // namespace

@@ -250,10 +250,10 @@ class CoefficientLaw final : public Effect {
     equation_ = linear ? sym + "_eff = " + sym + " * (1 + c * " + x + ")"
                        : sym + "_eff = " + sym + " * (max(" + x + ", 1e-3 x_ref) / " + ref + ")^p";
     if (c == Coef::kKn && v == Var::kPenetration)
-      equation_ += "; elastic curve Phi(h) = k_n * integral_0^h of the factor (" +
+      equation_ += "; elastic curve Phi(h) = k_n * integral_0^h of the clamped factor (" +
                    std::string(linear ? "h (1 + c h / 2) below the clamp"
-                                      : "h (h / x_ref)^p / (1 + p) within the clamp") +
-                   ")";
+                                      : "about h (h / x_ref)^p / (1 + p) well above the floor") +
+                   "), loading factor its secant over the step";
     equation_ += "; factor clamped to [0.02, 50]";
     reference_ = std::string(kDiscrepancyRef);
     if (const auto family = family_reference(c, v); !family.empty())
