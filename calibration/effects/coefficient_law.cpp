@@ -114,30 +114,32 @@ inline double psi_linear(double c, double s) {
 //   Psi(s) = f1 s                                        for s <= h1,
 //          = h1 f1 (1 + E) + f2 max(s - h2, 0)           above,
 //   E = expm1(q L) / q,  q = 1 + p,  L = ln(min(s, h2) / h1)   (E = L at p = -1).
+// h1, h2, f1 depend on p only: computed once per lane and step, then Psi at h and h - dh.
 // (Not for p = 0, where the caller keeps g = 1.)
-inline double psi_power(double p, double s, double h_ref) {
-  const double inv_p = 1.0 / p;
-  const double h_min = kFloor * h_ref;
-  const double s_lo = h_ref * std::pow(p > 0.0 ? kFactorMin : kFactorMax, inv_p);
-  const double h1 = s_lo > h_min ? s_lo : h_min;
-  const double h2 = h_ref * std::pow(p > 0.0 ? kFactorMax : kFactorMin, inv_p);
-  const double f1 = clamp_factor(std::pow(h1 / h_ref, p));
-  const double f2 = p > 0.0 ? kFactorMax : kFactorMin;
-  const double ss = s > h1 ? (s < h2 ? s : h2) : h1;
-  const double q = 1.0 + p;
-  const double l = std::log(ss / h1);
-  const double e = q != 0.0 ? std::expm1(q * l) / q : l;
-  const double beyond = s > h2 ? s - h2 : 0.0;
-  return s > h1 ? h1 * f1 * (1.0 + e) + f2 * beyond : f1 * s;
-}
-
-template <Form F>
-inline double psi(double a, double s, double h_ref) {
-  if constexpr (F == Form::kLinear)
-    return psi_linear(a, s);
-  else
-    return psi_power(a, s, h_ref);
-}
+struct PowerIntegral {
+  double h1, h2, f1, f2, q;
+  PowerIntegral(double p, double h_ref) {
+    // (c)^(1/p) = exp(ln c / p): where the power law meets the clamps.
+    const double ln_lo = std::log(p > 0.0 ? kFactorMin : kFactorMax);
+    const double ln_hi = std::log(p > 0.0 ? kFactorMax : kFactorMin);
+    const double s_lo = h_ref * std::exp(ln_lo / p);
+    const double h_min = kFloor * h_ref;
+    const bool clamped_low = s_lo > h_min;
+    h1 = clamped_low ? s_lo : h_min;
+    h2 = h_ref * std::exp(ln_hi / p);
+    f1 = clamped_low ? (p > 0.0 ? kFactorMin : kFactorMax)
+                     : clamp_factor(std::exp(p * std::log(kFloor)));
+    f2 = p > 0.0 ? kFactorMax : kFactorMin;
+    q = 1.0 + p;
+  }
+  double operator()(double s) const {
+    const double ss = s > h1 ? (s < h2 ? s : h2) : h1;
+    const double l = std::log(ss / h1);
+    const double e = q != 0.0 ? std::expm1(q * l) / q : l;
+    const double beyond = s > h2 ? s - h2 : 0.0;
+    return s > h1 ? h1 * f1 * (1.0 + e) + f2 * beyond : f1 * s;
+  }
+};
 
 using RunFn = void (*)(const ContactBatch&, const double*, double*, double*);
 
@@ -171,21 +173,28 @@ void run(const ContactBatch& cb, const double* __restrict a, double* __restrict 
       held[i] = active[i] > 0.0 ? kept : 0.0;
       x = held[i];
     }
-    double f;
-    if constexpr (F == Form::kLinear)
-      f = clamp_factor(1.0 + a[i] * x);
-    else
-      f = clamp_factor(std::pow((x > x_min ? x : x_min) / x_ref, a[i]));
     if constexpr (K == Elastic::kIntegral) {
-      // x = h. Exactly the paper's law at the neutral a = 0 (f = 1; tested bit for bit); the
-      // pointwise f where the step is too small for a secant.
+      // x = h; `held` = Psi at the previous step's h (0 at contact onset, as h is), so the
+      // secant over the step telescopes: the loading force is exactly kn Psi(h). The neutral
+      // a = 0 leaves both factors untouched (bit for bit the paper's law); a step too small for
+      // a secant (its force increment kn f dh vanishes with it) takes the mean Psi(h) / h.
+      double psi_h;
+      if constexpr (F == Form::kLinear)
+        psi_h = a[i] != 0.0 ? psi_linear(a[i], x) : x;
+      else
+        psi_h = a[i] != 0.0 ? PowerIntegral(a[i], x_ref)(x) : x;
       const double dh = cb.dh[i];
-      const double p_h = psi<F>(a[i], x, x_ref);
-      const double p_prev = psi<F>(a[i], x - dh, x_ref);
-      const double secant = std::fabs(dh) > 1e-8 * x ? (p_h - p_prev) / dh : f;
-      factor[i] *= a[i] != 0.0 ? secant : f;
-      elastic[i] *= a[i] != 0.0 && x > 0.0 ? p_h / x : f;
+      const double mean = x > 0.0 ? psi_h / x : 1.0;
+      const double secant = std::fabs(dh) > 1e-8 * x ? (psi_h - held[i]) / dh : mean;
+      held[i] = active[i] > 0.0 ? psi_h : 0.0;
+      factor[i] *= a[i] != 0.0 ? secant : 1.0;
+      elastic[i] *= a[i] != 0.0 ? mean : 1.0;
     } else {
+      double f;
+      if constexpr (F == Form::kLinear)
+        f = clamp_factor(1.0 + a[i] * x);
+      else
+        f = clamp_factor(std::pow((x > x_min ? x : x_min) / x_ref, a[i]));
       factor[i] *= f;
       if constexpr (K == Elastic::kSame) elastic[i] *= f;
     }
@@ -250,17 +259,20 @@ class CoefficientLaw final : public Effect {
     equation_ = linear ? sym + "_eff = " + sym + " * (1 + c * " + x + ")"
                        : sym + "_eff = " + sym + " * (max(" + x + ", 1e-3 x_ref) / " + ref + ")^p";
     if (c == Coef::kKn && v == Var::kPenetration)
-      equation_ += "; elastic curve Phi(h) = k_n * integral_0^h of the clamped factor (" +
-                   std::string(linear ? "h (1 + c h / 2) below the clamp"
-                                      : "about h (h / x_ref)^p / (1 + p) well above the floor") +
-                   "), loading factor its secant over the step";
+      equation_ +=
+          "; elastic curve Phi(h) = k_n * integral_0^h of the clamped factor (" +
+          std::string(linear ? "h (1 + c h / 2) below the clamp"
+                             : "about h (h / x_ref)^p / (1 + p) well above the floor") +
+          "), loading factor its secant over the step (state psi: Psi(h) of the previous step)";
     equation_ += "; factor clamped to [0.02, 50]";
     reference_ = std::string(kDiscrepancyRef);
     if (const auto family = family_reference(c, v); !family.empty())
       reference_ += "; generalises " + std::string(family);
     meaning_ =
         sym + " grows or falls with " + std::string(vt.words) + " (generated " + fn + " law)";
-    state_[0] = {v == Var::kIncidence ? "theta_in" : "v0", v == Var::kIncidence ? "rad" : "m/s"};
+    state_[0] = v == Var::kIncidence  ? StateSpec{"theta_in", "rad"}
+                : v == Var::kApproach ? StateSpec{"v0", "m/s"}
+                                      : StateSpec{"psi", "m"};  // kn in h
     // Signature: the calibrated coefficient drifts with the matching feature, and the residuals
     // the coefficient drives.
     const std::string feature(vt.feature);
@@ -289,7 +301,6 @@ class CoefficientLaw final : public Effect {
   Stage stage() const override { return Stage::kCoefficient; }
   std::span<const ParameterSpec> parameters() const override { return spec_; }
   std::span<const StateSpec> state() const override {
-    // Approach speed and incidence angle are held over the contact; the others are read live.
     return holds_state() ? std::span<const StateSpec>(state_) : std::span<const StateSpec>();
   }
   Signature signature() const override { return {meaning_, sig_, coef_ == Coef::kKn, true}; }
@@ -319,7 +330,12 @@ class CoefficientLaw final : public Effect {
   }
 
  private:
-  bool holds_state() const { return var_ == Var::kApproach || var_ == Var::kIncidence; }
+  // The approach speed and the onset angle are held over the contact; a stiffness law in h holds
+  // Psi(h) of the previous step (integral of its loading factor).
+  bool holds_state() const {
+    return var_ == Var::kApproach || var_ == Var::kIncidence ||
+           (coef_ == Coef::kKn && var_ == Var::kPenetration);
+  }
 
   Coef coef_;
   Var var_;

@@ -72,8 +72,10 @@ TEST(CoefficientLaws, EveryCombinationIsRegisteredWithItsDeclarations) {
           EXPECT_EQ(p.lower, -1.5);
           EXPECT_EQ(p.upper, 1.5);
         }
-        // Held over the contact: the approach speed and the onset angle.
-        const bool held = variable.name == "approach_speed" || variable.name == "incidence_angle";
+        // Held over the contact: the approach speed, the onset angle, and for a stiffness law
+        // in h the integral Psi of its loading factor up to the previous step.
+        const bool held = variable.name == "approach_speed" || variable.name == "incidence_angle" ||
+                          (coefficient == "kn" && variable.name == "penetration");
         EXPECT_EQ(e.state().size(), held ? 1u : 0u);
         const Signature sig = e.signature();
         EXPECT_TRUE(sig.generated);
