@@ -156,7 +156,10 @@ TEST_F(CmdDiagnosis, AUserPluginEffectTakesPartLikeTheBuiltIns) {
       ricochet("diagnose " + quote(data) + " --plugin " + plugin + " --no-release-fits --json");
   ASSERT_EQ(d.status, 0) << d.err;
   const auto doc = nlohmann::json::parse(d.out);
-  ASSERT_EQ(doc["ranking"].size(), 6u);  // five built-in candidates and the plugin
+  // The five catalog effects, the plugin and the generated laws that passed the screen.
+  ASSERT_GE(doc["ranking"].size(), 6u + 4u);
+  EXPECT_EQ(doc["family_size"].get<std::size_t>(),
+            doc["ranking"].size() + doc["screened_out"].size());
   EXPECT_EQ(doc["ranking"][0]["effect"], "grazing_restitution") << doc["ranking"].dump(1);
   EXPECT_TRUE(doc["ranking"][0]["supported"].get<bool>());
   EXPECT_FALSE(doc["ranking"][0]["evidence"].get<std::string>().empty());
