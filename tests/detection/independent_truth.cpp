@@ -1,13 +1,17 @@
 // `independent_truth`: writes one impact set made by the independent simulator (truth_sim.hpp)
-// and its provenance JSON, or (--calibrate-shift) finds the strength at which the effect's mean
-// V_out shift reaches the lab's measurement scale (paper Table 1: 0.1 m/s, 0.1 m/s, 3.4 rad/s).
+// and its provenance JSON (every setting, the per-release truth, the effect's size in physical
+// units), or (--calibrate-shift) prints the strength at which the effect's mean V_out shift
+// reaches the lab's measurement scale (paper Table 1: 0.1 m/s, 0.1 m/s, 3.4 rad/s).
 //
 //   independent_truth --family F --strength S --n 40 --design lab|wide --seed K
 //                     --out set.csv [--truth truth.json] [--lab data/lab/cylinders.csv]
-//   independent_truth --family F --calibrate-shift [--n 40 --seed K]
+//   independent_truth --family F --calibrate-shift [--design lab --n 40 --seed 1]
+// The provenance defaults to the set's path with .truth.json instead of its extension.
 // Exit codes: 0 ok, 1 runtime failure, 2 bad option (the message names it and its range).
 #include <CLI/CLI.hpp>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 
@@ -15,45 +19,45 @@
 
 using namespace ricochet;
 
-namespace {
-
-// The largest |mean V_out shift| over components in units of the lab's Table 1 scale.
-double shift_in_lab_units(const truth::TruthSet& t) {
-  const double scale[3] = {0.1, 0.1, 3.4};
-  double m = 0;
-  for (int k = 0; k < 3; ++k) m = std::max(m, std::fabs(t.mean_shift[k]) / scale[k]);
-  return m;
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
-  CLI::App app{"Impact sets from an independent simulator with hidden physics"};
+  CLI::App app{
+      "Impact sets of the lab cylinder from an independent simulator with hidden physics "
+      "(docs/detection-benchmark.md)"};
   std::string family = "none", design = "lab", out, truth_path, lab;
   double strength = 1.0;
-  std::size_t n = 40;
+  long long n = 40;
   std::uint64_t seed = 1;
-  bool calibrate = false;
+  bool calibrate = false, no_refit = false;
+  lab = std::string(RICOCHET_SOURCE_DIR) + "/data/lab/cylinders.csv";
   app.add_option("--family", family,
-                 "none, crsp_restitution, kd_drag, spin_rolling, "
-                 "depth_friction_exp, rankine_plough, two")
+                 "none, crsp_restitution, kd_drag, spin_rolling, depth_friction_exp, "
+                 "rankine_plough, two")
       ->capture_default_str();
-  app.add_option("--strength", strength, "Multiplier of the family's reference strength, >= 0")
+  app.add_option("--strength", strength,
+                 "Multiplier of the family's reference strength, in [0, 1e6] (1 = literature "
+                 "where there is a value)")
       ->capture_default_str();
   app.add_option("--n", n, "Releases, in [4, 10000]")->capture_default_str();
-  app.add_option("--design", design, "lab or wide")->capture_default_str();
-  app.add_option("--seed", seed, "Seed of every random draw")->capture_default_str();
+  app.add_option("--design", design,
+                 "lab (the lab's incident states, smoothed bootstrap) or wide (V_in^x 1.5-6 m/s, "
+                 "V_in^y -5 to -1 m/s, omega_in -90 to 0 rad/s)")
+      ->capture_default_str();
+  app.add_option("--seed", seed, "Seed of every random draw, in [0, 2^64)")->capture_default_str();
   app.add_option("--out", out, "Impact set to write (.csv or .h5)");
-  app.add_option("--truth", truth_path, "Provenance JSON (the truth; never read by diagnose)");
+  app.add_option("--truth", truth_path,
+                 "Provenance JSON (the truth; never given to diagnose); default: next to --out");
   app.add_option("--lab", lab, "Lab cylinders whose incident states the lab design resamples")
       ->capture_default_str();
   app.add_flag("--calibrate-shift", calibrate,
-               "Print the strength whose mean V_out shift reaches the lab scale");
-  lab = std::string(RICOCHET_SOURCE_DIR) + "/data/lab/cylinders.csv";
+               "Print the strength whose mean V_out shift reaches the lab scale (for --design, "
+               "--n, --seed) and exit");
+  app.add_flag("--no-refit", no_refit,
+               "Skip the effect size after recalibrating the paper's constants (faster)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
   }
   auto bad = [](const std::string& what) {
     std::cerr << "independent_truth: " << what << "\n";
@@ -65,38 +69,47 @@ int main(int argc, char** argv) {
   } catch (const std::exception& e) {
     return bad(std::string("--family: ") + e.what());
   }
-  if (!(strength >= 0 && strength < 1e6)) return bad("--strength must lie in [0, 1e6)");
-  if (n < 4 || n > 10000) return bad("--n must lie in [4, 10000]");
-  if (design != "lab" && design != "wide") return bad("--design: use lab or wide");
-  if (!calibrate && out.empty()) return bad("--out is required (or --calibrate-shift)");
+  if (!(strength >= 0 && strength <= 1e6)) {
+    char v[32];
+    std::snprintf(v, sizeof v, "%g", strength);
+    return bad(std::string("--strength ") + v + " is outside [0, 1e6]");
+  }
+  if (n < 4 || n > 10000) return bad("--n " + std::to_string(n) + " is outside [4, 10000]");
+  if (design != "lab" && design != "wide") return bad("--design '" + design + "': use lab or wide");
+  if (!calibrate && out.empty()) return bad("--out FILE is required (or --calibrate-shift)");
+  if (calibrate && o.family == truth::Family::kNone)
+    return bad("--calibrate-shift needs a --family other than none");
+  if (!out.empty()) {
+    const std::string ext = std::filesystem::path(out).extension().string();
+    if (ext != ".csv" && ext != ".h5") return bad("--out '" + out + "': use a .csv or .h5 file");
+  }
   o.strength = strength;
-  o.n = n;
+  o.n = static_cast<std::size_t>(n);
   o.seed = seed;
   o.design = design == "lab" ? truth::Design::kLab : truth::Design::kWide;
+  o.refit = !no_refit;
   try {
-    for (const auto& im : read_impact_set(lab).impacts) o.lab_vin.push_back(im.vin);
+    if (o.design == truth::Design::kLab) {
+      for (const auto& im : read_impact_set(lab).impacts)
+        if (im.shape == "cylinder") o.lab_vin.push_back(im.vin);
+      o.lab_source = lab;
+    }
     if (calibrate) {
-      // Geometric bisection on the strength: the shift grows monotonically with it.
-      double lo = 0.0, hi = 1.0;
-      auto shift = [&](double s) {
-        o.strength = s;
-        return shift_in_lab_units(truth::make_set(o));
-      };
-      while (shift(hi) < 1.0 && hi < 1e5) lo = hi, hi *= 4.0;
-      for (int it = 0; it < 30; ++it) {
-        const double mid = lo > 0 ? std::sqrt(lo * hi) : 0.5 * hi;
-        (shift(mid) < 1.0 ? lo : hi) = mid;
-      }
-      std::cout << hi << "\n";
+      std::cout << truth::lab_scale_strength(o) << "\n";
       return 0;
     }
     const truth::TruthSet t = truth::make_set(o);
     write_impact_set(t.set, out);
-    if (!truth_path.empty()) {
-      nlohmann::json j = t.truth;
-      j["shift_in_lab_units"] = shift_in_lab_units(t);
-      std::ofstream(truth_path) << j.dump(1) << "\n";
-    }
+    if (truth_path.empty())
+      truth_path = std::filesystem::path(out).replace_extension(".truth.json").string();
+    nlohmann::json j = t.truth;
+    std::string command;
+    for (int i = 0; i < argc; ++i) command += (i ? " " : "") + std::string(argv[i]);
+    j["command"] = command;
+    j["set_file"] = out;
+    std::ofstream f(truth_path);
+    f << j.dump(1) << "\n";
+    if (!f) throw std::runtime_error("cannot write " + truth_path);
   } catch (const std::exception& e) {
     std::cerr << "independent_truth: " << e.what() << "\n";
     return 1;
