@@ -1,14 +1,21 @@
-// The CI-sized detection benchmark (issue 10; docs/detection-benchmark.md has the full study):
-// impact sets made by the independent simulator (truth_sim.hpp: another code, time step and
-// stiffness; hidden physics in non-catalog forms; release-to-release scatter; lab-like noise;
-// velocities only; 40 releases, the wide design), diagnosed by the built `ricochet` program,
-// which reads only the set's file. The strengths are where the study finds detection reliable,
-// well above the lab scale (mean V_out shift / Table 1 scale: crsp_restitution x6 = 6.6,
-// spin_rolling x6 = 5.5, two x10); the study (scripts/detection-study.sh) gives the rates at
-// the literature and lab-scale strengths, where the leak-free test mostly does NOT detect them.
-constexpr double kRestitutionStrength = 6.0, kSpinStrength = 6.0, kTwoStrength = 10.0;
+// The CI-sized detection benchmark (issue 10, item 5; docs/detection-benchmark.md has the full
+// study, scripts/detection-study.sh): impact sets made by the independent simulator
+// (truth_sim.hpp: another code, integrator, time step and stiffness; hidden physics in
+// non-catalog forms; release-to-release scatter; lab-like noise; velocities only), 40 releases,
+// fixed seeds, diagnosed by the built `ricochet` program, which reads only the set's file.
+//
+// The strengths are the lab scale, not magnitudes chosen where detection is easy: the strength
+// at which the effect's mean V_out shift reaches the paper's Table 1 scale (0.1 m/s, 3.4 rad/s;
+// lab_scale_strength, computed here for the test's own design, n and seed). The design is the
+// wide one (V_in^x 1.5-6 m/s, V_in^y -5 to -1 m/s, omega_in -90 to 0 rad/s): the leverage a
+// purpose-made campaign would have; on the lab's narrow incident states most of a lab-scale
+// effect is absorbed by the paper's own constants (docs/detection-benchmark.md).
+//
+// These cases are expected to fail until the rewritten diagnosis and the generated coefficient
+// laws land (measured on the build of 2026-11-22: every set "adequate", nothing supported).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <nlohmann/json.hpp>
 
 #include "support/program_test.hpp"
@@ -21,20 +28,24 @@ using test::quote;
 
 class IndependentDetection : public test::ProgramTest {
  protected:
-  std::string make(Family f, double strength, std::uint64_t seed, Design design = Design::kWide) {
+  static SetOptions options(Family f, double strength, std::uint64_t seed) {
     SetOptions o;
     o.family = f;
     o.strength = strength;
     o.n = 40;
     o.seed = seed;
-    o.design = design;
-    for (const auto& im :
-         read_impact_set(std::string(RICOCHET_SOURCE_DIR) + "/data/lab/cylinders.csv").impacts)
-      o.lab_vin.push_back(im.vin);
+    o.design = Design::kWide;
+    o.refit = false;
+    return o;
+  }
+  // Writes the set and returns its path; the effect size goes to the test's log.
+  std::string make(const SetOptions& o) {
     const TruthSet t = make_set(o);
-    shift_ = t.mean_shift;
-    const std::string path = (dir_ / ("set-" + std::to_string(seed) + ".csv")).string();
+    const std::string path =
+        (dir_ / (family_name(o.family) + "-" + std::to_string(o.seed) + ".csv")).string();
     write_impact_set(t.set, path);
+    RecordProperty("strength", std::to_string(o.strength));
+    RecordProperty("shift_in_lab_units", std::to_string(shift_in_lab_units(t.mean_shift)));
     return path;
   }
   nlohmann::json diagnose(const std::string& path) {
@@ -43,67 +54,106 @@ class IndependentDetection : public test::ProgramTest {
     return nlohmann::json::parse(r.out);
   }
   static std::string ranking_text(const nlohmann::json& d) {
-    std::string s = d["verdict"].get<std::string>() + ": ";
+    std::string s = d.value("verdict", "?") + ": ";
     for (const auto& c : d["ranking"])
-      s += c["effect"].get<std::string>() + " (Holm p " +
-           std::to_string(c["p_holm"].get<double>()) +
-           (c["supported"].get<bool>() ? ", supported" : "") + "); ";
+      s += c.value("effect", "?") + " (t " + std::to_string(c.value("t", 0.0)) + ", Holm p " +
+           std::to_string(c.value("p_holm", 1.0)) +
+           (c.value("supported", false) ? ", supported" : "") + "); ";
     return s;
   }
-  // The verdict never contradicts the ranking.
+  static bool top_supported(const nlohmann::json& d) {
+    return !d["ranking"].empty() && d["ranking"][0].value("supported", false);
+  }
+  // (e) The verdict agrees with the ranking (docs/diagnosis.md, "Verdict"): "missing physics"
+  // exactly when the top candidate is supported, or none is and Holm-significant trends remain
+  // (unnamed_structure, empty whenever a candidate is supported).
   static void expect_consistent(const nlohmann::json& d) {
-    const bool top = !d["ranking"].empty() && d["ranking"][0]["supported"].get<bool>();
+    const bool top = top_supported(d);
+    const bool unnamed = d.contains("unnamed_structure") && !d["unnamed_structure"].empty();
+    EXPECT_EQ(d["verdict"] == "missing physics", top || unnamed) << ranking_text(d);
     if (top) {
-      EXPECT_EQ(d["verdict"], "missing physics");
+      EXPECT_FALSE(unnamed) << ranking_text(d);
     }
-    if (d["verdict"] == "missing physics" && !top) {
-      EXPECT_FALSE(d["unnamed_structure"].empty());
+    // Supported candidates come first in the ranking.
+    bool seen_unsupported = false;
+    for (const auto& c : d["ranking"]) {
+      if (!c.value("supported", false)) seen_unsupported = true;
+      if (seen_unsupported) {
+        EXPECT_FALSE(c.value("supported", false)) << ranking_text(d);
+      }
     }
   }
-  std::array<double, 3> shift_{};
 };
 
-TEST_F(IndependentDetection, RateDependentRestitutionIsFoundAsRestitution) {
-  const auto d = diagnose(make(Family::kCrspRestitution, kRestitutionStrength, 12));
+// (a) CRSP-form restitution at the lab scale: the top SUPPORTED candidate is a restitution law.
+TEST_F(IndependentDetection, CrspRestitutionAtTheLabScaleIsFoundAsRestitution) {
+  SetOptions o = options(Family::kCrspRestitution, 0, 12);
+  o.strength = lab_scale_strength(o);
+  const auto d = diagnose(make(o));
   ASSERT_FALSE(d["ranking"].empty());
   const auto& best = d["ranking"][0];
-  EXPECT_TRUE(best["supported"].get<bool>()) << ranking_text(d);
-  EXPECT_TRUE(names_family(Family::kCrspRestitution, best["effect"])) << ranking_text(d);
+  EXPECT_TRUE(best.value("supported", false)) << ranking_text(d);
+  EXPECT_EQ(candidate_family(best["effect"]), "restitution") << ranking_text(d);
   expect_consistent(d);
 }
 
-TEST_F(IndependentDetection, SpinDependentRollingResistanceIsPrintedAsALawOnMuRAndSpin) {
-  const auto d = diagnose(make(Family::kSpinRolling, kSpinStrength, 12));
+// (b) Spin-dependent rolling resistance (no catalog effect has it; s = 1 is the lab scale):
+// found as a generated law on mu_R and spin, printed with omega.
+TEST_F(IndependentDetection, SpinRollingIsPrintedAsALawOnMuRAndSpin) {
+  const auto d = diagnose(make(options(Family::kSpinRolling, 1.0, 12)));
   ASSERT_FALSE(d["ranking"].empty());
   const auto& best = d["ranking"][0];
-  EXPECT_TRUE(best["supported"].get<bool>()) << ranking_text(d);
-  EXPECT_EQ(best["effect"].get<std::string>().rfind("muR_spin_", 0), 0u) << ranking_text(d);
-  const std::string law = best["law"];
+  EXPECT_TRUE(best.value("supported", false)) << ranking_text(d);
+  EXPECT_EQ(best.value("effect", "").rfind("muR_spin", 0), 0u) << ranking_text(d);
+  const std::string law = best.value("law", "");
   EXPECT_NE(law.find("mu_R"), std::string::npos) << law;
-  EXPECT_NE(law.find("|omega|"), std::string::npos) << law;
+  EXPECT_NE(law.find("omega"), std::string::npos) << law;
   expect_consistent(d);
 }
 
-TEST_F(IndependentDetection, NothingIsSupportedOnANullSet) {
+// (c) Null sets (the paper's law with scatter and noise): nothing supported, no false alarm.
+TEST_F(IndependentDetection, NothingIsSupportedOnNullSets) {
   for (std::uint64_t seed : {12u, 21u}) {
-    const auto d = diagnose(make(Family::kNone, 0.0, seed));
-    for (const auto& c : d["ranking"]) EXPECT_FALSE(c["supported"].get<bool>()) << ranking_text(d);
-    EXPECT_NE(d["verdict"], "missing physics") << ranking_text(d);
+    const auto d = diagnose(make(options(Family::kNone, 0.0, seed)));
+    for (const auto& c : d["ranking"]) {
+      EXPECT_FALSE(c.value("supported", false)) << seed << ": " << ranking_text(d);
+    }
+    EXPECT_NE(d["verdict"], "missing physics") << seed << ": " << ranking_text(d);
     expect_consistent(d);
   }
 }
 
-TEST_F(IndependentDetection, TwoEffectsAreFoundInTwoRounds) {
-  const std::string path = make(Family::kTwo, kTwoStrength, 13);
-  const auto r = ricochet("ladder " + quote(path) + " --shape cylinder --auto 3 --json");
+// (d) Two effects at once (CRSP restitution and spin rolling, each at least at the lab scale):
+// two rounds of `ladder --auto` add one law of each family, and the error falls.
+TEST_F(IndependentDetection, TwoEffectsAreFoundInTwoLadderRounds) {
+  SetOptions o = options(Family::kCrspRestitution, 0, 13);
+  const double crsp = lab_scale_strength(o);
+  o.family = Family::kSpinRolling;
+  const double spin = lab_scale_strength(o);
+  o.family = Family::kTwo;
+  o.strength = std::max(crsp, spin);
+  const std::string path = make(o);
+  const auto r = ricochet("ladder " + quote(path) + " --shape cylinder --auto 2 --json");
   ASSERT_EQ(r.status, 0) << r.err;
   const auto l = nlohmann::json::parse(r.out);
-  ASSERT_GE(l["rungs"].size(), 3u) << l["stop_reason"];
-  const std::string a = l["rungs"][1]["added"], b = l["rungs"][2]["added"];
-  const bool restitution =
-      names_family(Family::kCrspRestitution, a) || names_family(Family::kCrspRestitution, b);
-  const bool spin = names_family(Family::kSpinRolling, a) || names_family(Family::kSpinRolling, b);
-  EXPECT_TRUE(restitution && spin) << a << ", " << b;
+  std::string rounds;
+  for (const auto& round : l["rounds"]) {
+    const nlohmann::json best = round.contains("best") && round["best"].is_object()
+                                    ? round["best"]
+                                    : nlohmann::json::object();
+    rounds += round.value("verdict", "?") + " / " + best.value("effect", "-") +
+              (best.value("supported", false) ? " (supported); " : "; ");
+    // (e) In every round the verdict agrees with the round's best candidate.
+    if (best.value("supported", false)) {
+      EXPECT_EQ(round["verdict"], "missing physics") << rounds;
+    }
+  }
+  ASSERT_GE(l["rungs"].size(), 3u) << l.value("stop_reason", "") << " | " << rounds;
+  const std::string a = l["rungs"][1].value("added", ""), b = l["rungs"][2].value("added", "");
+  const std::string fa = candidate_family(a), fb = candidate_family(b);
+  EXPECT_TRUE((fa == "restitution" && fb == "spin rolling") ||
+              (fa == "spin rolling" && fb == "restitution"))
+      << a << ", " << b << " | " << rounds;
   EXPECT_LT(l["rungs"][2]["heldout_error"].get<double>(),
             l["rungs"][0]["heldout_error"].get<double>());
 }
