@@ -45,7 +45,7 @@
 //                       overlap scale of the paper's stiffness.
 //   rankine_plough      F_x -= sign(v_x) s 1/2 K_p gamma h^2 L, K_p = 3.7 (Rankine,
 //                       tan^2(45 + 35/2 deg)), gamma = 15.7 kN/m^3, L = 0.29 m (notes): about
-//                       0.08 N at this code's 1.6 mm overlap, 1 N at 1 cm: physically invisible
+//                       0.02 N at this code's 1.6 mm overlap, 1 N at 1 cm: physically invisible
 //                       in rebound velocities (measured anyway).
 //   two                 crsp_restitution and spin_rolling, each at s times its own reference.
 // Scatter per release (the paper's stochastic premise: every release meets another patch of
