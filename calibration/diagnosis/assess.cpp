@@ -499,8 +499,7 @@ Assessment assess(const Model& model, const Shape& shape, const ImpactSet& set,
     Obs terms{}, res{};
     double e = 0;
     const Impact& im = set.impacts[i];
-    const Obs m{im.vout[0], im.vout[1], im.vout[2], im.penetration.value_or(NAN),
-                im.contact_duration.value_or(NAN)};
+    const Obs m = measured_of(im);
     for (int k = 0; k < kObservables; ++k) {
       p.value[k] = pred_sum[i][k] / rr;
       p.spread[k] = spread_sum[i][k] / rr;

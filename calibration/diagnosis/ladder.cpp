@@ -5,22 +5,10 @@
 #include "common/error.hpp"
 #include "common/progress.hpp"
 #include "diagnosis/diagnose.hpp"
+#include "diagnosis/signature.hpp"
 
 namespace ricochet::diagnosis {
-namespace {
-
-const EffectRegistry& registry_of(const DiagnoseOptions& o) {
-  return o.registry ? *o.registry : EffectRegistry::global();
-}
-
-std::string law_of(const Model& m, const std::string& effect, const EffectRegistry& registry) {
-  const Effect& e = registry.get(effect);
-  std::vector<double> v;
-  for (const auto& p : e.parameters()) v.push_back(m.value(p.name));
-  return e.law(v);
-}
-
-}  // namespace
+using detail::registry_of;
 
 Ladder ladder(const Model& model, const Shape& shape, const ImpactSet& set,
               const std::vector<std::string>& adds, const DiagnoseOptions& options) {
@@ -51,7 +39,7 @@ Ladder ladder(const Model& model, const Shape& shape, const ImpactSet& set,
     rung.assessment =
         assess(current, shape, set, rung_options, r > 0 ? &l.rungs.back().assessment : nullptr);
     current = with_values(current, rung.assessment.population.params);
-    if (r > 0) rung.law = law_of(current, rung.added, registry);
+    if (r > 0) rung.law = detail::law_of(current, current.values(), {rung.added}, registry);
     if (r == 0)
       l.floor = noise_floor(current, shape, rung.assessment.population.params, set,
                             rung.assessment.use, o.assess);

@@ -25,10 +25,6 @@ double log_ratio(double base, double cand) {
   return std::log(std::max(base, tiny) / std::max(cand, tiny));
 }
 
-const EffectRegistry& registry_of(const DiagnoseOptions& o) {
-  return o.registry ? *o.registry : EffectRegistry::global();
-}
-
 // The model with the candidate's effects added at their neutral values, and the indices of the
 // added calibrated parameters.
 Model candidate_model(const Model& warm, const std::vector<std::string>& effects,
@@ -45,19 +41,6 @@ Model candidate_model(const Model& warm, const std::vector<std::string>& effects
       }
     }
   return cand;
-}
-
-// The law text of the added effects at the candidate's calibrated values.
-std::string law_of(const Model& cand, const std::vector<double>& values,
-                   const std::vector<std::string>& effects, const EffectRegistry& registry) {
-  std::string out;
-  for (const auto& name : effects) {
-    const Effect& e = registry.get(name);
-    std::vector<double> v;
-    for (const auto& p : e.parameters()) v.push_back(values[cand.index(p.name)]);
-    out += (out.empty() ? "" : "; ") + e.law(v);
-  }
-  return out;
 }
 
 struct Judge {
@@ -96,7 +79,7 @@ struct Judge {
       start.set_values(carry_values(cand, from.names, from.population.params));
       c.assessment = assess(start, shape, set, ao, &from);
       for (std::size_t j : added) c.added_values.push_back(c.assessment.population.params[j]);
-      c.law = law_of(cand, c.assessment.population.params, effects, registry);
+      c.law = detail::law_of(cand, c.assessment.population.params, effects, registry);
       c.adequacy = adequacy(c.assessment, b.floor);
       c.heldout_error = c.assessment.heldout.error.mean;
       c.heldout_se = c.assessment.heldout.error.se;
@@ -166,7 +149,7 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
   d.baseline = std::move(baseline);
   const Baseline& b = d.baseline;
   const Assessment& base = b.base;
-  const EffectRegistry& registry = registry_of(o);
+  const EffectRegistry& registry = detail::registry_of(o);
   const Model warm = with_values(model, base.population.params);
   const detail::Directions dirs = detail::base_directions(warm, shape, set, base, o.assess);
 

@@ -91,6 +91,22 @@ double signature_r(const Directions& dirs, const Model& cand, const Shape& shape
   return best;
 }
 
+const EffectRegistry& registry_of(const DiagnoseOptions& o) {
+  return o.registry ? *o.registry : EffectRegistry::global();
+}
+
+std::string law_of(const Model& model, std::span<const double> values,
+                   const std::vector<std::string>& effects, const EffectRegistry& registry) {
+  std::string out;
+  for (const auto& name : effects) {
+    const Effect& e = registry.get(name);
+    std::vector<double> v;
+    for (const auto& p : e.parameters()) v.push_back(values[model.index(p.name)]);
+    out += (out.empty() ? "" : "; ") + e.law(v);
+  }
+  return out;
+}
+
 std::string meaning_of(const Effect& effect) {
   const Signature s = effect.signature();
   return s.meaning.empty() ? std::string(effect.summary()) : std::string(s.meaning);

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -35,6 +36,14 @@ Directions base_directions(const Model& warm, const Shape& shape, const ImpactSe
 double signature_r(const Directions& dirs, const Model& cand, const Shape& shape,
                    const ImpactSet& set, const std::vector<std::size_t>& added,
                    const AssessOptions& o, double probe_fraction);
+
+/// The registry of the options (built-ins and plugins by default).
+const EffectRegistry& registry_of(const DiagnoseOptions& o);
+
+/// The named effects as laws with numbers (Effect::law), "; "-separated, at `values` (the full
+/// parameter vector of `model`, which holds every effect named).
+std::string law_of(const Model& model, std::span<const double> values,
+                   const std::vector<std::string>& effects, const EffectRegistry& registry);
 
 /// What the effect stands for: its declared meaning, else its summary.
 std::string meaning_of(const Effect& effect);
