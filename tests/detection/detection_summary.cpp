@@ -9,6 +9,10 @@
 //   found           the family of the top supported candidate, counted (what was found instead)
 //   effect size     mean and RMS V_out shift and the RMS left after refitting the paper's
 //                   constants (physical units, from the truth files), mean over the cell's sets
+//   oracle          mean over the cell's sets of the oracle's z and of its power for one
+//                   hypothesis and for the Bonferroni family (truth_sim.hpp, "The oracle's
+//                   ceiling": no test can do better); "-" (JSON null) when the cell's truth files
+//                   predate the oracle (no "oracle" key)
 //   verdicts        counts; and how often the verdict agrees with the ranking
 //   both found      "two" only: the two ladder rounds added one law of each family
 // Writes the markdown on stdout and DIR/summary.json. Exit 2 on bad usage, 1 when DIR has no
@@ -36,6 +40,8 @@ struct Cell {
   std::map<std::string, std::size_t> verdicts, found;
   std::array<double, 3> mean{}, rms{}, residual{};
   double lab_units = 0, seconds = 0;
+  std::size_t oracle_sets = 0;  // sets whose truth has an "oracle"
+  double oracle_z = 0, oracle_single = 0, oracle_family = 0;
 };
 
 std::array<double, 3> vec3(const json& j, const char* key) {
@@ -128,6 +134,16 @@ int main(int argc, char** argv) {
       c.residual[k] += res[k];
     }
     c.lab_units += t.value("shift_in_lab_units", 0.0);
+    if (t.contains("oracle") && t["oracle"].is_object()) {
+      const json& o = t["oracle"];
+      const double z = o.value("z", 0.0);
+      const auto size = o.value("family_size", truth::kOracleFamilySize);
+      ++c.oracle_sets;
+      c.oracle_z += z;
+      c.oracle_single += truth::oracle_power(z, truth::kOracleAlpha);
+      c.oracle_family += truth::oracle_power(
+          z, truth::kOracleAlpha / static_cast<double>(std::max<std::size_t>(size, 1)));
+    }
     c.seconds += d.value("seconds", 0.0);
     const fs::path ladder = dir / (stem + ".ladder.json");
     if (fs::exists(ladder)) {
@@ -158,9 +174,10 @@ int main(int argc, char** argv) {
       << "| family | strength | n | design | sets | detected: right family first and supported "
          "(Wilson 95 %) | anything supported (Wilson 95 %) | top supported was | mean V_out "
          "shift (m/s, m/s, rad/s) | RMS shift | RMS left after refit | mean shift / lab scale | "
-         "verdicts | verdict agrees with ranking | both found (ladder) | s per diagnosis |\n"
-         "| :-- | --: | --: | :-- | --: | :-- | :-- | :-- | :-- | :-- | :-- | --: | :-- | --: | "
-         ":-- | --: |\n";
+         "oracle z | oracle power, one hypothesis | oracle power, family | verdicts | verdict "
+         "agrees with ranking | both found (ladder) | s per diagnosis |\n"
+         "| :-- | --: | --: | :-- | --: | :-- | :-- | :-- | :-- | :-- | :-- | --: | --: | --: | "
+         "--: | :-- | --: | :-- | --: |\n";
   std::size_t null_sets = 0, null_alarms = 0;
   for (const auto& [key, c] : cells) {
     const auto& [fam, strength, n, design] = key;
@@ -172,14 +189,20 @@ int main(int argc, char** argv) {
       found += fmt::format("{}{} {}", found.empty() ? "" : ", ", f, k);
     if (fam == "none") null_sets += c.sets, null_alarms += c.any;
     const std::string both = c.ladders ? interval(c.both, c.ladders) : "";
+    const double O = static_cast<double>(c.oracle_sets);
+    auto oracle_cell = [&](double sum, const char* format) {
+      return c.oracle_sets ? fmt::format(fmt::runtime(format), sum / O) : std::string("-");
+    };
+    auto oracle_json = [&](double sum) { return c.oracle_sets ? json(sum / O) : json(nullptr); };
     std::cout << fmt::format(
         "| {} | {:g} | {} | {} | {} | {} | {} | {} | {:.3f}, {:.3f}, {:.2f} | {:.3f}, {:.3f}, "
-        "{:.2f} | {:.3f}, {:.3f}, {:.2f} | {:.2f} | {} | {}/{} | {} | {:.1f} |\n",
+        "{:.2f} | {:.3f}, {:.3f}, {:.2f} | {:.2f} | {} | {} | {} | {} | {}/{} | {} | {:.1f} |\n",
         fam, strength, n, design, c.sets, fam == "none" ? "-" : interval(c.right, c.sets),
         interval(c.any, c.sets), found.empty() ? "-" : found, c.mean[0] / N, c.mean[1] / N,
         c.mean[2] / N, c.rms[0] / N, c.rms[1] / N, c.rms[2] / N, c.residual[0] / N,
-        c.residual[1] / N, c.residual[2] / N, c.lab_units / N, verdicts, c.consistent, c.sets,
-        both.empty() ? "-" : both, c.seconds / N);
+        c.residual[1] / N, c.residual[2] / N, c.lab_units / N, oracle_cell(c.oracle_z, "{:.2f}"),
+        oracle_cell(c.oracle_single, "{:.3f}"), oracle_cell(c.oracle_family, "{:.3f}"), verdicts,
+        c.consistent, c.sets, both.empty() ? "-" : both, c.seconds / N);
     const stats::Proportion r = stats::wilson(c.right, c.sets), a = stats::wilson(c.any, c.sets);
     json cell = {
         {"family", fam},
@@ -198,6 +221,9 @@ int main(int argc, char** argv) {
         {"rms_shift", {c.rms[0] / N, c.rms[1] / N, c.rms[2] / N}},
         {"residual_rms_after_refit", {c.residual[0] / N, c.residual[1] / N, c.residual[2] / N}},
         {"shift_in_lab_units", c.lab_units / N},
+        {"oracle_z", oracle_json(c.oracle_z)},
+        {"oracle_power_single", oracle_json(c.oracle_single)},
+        {"oracle_power_family", oracle_json(c.oracle_family)},
         {"verdicts", c.verdicts},
         {"verdict_agrees_with_ranking", c.consistent},
         {"seconds_per_diagnosis", c.seconds / N}};

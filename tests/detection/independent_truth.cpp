@@ -6,6 +6,9 @@
 //   independent_truth --family F --strength S --n 40 --design lab|wide --seed K
 //                     --out set.csv [--truth truth.json] [--lab data/lab/cylinders.csv]
 //   independent_truth --family F --calibrate-shift [--design lab --n 40 --seed 1]
+//   independent_truth --family F --strength S --oracle [--family-size 45] [--design, --n, --seed]
+// --oracle prints the oracle's z and powers (truth_sim.hpp, "The oracle's ceiling") as one JSON
+// line, and writes the set only when --out is given.
 // The provenance defaults to the set's path with .truth.json instead of its extension.
 // Exit codes: 0 ok, 1 runtime failure, 2 bad option (the message names it and its range).
 #include <CLI/CLI.hpp>
@@ -27,7 +30,8 @@ int main(int argc, char** argv) {
   double strength = 1.0;
   long long n = 40;
   std::uint64_t seed = 1;
-  bool calibrate = false, no_refit = false;
+  bool calibrate = false, no_refit = false, oracle = false;
+  long long family_size = static_cast<long long>(truth::kOracleFamilySize);
   lab = std::string(RICOCHET_SOURCE_DIR) + "/data/lab/cylinders.csv";
   app.add_option("--family", family,
                  "none, crsp_restitution, kd_drag, spin_rolling, depth_friction_exp, "
@@ -53,6 +57,11 @@ int main(int argc, char** argv) {
                "--n, --seed) and exit");
   app.add_flag("--no-refit", no_refit,
                "Skip the effect size after recalibrating the paper's constants (faster)");
+  app.add_flag("--oracle", oracle,
+               "Print the oracle's z and its powers (one hypothesis, Bonferroni family) as JSON");
+  app.add_option("--family-size", family_size,
+                 "Bonferroni family size of the oracle's family power, in [1, 100000]")
+      ->capture_default_str();
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -76,7 +85,11 @@ int main(int argc, char** argv) {
   }
   if (n < 4 || n > 10000) return bad("--n " + std::to_string(n) + " is outside [4, 10000]");
   if (design != "lab" && design != "wide") return bad("--design '" + design + "': use lab or wide");
-  if (!calibrate && out.empty()) return bad("--out FILE is required (or --calibrate-shift)");
+  if (!calibrate && !oracle && out.empty())
+    return bad("--out FILE is required (or --calibrate-shift, --oracle)");
+  if (family_size < 1 || family_size > 100000)
+    return bad("--family-size " + std::to_string(family_size) + " is outside [1, 100000]");
+  if (oracle && no_refit) return bad("--oracle needs the refit (drop --no-refit)");
   if (calibrate && o.family == truth::Family::kNone)
     return bad("--calibrate-shift needs a --family other than none");
   if (!out.empty()) {
@@ -88,6 +101,7 @@ int main(int argc, char** argv) {
   o.seed = seed;
   o.design = design == "lab" ? truth::Design::kLab : truth::Design::kWide;
   o.refit = !no_refit;
+  o.oracle_family_size = static_cast<std::size_t>(family_size);
   try {
     if (o.design == truth::Design::kLab) {
       for (const auto& im : read_impact_set(lab).impacts)
@@ -99,6 +113,8 @@ int main(int argc, char** argv) {
       return 0;
     }
     const truth::TruthSet t = truth::make_set(o);
+    if (oracle) std::cout << t.truth["oracle"].dump() << "\n";
+    if (out.empty()) return 0;
     write_impact_set(t.set, out);
     if (truth_path.empty())
       truth_path = std::filesystem::path(out).replace_extension(".truth.json").string();

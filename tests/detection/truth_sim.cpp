@@ -97,7 +97,132 @@ std::vector<double> nelder_mead(F f, std::vector<double> x0, const std::vector<d
   return p[std::min_element(v.begin(), v.end()) - v.begin()];
 }
 
+using Vec3 = std::array<double, 3>;
+using Mat3 = std::array<Vec3, 3>;  // [row k][column j]
+
+// d V_out / d p_j by central differences of collide(): at(j, h) is the collision with parameter j
+// moved by h; a side without a rebound falls back to the one-sided difference with `centre`.
+template <class At>
+Mat3 central_jacobian(const Rebound& centre, const Vec3& step, At at) {
+  Mat3 jac{};
+  for (int j = 0; j < 3; ++j) {
+    const Rebound plus = at(j, step[j]), minus = at(j, -step[j]);
+    const Rebound& p = plus.ok ? plus : centre;
+    const Rebound& m = minus.ok ? minus : centre;
+    const double width = (plus.ok ? step[j] : 0.0) + (minus.ok ? step[j] : 0.0);
+    for (int k = 0; k < 3; ++k) jac[k][j] = width > 0 ? (p.vout[k] - m.vout[k]) / width : 0.0;
+  }
+  return jac;
+}
+
+// Lower Cholesky factor of a symmetric positive definite 3x3 matrix (Sigma_i of [1] is: N_out
+// is diagonal and positive).
+Mat3 cholesky(const Mat3& a) {
+  Mat3 l{};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j <= i; ++j) {
+      double s = a[i][j];
+      for (int k = 0; k < j; ++k) s -= l[i][k] * l[j][k];
+      l[i][j] = i == j ? std::sqrt(s) : s / l[j][j];
+    }
+  return l;
+}
+
+// L^-1 v by forward substitution (the whitening of [1]).
+Vec3 whiten(const Mat3& l, const Vec3& v) {
+  Vec3 w{};
+  for (int i = 0; i < 3; ++i) {
+    double s = v[i];
+    for (int k = 0; k < i; ++k) s -= l[i][k] * w[k];
+    w[i] = s / l[i][i];
+  }
+  return w;
+}
+
+double dot(const std::vector<double>& a, const std::vector<double>& b) {
+  double s = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) s += a[i] * b[i];
+  return s;
+}
+
+// The oracle's z (truth_sim.hpp, "The oracle's ceiling", [1]): the whitened effect's norm after
+// projecting out what a common change of (e_n^2, mu, mu_R) can produce. Per release: the true
+// V_in, the release's ground without the effect, its V_out and the effect delta_i.
+double oracle_z(const std::vector<Vec3>& vins, const std::vector<Ground>& grounds,
+                const std::vector<Rebound>& nulls, const std::vector<Vec3>& deltas) {
+  const Vec3 lo = {kEn2Lo, kMuLo, kMuRLo}, hi = {kEn2Hi, kMuHi, kMuRHi};
+  Vec3 scatter_var{}, ground_step{}, vin_step{};
+  for (int j = 0; j < 3; ++j) {
+    scatter_var[j] = (hi[j] - lo[j]) * (hi[j] - lo[j]) / 12.0;  // variance of U(a, b)
+    ground_step[j] = 0.02 * (hi[j] - lo[j]);
+    vin_step[j] = 0.2 * kNoiseIn[j];
+  }
+  std::vector<double> d;
+  std::array<std::vector<double>, 3> x;  // the columns of X
+  for (std::size_t i = 0; i < vins.size(); ++i) {
+    const Mat3 g = central_jacobian(nulls[i], ground_step, [&](int j, double h) {
+      Ground moved = grounds[i];
+      double* constant[] = {&moved.en2, &moved.mu, &moved.muR};
+      *constant[j] += h;
+      return collide(vins[i], moved);
+    });
+    const Mat3 jin = central_jacobian(nulls[i], vin_step, [&](int j, double h) {
+      Vec3 moved = vins[i];
+      moved[j] += h;
+      return collide(moved, grounds[i]);
+    });
+    Mat3 sigma{};  // [1]
+    for (int k = 0; k < 3; ++k)
+      for (int l = 0; l < 3; ++l) {
+        sigma[k][l] = k == l ? kNoiseOut[k] * kNoiseOut[k] : 0.0;
+        for (int j = 0; j < 3; ++j)
+          sigma[k][l] += g[k][j] * scatter_var[j] * g[l][j] +
+                         jin[k][j] * kNoiseIn[j] * kNoiseIn[j] * jin[l][j];
+      }
+    const Mat3 chol = cholesky(sigma);
+    for (const double w : whiten(chol, deltas[i])) d.push_back(w);
+    for (int j = 0; j < 3; ++j)
+      for (const double w : whiten(chol, {g[0][j], g[1][j], g[2][j]})) x[j].push_back(w);
+  }
+  // d_perp = (I - X (X^T X)^+ X^T) d through an orthonormal basis of X's columns (Gram-Schmidt,
+  // twice for round-off); a column within 1e-9 of the others' span is dropped (the pseudo-inverse).
+  std::vector<std::vector<double>> basis;
+  for (auto& col : x) {
+    const double norm0 = std::sqrt(dot(col, col));
+    for (int pass = 0; pass < 2; ++pass)
+      for (const auto& q : basis) {
+        const double c = dot(q, col);
+        for (std::size_t r = 0; r < col.size(); ++r) col[r] -= c * q[r];
+      }
+    const double norm = std::sqrt(dot(col, col));
+    if (!(norm > 1e-9 * norm0)) continue;
+    for (double& v : col) v /= norm;
+    basis.push_back(col);
+  }
+  for (int pass = 0; pass < 2; ++pass)
+    for (const auto& q : basis) {
+      const double c = dot(q, d);
+      for (std::size_t r = 0; r < d.size(); ++r) d[r] -= c * q[r];
+    }
+  return std::sqrt(dot(d, d));
+}
+
 }  // namespace
+
+double oracle_power(double z, double alpha) {
+  if (!(alpha > 0 && alpha < 1))
+    throw std::invalid_argument("oracle_power: alpha must be in (0, 1)");
+  // Upper tail Q(x) = erfc(x / sqrt 2) / 2 decreases in x; bisect Q(x) = alpha (erfc keeps the
+  // tail's relative accuracy at small alpha).
+  auto tail = [](double v) { return 0.5 * std::erfc(v / std::sqrt(2.0)); };
+  double lo = -40, hi = 40;
+  for (int i = 0; i < 200 && hi - lo > 1e-13; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (tail(mid) > alpha ? lo : hi) = mid;
+  }
+  const double z_alpha = 0.5 * (lo + hi);  // z_{1-alpha}
+  return tail(z_alpha - z);                // Phi(z - z_{1-alpha}) = Q(z_{1-alpha} - z), [2]
+}
 
 const std::vector<std::string>& family_names() {
   return kNames;
@@ -284,8 +409,9 @@ TruthSet make_set(const SetOptions& o) {
   }
   TruthSet out;
   out.set.source = "independent_truth";
-  std::vector<std::array<double, 3>> vins, vouts;
+  std::vector<std::array<double, 3>> vins, vouts, deltas;
   std::vector<Ground> grounds;
+  std::vector<Rebound> nulls;
   nlohmann::json releases = nlohmann::json::array();
   std::array<double, 3> sum{}, sq{};
   std::size_t redrawn = 0;
@@ -319,10 +445,11 @@ TruthSet make_set(const SetOptions& o) {
     Ground null = g;
     null.family = Family::kNone;
     const Rebound r0 = collide(vin, null);
+    std::array<double, 3> delta;
     for (int k = 0; k < 3; ++k) {
-      const double d = r.vout[k] - r0.vout[k];
-      sum[k] += d;
-      sq[k] += d * d;
+      delta[k] = r.vout[k] - r0.vout[k];
+      sum[k] += delta[k];
+      sq[k] += delta[k] * delta[k];
     }
     char id[32];
     std::snprintf(id, sizeof id, "T%03zu", out.set.size() + 1);
@@ -331,7 +458,9 @@ TruthSet make_set(const SetOptions& o) {
     out.set.impacts.push_back(im);
     vins.push_back(vin);
     vouts.push_back(r.vout);
+    deltas.push_back(delta);
     grounds.push_back(null);
+    nulls.push_back(r0);
     releases.push_back({{"id", im.id},
                         {"vin_true", vin},
                         {"vout_true", r.vout},
@@ -375,6 +504,27 @@ TruthSet make_set(const SetOptions& o) {
         {0.0, 0.0, 0.0}, {0.02, 0.05, 0.02}, 120);
     delta = {best[0], best[1], best[2]};
     misfit(delta, &out.residual_rms);
+  }
+  // The oracle (header, [1]-[2]); also at strength 0, where delta_i = 0 exactly gives z = 0.
+  nlohmann::json oracle;
+  if (o.refit) {
+    if (o.oracle_family_size == 0) throw std::invalid_argument("oracle family size must be >= 1");
+    if (o.family != Family::kNone) out.oracle_z = oracle_z(vins, grounds, nulls, deltas);
+    const double family_alpha = kOracleAlpha / static_cast<double>(o.oracle_family_size);
+    oracle = {
+        {"z", out.oracle_z},
+        {"power_single", oracle_power(out.oracle_z, kOracleAlpha)},
+        {"power_family", oracle_power(out.oracle_z, family_alpha)},
+        {"alpha_single", kOracleAlpha},
+        {"alpha_family", family_alpha},
+        {"family_size", o.oracle_family_size},
+        {"assumptions",
+         "power Phi(z - z_{1-alpha}) of the one-sided Neyman-Pearson test of the known effect "
+         "shape after re-estimating (e_n^2, mu, mu_R); Gaussian linearised errors: V_out noise + "
+         "ground scatter (uniform variances) and V_in noise propagated by central-difference "
+         "Jacobians on the law without the effect; exact noise and scatter covariances known; "
+         "in that model no test of this alternative has more power; on this nonlinear "
+         "simulator the ceiling is optimistic (tests/detection/truth_sim.hpp)"}};
   }
   const std::string design = o.design == Design::kLab ? "lab" : "wide";
   out.set.comments = {
@@ -445,6 +595,7 @@ TruthSet make_set(const SetOptions& o) {
       {"noise", {{"vin", kNoiseIn}, {"vout", kNoiseOut}, {"distribution", "Gaussian, 1 sd"}}},
       {"observables", {"vin_x", "vin_y", "win", "vout_x", "vout_y", "wout"}},
       {"releases", releases}};
+  if (!oracle.is_null()) out.truth["oracle"] = oracle;
   return out;
 }
 

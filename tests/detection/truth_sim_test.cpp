@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 #include "effects/model.hpp"
@@ -201,6 +202,60 @@ TEST(TruthSim, ReferenceStrengthsAgainstTheLabScale) {
   const TruthSet t = make_set(o);
   EXPECT_GT(t.residual_rms[1], 0.0);
   EXPECT_LT(t.residual_rms[1], t.rms_shift[1]);
+}
+
+// The oracle's power formula Phi(z - z_{1-alpha}) (truth_sim.hpp, [2]) by hand: at z = z_0.95 =
+// 1.645 the power is one half; 1.2816 = z_0.9 further it is 0.9.
+TEST(TruthSim, OraclePowerByHand) {
+  EXPECT_NEAR(oracle_power(1.645, 0.05), 0.5, 1e-3);
+  EXPECT_NEAR(oracle_power(1.645 + 1.2816, 0.05), 0.9, 1e-3);
+  EXPECT_NEAR(oracle_power(0.0, 0.05), 0.05, 1e-9);  // no effect: the level
+  // Bonferroni over 45: z_{1 - 0.05/45} = 3.0588 (erfc(3.0588 / sqrt 2) / 2 = 0.05 / 45).
+  EXPECT_NEAR(oracle_power(3.0588, 0.05 / 45), 0.5, 1e-3);
+  EXPECT_LT(oracle_power(2.0, 0.05 / 45), oracle_power(2.0, 0.05));
+  EXPECT_THROW(oracle_power(1.0, 0.0), std::invalid_argument);
+}
+
+// The oracle's z: zero without an effect, growing with the effect, larger where the design gives
+// leverage. Measured (n = 40, seed 1): crsp_restitution on the wide design z = 4.78 (s = 1),
+// 10.55 (3), 16.26 (10); on the lab design z = 2.54 at s = 3 (wide: 10.55): the lab's narrow
+// incident speeds let a recalibrated e_n^2 absorb most of a speed-dependent restitution.
+TEST(TruthSim, OracleZGrowsWithTheEffectAndTheDesign) {
+  SetOptions o;
+  o.n = 40;
+  o.seed = 1;
+  o.lab_vin = lab_states();
+  o.family = Family::kCrspRestitution;
+  o.strength = 0;
+  const TruthSet zero = make_set(o);
+  EXPECT_EQ(zero.oracle_z, 0.0);
+  EXPECT_EQ(zero.truth["oracle"]["z"].get<double>(), 0.0);
+  EXPECT_NEAR(zero.truth["oracle"]["power_single"].get<double>(), kOracleAlpha, 1e-9);
+  o.family = Family::kNone;
+  EXPECT_EQ(make_set(o).oracle_z, 0.0);
+  o.family = Family::kCrspRestitution;
+  o.design = Design::kWide;
+  double previous = 0;
+  for (double s : {1.0, 3.0, 10.0}) {
+    o.strength = s;
+    const TruthSet t = make_set(o);
+    EXPECT_GT(t.oracle_z, previous) << "s = " << s;
+    previous = t.oracle_z;
+    std::printf("oracle z, crsp_restitution, wide, s = %g: %.3f\n", s, t.oracle_z);
+    EXPECT_EQ(t.truth["oracle"]["family_size"].get<std::size_t>(), kOracleFamilySize);
+    EXPECT_NEAR(t.truth["oracle"]["power_single"].get<double>(),
+                oracle_power(t.oracle_z, kOracleAlpha), 1e-12);
+  }
+  o.strength = 3;
+  const double wide = make_set(o).oracle_z;
+  o.design = Design::kLab;
+  const double lab = make_set(o).oracle_z;
+  std::printf("oracle z, crsp_restitution, s = 3: wide %.3f, lab %.3f\n", wide, lab);
+  EXPECT_GT(wide, lab);
+  EXPECT_GT(lab, 0.0);
+  o.refit = false;  // no oracle without the refit
+  EXPECT_EQ(make_set(o).oracle_z, 0.0);
+  EXPECT_FALSE(make_set(o).truth.contains("oracle"));
 }
 
 TEST(TruthSim, OneMappingFromCandidatesToFamilies) {
