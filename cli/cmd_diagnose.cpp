@@ -103,19 +103,21 @@ void run(DiagnosisCliOptions& o) {
       "({}-fold)\n",
       b.base.insample.error.mean, b.base.heldout.error.mean, b.base.heldout.error.se, b.base.folds);
   std::cout << "verdict: " << d.verdict << "\n" << d.summary << "\n\n";
-  std::cout << fmt::format("{:<5}{:<36}{:>10}{:>10}{:>9}{:>9}{:>7}\n", "rank", "effect", "held-out",
-                           "drop", "+-SE", "Holm p", "sig r");
+  std::cout << fmt::format("{:<5}{:<36}{:>10}{:>10}{:>9}{:>7}{:>9}{:>9}\n", "rank", "effect",
+                           "held-out", "drop", "+-SE", "T", "score p", "Holm p");
   for (std::size_t i = 0; i < d.ranking.size(); ++i) {
     const auto& c = d.ranking[i];
-    std::cout << fmt::format("{:<5}{:<36}{:>10.4g}{:>10.3g}{:>9.2g}{:>9.2g}{:>7.2f}{}\n", i + 1,
-                             c.effect, c.heldout_error, c.error_drop, c.drop_se, c.p_holm,
-                             c.signature_r, c.supported ? "  supported" : "");
+    std::cout << fmt::format("{:<5}{:<36}{:>10.4g}{:>10.3g}{:>9.2g}{:>7.2f}{:>9.2g}{:>9.2g}{}\n",
+                             i + 1, c.effect, c.heldout_error, c.error_drop, c.drop_se, c.t,
+                             c.p_adjusted, c.p_holm, c.supported ? "  supported" : "");
     if (c.supported && !c.law.empty()) std::cout << "     law: " << c.law << "\n";
   }
   if (!d.screened_out.empty())
     std::cout << fmt::format(
-        "({} generated laws left out by the score-test screen; they count "
-        "in the Holm family of {})\n",
+        "(score p: the score test, step-down max-T adjusted; Holm p: the held-out drop's "
+        "corrected t-test, Holm-adjusted; supported when either is below alpha / 2 and the "
+        "held-out error falls. {} candidates tested by the score test only; they count in the "
+        "family of {})\n",
         d.screened_out.size(), d.family_size);
   std::cout << "\nevidence:\n";
   for (const auto& c : d.ranking) std::cout << "- " << c.effect << ": " << c.evidence << "\n";

@@ -17,7 +17,8 @@ void add_diagnosis_options(CLI::App* sub, diagnosis::OptionValues& v,
   if (set.alpha) {
     sub->add_option("--alpha", v.alpha, set.alpha)->capture_default_str();
     sub->add_option("--screen", v.screen,
-                    "Generated coefficient laws calibrated after the score-test screen")
+                    "At most this many candidates are calibrated (held-out error) after the score "
+                    "test: those it supports, at least the best")
         ->capture_default_str();
     sub->add_flag("--no-pairs", v.no_pairs,
                   "Do not try pairs of candidates when no single one is enough");

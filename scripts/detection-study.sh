@@ -31,6 +31,10 @@
 # OUT_DIR/summary.json (tests/detection/detection_summary.cpp, Wilson 95 % intervals).
 # DETECTION_ONLY=REGEX (environment) runs only the sets whose name matches (a plumbing check:
 # DETECTION_ONLY='^(spin_rolling-s1-n40|none-n40|two)-.*-(1|1001|2001)$').
+# STRENGTHS (environment, default "1 0.5 0.25 lab"): the strengths of each family, numbers
+# (times the reference) or "lab" / "2lab" (once / twice the lab-scale strength).
+# NS (environment, default "28 40"): the release counts. JOBS (environment, default 1): sets
+# made and diagnosed at once, each on one thread (OMP_NUM_THREADS=1) when JOBS > 1.
 set -euo pipefail
 if [ $# -lt 1 ] || [ ! -d "$1" ]; then
   echo "usage: $0 BUILD_DIR [OUT_DIR] [SEEDS] [NULLS] [DESIGN]" >&2
@@ -51,6 +55,9 @@ done
 case "$DESIGN" in lab | wide) ;; *) echo "DESIGN must be lab or wide" >&2; exit 2 ;; esac
 mkdir -p "$OUT"
 FAMILIES="crsp_restitution kd_drag spin_rolling depth_friction_exp rankine_plough"
+STRENGTHS=${STRENGTHS:-1 0.5 0.25 lab}
+NS=${NS:-28 40}
+JOBS=${JOBS:-1}
 
 # Provenance of the run (appended on each resume).
 echo "$(date -u +%FT%TZ) commit $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo ?)" \
@@ -62,13 +69,21 @@ lab_strength() {  # FAMILY: the cached lab-scale strength
   cat "$f"
 }
 
+strength_of() {  # FAMILY TOKEN: a number, "lab" or "2lab"
+  case "$2" in
+    lab) lab_strength "$1" ;;
+    2lab) awk -v s="$(lab_strength "$1")" 'BEGIN { printf "%.6g\n", 2 * s }' ;;
+    *) echo "$2" ;;
+  esac
+}
+
 # The list of sets: NAME FAMILY STRENGTH N SEED LADDER(0/1).
 plan() {
   local fam s n seed k lab two
   for fam in $FAMILIES; do
-    lab=$(lab_strength "$fam")
-    for s in 1 0.5 0.25 "$lab"; do
-      for n in 28 40; do
+    for tok in $STRENGTHS; do
+      s=$(strength_of "$fam" "$tok")
+      for n in $NS; do
         for k in $(seq 1 "$SEEDS"); do
           seed=$([ "$n" = 40 ] && echo "$k" || echo $((100 + k)))
           echo "$fam-s$s-n$n-$DESIGN-$seed $fam $s $n $seed 0"
@@ -76,7 +91,7 @@ plan() {
       done
     done
   done
-  for n in 28 40; do
+  for n in $NS; do
     for k in $(seq 1 "$NULLS"); do
       seed=$([ "$n" = 40 ] && echo $((1000 + k)) || echo $((1100 + k)))
       echo "none-n$n-$DESIGN-$seed none 0 $n $seed 0"
@@ -95,11 +110,12 @@ if [ -n "${DETECTION_ONLY:-}" ]; then
   [ -n "$PLAN" ] || { echo "DETECTION_ONLY matches no set" >&2; exit 2; }
 fi
 TOTAL=$(echo "$PLAN" | wc -l)
-i=0
-while read -r name fam s n seed ladder <&3; do
-  i=$((i + 1))
+[ "$JOBS" -gt 1 ] && export OMP_NUM_THREADS=1
+
+one_set() {  # I NAME FAMILY STRENGTH N SEED LADDER
+  local i=$1 name=$2 fam=$3 s=$4 n=$5 seed=$6 ladder=$7 extra=""
   if [ -f "$OUT/$name.diagnose.json" ] && { [ "$ladder" = 0 ] || [ -f "$OUT/$name.ladder.json" ]; }; then
-    continue
+    return 0
   fi
   "$T" --family "$fam" --strength "$s" --n "$n" --design "$DESIGN" --seed "$seed" \
     --out "$OUT/$name.csv" --truth "$OUT/$name.truth.json"
@@ -107,14 +123,21 @@ while read -r name fam s n seed ladder <&3; do
     "$R" diagnose "$OUT/$name.csv" --shape cylinder --json > "$OUT/$name.diagnose.json.tmp"
     mv "$OUT/$name.diagnose.json.tmp" "$OUT/$name.diagnose.json"
   fi
-  extra=""
   if [ "$ladder" = 1 ]; then
     "$R" ladder "$OUT/$name.csv" --shape cylinder --auto 2 --json > "$OUT/$name.ladder.json.tmp"
     mv "$OUT/$name.ladder.json.tmp" "$OUT/$name.ladder.json"
     extra=" | ladder: $(jq -r '[.rungs[1:][].added] | join(", ")' "$OUT/$name.ladder.json")"
   fi
   echo "[$(date +%H:%M:%S)] $i/$TOTAL $name: $(jq -r '[.verdict, (if (.ranking | length) > 0 then .ranking[0].effect + (if .ranking[0].supported then " (supported)" else "" end) else "-" end), "\(.seconds | floor) s"] | join(" | ")' "$OUT/$name.diagnose.json")$extra"
+}
+
+i=0
+while read -r name fam s n seed ladder <&3; do
+  i=$((i + 1))
+  one_set "$i" "$name" "$fam" "$s" "$n" "$seed" "$ladder" &
+  while [ "$(jobs -rp | wc -l)" -ge "$JOBS" ]; do wait -n || exit 1; done
 done 3<<< "$PLAN"
+wait
 
 echo "== summary ($OUT/summary.md, $OUT/summary.json)"
 "$S" "$OUT" | tee "$OUT/summary.md"

@@ -4,6 +4,14 @@
 #include "diagnosis/diagnose.hpp"
 
 namespace ricochet::diagnosis {
+namespace {
+
+// A number, or null where it is not finite (JSON has no NaN).
+nlohmann::json num(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
+
+}  // namespace
 
 nlohmann::json to_json(const Assessment& a, const NoiseFloor& floor) {
   nlohmann::json params = nlohmann::json::object();
@@ -87,16 +95,16 @@ nlohmann::json to_json(const Candidate& c, const std::array<bool, kObservables>&
   nlohmann::json params = nlohmann::json::object();
   for (std::size_t i = 0; i < c.added_parameters.size() && i < c.added_values.size(); ++i)
     params[c.added_parameters[i]] = c.added_values[i];
-  auto num = [](double v) {
-    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-  };
   nlohmann::json j = {{"effect", c.effect},
                       {"effects", c.effects},
                       {"generated", c.generated},
                       {"law", c.law},
                       {"t", num(c.t)},
                       {"p_value", num(c.p_value)},
+                      {"p_adjusted", num(c.p_adjusted)},
                       {"p_holm", num(c.p_holm)},
+                      {"heldout_t", num(c.heldout_t)},
+                      {"heldout_p", num(c.heldout_p)},
                       {"signature_trends", c.signature_trends},
                       {"heldout_error", num(c.heldout_error)},
                       {"error_drop", num(c.error_drop)},
@@ -126,10 +134,13 @@ nlohmann::json to_json(const Diagnosis& d) {
   nlohmann::json screened = nlohmann::json::array();
   for (const auto& s : d.screened_out)
     screened.push_back({{"effect", s.effect},
-                        {"signature_r", std::isfinite(s.signature_r) ? nlohmann::json(s.signature_r)
-                                                                     : nlohmann::json(nullptr)}});
+                        {"signature_r", num(s.signature_r)},
+                        {"t", num(s.t)},
+                        {"p_value", num(s.p_value)},
+                        {"p_adjusted", num(s.p_adjusted)}});
   return {{"verdict", d.verdict},
           {"family_size", d.family_size},
+          {"multiplicity", "step-down max-T over the family (Gaussian multiplier bootstrap)"},
           {"screened_out", screened},
           {"unnamed_structure", d.unnamed_structure},
           {"scatter", to_json(b.scatter)},

@@ -24,13 +24,21 @@ std::string bias_text(const ErrorReport& r, int k) {
 std::string evidence_of(const Candidate& c, const Baseline& b, const DiagnoseOptions& o) {
   const Assessment& base = b.base;
   std::vector<std::string> parts;
-  parts.push_back(fmt::format(
-      "held-out error {:.4g} vs {:.4g} for the base model (drop {:.3g} +- {:.2g} over {} "
-      "splits, corrected t = {:.2f}, p = {:.2g}, Holm-adjusted over {} candidates {:.2g}; "
-      "penalty for {} added parameter{} {:.2g}; noise floor {:.4g})",
-      c.heldout_error, base.heldout.error.mean, c.error_drop, c.drop_se, base.cv.splits(), c.t,
-      c.p_value, c.family_size, c.p_holm, c.added_parameters.size(),
-      c.added_parameters.size() == 1 ? "" : "s", c.penalty, b.floor.value.mean));
+  if (c.effects.size() > 1)
+    parts.push_back(fmt::format(
+        "held-out error {:.4g} vs {:.4g} for the base model (against its first effect alone: "
+        "corrected t = {:.2f}, p = {:.2g}, x {} pairs tried = {:.2g})",
+        c.heldout_error, base.heldout.error.mean, c.t, c.p_value, c.family_size, c.p_adjusted));
+  else
+    parts.push_back(fmt::format(
+        "score test T = {:.2f} (p = {:.2g}; step-down max-T adjusted over {} candidates "
+        "{:.2g}); held-out error {:.4g} vs {:.4g} for the base model (drop {:.3g} +- {:.2g} "
+        "over {} splits, corrected t = {:.2f}, p = {:.2g}, Holm-adjusted {:.2g}; penalty for {} "
+        "added parameter{} {:.2g}; noise floor {:.4g})",
+        c.t, c.p_value, c.family_size, c.p_adjusted, c.heldout_error, base.heldout.error.mean,
+        c.error_drop, c.drop_se, base.cv.splits(), c.heldout_t, c.heldout_p, c.p_holm,
+        c.added_parameters.size(), c.added_parameters.size() == 1 ? "" : "s", c.penalty,
+        b.floor.value.mean));
   // The observable whose error falls most.
   int best_k = -1;
   double best_drop = 0;
@@ -60,9 +68,9 @@ std::string evidence_of(const Candidate& c, const Baseline& b, const DiagnoseOpt
   for (const auto& p : parts) text += (text.empty() ? "" : "; ") + p;
   text += c.supported ? ": consistent with " + c.meaning
                       : fmt::format(
-                            ": not supported (Holm-adjusted p {:.2g} >= {:.2g}, or the drop does "
-                            "not exceed its penalty)",
-                            c.p_holm, o.alpha);
+                            ": not supported (score-test adjusted p {:.2g} and held-out Holm p "
+                            "{:.2g} both >= {:.2g}, or the held-out error does not fall)",
+                            c.p_adjusted, c.p_holm, o.alpha / 2);
   return text;
 }
 
@@ -76,10 +84,12 @@ std::string summary_of(const Diagnosis& d, const DiagnoseOptions& o) {
                   base.heldout.error.mean, b.adequacy.ratio, b.floor.value.mean);
   if (best)
     return fmt::format(
-        "Missing physics: {}. Found: {} ({}), supported at family-wise level {:.2g} (Holm-"
-        "adjusted p {:.2g} over {} candidates): {}. Held-out error {:.4g} -> {:.4g}{}.",
-        floor_text, best->effect, best->meaning, o.alpha, best->p_holm, d.family_size,
-        best->law.empty() ? best->effect : best->law, base.heldout.error.mean, best->heldout_error,
+        "Missing physics: {}. Found: {} ({}), supported at family-wise level {:.2g} (score "
+        "test max-T adjusted p {:.2g}, held-out test Holm p {:.2g}, over {} candidates): {}. "
+        "Held-out error {:.4g} -> {:.4g}{}.",
+        floor_text, best->effect, best->meaning, o.alpha, best->p_adjusted, best->p_holm,
+        d.family_size, best->law.empty() ? best->effect : best->law, base.heldout.error.mean,
+        best->heldout_error,
         best->adequacy.adequate ? ", within the noise floor" : ", still above the noise floor");
   if (d.verdict == "missing physics") {
     std::string s = fmt::format(

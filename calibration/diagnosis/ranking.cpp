@@ -50,7 +50,6 @@ struct Judge {
   const Baseline& b;
   const DiagnoseOptions& o;
   const EffectRegistry& registry;
-  const detail::Directions& dirs;
   int inner_threads;
 
   // Calibrates and judges one candidate (single effect or pair). `from`: the assessment to
@@ -87,29 +86,24 @@ struct Judge {
       for (std::size_t i = 0; i < set.size(); ++i)
         drops[i] = base.heldout.per_release[i] - c.assessment.heldout.per_release[i];
       c.error_drop = mean_se(drops).mean;
-      // One log ratio per split: the corrected resampled t-test (stats.hpp); drop_se is the
-      // test's standard error of the mean log ratio.
+      // The held-out drop's corrected resampled t-test (stats.hpp), one log ratio per split:
+      // reported beside the score test; drop_se is its standard error in the drop's units.
       std::vector<double> split_drop(base.cv.splits());
       for (std::size_t j = 0; j < split_drop.size(); ++j)
         split_drop[j] = log_ratio(base.split_error[j], c.assessment.split_error[j]);
       const double n = static_cast<double>(set.size());
       const double n_test = n / static_cast<double>(base.cv.folds);
       const stats::ResampledTest t = stats::corrected_resampled_t(split_drop, n_test, n - n_test);
-      // In the drop's units: the standard error that gives the same t.
       c.drop_se = std::isfinite(t.t) && t.t != 0 ? std::fabs(c.error_drop / t.t) : NAN;
-      c.t = t.t;
-      c.p_value = std::isfinite(t.p_value) ? t.p_value : 1.0;
+      c.heldout_t = t.t;
+      c.heldout_p = std::isfinite(t.p_value) ? t.p_value : 1.0;
       c.penalty =
           static_cast<double>(added.size()) * b.floor.value.mean / std::max(1.0, n - n_test);
       c.penalised_heldout = c.heldout_error + c.penalty;
-      AssessOptions so = o.assess;
-      so.fit.threads = inner_threads;
-      c.signature_r = detail::signature_r(dirs, cand, shape, set, added, so, o.probe_fraction);
     } catch (const std::exception& e) {
       c.error = e.what();
       c.penalised_heldout = INFINITY;
       c.heldout_error = NAN;
-      c.p_value = 1.0;
       c.evidence = std::string("could not be tried: ") + e.what();
       if (c.meaning.empty()) c.meaning = c.effect;
     }
@@ -153,112 +147,140 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
   const Model warm = with_values(model, base.population.params);
   const detail::Directions dirs = detail::base_directions(warm, shape, set, base, o.assess);
 
-  // The family: the catalog and plugins, and the generated laws (screened by the score test).
-  std::vector<std::string> catalog, generated;
+  // The family: every registered effect not in the model (catalog, plugins, generated laws),
+  // or the candidates named. Each is tested by the robust score test (no calibration) and the
+  // family-wise error is controlled by the step-down max-T adjustment over all of them.
+  std::vector<std::string> names;
   if (!o.candidates.empty()) {
-    catalog = o.candidates;
+    names = o.candidates;
   } else {
-    for (const auto& n : registry.names()) {
-      if (model.has_effect(n)) continue;
-      (registry.get(n).signature().generated ? generated : catalog).push_back(n);
-    }
+    for (const auto& n : registry.names())
+      if (!model.has_effect(n)) names.push_back(n);
   }
-  std::vector<std::pair<double, std::string>> scored;
-  for (const auto& g : generated) {
-    double r = NAN;
+  std::vector<double> r(names.size(), NAN);
+  std::vector<stats::ScoreColumn> columns;
+  for (std::size_t h = 0; h < names.size(); ++h) {
     try {
       std::vector<std::size_t> added;
-      std::vector<std::string> names;
-      const Model cand = candidate_model(warm, {g}, registry, added, names);
-      r = detail::signature_r(dirs, cand, shape, set, added, o.assess, o.probe_fraction);
+      std::vector<std::string> pnames;
+      const Model cand = candidate_model(warm, {names[h]}, registry, added, pnames);
+      detail::Score sc =
+          detail::score_of(dirs, cand, shape, set, added, o.assess, o.probe_fraction, h);
+      r[h] = sc.r;
+      for (auto& col : sc.columns) columns.push_back(std::move(col));
     } catch (const std::exception&) {
+      // Not testable here (e.g. its parameters clash with the model's): p = 1 below.
     }
-    scored.emplace_back(std::isfinite(r) ? std::fabs(r) : -1.0, g);
-    d.screened_out.push_back({g, r});
   }
-  std::stable_sort(scored.begin(), scored.end(),
-                   [](const auto& x, const auto& y) { return x.first > y.first; });
+  const stats::ScoreTests tests =
+      stats::robust_score_tests(columns, names.size(),
+                                {.nuisance = static_cast<std::size_t>(dirs.X.cols()),
+                                 .draws = o.score_draws,
+                                 .seed = o.assess.fit.seed});
+  d.family_size = names.size();
+
+  // The candidates calibrated: all named ones, else the `screen` of largest score statistic.
+  std::vector<std::size_t> order(names.size());
+  for (std::size_t h = 0; h < order.size(); ++h) order[h] = h;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
+    return tests.statistic[x] > tests.statistic[y];
+  });
+  const std::size_t calibrate = o.candidates.empty() ? o.screen : names.size();
   std::vector<std::vector<std::string>> jobs;
-  for (const auto& c : catalog) jobs.push_back({c});
-  for (std::size_t k = 0; k < scored.size() && k < o.screen; ++k) {
-    jobs.push_back({scored[k].second});
-    std::erase_if(d.screened_out, [&](const Screened& s) { return s.effect == scored[k].second; });
+  std::vector<std::size_t> job_of;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const std::size_t h = order[k];
+    if (k < calibrate) {
+      jobs.push_back({names[h]});
+      job_of.push_back(h);
+    } else {
+      d.screened_out.push_back(
+          {names[h], r[h], tests.statistic[h], tests.p_value[h], tests.p_adjusted[h]});
+    }
   }
-  d.family_size = catalog.size() + generated.size();
 
   const int threads = std::max(
       1, std::min<int>(o.assess.fit.threads > 0 ? o.assess.fit.threads : omp_get_max_threads(),
                        static_cast<int>(std::max<std::size_t>(1, jobs.size()))));
-  const Judge judge{warm, shape, set, b, o, registry, dirs, threads > 1 ? 1 : o.assess.fit.threads};
+  const Judge judge{warm, shape, set, b, o, registry, threads > 1 ? 1 : o.assess.fit.threads};
   Progress progress("diagnose", jobs.size(), o.progress);
   d.ranking =
       judge_all(judge, jobs, std::vector<const Assessment*>(jobs.size(), &base), threads, progress);
   progress.finish();
+  for (std::size_t k = 0; k < d.ranking.size(); ++k) {
+    Candidate& c = d.ranking[k];
+    const std::size_t h = job_of[k];
+    c.signature_r = r[h];
+    c.t = tests.statistic[h];
+    c.p_value = tests.p_value[h];
+    c.p_adjusted = tests.p_adjusted[h];
+    c.family_size = d.family_size;
+  }
+  // The second route: the held-out drop's corrected test, Holm over the whole family (the
+  // candidates not calibrated count as untested hypotheses).
+  std::vector<double> heldout_p;
+  for (const auto& c : d.ranking) heldout_p.push_back(c.error.empty() ? c.heldout_p : 1.0);
+  const std::vector<double> holm = stats::holm_adjust(heldout_p, d.family_size);
+  for (std::size_t k = 0; k < d.ranking.size(); ++k) {
+    Candidate& c = d.ranking[k];
+    c.p_holm = std::isfinite(holm[k]) ? holm[k] : 1.0;
+    c.supported = c.error.empty() && c.error_drop > 0 &&
+                  (c.p_adjusted < o.alpha / 2 || c.p_holm < o.alpha / 2);
+  }
 
-  // A sparse search over pairs when no single term brings the model within its floor.
-  auto by_penalised = [](const Candidate& x, const Candidate& y) {
+  // Supported first, then by penalised held-out error.
+  auto by_rank = [](const Candidate& x, const Candidate& y) {
+    if (x.supported != y.supported) return x.supported;
     return x.penalised_heldout < y.penalised_heldout;
   };
-  std::stable_sort(d.ranking.begin(), d.ranking.end(), by_penalised);
-  const bool single_enough =
-      !d.ranking.empty() && d.ranking.front().error.empty() && d.ranking.front().adequacy.adequate;
-  if (o.pairs && !single_enough && b.adequacy.adequate == false) {
-    std::vector<const Candidate*> pool;
-    // Only singles with some evidence of their own (uncorrected p < alpha) are paired: a pair
-    // of two effects that each do nothing is rarely more than their sum, and each pair tried
-    // enlarges the Holm family.
-    for (const auto& c : d.ranking)
-      if (c.error.empty() && c.error_drop > 0 && c.p_value < o.alpha && pool.size() < o.pair_pool)
-        pool.push_back(&c);
+  std::stable_sort(d.ranking.begin(), d.ranking.end(), by_rank);
+
+  // A sparse search over pairs, tested after the singles (a fixed sequence: only when the best
+  // single is supported, so the family-wise level holds), when that single leaves the model
+  // above its floor.
+  const bool top_supported = !d.ranking.empty() && d.ranking.front().supported;
+  if (o.pairs && top_supported && !d.ranking.front().adequacy.adequate) {
+    const Candidate& first = d.ranking.front();
     std::vector<std::vector<std::string>> pair_jobs;
-    std::vector<const Assessment*> from;
-    for (std::size_t x = 0; x < pool.size(); ++x)
-      for (std::size_t y = x + 1; y < pool.size(); ++y) {
-        pair_jobs.push_back({pool[x]->effect, pool[y]->effect});
-        from.push_back(&pool[x]->assessment);
-      }
+    for (const auto& c : d.ranking)
+      if (&c != &first && c.error.empty() && c.error_drop > 0 && c.p_value < o.alpha &&
+          pair_jobs.size() + 1 < o.pair_pool)
+        pair_jobs.push_back({first.effect, c.effect});
     if (!pair_jobs.empty()) {
       Progress pp("pairs", pair_jobs.size(), o.progress);
-      auto pairs = judge_all(judge, pair_jobs, from, threads, pp);
+      auto pairs = judge_all(judge, pair_jobs,
+                             std::vector<const Assessment*>(pair_jobs.size(), &first.assessment),
+                             threads, pp);
       pp.finish();
-      d.family_size += pair_jobs.size();
-      // A pair must also beat its first effect alone (same corrected test, on the splits):
-      // otherwise its second effect is a passenger (seen: ploughing + depth_friction with
-      // a_mu = 0.5 1/m, doing nothing, ranked first for a lower penalised error by chance).
+      // A pair must beat its first effect alone (corrected test on the splits, Bonferroni over
+      // the pairs tried): otherwise its second effect is a passenger (seen: ploughing +
+      // depth_friction with a_mu = 0.5 1/m, doing nothing, ranked first by chance).
       const double nn = static_cast<double>(set.size());
       const double n_test = nn / static_cast<double>(base.cv.folds);
-      for (std::size_t k = 0; k < pairs.size(); ++k) {
-        Candidate& c = pairs[k];
+      const double level = o.alpha / static_cast<double>(pair_jobs.size());
+      for (Candidate& c : pairs) {
         if (c.error.empty()) {
           std::vector<double> dj(base.cv.splits());
           for (std::size_t j = 0; j < dj.size(); ++j)
-            dj[j] = log_ratio(from[k]->split_error[j], c.assessment.split_error[j]);
-          const double p = stats::corrected_resampled_t(dj, n_test, nn - n_test).p_value;
-          c.beats_first = std::isfinite(p) && p < o.alpha;
+            dj[j] = log_ratio(first.assessment.split_error[j], c.assessment.split_error[j]);
+          const stats::ResampledTest t = stats::corrected_resampled_t(dj, n_test, nn - n_test);
+          c.beats_first = std::isfinite(t.p_value) && t.p_value < level;
+          c.t = t.t;
+          c.p_value = std::isfinite(t.p_value) ? t.p_value : 1.0;
+          c.p_adjusted = c.p_holm =
+              std::min(1.0, c.p_value * static_cast<double>(pair_jobs.size()));
         }
+        c.family_size = pair_jobs.size();
+        c.signature_r = first.signature_r;
+        c.supported = c.error.empty() && c.beats_first && c.error_drop > first.error_drop;
       }
-      // Only now: `from` points into d.ranking, which the insertion may reallocate.
+      // Only now: `first` refers into d.ranking, which the insertion may reallocate.
       for (auto& c : pairs) d.ranking.push_back(std::move(c));
+      std::stable_sort(d.ranking.begin(), d.ranking.end(), by_rank);
     }
   }
-
-  // Holm over the whole family; screened-out laws count as untested hypotheses.
-  std::vector<double> p;
-  for (const auto& c : d.ranking) p.push_back(c.p_value);
-  const std::vector<double> adjusted = stats::holm_adjust(p, d.family_size);
-  for (std::size_t k = 0; k < d.ranking.size(); ++k) {
-    Candidate& c = d.ranking[k];
-    c.family_size = d.family_size;
-    c.p_holm = std::isfinite(adjusted[k]) ? adjusted[k] : 1.0;
-    c.supported = c.error.empty() && c.p_holm < o.alpha && c.error_drop > c.penalty &&
-                  (c.effects.size() < 2 || c.beats_first);
+  for (Candidate& c : d.ranking)
     if (c.error.empty()) c.evidence = detail::evidence_of(c, b, o);
-  }
-  // Supported first; among them a single effect before a pair that is not clearly better.
-  std::stable_sort(d.ranking.begin(), d.ranking.end(), [](const Candidate& x, const Candidate& y) {
-    if (x.supported != y.supported) return x.supported;
-    return x.penalised_heldout < y.penalised_heldout;
-  });
 
   // The verdict, from the ranking first (it never contradicts it).
   const Candidate* best =

@@ -14,10 +14,18 @@ std::vector<std::pair<std::size_t, int>> rows_of(std::size_t n,
   return rows;
 }
 
+// Multiplies each release's block of rows (its used observables, contiguous in `rows`) by W.
+void whiten_blocks(Eigen::VectorXd& v, const Eigen::MatrixXd& W) {
+  const Eigen::Index k = W.rows();
+  for (Eigen::Index r = 0; k > 0 && r + k <= v.size(); r += k)
+    v.segment(r, k) = W * v.segment(r, k);
+}
+
+// The change of the whitened predictions per unit of the parameter step (Directions::whiten).
 Eigen::VectorXd scaled_change(const std::vector<ObsPrediction>& a,
                               const std::vector<ObsPrediction>& b, const ImpactSet& set,
                               const std::vector<std::pair<std::size_t, int>>& rows, double step,
-                              const AssessOptions& o) {
+                              const Eigen::MatrixXd& whiten, const AssessOptions& o) {
   Eigen::VectorXd v(static_cast<Eigen::Index>(rows.size()));
   for (std::size_t r = 0; r < rows.size(); ++r) {
     const auto [i, k] = rows[r];
@@ -25,6 +33,7 @@ Eigen::VectorXd scaled_change(const std::vector<ObsPrediction>& a,
     const double x = (a[i].value[k] - b[i].value[k]) / step / d;
     v[static_cast<Eigen::Index>(r)] = std::isfinite(x) ? x : 0.0;
   }
+  whiten_blocks(v, whiten);
   return v;
 }
 
@@ -34,6 +43,25 @@ Directions base_directions(const Model& warm, const Shape& shape, const ImpactSe
                            const Assessment& base, const AssessOptions& o) {
   Directions d;
   d.rows = rows_of(set.size(), base.use);
+  // Whitening: the pooled covariance of the releases' scaled in-sample residual vectors.
+  Eigen::VectorXd z(static_cast<Eigen::Index>(d.rows.size()));
+  for (std::size_t r = 0; r < d.rows.size(); ++r) {
+    const auto [i, k] = d.rows[r];
+    const double x = base.insample.residual[i][k] / error_scale(set.impacts[i], o)[k];
+    z[static_cast<Eigen::Index>(r)] = std::isfinite(x) ? x : 0.0;
+  }
+  const Eigen::Index k = set.size() > 0 ? static_cast<Eigen::Index>(d.rows.size() / set.size()) : 0;
+  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(k, k);
+  for (Eigen::Index r = 0; k > 0 && r + k <= z.size(); r += k)
+    S += z.segment(r, k) * z.segment(r, k).transpose();
+  if (k > 0) S /= static_cast<double>(set.size());
+  // A ridge of 1e-9 of the mean variance keeps a degenerate observable (a set whose residuals
+  // vanish in one component) from blowing the whitening up.
+  const double ridge = k > 0 ? 1e-9 * std::max(S.trace() / static_cast<double>(k), 1e-300) : 0.0;
+  S += ridge * Eigen::MatrixXd::Identity(k, k);
+  d.whiten = Eigen::LLT<Eigen::MatrixXd>(S).matrixL().solve(Eigen::MatrixXd::Identity(k, k));
+  whiten_blocks(z, d.whiten);
+
   const auto& p0 = base.insample_predictions;
   const std::vector<std::size_t> cal = warm.calibrated_indices();
   d.X.resize(static_cast<Eigen::Index>(d.rows.size()), static_cast<Eigen::Index>(cal.size()));
@@ -44,7 +72,7 @@ Directions base_directions(const Model& warm, const Shape& shape, const ImpactSe
     if (params[j] + step > warm.upper(j)) step = -step;
     params[j] += step;
     const auto p = predict_observables(warm, shape, params, set, o);
-    d.X.col(static_cast<Eigen::Index>(c)) = scaled_change(p, p0, set, d.rows, step, o);
+    d.X.col(static_cast<Eigen::Index>(c)) = scaled_change(p, p0, set, d.rows, step, d.whiten, o);
   }
   const Eigen::Index N = d.X.rows();
   d.proj = Eigen::MatrixXd::Identity(N, N);
@@ -54,41 +82,42 @@ Directions base_directions(const Model& warm, const Shape& shape, const ImpactSe
     const Eigen::MatrixXd pinv = d.X.completeOrthogonalDecomposition().pseudoInverse();
     d.proj -= d.X * pinv;
   }
-  Eigen::VectorXd z(N);
-  for (std::size_t r = 0; r < d.rows.size(); ++r) {
-    const auto [i, k] = d.rows[r];
-    const double s = error_scale(set.impacts[i], o)[k];
-    z[static_cast<Eigen::Index>(r)] = base.insample.residual[i][k] / s;
-  }
   d.z = d.proj * z;
   return d;
 }
 
-// The score-test correlation of a candidate (file comment of diagnose.hpp): the largest over its
-// calibrated parameters.
-double signature_r(const Directions& dirs, const Model& cand, const Shape& shape,
-                   const ImpactSet& set, const std::vector<std::size_t>& added,
-                   const AssessOptions& o, double probe_fraction) {
-  if (dirs.z.norm() == 0) return NAN;
+Score score_of(const Directions& dirs, const Model& cand, const Shape& shape, const ImpactSet& set,
+               const std::vector<std::size_t>& added, const AssessOptions& o, double probe_fraction,
+               std::size_t hypothesis) {
+  Score out;
+  if (dirs.z.norm() == 0) return out;
   const auto p0 = predict_observables(cand, shape, cand.values(), set, o);
-  double best = NAN;
   for (std::size_t j : added) {
     std::vector<double> params = cand.values();
-    const double toward = params[j] <= cand.lower(j)   ? cand.upper(j)
-                          : params[j] >= cand.upper(j) ? cand.lower(j)
-                                                       : cand.upper(j);
+    const bool at_lower = params[j] <= cand.lower(j), at_upper = params[j] >= cand.upper(j);
+    const double toward = at_lower ? cand.upper(j) : at_upper ? cand.lower(j) : cand.upper(j);
     const double step = probe_fraction * (toward - params[j]);
     if (step == 0) continue;
     params[j] += step;
     const auto p = predict_observables(cand, shape, params, set, o);
-    const Eigen::VectorXd s = dirs.proj * scaled_change(p, p0, set, dirs.rows, step, o);
+    const Eigen::VectorXd s =
+        dirs.proj * scaled_change(p, p0, set, dirs.rows, step, dirs.whiten, o);
     if (s.norm() == 0) continue;
-    // Sign convention: positive when increasing the parameter from neutral moves the
-    // predictions towards the measurements.
-    const double r = dirs.z.dot(s) / (dirs.z.norm() * s.norm()) * (step > 0 ? 1.0 : -1.0);
-    if (!(std::fabs(r) <= std::fabs(best))) best = r;
+    // Sign convention: positive when moving the parameter from neutral into its bounds moves
+    // the predictions towards the measurements (the change is per unit step, so a negative
+    // step flips it).
+    const double sign = step > 0 ? 1.0 : -1.0;
+    const double r = dirs.z.dot(s) / (dirs.z.norm() * s.norm()) * sign;
+    if (!(std::fabs(r) <= std::fabs(out.r))) out.r = r;
+    stats::ScoreColumn col{hypothesis, std::vector<double>(set.size(), 0.0),
+                           /*two_sided=*/!at_lower && !at_upper};
+    for (std::size_t row = 0; row < dirs.rows.size(); ++row) {
+      const auto e = static_cast<Eigen::Index>(row);
+      col.u[dirs.rows[row].first] += sign * s[e] * dirs.z[e];
+    }
+    out.columns.push_back(std::move(col));
   }
-  return best;
+  return out;
 }
 
 const EffectRegistry& registry_of(const DiagnoseOptions& o) {

@@ -4,11 +4,21 @@
 //
 // Score test: the base model's directions X (d prediction / d parameter, scaled by the error
 // denominators, stacked over releases and observables) and its scaled in-sample residuals z,
-// both projected off the columns of X. A candidate's direction s (the change of the scaled
-// predictions when one added parameter moves from neutral by `probe_fraction` of its range),
-// projected the same way, correlates with z by r = z.s / (|z| |s|): how much of the residual the
-// effect could explain that the base parameters cannot (Rao's score test in correlation form).
-// Positive r: moving the parameter up from neutral moves the predictions towards the data.
+// both whitened release by release with the pooled covariance of the scaled in-sample residual
+// vectors (S = L L^T over the observables, each release's block multiplied by L^-1: a GLS
+// score, where each observable counts by its signal-to-noise ratio, not by its error
+// denominator, and the correlation of V_out^x and omega_out residuals that the ground's
+// friction scatter makes is not counted twice) and projected off the columns of X. A candidate's
+// direction s (the change of the whitened predictions when one added parameter moves from neutral
+// by `probe_fraction` of its range), projected the same way, gives
+//   - the correlation r = z.s / (|z| |s|): how much of the residual the effect could explain
+//     that the base parameters cannot (Rao's score test in correlation form; the screen);
+//   - per release i, the score contribution u_i = sum over its observables of s z: the columns
+//     of the robust score test (stats/score_tests.hpp), whose statistic is the test of the
+//     candidate. The projection makes the score insensitive, to first order, to the error of
+//     the base parameters' estimate, so the test holds whichever fit estimated them.
+// Positive r or T: moving the parameter from neutral into its bounds moves the predictions
+// towards the data. A parameter whose neutral value is a bound is tested one-sided.
 #pragma once
 
 #include <Eigen/Dense>
@@ -18,24 +28,31 @@
 #include <vector>
 
 #include "diagnosis/diagnose.hpp"
+#include "stats/score_tests.hpp"
 
 namespace ricochet::diagnosis::detail {
 
 struct Directions {
-  Eigen::MatrixXd X;                              // base parameter directions
-  Eigen::VectorXd z;                              // scaled in-sample residuals, projected
+  Eigen::MatrixXd X;                              // base parameter directions (whitened)
+  Eigen::VectorXd z;                              // whitened in-sample residuals, projected
   Eigen::MatrixXd proj;                           // I - X (X^T X)^-1 X^T
   std::vector<std::pair<std::size_t, int>> rows;  // (release, observable)
+  Eigen::MatrixXd whiten;  // L^-1 over the used observables (block of one release)
 };
 
 Directions base_directions(const Model& warm, const Shape& shape, const ImpactSet& set,
                            const Assessment& base, const AssessOptions& o);
 
-/// The score-test correlation of `cand` (the warm base model plus the effect at neutral): the
-/// largest in magnitude over its calibrated parameters `added`.
-double signature_r(const Directions& dirs, const Model& cand, const Shape& shape,
-                   const ImpactSet& set, const std::vector<std::size_t>& added,
-                   const AssessOptions& o, double probe_fraction);
+/// The score test of `cand` (the warm base model plus the effect at neutral): `r`, the
+/// correlation of largest magnitude over its calibrated parameters `added`, and one column of
+/// per-release score contributions per parameter, labelled `hypothesis`.
+struct Score {
+  double r = NAN;
+  std::vector<stats::ScoreColumn> columns;
+};
+Score score_of(const Directions& dirs, const Model& cand, const Shape& shape, const ImpactSet& set,
+               const std::vector<std::size_t>& added, const AssessOptions& o, double probe_fraction,
+               std::size_t hypothesis);
 
 /// The registry of the options (built-ins and plugins by default).
 const EffectRegistry& registry_of(const DiagnoseOptions& o);
