@@ -63,16 +63,17 @@ JOBS=${JOBS:-1}
 echo "$(date -u +%FT%TZ) commit $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo ?)" \
   "seeds $SEEDS nulls $NULLS design $DESIGN" >> "$OUT/study.log"
 
-lab_strength() {  # FAMILY: the cached lab-scale strength
+lab_strength() {  # FAMILY: the cached lab-scale strength ("none" where no strength reaches it)
   local f="$OUT/$1.lab-strength"
-  [ -s "$f" ] || "$T" --family "$1" --calibrate-shift --design "$DESIGN" --n 40 --seed 1 > "$f"
+  [ -s "$f" ] || "$T" --family "$1" --calibrate-shift --design "$DESIGN" --n 40 --seed 1 > "$f" ||
+    echo none > "$f"
   cat "$f"
 }
 
 strength_of() {  # FAMILY TOKEN: a number, "lab" or "2lab"
   case "$2" in
     lab) lab_strength "$1" ;;
-    2lab) awk -v s="$(lab_strength "$1")" 'BEGIN { printf "%.6g\n", 2 * s }' ;;
+    2lab) awk -v s="$(lab_strength "$1")" 'BEGIN { if (s == "none") print s; else printf "%.6g\n", 2 * s }' ;;
     *) echo "$2" ;;
   esac
 }
@@ -83,6 +84,7 @@ plan() {
   for fam in $FAMILIES; do
     for tok in $STRENGTHS; do
       s=$(strength_of "$fam" "$tok")
+      [ "$s" = none ] && continue
       for n in $NS; do
         for k in $(seq 1 "$SEEDS"); do
           seed=$([ "$n" = 40 ] && echo "$k" || echo $((100 + k)))

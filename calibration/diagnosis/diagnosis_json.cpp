@@ -186,7 +186,9 @@ nlohmann::json to_json(const Ladder& l) {
       if (!d.ranking.empty())
         r["best"] = {{"effect", d.ranking.front().effect},
                      {"law", d.ranking.front().law},
-                     {"p_holm", d.ranking.front().p_holm},
+                     {"t", num(d.ranking.front().t)},
+                     {"p_adjusted", num(d.ranking.front().p_adjusted)},
+                     {"p_holm", num(d.ranking.front().p_holm)},
                      {"supported", d.ranking.front().supported},
                      {"error_drop", d.ranking.front().error_drop},
                      {"drop_se", d.ranking.front().drop_se}};

@@ -138,11 +138,12 @@ void diagnosis_section(report::HtmlPage& page, const ReportSection& s) {
   for (std::size_t i = 0; i < d.ranking.size(); ++i) {
     const auto& c = d.ranking[i];
     rows.push_back({std::to_string(i + 1), c.effect, g4(c.heldout_error), g3(c.error_drop),
-                    g3(c.drop_se), g3(c.penalty), f2(c.signature_r), c.supported ? "yes" : "no"});
+                    g3(c.drop_se), f2(c.t), g3(c.p_adjusted), g3(c.p_holm),
+                    c.supported ? "yes" : "no"});
   }
-  page.table(
-      {"rank", "effect", "held-out error", "drop", "SE", "penalty", "signature r", "supported"},
-      rows, "Candidate effects, best first");
+  page.table({"rank", "effect", "held-out error", "drop", "SE", "score T", "score p (max-T)",
+              "held-out p (Holm)", "supported"},
+             rows, "Candidate effects, best first");
   std::vector<std::string> ev;
   for (const auto& c : d.ranking) ev.push_back(c.effect + ": " + c.evidence);
   page.list(ev);

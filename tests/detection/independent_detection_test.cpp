@@ -4,12 +4,14 @@
 // non-catalog forms; release-to-release scatter; lab-like noise; velocities only), 40 releases,
 // fixed seeds, diagnosed by the built `ricochet` program, which reads only the set's file.
 //
-// The strengths are several times the lab scale (the strength at which the effect's mean V_out
-// shift reaches the paper's Table 1 scale, 0.1 m/s, 3.4 rad/s; lab_scale_strength): CRSP
-// restitution x 11, spin rolling s = 7.5 (x 7.5), two effects s = 10. At the lab scale itself
-// the leak-free, Holm-controlled diagnosis does NOT detect them (0 of 10 per cell in the study,
-// docs/detection-benchmark.md): these cases check that the machinery finds, names and prints a
-// hidden law that the data do support, and keeps quiet on null sets; the study measures power.
+// The strengths are chosen from the study (docs/detection-benchmark.md, wide design, 10 seeds
+// per cell) where detection is reliable, not where it is marginal, so that a CI failure means
+// a broken machine and not bad luck: CRSP restitution at twice its lab-scale strength (the
+// strength at which its mean V_out shift reaches the paper's Table 1 scale, 0.1 m/s, 3.4 rad/s;
+// lab_scale_strength): found 10 of 10 in the study; spin rolling at s = 3 (3 x its lab scale;
+// 7 of 10 at 2 x); two effects at s = 10. At the lab scale itself the study finds CRSP 4 of 10
+// and spin rolling 1 of 10 times, against an oracle ceiling of 0.54 and 0.88 with a family of
+// 45 candidates: the CI cases check the machinery, the study measures power.
 // The design is the wide one (V_in^x 1.5-6 m/s, V_in^y -5 to -1 m/s, omega_in -90 to 0 rad/s):
 // on the lab's narrow incident states most of an effect is absorbed by the paper's constants.
 #include <gtest/gtest.h>
@@ -55,7 +57,8 @@ class IndependentDetection : public test::ProgramTest {
   static std::string ranking_text(const nlohmann::json& d) {
     std::string s = d.value("verdict", "?") + ": ";
     for (const auto& c : d["ranking"])
-      s += c.value("effect", "?") + " (t " + std::to_string(c.value("t", 0.0)) + ", Holm p " +
+      s += c.value("effect", "?") + " (score T " + std::to_string(c.value("t", 0.0)) +
+           ", max-T p " + std::to_string(c.value("p_adjusted", 1.0)) + ", held-out Holm p " +
            std::to_string(c.value("p_holm", 1.0)) +
            (c.value("supported", false) ? ", supported" : "") + "); ";
     return s;
@@ -84,10 +87,10 @@ class IndependentDetection : public test::ProgramTest {
   }
 };
 
-// (a) CRSP-form restitution (11 x the lab scale): the top SUPPORTED candidate is a restitution law.
+// (a) CRSP-form restitution (2 x the lab scale): the top SUPPORTED candidate is a restitution law.
 TEST_F(IndependentDetection, CrspRestitutionIsFoundAsRestitution) {
   SetOptions o = options(Family::kCrspRestitution, 0, 12);
-  o.strength = 11.0 * lab_scale_strength(o);
+  o.strength = 2.0 * lab_scale_strength(o);
   const auto d = diagnose(make(o));
   ASSERT_FALSE(d["ranking"].empty());
   const auto& best = d["ranking"][0];
@@ -96,10 +99,10 @@ TEST_F(IndependentDetection, CrspRestitutionIsFoundAsRestitution) {
   expect_consistent(d);
 }
 
-// (b) Spin-dependent rolling resistance (no catalog effect has it; s = 7.5, the lab scale is 1):
+// (b) Spin-dependent rolling resistance (no catalog effect has it; s = 3, the lab scale is 1):
 // found as a generated law on mu_R and spin, printed with omega.
 TEST_F(IndependentDetection, SpinRollingIsPrintedAsALawOnMuRAndSpin) {
-  const auto d = diagnose(make(options(Family::kSpinRolling, 7.5, 12)));
+  const auto d = diagnose(make(options(Family::kSpinRolling, 3.0, 12)));
   ASSERT_FALSE(d["ranking"].empty());
   const auto& best = d["ranking"][0];
   EXPECT_TRUE(best.value("supported", false)) << ranking_text(d);
@@ -143,9 +146,8 @@ TEST_F(IndependentDetection, TwoEffectsAreNamedInTwoLadderRounds) {
     }
   }
   // Round 1 adds a supported law of one hidden family; round 2 ranks a law of the OTHER family
-  // first. Whether round 2 also supports it is a question of power: at s = 10 with 40 releases
-  // the spin law ranks first with Holm-adjusted p of about 0.6 on this seed (it was supported
-  // on a previous version of the simulator); the study (docs/detection-benchmark.md) has rates.
+  // first (whether round 2 also supports it is a question of power; the study,
+  // docs/detection-benchmark.md, has the rates).
   ASSERT_GE(l["rungs"].size(), 2u) << l.value("stop_reason", "") << " | " << rounds;
   ASSERT_GE(l["rounds"].size(), 2u) << rounds;
   const std::string a = l["rungs"][1].value("added", "");
