@@ -61,7 +61,7 @@ JOBS=${JOBS:-1}
 
 # Provenance of the run (appended on each resume).
 echo "$(date -u +%FT%TZ) commit $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo ?)" \
-  "seeds $SEEDS nulls $NULLS design $DESIGN" >> "$OUT/study.log"
+  "seeds $SEEDS nulls $NULLS design $DESIGN strengths '$STRENGTHS' ns '$NS' jobs $JOBS" >> "$OUT/study.log"
 
 lab_strength() {  # FAMILY: the cached lab-scale strength ("none" where no strength reaches it)
   local f="$OUT/$1.lab-strength"
