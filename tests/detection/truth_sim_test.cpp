@@ -29,6 +29,18 @@ std::vector<std::array<double, 3>> lab_states() {
   return v;
 }
 
+// Options of a lab-design set of `n` releases.
+SetOptions lab_design(std::size_t n, std::uint64_t seed, Family family = Family::kNone,
+                      double strength = 1.0) {
+  SetOptions o;
+  o.n = n;
+  o.seed = seed;
+  o.lab_vin = lab_states();
+  o.family = family;
+  o.strength = strength;
+  return o;
+}
+
 TEST(TruthSim, FrictionlessDropReturnsTheRestitution) {
   Numerics no_gravity;
   no_gravity.gravity = 0;
@@ -92,12 +104,7 @@ TEST(TruthSim, EnergyNeverIncreases) {
 TEST(TruthSim, HiddenEffectsVanishExactlyAtZeroStrength) {
   const std::array<double, 3> vin{2.9, -2.3, -65.0};
   const Rebound null = collide(vin, {0.16, 0.35, 0.16});
-  SetOptions o;
-  o.n = 12;
-  o.seed = 3;
-  o.lab_vin = lab_states();
-  o.family = Family::kNone;
-  o.strength = 0;
+  SetOptions o = lab_design(12, 3, Family::kNone, 0);
   const TruthSet null_set = make_set(o);
   for (const auto& name : family_names()) {
     const Family f = family_from_name(name);
@@ -181,10 +188,7 @@ TEST(TruthSim, SetsAreReproducibleAndCarryNoTruth) {
 
 // The strengths documented in docs/detection-benchmark.md (lab design, 40 releases, seed 1).
 TEST(TruthSim, ReferenceStrengthsAgainstTheLabScale) {
-  SetOptions o;
-  o.n = 40;
-  o.seed = 1;
-  o.lab_vin = lab_states();
+  SetOptions o = lab_design(40, 1);
   auto lab_scale = [&](Family f) {
     o.family = f;
     return lab_scale_strength(o);
@@ -221,12 +225,7 @@ TEST(TruthSim, OraclePowerByHand) {
 // 10.55 (3), 16.26 (10); on the lab design z = 2.54 at s = 3 (wide: 10.55): the lab's narrow
 // incident speeds let a recalibrated e_n^2 absorb most of a speed-dependent restitution.
 TEST(TruthSim, OracleZGrowsWithTheEffectAndTheDesign) {
-  SetOptions o;
-  o.n = 40;
-  o.seed = 1;
-  o.lab_vin = lab_states();
-  o.family = Family::kCrspRestitution;
-  o.strength = 0;
+  SetOptions o = lab_design(40, 1, Family::kCrspRestitution, 0);
   const TruthSet zero = make_set(o);
   EXPECT_EQ(zero.oracle_z, 0.0);
   EXPECT_EQ(zero.truth["oracle"]["z"].get<double>(), 0.0);
