@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
   double strength = 1.0;
   long long n = 40;
   std::uint64_t seed = 1;
-  bool calibrate = false, no_refit = false, oracle = false;
+  bool calibrate = false, no_refit = false, oracle = false, engine_numerics = false;
   long long family_size = static_cast<long long>(truth::kOracleFamilySize);
   lab = std::string(RICOCHET_SOURCE_DIR) + "/data/lab/cylinders.csv";
   app.add_option("--family", family,
@@ -55,6 +55,12 @@ int main(int argc, char** argv) {
   app.add_flag("--calibrate-shift", calibrate,
                "Print the strength whose mean V_out shift reaches the lab scale (for --design, "
                "--n, --seed) and exit");
+  app.add_flag(
+      "--engine-numerics", engine_numerics,
+      "Use the engine's step and stiffnesses (dt 1e-5 s, kn = kt = 1e7 N/m, kr = 1e8 N m/rad) "
+      "instead of this code's: the set then differs from the engine's law only in the "
+      "integrator, lever arm and end of contact (a check of what the null sets' false "
+      "alarms see)");
   app.add_flag("--no-refit", no_refit,
                "Skip the effect size after recalibrating the paper's constants (faster)");
   app.add_flag("--oracle", oracle,
@@ -101,6 +107,7 @@ int main(int argc, char** argv) {
   o.seed = seed;
   o.design = design == "lab" ? truth::Design::kLab : truth::Design::kWide;
   o.refit = !no_refit;
+  if (engine_numerics) o.numerics = ricochet::truth::kEngineNumerics;
   o.oracle_family_size = static_cast<std::size_t>(family_size);
   try {
     if (o.design == truth::Design::kLab) {

@@ -149,7 +149,8 @@ double dot(const std::vector<double>& a, const std::vector<double>& b) {
 // projecting out what a common change of (e_n^2, mu, mu_R) can produce. Per release: the true
 // V_in, the release's ground without the effect, its V_out and the effect delta_i.
 double oracle_z(const std::vector<Vec3>& vins, const std::vector<Ground>& grounds,
-                const std::vector<Rebound>& nulls, const std::vector<Vec3>& deltas) {
+                const std::vector<Rebound>& nulls, const std::vector<Vec3>& deltas,
+                const Numerics& num) {
   const Vec3 lo = {kEn2Lo, kMuLo, kMuRLo}, hi = {kEn2Hi, kMuHi, kMuRHi};
   Vec3 scatter_var{}, ground_step{}, vin_step{};
   for (int j = 0; j < 3; ++j) {
@@ -164,12 +165,12 @@ double oracle_z(const std::vector<Vec3>& vins, const std::vector<Ground>& ground
       Ground moved = grounds[i];
       double* constant[] = {&moved.en2, &moved.mu, &moved.muR};
       *constant[j] += h;
-      return collide(vins[i], moved);
+      return collide(vins[i], moved, num);
     });
     const Mat3 jin = central_jacobian(nulls[i], vin_step, [&](int j, double h) {
       Vec3 moved = vins[i];
       moved[j] += h;
-      return collide(moved, grounds[i]);
+      return collide(moved, grounds[i], num);
     });
     Mat3 sigma{};  // [1]
     for (int k = 0; k < 3; ++k)
@@ -430,7 +431,7 @@ TruthSet make_set(const SetOptions& o) {
     std::array<double, 3> nin, nout;
     for (int k = 0; k < 3; ++k) nin[k] = rng.normal();
     for (int k = 0; k < 3; ++k) nout[k] = rng.normal();
-    const Rebound r = collide(vin, g);
+    const Rebound r = collide(vin, g, o.numerics);
     Impact im;
     for (int k = 0; k < 3; ++k) {
       im.vin[k] = vin[k] + kNoiseIn[k] * nin[k];
@@ -444,7 +445,7 @@ TruthSet make_set(const SetOptions& o) {
     }
     Ground null = g;
     null.family = Family::kNone;
-    const Rebound r0 = collide(vin, null);
+    const Rebound r0 = collide(vin, null, o.numerics);
     std::array<double, 3> delta;
     for (int k = 0; k < 3; ++k) {
       delta[k] = r.vout[k] - r0.vout[k];
@@ -487,7 +488,7 @@ TruthSet make_set(const SetOptions& o) {
         g.en2 = std::clamp(g.en2 + d[0], 1e-4, 1.0);
         g.mu = std::max(g.mu + d[1], 0.0);
         g.muR = std::max(g.muR + d[2], 0.0);
-        const Rebound r = collide(vins[i], g);
+        const Rebound r = collide(vins[i], g, o.numerics);
         for (int k = 0; k < 3; ++k) s2[k] += (r.vout[k] - vouts[i][k]) * (r.vout[k] - vouts[i][k]);
       }
       double f = 0;
@@ -509,7 +510,8 @@ TruthSet make_set(const SetOptions& o) {
   nlohmann::json oracle;
   if (o.refit) {
     if (o.oracle_family_size == 0) throw std::invalid_argument("oracle family size must be >= 1");
-    if (o.family != Family::kNone) out.oracle_z = oracle_z(vins, grounds, nulls, deltas);
+    if (o.family != Family::kNone)
+      out.oracle_z = oracle_z(vins, grounds, nulls, deltas, o.numerics);
     const double family_alpha = kOracleAlpha / static_cast<double>(o.oracle_family_size);
     oracle = {
         {"z", out.oracle_z},
@@ -536,7 +538,7 @@ TruthSet make_set(const SetOptions& o) {
           ". Noise (1 sd): V_in 0.05 m/s, 0.05 m/s, 1.4 rad/s; V_out 0.05 m/s, 0.03 m/s, 2 rad/s. "
           "Ground per release: en2 U(0.12,0.20), mu U(0.25,0.45), muR U(0.12,0.20)."};
   const Reference ref = reference(o.family);
-  const Numerics num;
+  const Numerics& num = o.numerics;
   nlohmann::json design_json = {{"name", design}};
   if (o.design == Design::kLab) {
     design_json["description"] =
