@@ -78,7 +78,8 @@ struct DiagnoseOptions {
   std::size_t score_draws = 20000;
   /// Try pairs of the best candidates when no single one brings the model within its floor.
   bool pairs = true;
-  /// Pairs among this many best single candidates with an uncorrected p below alpha.
+  /// Pairs of the best supported candidate with the next (pair_pool - 1) candidates by score
+  /// statistic whose unadjusted score p is below alpha.
   std::size_t pair_pool = 3;
   /// Effects to try; empty = every effect of the registry not in the model.
   std::vector<std::string> candidates;

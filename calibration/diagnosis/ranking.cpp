@@ -242,10 +242,12 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
   if (o.pairs && top_supported && !d.ranking.front().adequacy.adequate) {
     const Candidate& first = d.ranking.front();
     std::vector<std::vector<std::string>> pair_jobs;
-    for (const auto& c : d.ranking)
-      if (&c != &first && c.error.empty() && c.error_drop > 0 && c.p_value < o.alpha &&
+    // Its partners: the next candidates by score statistic with an unadjusted score p below
+    // alpha, calibrated or not (with --screen 1 only the first one was).
+    for (std::size_t h : order)
+      if (names[h] != first.effect && tests.p_value[h] < o.alpha &&
           pair_jobs.size() + 1 < o.pair_pool)
-        pair_jobs.push_back({first.effect, c.effect});
+        pair_jobs.push_back({first.effect, names[h]});
     if (!pair_jobs.empty()) {
       Progress pp("pairs", pair_jobs.size(), o.progress);
       auto pairs = judge_all(judge, pair_jobs,
