@@ -31,14 +31,17 @@ std::string evidence_of(const Candidate& c, const Baseline& b, const DiagnoseOpt
         c.heldout_error, base.heldout.error.mean, c.t, c.p_value, c.family_size, c.p_adjusted));
   else
     parts.push_back(fmt::format(
-        "score test T = {:.2f} (p = {:.2g}; step-down max-T adjusted over {} candidates "
-        "{:.2g}); held-out error {:.4g} vs {:.4g} for the base model (drop {:.3g} +- {:.2g} "
+        "{}; held-out error {:.4g} vs {:.4g} for the base model (drop {:.3g} +- {:.2g} "
         "over {} splits, corrected t = {:.2f}, p = {:.2g}, Holm-adjusted {:.2g}; penalty for {} "
         "added parameter{} {:.2g}; noise floor {:.4g})",
-        c.t, c.p_value, c.family_size, c.p_adjusted, c.heldout_error, base.heldout.error.mean,
-        c.error_drop, c.drop_se, base.cv.splits(), c.heldout_t, c.heldout_p, c.p_holm,
-        c.added_parameters.size(), c.added_parameters.size() == 1 ? "" : "s", c.penalty,
-        b.floor.value.mean));
+        std::isfinite(c.t)
+            ? fmt::format("score test T = {:.2f} (p = {:.2g}; step-down max-T adjusted over {} "
+                          "candidates {:.2g})",
+                          c.t, c.p_value, c.family_size, c.p_adjusted)
+            : std::string("no score test (too few releases, or the effect could not be probed)"),
+        c.heldout_error, base.heldout.error.mean, c.error_drop, c.drop_se, base.cv.splits(),
+        c.heldout_t, c.heldout_p, c.p_holm, c.added_parameters.size(),
+        c.added_parameters.size() == 1 ? "" : "s", c.penalty, b.floor.value.mean));
   // The observable whose error falls most.
   int best_k = -1;
   double best_drop = 0;

@@ -172,11 +172,12 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
       // Not testable here (e.g. its parameters clash with the model's): p = 1 below.
     }
   }
-  const stats::ScoreTests tests =
-      stats::robust_score_tests(columns, names.size(),
-                                {.nuisance = static_cast<std::size_t>(dirs.X.cols()),
-                                 .draws = o.score_draws,
-                                 .seed = o.assess.fit.seed});
+  // Too few releases for the score test's degrees of freedom (n <= q + 1): every p is 1 and
+  // only the held-out route can support a candidate.
+  const auto q = static_cast<std::size_t>(dirs.X.cols());
+  if (set.size() <= q + 1) columns.clear();
+  const stats::ScoreTests tests = stats::robust_score_tests(
+      columns, names.size(), {.nuisance = q, .draws = o.score_draws, .seed = o.assess.fit.seed});
   d.family_size = names.size();
 
   // The candidates calibrated: all named ones, else the `screen` of largest score statistic.
