@@ -1,5 +1,7 @@
 #include "truth_sim.hpp"
 
+#include <Eigen/Dense>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -115,36 +117,6 @@ Mat3 central_jacobian(const Rebound& centre, const Vec3& step, At at) {
   return jac;
 }
 
-// Lower Cholesky factor of a symmetric positive definite 3x3 matrix (Sigma_i of [1] is: N_out
-// is diagonal and positive).
-Mat3 cholesky(const Mat3& a) {
-  Mat3 l{};
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j <= i; ++j) {
-      double s = a[i][j];
-      for (int k = 0; k < j; ++k) s -= l[i][k] * l[j][k];
-      l[i][j] = i == j ? std::sqrt(s) : s / l[j][j];
-    }
-  return l;
-}
-
-// L^-1 v by forward substitution (the whitening of [1]).
-Vec3 whiten(const Mat3& l, const Vec3& v) {
-  Vec3 w{};
-  for (int i = 0; i < 3; ++i) {
-    double s = v[i];
-    for (int k = 0; k < i; ++k) s -= l[i][k] * w[k];
-    w[i] = s / l[i][i];
-  }
-  return w;
-}
-
-double dot(const std::vector<double>& a, const std::vector<double>& b) {
-  double s = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) s += a[i] * b[i];
-  return s;
-}
-
 // The oracle's z (truth_sim.hpp, "The oracle's ceiling", [1]): the whitened effect's norm after
 // projecting out what a common change of (e_n^2, mu, mu_R) can produce. Per release: the true
 // V_in, the release's ground without the effect, its V_out and the effect delta_i.
@@ -158,8 +130,9 @@ double oracle_z(const std::vector<Vec3>& vins, const std::vector<Ground>& ground
     ground_step[j] = 0.02 * (hi[j] - lo[j]);
     vin_step[j] = 0.2 * kNoiseIn[j];
   }
-  std::vector<double> d;
-  std::array<std::vector<double>, 3> x;  // the columns of X
+  const auto rows = static_cast<Eigen::Index>(3 * vins.size());
+  Eigen::VectorXd d(rows);
+  Eigen::MatrixXd x(rows, 3);  // X: the constants' directions
   for (std::size_t i = 0; i < vins.size(); ++i) {
     const Mat3 g = central_jacobian(nulls[i], ground_step, [&](int j, double h) {
       Ground moved = grounds[i];
@@ -172,40 +145,30 @@ double oracle_z(const std::vector<Vec3>& vins, const std::vector<Ground>& ground
       moved[j] += h;
       return collide(moved, grounds[i], num);
     });
-    Mat3 sigma{};  // [1]
+    Eigen::Matrix3d G, Jin, sigma;  // [1]
     for (int k = 0; k < 3; ++k)
-      for (int l = 0; l < 3; ++l) {
-        sigma[k][l] = k == l ? kNoiseOut[k] * kNoiseOut[k] : 0.0;
-        for (int j = 0; j < 3; ++j)
-          sigma[k][l] += g[k][j] * scatter_var[j] * g[l][j] +
-                         jin[k][j] * kNoiseIn[j] * kNoiseIn[j] * jin[l][j];
-      }
-    const Mat3 chol = cholesky(sigma);
-    for (const double w : whiten(chol, deltas[i])) d.push_back(w);
-    for (int j = 0; j < 3; ++j)
-      for (const double w : whiten(chol, {g[0][j], g[1][j], g[2][j]})) x[j].push_back(w);
+      for (int j = 0; j < 3; ++j) G(k, j) = g[k][j], Jin(k, j) = jin[k][j];
+    sigma = G * Eigen::Vector3d(scatter_var[0], scatter_var[1], scatter_var[2]).asDiagonal() *
+                G.transpose() +
+            Jin *
+                Eigen::Vector3d(kNoiseIn[0], kNoiseIn[1], kNoiseIn[2])
+                    .array()
+                    .square()
+                    .matrix()
+                    .asDiagonal() *
+                Jin.transpose();
+    for (int k = 0; k < 3; ++k) sigma(k, k) += kNoiseOut[k] * kNoiseOut[k];
+    // Whitening by L^-1, Sigma_i = L L^T (N_out makes Sigma_i positive definite).
+    const Eigen::LLT<Eigen::Matrix3d> llt(sigma);
+    const auto r0 = static_cast<Eigen::Index>(3 * i);
+    d.segment<3>(r0) =
+        llt.matrixL().solve(Eigen::Vector3d(deltas[i][0], deltas[i][1], deltas[i][2]));
+    x.block<3, 3>(r0, 0) = llt.matrixL().solve(G);
   }
-  // d_perp = (I - X (X^T X)^+ X^T) d through an orthonormal basis of X's columns (Gram-Schmidt,
-  // twice for round-off); a column within 1e-9 of the others' span is dropped (the pseudo-inverse).
-  std::vector<std::vector<double>> basis;
-  for (auto& col : x) {
-    const double norm0 = std::sqrt(dot(col, col));
-    for (int pass = 0; pass < 2; ++pass)
-      for (const auto& q : basis) {
-        const double c = dot(q, col);
-        for (std::size_t r = 0; r < col.size(); ++r) col[r] -= c * q[r];
-      }
-    const double norm = std::sqrt(dot(col, col));
-    if (!(norm > 1e-9 * norm0)) continue;
-    for (double& v : col) v /= norm;
-    basis.push_back(col);
-  }
-  for (int pass = 0; pass < 2; ++pass)
-    for (const auto& q : basis) {
-      const double c = dot(q, d);
-      for (std::size_t r = 0; r < d.size(); ++r) d[r] -= c * q[r];
-    }
-  return std::sqrt(dot(d, d));
+  // d_perp = (I - X X^+) d: the least-squares residual of d on X (a pseudo-inverse: a column in
+  // the others' span is harmless).
+  const Eigen::VectorXd d_perp = d - x * x.completeOrthogonalDecomposition().solve(d);
+  return d_perp.norm();
 }
 
 }  // namespace
