@@ -108,6 +108,20 @@ std::vector<ObsPrediction> predict_observables(const Model& model, const Shape& 
   return to_observables(fit::predict(model, shape, params, set, fit_options_for(set, o)));
 }
 
+std::vector<ParameterProbe> probe_calibrated(const Model& model, const Shape& shape,
+                                             const ImpactSet& set, const AssessOptions& o) {
+  std::vector<ParameterProbe> out;
+  for (std::size_t j : model.calibrated_indices()) {
+    std::vector<double> params = model.values();
+    const double range = model.upper(j) - model.lower(j);
+    double step = 0.02 * range;
+    if (params[j] + step > model.upper(j)) step = -step;
+    params[j] += step;
+    out.push_back({j, step, range, predict_observables(model, shape, params, set, o)});
+  }
+  return out;
+}
+
 Obs error_terms(const Impact& im, const ObsPrediction& predicted,
                 const std::array<bool, kObservables>& use, const AssessOptions& o) {
   const Obs d = error_scale(im, o);

@@ -180,6 +180,19 @@ std::vector<ObsPrediction> to_observables(const std::vector<fit::Prediction>& pr
 std::vector<ObsPrediction> predict_observables(const Model& model, const Shape& shape,
                                                std::span<const double> params, const ImpactSet& set,
                                                const AssessOptions& options);
+/// One calibrated parameter moved by 2 % of its range from the model's value (away from its
+/// upper bound when that is closer), and the predictions there: a forward-difference column of
+/// d prediction / d parameter, (predictions - predictions at the model's values) / step.
+struct ParameterProbe {
+  std::size_t index = 0;  ///< in the model's parameter vector
+  double step = 0;        ///< signed, in the parameter's unit
+  double range = 0;       ///< upper - lower bound
+  std::vector<ObsPrediction> predictions;
+};
+/// The probes of every calibrated parameter of `model` at its values (the score test's base
+/// directions and the population scatter's derivatives: one definition).
+std::vector<ParameterProbe> probe_calibrated(const Model& model, const Shape& shape,
+                                             const ImpactSet& set, const AssessOptions& options);
 /// The fit options actually used on a set: options.fit with the contact terms switched on for
 /// the observables the set carries.
 fit::FitOptions fit_options_for(const ImpactSet& set, const AssessOptions& options);

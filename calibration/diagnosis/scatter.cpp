@@ -87,20 +87,16 @@ PopulationScatter population_scatter(const Model& warm, const Shape& shape, cons
                          static_cast<double>(base.folds);
   const double inflate = 1.0 + static_cast<double>(cal.size()) / std::max(1.0, n_train);
   std::vector<double> hi;
-  for (std::size_t c = 0; c < cal.size(); ++c) {
-    const std::size_t jj = cal[c];
-    std::vector<double> params = warm.values();
-    const double range = warm.upper(jj) - warm.lower(jj);
-    double step = 0.02 * range;
-    if (params[jj] + step > warm.upper(jj)) step = -step;
-    params[jj] += step;
-    const auto p = predict_observables(warm, shape, params, set, o);
+  const std::vector<ParameterProbe> probes = probe_calibrated(warm, shape, set, o);
+  for (std::size_t c = 0; c < probes.size(); ++c) {
+    const ParameterProbe& pr = probes[c];
+    const std::size_t jj = pr.index;
     for (std::size_t i = 0; i < n; ++i)
       for (std::size_t k = 0; k < obs.size(); ++k) {
-        const double v = (p[i].value[obs[k]] - p0[i].value[obs[k]]) / step;
+        const double v = (pr.predictions[i].value[obs[k]] - p0[i].value[obs[k]]) / pr.step;
         L.j[i][c][static_cast<Eigen::Index>(k)] = std::isfinite(v) ? v : 0.0;
       }
-    hi.push_back(0.5 * range);
+    hi.push_back(0.5 * pr.range);
     out.names.emplace_back(warm.spec(jj).name);
     out.units.emplace_back(warm.spec(jj).unit);
     out.value.push_back(warm.values()[jj]);

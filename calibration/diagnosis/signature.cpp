@@ -63,17 +63,11 @@ Directions base_directions(const Model& warm, const Shape& shape, const ImpactSe
   whiten_blocks(z, d.whiten);
 
   const auto& p0 = base.insample_predictions;
-  const std::vector<std::size_t> cal = warm.calibrated_indices();
-  d.X.resize(static_cast<Eigen::Index>(d.rows.size()), static_cast<Eigen::Index>(cal.size()));
-  for (std::size_t c = 0; c < cal.size(); ++c) {
-    const std::size_t j = cal[c];
-    std::vector<double> params = warm.values();
-    double step = 0.02 * (warm.upper(j) - warm.lower(j));
-    if (params[j] + step > warm.upper(j)) step = -step;
-    params[j] += step;
-    const auto p = predict_observables(warm, shape, params, set, o);
-    d.X.col(static_cast<Eigen::Index>(c)) = scaled_change(p, p0, set, d.rows, step, d.whiten, o);
-  }
+  const std::vector<ParameterProbe> probes = probe_calibrated(warm, shape, set, o);
+  d.X.resize(static_cast<Eigen::Index>(d.rows.size()), static_cast<Eigen::Index>(probes.size()));
+  for (std::size_t c = 0; c < probes.size(); ++c)
+    d.X.col(static_cast<Eigen::Index>(c)) =
+        scaled_change(probes[c].predictions, p0, set, d.rows, probes[c].step, d.whiten, o);
   const Eigen::Index N = d.X.rows();
   d.proj = Eigen::MatrixXd::Identity(N, N);
   if (d.X.cols() > 0) {
