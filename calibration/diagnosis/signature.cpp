@@ -68,6 +68,24 @@ Directions base_directions(const Model& warm, const Shape& shape, const ImpactSe
   for (std::size_t c = 0; c < probes.size(); ++c)
     d.X.col(static_cast<Eigen::Index>(c)) =
         scaled_change(probes[c].predictions, p0, set, d.rows, probes[c].step, d.whiten, o);
+  // Nuisance directions (Signature::nuisance): a fixed parameter moved by half its value,
+  // towards the inside of its bounds; only on velocities, since a set with penetration or
+  // contact duration does identify the stiffness.
+  const bool velocities_only = !base.use[kObsPenetration] && !base.use[kObsDuration];
+  for (const Effect* e : velocities_only ? warm.effects() : std::vector<const Effect*>{})
+    for (std::string_view name : e->signature().nuisance) {
+      const std::size_t j = warm.index(name);
+      if (warm.calibrated(j)) continue;  // already a column
+      std::vector<double> params = warm.values();
+      double step = 0.5 * params[j];
+      if (params[j] + step > warm.upper(j)) step = -step / 1.5;
+      if (step == 0) continue;
+      const double relative = step / params[j];  // per unit relative change: a column of O(1)
+      params[j] += step;
+      const auto p = predict_observables(warm, shape, params, set, o);
+      d.X.conservativeResize(Eigen::NoChange, d.X.cols() + 1);
+      d.X.col(d.X.cols() - 1) = scaled_change(p, p0, set, d.rows, relative, d.whiten, o);
+    }
   const Eigen::Index N = d.X.rows();
   d.proj = Eigen::MatrixXd::Identity(N, N);
   if (d.X.cols() > 0) {

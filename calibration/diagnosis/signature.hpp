@@ -8,7 +8,9 @@
 // vectors (S = L L^T over the observables, each release's block multiplied by L^-1: a GLS
 // score, where each observable counts by its signal-to-noise ratio, not by its error
 // denominator, and the correlation of V_out^x and omega_out residuals that the ground's
-// friction scatter makes is not counted twice) and projected off the columns of X. A candidate's
+// friction scatter makes is not counted twice) and projected off the columns of X (and off the
+// nuisance parameters' directions, Signature::nuisance: fixed parameters such as kn that
+// rebound velocities do not identify, moved by half their value). A candidate's
 // direction s (the change of the whitened predictions when one added parameter moves from neutral
 // by `probe_fraction` of its range), projected the same way, gives
 //   - the correlation r = z.s / (|z| |s|): how much of the residual the effect could explain

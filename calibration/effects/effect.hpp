@@ -108,6 +108,12 @@ struct Signature {
   /// A member of a generated family (effects/coefficient_law.hpp) rather than a hand-written
   /// catalog effect: the diagnosis screens these before calibrating them.
   bool generated = false;
+  /// Parameters of this effect that are held fixed and that rebound velocities do not identify,
+  /// so that a wrong value must not read as missing physics: on a set of velocities only, the
+  /// score test projects their directions off with the calibrated ones
+  /// (diagnosis/signature.hpp). The paper's kn is one: a numerical stiffness that sets the
+  /// contact's duration and penetration, not the rebound.
+  std::span<const std::string_view> nuisance = {};
 };
 
 /// Interface of a physical effect. Implementations are stateless (all history lives in the

@@ -13,6 +13,7 @@ constexpr ParameterSpec kParams[] = {
     {"en2", "-", 0.0, 1.0, 0.15, NAN, true, "normal energy restitution e_n^2"},
 };
 constexpr StateSpec kState[] = {{"fn", "N"}};
+constexpr std::string_view kNuisance[] = {"kn"};
 
 class Normal final : public Effect {
  public:
@@ -29,7 +30,7 @@ class Normal final : public Effect {
   }
   Stage stage() const override { return Stage::kNormal; }
   Signature signature() const override {
-    return {"the paper's normal contact law (Eq. 3)", {}};
+    return {"the paper's normal contact law (Eq. 3)", {}, false, false, kNuisance};
   }
   std::span<const ParameterSpec> parameters() const override { return kParams; }
   std::span<const StateSpec> state() const override { return kState; }

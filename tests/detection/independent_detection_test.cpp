@@ -18,6 +18,9 @@
 
 #include <algorithm>
 #include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+#include <string>
 
 #include "support/program_test.hpp"
 #include "truth_sim.hpp"
@@ -126,7 +129,8 @@ TEST_F(IndependentDetection, NothingIsSupportedOnNullSets) {
 }
 
 // (d) Two effects at once (CRSP restitution and spin rolling, s = 10 each):
-// two rounds of `ladder --auto` add one law of each family, and the error falls.
+// two rounds of `ladder --auto` name one law of each family (or the first round adds them as a
+// pair), and the error falls.
 TEST_F(IndependentDetection, TwoEffectsAreNamedInTwoLadderRounds) {
   SetOptions o = options(Family::kTwo, 10.0, 13);
   const std::string path = make(o);
@@ -145,17 +149,19 @@ TEST_F(IndependentDetection, TwoEffectsAreNamedInTwoLadderRounds) {
       EXPECT_EQ(round["verdict"], "missing physics") << rounds;
     }
   }
-  // Round 1 adds a supported law of one hidden family; round 2 ranks a law of the OTHER family
-  // first (whether round 2 also supports it is a question of power; the study,
-  // docs/detection-benchmark.md, has the rates).
+  // Round 1 adds a supported law of one hidden family and round 2 ranks a law of the OTHER
+  // family first (whether round 2 also supports it is a question of power; the study,
+  // docs/detection-benchmark.md, has the rates), or round 1 adds a supported pair, one law of
+  // each family (the pair search: "a+b").
   ASSERT_GE(l["rungs"].size(), 2u) << l.value("stop_reason", "") << " | " << rounds;
-  ASSERT_GE(l["rounds"].size(), 2u) << rounds;
-  const std::string a = l["rungs"][1].value("added", "");
-  const std::string second = l["rounds"][1]["best"].value("effect", "");
-  const std::string fa = candidate_family(a), fb = candidate_family(second);
-  EXPECT_TRUE((fa == "restitution" && fb == "spin rolling") ||
-              (fa == "spin rolling" && fb == "restitution"))
-      << a << ", " << second << " | " << rounds;
+  std::set<std::string> families;
+  std::stringstream added(l["rungs"][1].value("added", ""));
+  for (std::string law; std::getline(added, law, '+');) families.insert(candidate_family(law));
+  if (families.size() == 1) {
+    ASSERT_GE(l["rounds"].size(), 2u) << rounds;
+    families.insert(candidate_family(l["rounds"][1]["best"].value("effect", "")));
+  }
+  EXPECT_EQ(families, (std::set<std::string>{"restitution", "spin rolling"})) << rounds;
   EXPECT_LT(l["rungs"][1]["heldout_error"].get<double>(),
             l["rungs"][0]["heldout_error"].get<double>());
   if (l["rungs"].size() >= 3) {
