@@ -1,5 +1,7 @@
 #include "cli_common.hpp"
 
+#include <fmt/format.h>
+
 #include <filesystem>
 #include <fstream>
 
@@ -12,6 +14,19 @@ namespace ricochet::cli {
 void add_output_options(CLI::App* sub, OutputOptions& options) {
   sub->add_flag("--json", options.json, "Print one machine-readable JSON document on stdout");
   sub->add_option("--out", options.out, "Write results to FILE (.csv or .h5 by extension)");
+}
+
+void check_range(CLI::App* sub, const std::string& name, double lo, double hi) {
+  // CLI11's own Range prints its bounds with %f (1e-7 becomes 0.000000): this one uses %g.
+  const std::string range = fmt::format("[{:g}, {:g}]", lo, hi);
+  sub->get_option(name)->check(CLI::Validator(
+      [lo, hi, range](std::string& text) -> std::string {
+        double v = 0;
+        if (!CLI::detail::lexical_cast(text, v)) return "'" + text + "' is not a number";
+        if (!(v >= lo && v <= hi)) return "value " + text + " is outside " + range;
+        return {};
+      },
+      "in " + range));
 }
 
 void print_json(const nlohmann::json& doc) {

@@ -17,6 +17,11 @@ struct OutputOptions {
   std::string out;
 };
 
+/// Adds a range check to the already declared option `name` of `sub` (each value of a list
+/// option): a value outside [lo, hi] stops the parse with "NAME: Value V not in range [LO - HI]"
+/// and exit status 2 (docs/commands/README.md, "Exit status").
+void check_range(CLI::App* sub, const std::string& name, double lo, double hi);
+
 /// Adds --json and --out to a subcommand.
 void add_output_options(CLI::App* sub, OutputOptions& options);
 /// Prints `doc` pretty on stdout (used when --json is given).

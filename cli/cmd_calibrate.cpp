@@ -270,6 +270,12 @@ void add_calibrate_command(CLI::App& app) {
   sub->add_option("--threads", opts->threads, "OpenMP threads (0 = all)");
   sub->add_flag("--resume", opts->resume, "Continue the run stored in --out FILE.h5");
   sub->add_option("--figures", opts->figures, "Write SVG figures into DIR");
+  check_range(sub, "--starts", 1, 1000);
+  check_range(sub, "--design-points", 0, 1e6);
+  check_range(sub, "--sigma", 1e-12, 1e6);
+  check_range(sub, "--threshold-scale", 1e-6, 1e6);
+  check_range(sub, "--alpha-range", -180, 180);
+  check_range(sub, "--threads", 0, 4096);
   sub->callback([opts] { run(*opts); });
 }
 

@@ -398,6 +398,9 @@ void add_dem_command(CLI::App& app) {
   t->add_option("--tolerance", tpl->tolerance, "Largest bump between spheres [m]");
   t->add_option("--out", tpl->out, "Output prefix: writes PREFIX.ms and PREFIX.in")->required();
   t->add_flag("--json", tpl->json, "Print one machine-readable JSON document on stdout");
+  check_range(t, "--length", 1e-3, 100);
+  check_range(t, "--max-sphere-radius", 1e-5, 10);
+  check_range(t, "--tolerance", 1e-7, 1);
   t->callback([tpl] { run_template(*tpl); });
 
   auto bed = std::make_shared<BedOptions>();
@@ -424,6 +427,8 @@ void add_dem_command(CLI::App& app) {
       "--window", imp->window,
       "Contact window: force (default, DEM contact force), ground (paper Fig. 8b) or auto "
       "(ballistic residuals)");
+  check_range(i, "--alpha-deg", -360, 360);
+  check_range(i, "--fps", 0, 1e7);
   i->callback([imp] { run_impact_command(*imp); });
 
   auto camp = std::make_shared<CampaignOptions>();

@@ -150,6 +150,7 @@ void add_ladder_command(CLI::App& app) {
         sub->add_option("--auto", *auto_rounds,
                         "Choose the rungs by rounds of diagnose, at most N effects (instead of "
                         "--add)");
+        check_range(sub, "--auto", 1, 20);
       },
       [auto_rounds](DiagnosisCliOptions& o) { run(o, *auto_rounds); });
 }

@@ -280,6 +280,11 @@ void add_montecarlo_command(CLI::App& app) {
   sub->add_flag("--resume", opts->resume, "Continue the run stored in --out FILE.h5");
   sub->add_flag("--no-progress", opts->no_progress, "No progress bar");
   sub->add_option("--figures", opts->figures, "Write SVG figures into DIR");
+  check_range(sub, "--n", 1, 1e9);
+  check_range(sub, "--alpha-range", -180, 180);
+  check_range(sub, "--range-runs", 1, 1e8);
+  check_range(sub, "--range-evaluations", 1, 1e7);
+  check_range(sub, "--threads", 0, 4096);
   sub->callback([opts] { run(*opts); });
 }
 

@@ -259,6 +259,12 @@ void add_reconstruct_command(CLI::App& app) {
   sub->add_option("--figures", o->figures,
                   "Write an SVG of x(t), y(t), theta(t) and the fits into DIR");
   add_output_options(sub, o->output);
+  check_range(sub, "--pixel-size", 1e-12, 1e3);
+  check_range(sub, "--gravity", 0, 1e3);
+  check_range(sub, "--radius", 1e-6, 1e3);
+  check_range(sub, "--k-sigma", 1e-3, 1e3);
+  check_range(sub, "--guard", 0, 1e6);
+  check_range(sub, "--sigma-position", 1e-12, 1e3);
   sub->callback([o] { run(*o); });
 }
 

@@ -102,6 +102,7 @@ void add_report_command(CLI::App& app) {
       {.alpha = "Family-wise error rate of the candidate tests (Holm)", .intervals = true});
   add_output_options(sub, o->output);
   sub->get_option("--out")->required()->description("The HTML file to write");
+  check_range(sub, "--rounds", 0, 20);
   sub->callback([o, sub] {
     o->shape_given = sub->get_option("--shape")->count() > 0;
     run(*o);

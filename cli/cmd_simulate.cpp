@@ -109,6 +109,7 @@ void add_simulate_command(CLI::App& app) {
   sub->add_option("--alpha", opts->alpha_deg, "Incidence angle alpha_in [deg]");
   add_model_options(sub, opts->model);
   add_output_options(sub, opts->output);
+  check_range(sub, "--alpha", -360, 360);
   sub->callback([opts] { run(*opts); });
 }
 

@@ -122,6 +122,11 @@ void add_sobol_command(CLI::App& app) {
   sub->add_option("--alpha", opts->alpha_deg, "Orientation of non-disc blocks [deg]");
   sub->add_option("--threads", opts->threads, "OpenMP threads (0 = all)");
   sub->add_option("--figures", opts->figures, "Write SVG figures into DIR");
+  check_range(sub, "--n", 1, 1e8);
+  check_range(sub, "--bootstrap", 0, 1e6);
+  check_range(sub, "--confidence", 0.5, 0.9999);
+  check_range(sub, "--alpha", -360, 360);
+  check_range(sub, "--threads", 0, 4096);
   sub->callback([opts] { run(*opts); });
 }
 

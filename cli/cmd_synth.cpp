@@ -179,6 +179,7 @@ void add_synth_command(CLI::App& app) {
                   "Also write the truth (model, options, true states) to this JSON file");
   add_output_options(sub, o->output);
   sub->get_option("--out")->required();
+  check_range(sub, "--n", 1, 1e7);
   sub->callback([o] { run(*o); });
 }
 

@@ -654,6 +654,7 @@ void add_transfer_command(CLI::App& app) {
       ->capture_default_str();
   fit->add_option("--figures", fo->figures, "Write SVG CDF figures (paper Figs. 11-12) into DIR");
   add_output_options(fit, fo->output);
+  check_range(fit, "--replicates", 1, 1e7);
   fit->callback([fo] { run_fit(*fo); });
 
   auto po = std::make_shared<PredictOptions>();

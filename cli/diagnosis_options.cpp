@@ -44,6 +44,13 @@ void add_diagnosis_options(CLI::App* sub, diagnosis::OptionValues& v,
                   "Orientations averaged over for blocks without alpha_in (0 = the default 6)")
       ->capture_default_str();
   sub->add_option("--threads", v.threads, "Threads (0 = all)")->capture_default_str();
+  check_range(sub, "--repeats", 1, 1000);
+  if (set.alpha) {
+    check_range(sub, "--alpha", 1e-6, 0.5);
+    check_range(sub, "--screen", 0, 1e4);
+  }
+  check_range(sub, "--orientations", 0, 3600);
+  check_range(sub, "--threads", 0, 4096);
 }
 
 CLI::App* add_diagnosis_command(CLI::App& app, const std::string& name,

@@ -32,7 +32,10 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version are "errors" with status 0; every other parse error (unknown option,
+    // wrong count, value out of range) is bad input: CLI11's message, then status 2.
+    const int status = app.exit(e);
+    return status == 0 ? 0 : 2;
   } catch (const ricochet::InputError& e) {
     std::cerr << "ricochet: error: " << e.what() << "\n";
     return 2;

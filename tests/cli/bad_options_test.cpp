@@ -1,0 +1,103 @@
+// Every subcommand driven with a bad option value: the exit status is 2 (bad input, the rule of
+// docs/commands/README.md), the message names the option, nothing is written on stdout, and the
+// run stops before any work (each case returns in well under a second).
+#include <gtest/gtest.h>
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "support/program_test.hpp"
+
+namespace ricochet {
+namespace {
+
+using test::quote;
+
+const std::string kCyl = quote(std::string(RICOCHET_SOURCE_DIR) + "/data/lab/cylinders.csv");
+
+struct BadCase {
+  std::string args;  // after `ricochet`
+  std::string says;  // a substring of the message on stderr
+};
+
+void PrintTo(const BadCase& c, std::ostream* os) {
+  *os << c.args;
+}
+
+// At least one case per subcommand (and per `dem` / `transfer` subcommand).
+const std::vector<BadCase> kCases = {
+    {"stats " + kCyl + " --bogus 1", "--bogus"},
+    {"reconstruct track.csv --k-sigma -1", "--k-sigma: value -1 is outside [0.001, 1000]"},
+    {"reconstruct track.csv --pixel-size 0", "--pixel-size"},
+    {"reconstruct track.csv --guard -2", "--guard"},
+    {"transfer fit " + kCyl + " --replicates 0", "--replicates: value 0 is outside [1, 1e+07]"},
+    {"transfer predict --seed 1 --from " + kCyl + " --vin 1,2", "--vin"},
+    {"effects --plugin", "--plugin"},
+    {"simulate --vin 2.9,-2.3,-65 --alpha 400", "--alpha: value 400 is outside [-360, 360]"},
+    {"simulate --vin 2.9,-2.3", "--vin"},
+    {"simulate --vin 2.9,-2.3,-65 --dt -1", "--dt"},
+    {"calibrate " + kCyl + " --starts 0", "--starts: value 0 is outside [1, 1000]"},
+    {"calibrate " + kCyl + " --sigma 0.1,-1,3", "--sigma"},
+    {"calibrate " + kCyl + " --threads -1", "--threads"},
+    {"montecarlo --n -5", "--n: value -5 is outside [1, 1e+09]"},
+    {"montecarlo --n many", "--n: 'many' is not a number"},
+    {"montecarlo --alpha-range -200,60", "--alpha-range"},
+    {"montecarlo --range-runs 0", "--range-runs"},
+    {"sobol --confidence 1.5", "--confidence: value 1.5 is outside [0.5, 0.9999]"},
+    {"sobol --n 0", "--n"},
+    {"sobol --bootstrap -1", "--bootstrap"},
+    {"synth --n 0", "--n: value 0 is outside [1, 1e+07]"},
+    {"compare " + kCyl + " --repeats 0", "--repeats: value 0 is outside [1, 1000]"},
+    {"compare " + kCyl + " --orientations -1", "--orientations"},
+    {"diagnose " + kCyl + " --alpha 2", "--alpha: value 2 is outside [1e-06, 0.5]"},
+    {"diagnose " + kCyl + " --screen -1", "--screen"},
+    {"ladder " + kCyl + " --auto 0", "--auto: value 0 is outside [1, 20]"},
+    {"ladder " + kCyl + " --threads 1e6", "--threads"},
+    {"report " + kCyl + " --rounds 50", "--rounds: value 50 is outside [0, 20]"},
+    {"dem template --out t --tolerance 5", "--tolerance: value 5 is outside [1e-07, 1]"},
+    {"dem template --out t --length 0", "--length"},
+    {"dem impact --alpha-deg 1000", "--alpha-deg"},
+    {"dem impact --fps -1", "--fps"},
+    {"dem bed --bogus", "--bogus"},
+    {"dem campaign no-such-design.toml", "no-such-design.toml"},
+    {"upscale no-such-campaign.h5", "no-such-campaign.h5"},
+};
+
+class BadOptions : public test::ProgramTest, public ::testing::WithParamInterface<BadCase> {};
+
+TEST_P(BadOptions, ExitTwoNamingTheOption) {
+  const BadCase& c = GetParam();
+  const test::RunResult r = ricochet(c.args);
+  EXPECT_EQ(r.status, 2) << c.args << "\n" << r.err;
+  EXPECT_NE(r.err.find(c.says), std::string::npos) << c.args << "\nstderr: " << r.err;
+  EXPECT_TRUE(r.out.empty()) << c.args << "\nstdout: " << r.out;
+}
+
+// Test names: the case's index and subcommand, e.g. 13_montecarlo.
+std::string case_name(const ::testing::TestParamInfo<BadCase>& info) {
+  const std::string& a = info.param.args;
+  return std::to_string(info.index) + "_" + a.substr(0, a.find(' '));
+}
+
+INSTANTIATE_TEST_SUITE_P(EverySubcommand, BadOptions, ::testing::ValuesIn(kCases), case_name);
+
+// The rule's other side: --help and --version succeed.
+class GoodExits : public test::ProgramTest {};
+
+TEST_F(GoodExits, HelpAndVersionExitZero) {
+  for (const std::string args : {"--version", "--help", "montecarlo --help", "dem impact --help"}) {
+    const test::RunResult r = ricochet(args);
+    EXPECT_EQ(r.status, 0) << args << "\n" << r.err;
+    EXPECT_FALSE(r.out.empty()) << args;
+  }
+}
+
+TEST_F(GoodExits, HelpShowsTheRange) {
+  const test::RunResult r = ricochet("montecarlo --help");
+  ASSERT_EQ(r.status, 0);
+  EXPECT_NE(r.out.find("in [1, 1e+09]"), std::string::npos) << r.out;
+}
+
+}  // namespace
+}  // namespace ricochet
