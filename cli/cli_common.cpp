@@ -29,8 +29,27 @@ void check_range(CLI::App* sub, const std::string& name, double lo, double hi) {
       "in " + range));
 }
 
+namespace {
+std::string& current_command() {
+  static std::string command;
+  return command;
+}
+}  // namespace
+
+void set_current_command(std::string command) {
+  current_command() = std::move(command);
+}
+
 void print_json(const nlohmann::json& doc) {
-  std::cout << doc.dump(2) << std::endl;
+  if (!doc.is_object()) {
+    std::cout << doc.dump(2) << std::endl;
+    return;
+  }
+  // nlohmann::json sorts keys: "command" and "version" land in order, not necessarily first.
+  nlohmann::json stamped = doc;
+  if (!stamped.contains("command")) stamped["command"] = current_command();
+  if (!stamped.contains("version")) stamped["version"] = kVersion;
+  std::cout << stamped.dump(2) << std::endl;
 }
 
 void require_extension(const std::string& option, const std::string& path,

@@ -24,7 +24,15 @@ void check_range(CLI::App* sub, const std::string& name, double lo, double hi);
 
 /// Adds --json and --out to a subcommand.
 void add_output_options(CLI::App* sub, OutputOptions& options);
-/// Prints `doc` pretty on stdout (used when --json is given).
+/// The program's version (CMake's PROJECT_VERSION).
+inline constexpr const char* kVersion = RICOCHET_VERSION;
+
+/// Records the subcommand being run ("montecarlo", "dem impact"), for print_json. main.cpp sets
+/// it before each subcommand parses its options.
+void set_current_command(std::string command);
+
+/// Prints `doc` pretty on stdout (used when --json is given). An object gets "command" (the
+/// subcommand run) and "version" first, unless it already has them.
 void print_json(const nlohmann::json& doc);
 /// Throws an InputError naming the option when `out` has an extension other than the allowed.
 void require_extension(const std::string& option, const std::string& path,

@@ -10,7 +10,7 @@ int main(int argc, char** argv) {
   CLI::App app{
       "Ricochet: rebound of shaped blocks on soft ground (Garcia et al. 2020, JGR Earth Surface)"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "ricochet 0.1.0");
+  app.set_version_flag("--version", std::string("ricochet ") + ricochet::cli::kVersion);
 
   // Explicit registry of subcommands, in the order of the paper's analysis.
   ricochet::cli::add_stats_command(app);
@@ -28,6 +28,18 @@ int main(int argc, char** argv) {
   ricochet::cli::add_report_command(app);
   ricochet::cli::add_dem_command(app);
   ricochet::cli::add_upscale_command(app);
+
+  // Each subcommand (and sub-subcommand) records its full name before its options parse, so that
+  // print_json can stamp the JSON documents with it.
+  const auto name_subcommands = [](auto&& self, CLI::App* parent,
+                                   const std::string& prefix) -> void {
+    for (CLI::App* sub : parent->get_subcommands([](CLI::App*) { return true; })) {
+      const std::string name = prefix.empty() ? sub->get_name() : prefix + " " + sub->get_name();
+      sub->preparse_callback([name](std::size_t) { ricochet::cli::set_current_command(name); });
+      self(self, sub, name);
+    }
+  };
+  name_subcommands(name_subcommands, &app, "");
 
   try {
     app.parse(argc, argv);

@@ -3,8 +3,10 @@
 // run stops before any work (each case returns in well under a second).
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
 #include <ostream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "support/program_test.hpp"
@@ -90,6 +92,25 @@ TEST_F(GoodExits, HelpAndVersionExitZero) {
     const test::RunResult r = ricochet(args);
     EXPECT_EQ(r.status, 0) << args << "\n" << r.err;
     EXPECT_FALSE(r.out.empty()) << args;
+  }
+}
+
+// Every JSON document names the subcommand that made it and the program's version (print_json).
+TEST_F(GoodExits, JsonNamesTheCommandAndVersion) {
+  const std::vector<std::pair<std::string, std::string>> runs = {
+      {"effects --json", "effects"},
+      {"effects rolling --json", "effects"},
+      {"simulate --vin 2.9,-2.3,-65 --json", "simulate"},
+      {"stats " + kCyl + " --json", "stats"},
+      {"transfer fit " + kCyl + " --json", "transfer fit"},
+      {"dem template --shape cylinder --out " + quote((dir_ / "t").string()) + " --json",
+       "dem template"}};
+  for (const auto& [args, command] : runs) {
+    const test::RunResult r = ricochet(args);
+    ASSERT_EQ(r.status, 0) << args << "\n" << r.err;
+    const auto doc = nlohmann::json::parse(r.out);
+    EXPECT_EQ(doc.value("command", ""), command) << args;
+    EXPECT_EQ(doc.value("version", ""), RICOCHET_VERSION) << args;
   }
 }
 
