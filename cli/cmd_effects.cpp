@@ -1,9 +1,12 @@
 // `ricochet effects [NAME]`: the registry of physical effects (docs/commands/effects.md).
+#include <fmt/format.h>
+
 #include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
 
 #include "cli_common.hpp"
+#include "common/csv.hpp"
 #include "common/error.hpp"
 #include "effects/coefficient_law.hpp"
 #include "effects/registry.hpp"
@@ -74,6 +77,42 @@ void print_generated_family(const std::vector<const Effect*>& list) {
       "detail: ricochet effects muR_spin_linear\n");
 }
 
+// --out: the listed effects' parameters, one row per parameter (.csv), or the --json document
+// (.json). Units are the declared SI units; an empty neutral has none.
+void write_catalog(const std::vector<const Effect*>& list, const std::string& path) {
+  require_extension("--out", path, {".csv", ".json"});
+  if (path.ends_with(".json")) {
+    nlohmann::json j = nlohmann::json::array();
+    for (const Effect* e : list) j.push_back(describe(*e));
+    write_text_file(
+        path,
+        nlohmann::json{{"command", "effects"}, {"version", kVersion}, {"effects", j}}.dump(2) +
+            "\n",
+        "--out");
+    return;
+  }
+  const auto number = [](double v) { return std::isnan(v) ? std::string() : fmt::format("{}", v); };
+  std::string text =
+      "effect,stage,generated,parameter,unit,lower,upper,nominal,neutral,"
+      "calibrated,description\n";
+  for (const Effect* e : list)
+    for (const auto& p : e->parameters()) {
+      const std::vector<std::string> row = {std::string(e->name()),
+                                            std::string(stage_name(e->stage())),
+                                            e->signature().generated ? "1" : "0",
+                                            std::string(p.name),
+                                            std::string(p.unit),
+                                            number(p.lower),
+                                            number(p.upper),
+                                            number(p.nominal),
+                                            number(p.neutral),
+                                            p.calibrated ? "1" : "0",
+                                            std::string(p.description)};
+      text += csv_row(row) + "\n";
+    }
+  write_text_file(path, text, "--out");
+}
+
 void run(const EffectsOptions& o) {
   auto& registry = EffectRegistry::global();
   for (const auto& p : o.plugins) {
@@ -93,6 +132,7 @@ void run(const EffectsOptions& o) {
       throw InputError("<command line>", 0, "NAME", e.what());
     }
   }
+  if (!o.output.out.empty()) write_catalog(list, o.output.out);
   if (o.output.json) {
     nlohmann::json j = nlohmann::json::array();
     for (const Effect* e : list) j.push_back(describe(*e));

@@ -8,6 +8,7 @@
 #include <string_view>
 #include <unordered_map>
 
+#include "common/csv.hpp"
 #include "common/error.hpp"
 #include "impact/impact_set.hpp"
 #include "impact/schema_detail.hpp"
@@ -125,24 +126,6 @@ FileColumn parse_header_cell(const std::string& cell, const std::string& file, s
     set.extra_units.push_back(si_unit(u->dim));
   }
   return col;
-}
-
-// Whether a text cell must be quoted to read back unchanged.
-bool needs_quotes(const std::string& s) {
-  if (s.empty()) return false;
-  if (s.find_first_of(",\"") != std::string::npos) return true;
-  if (s.front() == '#') return true;
-  return trim(s).size() != s.size();
-}
-
-std::string quote_if_needed(const std::string& s) {
-  if (!needs_quotes(s)) return s;
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"') out += '"';
-    out += c;
-  }
-  return out + '"';
 }
 
 }  // namespace
@@ -290,16 +273,16 @@ std::string format_impact_set_csv(const ImpactSet& set) {
       if (!row.empty()) row += ',';
       switch (c->col) {
         case Col::kId:
-          row += quote_if_needed(m.id);
+          row += csv_cell(m.id);
           break;
         case Col::kShape:
-          row += quote_if_needed(m.shape);
+          row += csv_cell(m.shape);
           break;
         case Col::kOperator:
-          if (m.op) row += quote_if_needed(*m.op);
+          if (m.op) row += csv_cell(*m.op);
           break;
         case Col::kReplicate:
-          if (m.replicate) row += quote_if_needed(*m.replicate);
+          if (m.replicate) row += csv_cell(*m.replicate);
           break;
         default:
           if (const auto v = get_numeric(m, c->col)) row += format_number(*v);

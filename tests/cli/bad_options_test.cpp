@@ -36,6 +36,7 @@ const std::vector<BadCase> kCases = {
     {"transfer fit " + kCyl + " --replicates 0", "--replicates: value 0 is outside [1, 1e+07]"},
     {"transfer predict --seed 1 --from " + kCyl + " --vin 1,2", "--vin"},
     {"effects --plugin", "--plugin"},
+    {"effects --out catalog.txt", "--out"},
     {"simulate --vin 2.9,-2.3,-65 --alpha 400", "--alpha: value 400 is outside [-360, 360]"},
     {"simulate --vin 2.9,-2.3", "--vin"},
     {"simulate --vin 2.9,-2.3,-65 --dt -1", "--dt"},
@@ -118,6 +119,28 @@ TEST_F(GoodExits, HelpShowsTheRange) {
   const test::RunResult r = ricochet("montecarlo --help");
   ASSERT_EQ(r.status, 0);
   EXPECT_NE(r.out.find("in [1, 1e+09]"), std::string::npos) << r.out;
+}
+
+// effects --out: one CSV row per parameter of every effect (the --json document's count), the
+// paper's kn as declared; or the JSON document itself.
+TEST_F(GoodExits, EffectsOutWritesTheCatalog) {
+  const auto csv = dir_ / "catalog.csv", json = dir_ / "catalog.json";
+  ASSERT_EQ(ricochet("effects --out " + quote(csv.string())).status, 0);
+  const test::RunResult r = ricochet("effects --json --out " + quote(json.string()));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto doc = nlohmann::json::parse(r.out);
+  std::size_t parameters = 0;
+  for (const auto& e : doc["effects"]) parameters += e["parameters"].size();
+  ASSERT_GT(parameters, 40u);
+  const std::string text = test::slurp(csv);
+  std::size_t lines = 0;
+  for (char c : text) lines += c == '\n';
+  EXPECT_EQ(lines, parameters + 1) << text.substr(0, 300);
+  EXPECT_EQ(text.rfind("effect,stage,generated,parameter,unit,lower,upper,nominal,neutral,", 0),
+            0u);
+  EXPECT_NE(text.find("\nnormal,normal,0,kn,N/m,100000,1000000000,10000000,,0,"), std::string::npos)
+      << text.substr(0, 600);
+  EXPECT_EQ(nlohmann::json::parse(test::slurp(json))["effects"], doc["effects"]);
 }
 
 }  // namespace
