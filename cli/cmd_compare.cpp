@@ -84,7 +84,7 @@ void run(DiagnosisCliOptions& o) {
   o.values.dt_s = o.model.dt_s;
   diagnosis::DiagnoseOptions opt = diagnosis::make_options(o.values);
   const Model model = o.model.build_model();
-  const auto in = diagnosis::load_inputs(o.data, o.shape_given ? o.model.shape : "");
+  const auto in = diagnosis::load_inputs(o.data, o.shape_given ? o.model.shape : "", o.where);
   opt.assess.folds = diagnosis::resolve_folds(o.values.folds, in.set.size());
   const diagnosis::Baseline b = diagnosis::compare(model, in.shape, in.set, opt);
   nlohmann::json doc = diagnosis::to_json(b, in.set);

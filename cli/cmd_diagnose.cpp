@@ -68,7 +68,7 @@ void run(DiagnosisCliOptions& o) {
   o.values.dt_s = o.model.dt_s;
   diagnosis::DiagnoseOptions opt = diagnosis::make_options(o.values);
   const Model model = o.model.build_model();  // loads plugins first: they become candidates
-  const auto in = diagnosis::load_inputs(o.data, o.shape_given ? o.model.shape : "");
+  const auto in = diagnosis::load_inputs(o.data, o.shape_given ? o.model.shape : "", o.where);
   opt.assess.folds = diagnosis::resolve_folds(o.values.folds, in.set.size());
   opt.progress = !o.output.json;
   const diagnosis::Diagnosis d = diagnosis::diagnose(model, in.shape, in.set, opt);

@@ -79,7 +79,7 @@ void run(DiagnosisCliOptions& o, int auto_rounds) {
   if (adds.empty() && auto_rounds < 0)
     throw InputError("<command line>", 0, "--add",
                      "give the effects of the ladder (--add NAME, repeatable) or --auto N");
-  const auto in = diagnosis::load_inputs(o.data, o.shape_given ? o.model.shape : "");
+  const auto in = diagnosis::load_inputs(o.data, o.shape_given ? o.model.shape : "", o.where);
   opt.assess.folds = diagnosis::resolve_folds(o.values.folds, in.set.size());
   opt.assess.release_fits = opt.assess.release_fits && auto_rounds >= 0;
   opt.progress = !o.output.json;

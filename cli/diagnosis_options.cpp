@@ -60,6 +60,8 @@ CLI::App* add_diagnosis_command(CLI::App& app, const std::string& name,
   auto o = std::make_shared<DiagnosisCliOptions>();
   CLI::App* sub = app.add_subcommand(name, description);
   sub->add_option("DATA", o->data, "Impact set (.csv, .h5)")->required();
+  sub->add_option("--where", o->where,
+                  "Keep only releases matching EXPR, e.g. \"vin_x<3.5\" (SI units; as stats)");
   add_model_options(sub, o->model);
   if (extra) extra(sub);
   add_diagnosis_options(sub, o->values, set);

@@ -28,7 +28,8 @@ struct DiagnosisOptionSet {
 
 /// What `compare`, `diagnose` and `ladder` read from their command line.
 struct DiagnosisCliOptions {
-  std::string data;  ///< the impact set (.csv, .h5)
+  std::string data;   ///< the impact set (.csv, .h5)
+  std::string where;  ///< --where: keep only the releases matching this filter; empty: all
   ModelOptions model;
   diagnosis::OptionValues values;
   OutputOptions output;

@@ -52,9 +52,16 @@ DiagnoseOptions make_options(const OptionValues& v) {
   return o;
 }
 
-Inputs load_inputs(const std::string& data, const std::string& shape_name) {
+Inputs load_inputs(const std::string& data, const std::string& shape_name,
+                   const std::string& where) {
   ImpactSet all = read_impact_set(data);
   if (all.empty()) throw InputError(data, 0, "id", "the impact set has no release");
+  if (!where.empty()) {
+    all = filter(all, where);
+    if (all.empty())
+      throw InputError("<command line>", 0, "--where",
+                       "'" + where + "' keeps no release of " + data);
+  }
   std::string name = shape_name;
   if (name.empty()) {
     std::vector<std::string> shapes;

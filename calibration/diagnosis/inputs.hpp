@@ -37,12 +37,14 @@ DiagnoseOptions make_options(const OptionValues& values);
 /// Resolves the number of folds for a set of n releases ("loro" = n; clamped to [2, n]).
 std::size_t resolve_folds(const std::string& folds, std::size_t n);
 
-/// Reads DATA and keeps the releases of `shape` (fit::select_shape). When `shape_name` is empty
+/// Reads DATA, keeps the releases matching `where` (impact filter, the --where syntax; empty: all;
+/// none kept is an InputError) and of `shape` (fit::select_shape). When `shape_name` is empty
 /// the shape is the only one present in the data (an error lists them when there are several).
 struct Inputs {
   ImpactSet set;
   Shape shape;
 };
-Inputs load_inputs(const std::string& data, const std::string& shape_name);
+Inputs load_inputs(const std::string& data, const std::string& shape_name,
+                   const std::string& where = "");
 
 }  // namespace ricochet::diagnosis

@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 #include <ostream>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -56,6 +57,8 @@ const std::vector<BadCase> kCases = {
     {"diagnose " + kCyl + " --alpha 2", "--alpha: value 2 is outside [1e-06, 0.5]"},
     {"diagnose " + kCyl + " --screen -1", "--screen"},
     {"ladder " + kCyl + " --auto 0", "--auto: value 0 is outside [1, 20]"},
+    {"diagnose " + kCyl + " --where \"vin_x>100\"", "--where"},
+    {"compare " + kCyl + " --where \"vin_x<<3\"", "--where"},
     {"ladder " + kCyl + " --threads 1e6", "--threads"},
     {"report " + kCyl + " --rounds 50", "--rounds: value 50 is outside [0, 20]"},
     {"dem template --out t --tolerance 5", "--tolerance: value 5 is outside [1e-07, 1]"},
@@ -141,6 +144,25 @@ TEST_F(GoodExits, EffectsOutWritesTheCatalog) {
   EXPECT_NE(text.find("\nnormal,normal,0,kn,N/m,100000,1000000000,10000000,,0,"), std::string::npos)
       << text.substr(0, 600);
   EXPECT_EQ(nlohmann::json::parse(test::slurp(json))["effects"], doc["effects"]);
+}
+
+// --where on the diagnosis commands keeps only the matching releases (as stats does).
+TEST_F(GoodExits, CompareReadsOnlyTheReleasesWhereSelects) {
+  const test::RunResult all = ricochet("compare " + kCyl + " --json");
+  const test::RunResult some = ricochet("compare " + kCyl + " --where \"vin_x<3\" --json");
+  ASSERT_EQ(all.status, 0) << all.err;
+  ASSERT_EQ(some.status, 0) << some.err;
+  const auto a = nlohmann::json::parse(all.out), b = nlohmann::json::parse(some.out);
+  const test::RunResult stats = ricochet("stats " + kCyl + " --where \"vin_x<3\" --json");
+  ASSERT_EQ(stats.status, 0) << stats.err;
+  const std::size_t expected = nlohmann::json::parse(stats.out)["n"].get<std::size_t>();
+  ASSERT_EQ(a["releases"].size(), 28u);
+  ASSERT_GT(expected, 0u);
+  ASSERT_LT(expected, 28u);
+  ASSERT_EQ(b["releases"].size(), expected);
+  std::set<std::string> ids;
+  for (const auto& r : a["releases"]) ids.insert(r["id"].get<std::string>());
+  for (const auto& r : b["releases"]) EXPECT_TRUE(ids.count(r["id"].get<std::string>())) << r["id"];
 }
 
 }  // namespace
