@@ -40,16 +40,15 @@ void set_current_command(std::string command) {
   current_command() = std::move(command);
 }
 
+nlohmann::json stamp_json(nlohmann::json doc) {
+  if (!doc.is_object()) return doc;
+  if (!doc.contains("command")) doc["command"] = current_command();
+  if (!doc.contains("version")) doc["version"] = kVersion;
+  return doc;
+}
+
 void print_json(const nlohmann::json& doc) {
-  if (!doc.is_object()) {
-    std::cout << doc.dump(2) << std::endl;
-    return;
-  }
-  // nlohmann::json sorts keys: "command" and "version" land in order, not necessarily first.
-  nlohmann::json stamped = doc;
-  if (!stamped.contains("command")) stamped["command"] = current_command();
-  if (!stamped.contains("version")) stamped["version"] = kVersion;
-  std::cout << stamped.dump(2) << std::endl;
+  std::cout << stamp_json(doc).dump(2) << std::endl;
 }
 
 void require_extension(const std::string& option, const std::string& path,

@@ -18,8 +18,9 @@ struct OutputOptions {
 };
 
 /// Adds a range check to the already declared option `name` of `sub` (each value of a list
-/// option): a value outside [lo, hi] stops the parse with "NAME: Value V not in range [LO - HI]"
-/// and exit status 2 (docs/commands/README.md, "Exit status").
+/// option): a value outside [lo, hi] stops the parse with "NAME: value V is outside [LO, HI]"
+/// (a non-number: "NAME: 'V' is not a number") and exit status 2 (docs/commands/README.md,
+/// "Exit status"); --help shows "in [LO, HI]".
 void check_range(CLI::App* sub, const std::string& name, double lo, double hi);
 
 /// Adds --json and --out to a subcommand.
@@ -31,8 +32,10 @@ inline constexpr const char* kVersion = RICOCHET_VERSION;
 /// it before each subcommand parses its options.
 void set_current_command(std::string command);
 
-/// Prints `doc` pretty on stdout (used when --json is given). An object gets "command" (the
-/// subcommand run) and "version" first, unless it already has them.
+/// `doc` with "command" (the subcommand run) and "version" added, unless it has them (an object;
+/// anything else is returned as is): every JSON document the program emits goes through it.
+nlohmann::json stamp_json(nlohmann::json doc);
+/// Prints stamp_json(doc) pretty on stdout (used when --json is given).
 void print_json(const nlohmann::json& doc);
 /// Throws an InputError naming the option when `out` has an extension other than the allowed.
 void require_extension(const std::string& option, const std::string& path,

@@ -77,18 +77,19 @@ void print_generated_family(const std::vector<const Effect*>& list) {
       "detail: ricochet effects muR_spin_linear\n");
 }
 
+// The --json document: every listed effect described.
+nlohmann::json catalog_json(const std::vector<const Effect*>& list) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const Effect* e : list) j.push_back(describe(*e));
+  return {{"effects", j}};
+}
+
 // --out: the listed effects' parameters, one row per parameter (.csv), or the --json document
 // (.json). Units are the declared SI units; an empty neutral has none.
 void write_catalog(const std::vector<const Effect*>& list, const std::string& path) {
   require_extension("--out", path, {".csv", ".json"});
   if (path.ends_with(".json")) {
-    nlohmann::json j = nlohmann::json::array();
-    for (const Effect* e : list) j.push_back(describe(*e));
-    write_text_file(
-        path,
-        nlohmann::json{{"command", "effects"}, {"version", kVersion}, {"effects", j}}.dump(2) +
-            "\n",
-        "--out");
+    write_text_file(path, stamp_json(catalog_json(list)).dump(2) + "\n", "--out");
     return;
   }
   const auto number = [](double v) { return std::isnan(v) ? std::string() : fmt::format("{}", v); };
@@ -134,9 +135,7 @@ void run(const EffectsOptions& o) {
   }
   if (!o.output.out.empty()) write_catalog(list, o.output.out);
   if (o.output.json) {
-    nlohmann::json j = nlohmann::json::array();
-    for (const Effect* e : list) j.push_back(describe(*e));
-    print_json(nlohmann::json{{"effects", j}});
+    print_json(catalog_json(list));
     return;
   }
   // Without a NAME the generated family is one paragraph, not 40 entries (its JSON lists all).

@@ -511,15 +511,15 @@ Assessment assess(const Model& model, const Shape& shape, const ImpactSet& set,
   for (std::size_t j = 0; j < splits; ++j)
     if (failure[j]) std::rethrow_exception(failure[j]);
   for (std::size_t j = 0; j < splits; ++j) {
-    const ImpactSet test = subset_of(set, a.cv.test[j]);
+    const std::vector<std::size_t>& test = a.cv.test[j];
     const AssessOptions& oj = split_options[j];
     const std::vector<ObsPrediction>& pred = split_pred[j];
     const std::size_t r = j / a.cv.folds;
     double sum = 0;
     for (std::size_t t = 0; t < test.size(); ++t) {
-      const std::size_t i = a.cv.test[j][t];
-      const Obs terms = error_terms(test.impacts[t], pred[t], a.use, oj);
-      const Obs d = error_scale(test.impacts[t], oj);
+      const std::size_t i = test[t];
+      const Obs terms = error_terms(set.impacts[i], pred[t], a.use, oj);
+      const Obs d = error_scale(set.impacts[i], oj);
       double e = 0;
       for (int k = 0; k < kObservables; ++k) {
         e += terms[k];

@@ -72,8 +72,9 @@ Directions base_directions(const Model& warm, const Shape& shape, const ImpactSe
   // towards the inside of its bounds; only on velocities, since a set with penetration or
   // contact duration does identify the stiffness.
   const bool velocities_only = !base.use[kObsPenetration] && !base.use[kObsDuration];
-  for (const Effect* e : velocities_only ? warm.effects() : std::vector<const Effect*>{})
-    for (std::string_view name : e->signature().nuisance) {
+  for (const Effect* e : warm.effects())
+    for (std::string_view name :
+         velocities_only ? e->signature().nuisance : std::span<const std::string_view>{}) {
       const std::size_t j = warm.index(name);
       if (warm.calibrated(j)) continue;  // already a column
       std::vector<double> params = warm.values();

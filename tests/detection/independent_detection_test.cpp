@@ -8,12 +8,13 @@
 // per cell) where detection is reliable, not where it is marginal, so that a CI failure means
 // a broken machine and not bad luck: CRSP restitution at twice its lab-scale strength (the
 // strength at which its mean V_out shift reaches the paper's Table 1 scale, 0.1 m/s, 3.4 rad/s;
-// lab_scale_strength): found 10 of 10 in the study; spin rolling at s = 3 (3 x its lab scale;
-// 7 of 10 at 2 x); two effects at s = 10. At the lab scale itself the study finds CRSP 4 of 10
-// and spin rolling 1 of 10 times, against an oracle ceiling of 0.54 and 0.88 with a family of
-// 45 candidates: the CI cases check the machinery, the study measures power.
-// The design is the wide one (V_in^x 1.5-6 m/s, V_in^y -5 to -1 m/s, omega_in -90 to 0 rad/s):
-// on the lab's narrow incident states most of an effect is absorbed by the paper's constants.
+// lab_scale_strength): found 9 of 10 in the study (10 of 10 at 1.8 x); spin rolling at s = 3 (3 x
+// its lab scale; 7 of 10 at 2 x); two effects at s = 10. At the lab scale itself the study finds
+// CRSP 2 of 10 and spin rolling 0 of 10 times (data/detection, commit 249c605), against an oracle
+// ceiling of 0.54 and 0.88 with a family of 45 candidates: the CI cases check the machinery, the
+// study measures power. The design is the wide one (V_in^x 1.5-6 m/s, V_in^y -5 to -1 m/s, omega_in
+// -90 to 0 rad/s): on the lab's narrow incident states most of an effect is absorbed by the paper's
+// constants.
 #include <gtest/gtest.h>
 
 #include <algorithm>
