@@ -61,5 +61,6 @@ void add_ladder_command(CLI::App& app);
 void add_report_command(CLI::App& app);
 void add_dem_command(CLI::App& app);
 void add_upscale_command(CLI::App& app);
+void add_calibrate_grains_command(CLI::App& app);
 
 }  // namespace ricochet::cli

@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
   ricochet::cli::add_report_command(app);
   ricochet::cli::add_dem_command(app);
   ricochet::cli::add_upscale_command(app);
+  ricochet::cli::add_calibrate_grains_command(app);
 
   // Each subcommand (and sub-subcommand) records its full name before its options parse, so that
   // print_json can stamp the JSON documents with it.

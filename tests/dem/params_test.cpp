@@ -1,5 +1,6 @@
 // Deck parameters, bed cache keys and campaign designs: read from the decks themselves, checked
 // with errors that name file, line and key.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -176,6 +177,50 @@ seeds = [0, 1]
   for (const auto& s : d.impacts) EXPECT_TRUE(ids.insert(s.id).second) << s.id;
 }
 
+// [design.sample]: a Latin hypercube over grain parameters, crossed with [design.vary]. Each
+// sampled axis puts exactly one point in each of its n equal strata (the defining property of a
+// Latin hypercube, McKay et al. 1979), the replicas of one point share its bed, and the same seed
+// gives the same design.
+TEST(Design, LatinHypercubeSampleOfGrainParameters) {
+  const std::string text = R"([design]
+incident = [[2.9, -2.3, -65.0]]
+[design.sample]
+n = 8
+seed = 3
+"bed.mu_gg" = [0.5, 1.0]
+"block.mur_gb" = [0.0, 0.6]
+[design.vary]
+"run.x_impact_frac" = [0.3, 0.36]
+)";
+  const auto d = read_campaign_design(temp_file("lhs.toml", text), decks());
+  ASSERT_EQ(d.impacts.size(), 16u);
+  std::set<int> strata_mu, strata_mur;
+  std::set<std::string> beds;
+  for (std::size_t i = 0; i < d.impacts.size(); i += 2) {
+    const auto& a = d.impacts[i];
+    const auto& b = d.impacts[i + 1];
+    EXPECT_EQ(a.params.bed.at("mu_gg"), b.params.bed.at("mu_gg"));  // replicas of one point
+    EXPECT_NE(a.params.run.at("x_impact_frac"), b.params.run.at("x_impact_frac"));
+    EXPECT_EQ(bed_key(decks(), bed_overrides(a)), bed_key(decks(), bed_overrides(b)));
+    beds.insert(bed_key(decks(), bed_overrides(a)));
+    const double mu = std::stod(a.params.bed.at("mu_gg"));
+    const double mur = std::stod(a.params.block.at("mur_gb"));
+    ASSERT_GE(mu, 0.5);
+    ASSERT_LE(mu, 1.0);
+    ASSERT_GE(mur, 0.0);
+    ASSERT_LE(mur, 0.6);
+    strata_mu.insert(static_cast<int>((mu - 0.5) / 0.5 * 8));
+    strata_mur.insert(static_cast<int>(mur / 0.6 * 8));
+    EXPECT_NE(a.id.find(fmt::format("-p{:02d}", i / 2)), std::string::npos) << a.id;
+  }
+  EXPECT_EQ(strata_mu.size(), 8u);
+  EXPECT_EQ(strata_mur.size(), 8u);
+  EXPECT_EQ(beds.size(), 8u);
+  const auto again = read_campaign_design(temp_file("lhs2.toml", text), decks());
+  for (std::size_t i = 0; i < d.impacts.size(); ++i)
+    EXPECT_EQ(spec_json(again.impacts[i]), spec_json(d.impacts[i]));
+}
+
 TEST(Design, IncidentStatesFromTheLabFile) {
   const auto path =
       temp_file("lab.toml", "[design]\nincident_from = \"" + std::string(RICOCHET_SOURCE_DIR) +
@@ -225,6 +270,18 @@ void expect_error(const std::string& text, std::size_t line, const std::string& 
 }
 
 TEST(Design, ErrorsNameFileLineAndKey) {
+  expect_error(
+      "[design]\nincident = [[2.9, -2.3, -65.0]]\n[design.sample]\nn = 4\n\"bed.mu_gg\" = [1.0, "
+      "0.5]\n",
+      5, "design.sample.bed.mu_gg");
+  expect_error(
+      "[design]\nincident = [[2.9, -2.3, -65.0]]\n[design.sample]\nn = 1\n\"bed.mu_gg\" = [0.5, "
+      "1.0]\n",
+      4, "design.sample.n");
+  expect_error(
+      "[design]\nincident = [[2.9, -2.3, -65.0]]\n[design.sample]\nn = 4\n\"run.t_max_s\" = [0.1, "
+      "0.2]\n",
+      5, "design.sample.run.t_max_s");
   expect_error("[campaign]\nnmae = \"x\"\n", 2, "campaign.nmae");
   expect_error("[[impact]]\nid = \"a\"\nvin = [2.9, -2.3]\n", 3, "impact[0].vin");
   expect_error("[[impact]]\nid = \"a\"\nvin = [2.9, 2.3, -65]\n", 3, "impact[0].vin");

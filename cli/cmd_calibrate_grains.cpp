@@ -1,0 +1,102 @@
+// `ricochet calibrate-grains CAMPAIGN.h5 --lab LAB.csv`: the resolved bed's grain parameters
+// calibrated against measured rebounds through a kriging surrogate of a sampled campaign
+// ([design.sample]), with its leave-one-out validation and Sobol indices. See
+// docs/commands/calibrate-grains.md and docs/resolved-model.md ("Calibration of the grains").
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "cli_common.hpp"
+#include "engine/shape.hpp"
+#include "fit/fit.hpp"
+#include "grain_calibration.hpp"
+#include "impact/impact_set.hpp"
+#include "params.hpp"
+
+namespace ricochet::cli {
+namespace {
+
+struct Options {
+  std::string campaign, lab, shape = "cylinder", figures, decks, where;
+  std::vector<std::string> parameters;
+  unsigned seed = 1;
+  OutputOptions output;
+};
+
+void run(const Options& o) {
+  if (!o.output.out.empty()) require_extension("--out", o.output.out, {".json"});
+  const auto decks = dem::Decks::locate(o.decks);
+  const Shape shape = Shape::resolve(o.shape);
+  const ImpactSet lab = fit::select_shape(read_impact_set(o.lab), shape);
+  dem::GrainCalibrationOptions opt;
+  opt.parameters = o.parameters;
+  opt.where = o.where;
+  opt.seed = o.seed;
+  const auto r = dem::calibrate_grains(o.campaign, decks, lab, opt);
+  std::vector<std::string> figures;
+  if (!o.figures.empty()) figures = dem::write_grain_calibration_figures(r, o.figures);
+  nlohmann::json j = nlohmann::json::parse(dem::grain_calibration_json(r));
+  j["target"] = o.lab;
+  j["figures"] = figures;
+  if (!o.output.out.empty()) write_text_file(o.output.out, stamp_json(j).dump(1), "--out");
+  if (o.output.json) {
+    print_json(j);
+    return;
+  }
+  std::cout << fmt::format(
+      "calibrate-grains {}: {} design points ({} impacts did not rebound), {} parameters, {:.1f} "
+      "s\n",
+      r.source, r.points.size(), r.failed, r.parameters.size(), r.seconds);
+  const char* names[3] = {"V_out^x", "V_out^y", "omega_out"};
+  for (int c = 0; c < 3; ++c) {
+    std::cout << fmt::format(
+        "  {:9}: LOO Q2 = {:.2f} (RMSE {:.3g}), replicate sd {:.3g}; target {:.3f} +- {:.3f}, "
+        "calibrated {:.3f} +- {:.3f} ({:+.2f} target sd)\n",
+        names[c], r.q2[c], r.rmse_loo[c], r.replicate_sd[c], r.target_mean[c], r.target_sd[c],
+        r.best_mean[c], r.best_sd[c], (r.best_mean[c] - r.target_mean[c]) / r.target_sd[c]);
+    std::string s;
+    for (std::size_t k = 0; k < r.parameters.size(); ++k)
+      s += fmt::format(" {} {:.2f}/{:.2f}", r.parameters[k], r.first[c][k], r.total[c][k]);
+    std::cout << "    Sobol first/total:" << s << "\n";
+  }
+  std::cout << "  calibrated grain parameters (decks' default in brackets):\n";
+  for (std::size_t k = 0; k < r.parameters.size(); ++k)
+    std::cout << fmt::format("    {} = {:.4g}  [{:.4g}]  (sampled {:.4g} .. {:.4g})\n",
+                             r.parameters[k], r.best[k], r.deck_default[k], r.lower[k], r.upper[k]);
+  std::cout << fmt::format(
+      "  expected misfit J = {:.2f}; {:.1f} % of the sampled box is within 0.5 target sd on every "
+      "component\n",
+      r.best_misfit, 100 * r.acceptable_fraction);
+  for (const auto& f : figures) std::cout << "  figure: " << f << "\n";
+}
+
+}  // namespace
+
+void add_calibrate_grains_command(CLI::App& app) {
+  auto o = std::make_shared<Options>();
+  auto* sub = app.add_subcommand(
+      "calibrate-grains",
+      "Calibrate the resolved bed's grain parameters to measured rebounds (kriging surrogate)");
+  sub->add_option("campaign", o->campaign,
+                  "Campaign file of `ricochet dem campaign` with a [design.sample] (.h5)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  sub->add_option("--lab", o->lab, "Target impact set (e.g. data/lab/cylinders.csv)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  sub->add_option("--shape", o->shape, "Shape of the target's impacts to use (cylinder, triangle)");
+  sub->add_option("--parameters", o->parameters,
+                  "Surrogate inputs, e.g. bed.mu_gg block.mur_gb (default: those that vary)");
+  sub->add_option("--where", o->where, "Select the campaign's impacts, e.g. \"vin_x<3\"");
+  sub->add_option("--figures", o->figures, "Write SVG figures into DIR");
+  sub->add_option("--decks", o->decks, "liggghts-inputs folder (for the parameters' defaults)");
+  sub->add_option("--seed", o->seed, "Seed of the Sobol and search samples");
+  sub->add_flag("--json", o->output.json, "Print one machine-readable JSON document on stdout");
+  sub->add_option("--out", o->output.out, "Write the JSON document to FILE (.json)");
+  sub->callback([o] { run(*o); });
+}
+
+}  // namespace ricochet::cli

@@ -1,0 +1,356 @@
+#include "campaign_design.hpp"
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <numbers>
+#include <optional>
+#include <set>
+#include <tuple>
+
+#include "common/error.hpp"
+#include "engine/shape.hpp"
+#include "fit/design.hpp"
+
+namespace ricochet::dem {
+
+namespace fs = std::filesystem;
+
+namespace {
+std::size_t line_of(const toml::node& n) {
+  return static_cast<std::size_t>(n.source().begin.line);
+}
+
+void check_keys(const toml::table& t, const std::set<std::string>& allowed, const std::string& file,
+                const std::string& where) {
+  for (const auto& [k, v] : t) {
+    const std::string key(k.str());
+    if (!allowed.count(key)) {
+      std::string list;
+      for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+      throw InputError(file, line_of(v), where.empty() ? key : where + "." + key,
+                       "unknown key; known: " + list);
+    }
+  }
+}
+
+const toml::table* table_at(const toml::table& t, const char* key, const std::string& file,
+                            const std::string& where) {
+  const toml::node* n = t.get(key);
+  if (!n) return nullptr;
+  if (!n->is_table()) throw InputError(file, line_of(*n), where + key, "expected a table");
+  return n->as_table();
+}
+
+double number_of(const toml::node& n, const std::string& file, const std::string& field) {
+  if (auto v = n.value<double>()) return *v;
+  throw InputError(file, line_of(n), field, "expected a number");
+}
+
+std::string string_of(const toml::node& n, const std::string& file, const std::string& field) {
+  if (auto v = n.value<std::string>()) return *v;
+  throw InputError(file, line_of(n), field, "expected a string");
+}
+
+// A parameter value as LIGGGHTS text.
+std::string param_text(const toml::node& n, const std::string& file, const std::string& field) {
+  if (n.is_string()) return *n.value<std::string>();
+  if (n.is_integer()) return std::to_string(*n.value<std::int64_t>());
+  if (n.is_floating_point()) return format_value(*n.value<double>());
+  throw InputError(file, line_of(n), field, "expected a number or a string");
+}
+
+void read_params(const toml::table* t, const std::string& section, const Decks& decks,
+                 const std::string& file, const std::string& where,
+                 std::map<std::string, std::string>& into) {
+  if (!t) return;
+  for (const auto& [k, v] : *t) {
+    const std::string name(k.str());
+    const std::string value = param_text(v, file, where + name);
+    check_param(decks, section, name, value, file, line_of(v));
+    into[name] = value;
+  }
+}
+
+void read_overrides(const toml::table& t, const Decks& decks, const std::string& file,
+                    const std::string& where, Overrides& o) {
+  read_params(table_at(t, "bed", file, where), "bed", decks, file, where + "bed.", o.bed);
+  read_params(table_at(t, "block", file, where), "block", decks, file, where + "block.", o.block);
+  read_params(table_at(t, "run", file, where), "run", decks, file, where + "run.", o.run);
+}
+
+Vel3 read_vin(const toml::node& n, const std::string& file, const std::string& field) {
+  const toml::array* a = n.as_array();
+  if (!a || a->size() != 3)
+    throw InputError(file, line_of(n), field, "expected [vx, vy, omega] in m/s, m/s, rad/s");
+  Vel3 v{};
+  for (std::size_t i = 0; i < 3; ++i) v[i] = number_of(*a->get(i), file, field);
+  if (!(v[kVy] < 0)) throw InputError(file, line_of(n), field, "incident vy must be < 0");
+  return v;
+}
+
+void check_shape(const std::string& shape, const std::string& file, std::size_t line,
+                 const std::string& field) {
+  try {
+    (void)Shape::resolve(shape);
+  } catch (const InputError& e) {
+    throw InputError(file, line, field, e.detail());
+  }
+}
+
+}  // namespace
+
+CampaignDesign read_campaign_design(const std::string& path, const Decks& decks) {
+  toml::table root;
+  try {
+    root = toml::parse_file(path);
+  } catch (const toml::parse_error& e) {
+    throw InputError(path, static_cast<std::size_t>(e.source().begin.line), "",
+                     std::string(e.description()));
+  }
+  CampaignDesign d;
+  d.source = path;
+  d.name = fs::path(path).stem().string();
+  check_keys(root, {"campaign", "extract", "bed", "block", "run", "impact", "design"}, path, "");
+  if (const auto* c = table_at(root, "campaign", path, "")) {
+    check_keys(*c, {"name", "ranks_per_impact", "cache_dir", "work_dir"}, path, "campaign");
+    if (const auto* n = c->get("name")) d.name = string_of(*n, path, "campaign.name");
+    if (const auto* n = c->get("ranks_per_impact")) {
+      const auto v = n->value<std::int64_t>();
+      if (!v || *v < 1)
+        throw InputError(path, line_of(*n), "campaign.ranks_per_impact",
+                         "expected an integer >= 1");
+      d.ranks_per_impact = static_cast<int>(*v);
+    }
+    if (const auto* n = c->get("cache_dir"))
+      d.cache_dir = string_of(*n, path, "campaign.cache_dir");
+    if (const auto* n = c->get("work_dir")) d.work_dir = string_of(*n, path, "campaign.work_dir");
+  }
+  if (const auto* e = table_at(root, "extract", path, "")) {
+    check_keys(*e, {"fps", "window"}, path, "extract");
+    if (const auto* n = e->get("fps")) {
+      d.extract.fps = number_of(*n, path, "extract.fps");
+      if (!(d.extract.fps >= 0)) throw InputError(path, line_of(*n), "extract.fps", "must be >= 0");
+    }
+    if (const auto* n = e->get("window")) {
+      d.extract.window = string_of(*n, path, "extract.window");
+      if (d.extract.window != "ground" && d.extract.window != "force" && d.extract.window != "auto")
+        throw InputError(path, line_of(*n), "extract.window", "must be ground, force or auto");
+    }
+  }
+  Overrides common;
+  read_overrides(root, decks, path, "", common);
+  auto merged = [&](const Overrides& own) {
+    Overrides o = common;
+    for (const auto& [k, v] : own.bed) o.bed[k] = v;
+    for (const auto& [k, v] : own.block) o.block[k] = v;
+    for (const auto& [k, v] : own.run) o.run[k] = v;
+    return o;
+  };
+  std::set<std::string> ids;
+  auto add = [&](ImpactSpec s, std::size_t line, const std::string& field) {
+    if (!ids.insert(s.id).second)
+      throw InputError(path, line, field, "duplicate impact id '" + s.id + "'");
+    d.impacts.push_back(std::move(s));
+  };
+
+  if (const toml::node* list = root.get("impact")) {
+    const toml::array* a = list->as_array();
+    if (!a) throw InputError(path, line_of(*list), "impact", "use [[impact]] tables");
+    for (std::size_t i = 0; i < a->size(); ++i) {
+      const std::string where = fmt::format("impact[{}].", i);
+      const toml::table* t = a->get(i)->as_table();
+      if (!t) throw InputError(path, line_of(*a->get(i)), "impact", "expected a table");
+      check_keys(*t, {"id", "shape", "vin", "alpha_in_deg", "seed", "bed", "block", "run"}, path,
+                 fmt::format("impact[{}]", i));
+      ImpactSpec s;
+      s.id = fmt::format("i{:03d}", i);
+      if (const auto* n = t->get("id")) s.id = string_of(*n, path, where + "id");
+      if (const auto* n = t->get("shape")) {
+        s.shape = string_of(*n, path, where + "shape");
+        check_shape(s.shape, path, line_of(*n), where + "shape");
+      }
+      const toml::node* vin = t->get("vin");
+      if (!vin) throw InputError(path, line_of(*t), where + "vin", "missing incident state");
+      s.vin = read_vin(*vin, path, where + "vin");
+      if (const auto* n = t->get("alpha_in_deg"))
+        s.alpha_in_rad = number_of(*n, path, where + "alpha_in_deg") * std::numbers::pi / 180.0;
+      if (const auto* n = t->get("seed")) {
+        const auto v = n->value<std::int64_t>();
+        if (!v || *v < 0)
+          throw InputError(path, line_of(*n), where + "seed", "expected an integer >= 0");
+        s.seed = *v;
+      }
+      Overrides own;
+      read_overrides(*t, decks, path, where, own);
+      s.params = merged(own);
+      add(std::move(s), line_of(*t), where + "id");
+    }
+  }
+
+  if (const auto* g = table_at(root, "design", path, "")) {
+    check_keys(*g,
+               {"shape", "incident", "incident_from", "where", "alpha_in_deg", "seeds", "vary",
+                "sample", "id_prefix"},
+               path, "design");
+    std::string shape = "cylinder";
+    if (const auto* n = g->get("shape")) {
+      shape = string_of(*n, path, "design.shape");
+      check_shape(shape, path, line_of(*n), "design.shape");
+    }
+    std::string prefix;
+    if (const auto* n = g->get("id_prefix")) prefix = string_of(*n, path, "design.id_prefix");
+    // Incident states: explicit list and/or the releases of an impact-set file.
+    std::vector<std::pair<std::string, Vel3>> incident;
+    if (const auto* n = g->get("incident")) {
+      const toml::array* a = n->as_array();
+      if (!a || a->empty())
+        throw InputError(path, line_of(*n), "design.incident",
+                         "expected a list of [vx, vy, omega]");
+      for (std::size_t i = 0; i < a->size(); ++i)
+        incident.emplace_back(fmt::format("{}v{:02d}", prefix, i),
+                              read_vin(*a->get(i), path, fmt::format("design.incident[{}]", i)));
+    }
+    if (const auto* n = g->get("incident_from")) {
+      std::string file = string_of(*n, path, "design.incident_from");
+      if (fs::path(file).is_relative()) file = (fs::path(path).parent_path() / file).string();
+      ImpactSet set = read_impact_set(file);
+      if (const auto* w = g->get("where")) set = filter(set, string_of(*w, path, "design.where"));
+      for (const auto& im : set.impacts) incident.emplace_back(prefix + im.id, im.vin);
+    }
+    if (incident.empty())
+      throw InputError(path, line_of(*g), "design", "give incident or incident_from");
+    std::vector<double> alphas = {0.0};
+    if (const auto* n = g->get("alpha_in_deg")) {
+      const toml::array* a = n->as_array();
+      if (!a || a->empty())
+        throw InputError(path, line_of(*n), "design.alpha_in_deg",
+                         "expected a list of angles (deg)");
+      alphas.clear();
+      for (const auto& x : *a) alphas.push_back(number_of(x, path, "design.alpha_in_deg"));
+    }
+    std::vector<std::optional<std::int64_t>> seeds = {std::nullopt};
+    if (const auto* n = g->get("seeds")) {
+      const toml::array* a = n->as_array();
+      if (!a || a->empty())
+        throw InputError(path, line_of(*n), "design.seeds", "expected a list of integers >= 0");
+      seeds.clear();
+      for (const auto& x : *a) {
+        const auto v = x.value<std::int64_t>();
+        if (!v || *v < 0)
+          throw InputError(path, line_of(x), "design.seeds", "expected integers >= 0");
+        seeds.push_back(*v);
+      }
+    }
+    // Parameter variations: "section.name" = [values]; the cartesian product, last key fastest.
+    std::vector<Overrides> combos = {Overrides{}};
+    std::vector<std::string> combo_tags = {""};
+    if (const auto* vary = table_at(*g, "vary", path, "design.")) {
+      for (const auto& [k, v] : *vary) {
+        const std::string key(k.str());
+        const auto dot = key.find('.');
+        const std::string section = dot == std::string::npos ? "" : key.substr(0, dot);
+        if (section != "bed" && section != "block" && section != "run")
+          throw InputError(path, line_of(v), "design.vary." + key,
+                           "keys are SECTION.NAME with SECTION bed, block or run");
+        const std::string name = key.substr(dot + 1);
+        const toml::array* a = v.as_array();
+        if (!a || a->empty())
+          throw InputError(path, line_of(v), "design.vary." + key, "expected a list of values");
+        std::vector<Overrides> next;
+        std::vector<std::string> next_tags;
+        for (std::size_t c = 0; c < combos.size(); ++c)
+          for (std::size_t j = 0; j < a->size(); ++j) {
+            const std::string value = param_text(*a->get(j), path, "design.vary." + key);
+            check_param(decks, section, name, value, path, line_of(*a->get(j)));
+            Overrides o = combos[c];
+            (section == "bed" ? o.bed : section == "block" ? o.block : o.run)[name] = value;
+            next.push_back(o);
+            next_tags.push_back(combo_tags[c] + fmt::format("-{}{}", name, value));
+          }
+        combos = std::move(next);
+        combo_tags = std::move(next_tags);
+      }
+    }
+    // A space-filling sample over grain-scale parameters: "SECTION.NAME" = [low, high], a Latin
+    // hypercube of n points (fit::lhs_unit_design, seeded), crossed with the product above. Each
+    // point is one set of grain parameters (one bed when it varies bed.*): the design of a
+    // surrogate model of the resolved impacts (docs/resolved-model.md, "Calibration").
+    if (const auto* sample = table_at(*g, "sample", path, "design.")) {
+      std::int64_t n = 0, seed = 1;
+      std::vector<std::tuple<std::string, std::string, double, double>> axes;
+      for (const auto& [k, v] : *sample) {
+        const std::string key(k.str());
+        const std::string field = "design.sample." + key;
+        if (key == "n" || key == "seed") {
+          const auto x = v.value<std::int64_t>();
+          if (!x || *x < (key == "n" ? 2 : 0))
+            throw InputError(path, line_of(v), field,
+                             key == "n" ? "expected an integer >= 2" : "expected an integer >= 0");
+          (key == "n" ? n : seed) = *x;
+          continue;
+        }
+        const auto dot = key.find('.');
+        const std::string section = dot == std::string::npos ? "" : key.substr(0, dot);
+        if (section != "bed" && section != "block")
+          throw InputError(path, line_of(v), field,
+                           "keys are n, seed or SECTION.NAME with SECTION bed or block");
+        const toml::array* a = v.as_array();
+        if (!a || a->size() != 2) throw InputError(path, line_of(v), field, "expected [low, high]");
+        const double lo = number_of(*a->get(0), path, field),
+                     hi = number_of(*a->get(1), path, field);
+        if (!(lo < hi)) throw InputError(path, line_of(v), field, "expected low < high");
+        const std::string name = key.substr(dot + 1);
+        for (double x : {lo, hi})
+          check_param(decks, section, name, format_value(x), path, line_of(v));
+        axes.emplace_back(section, name, lo, hi);
+      }
+      if (n == 0) throw InputError(path, line_of(*sample), "design.sample.n", "missing");
+      if (axes.empty())
+        throw InputError(path, line_of(*sample), "design.sample", "no parameter to sample");
+      const auto u = fit::lhs_unit_design(axes.size(), static_cast<std::size_t>(n),
+                                          static_cast<std::uint64_t>(seed));
+      std::vector<Overrides> next;
+      std::vector<std::string> next_tags;
+      for (std::size_t p = 0; p < static_cast<std::size_t>(n); ++p)
+        for (std::size_t c = 0; c < combos.size(); ++c) {
+          Overrides o = combos[c];
+          for (std::size_t k = 0; k < axes.size(); ++k) {
+            const auto& [section, name, lo, hi] = axes[k];
+            // Four significant digits: the value is the bed's cache key and the abacus's x.
+            const std::string value =
+                fmt::format("{:.4g}", lo + (hi - lo) * u[p * axes.size() + k]);
+            (section == "bed" ? o.bed : o.block)[name] = value;
+          }
+          next.push_back(o);
+          next_tags.push_back(fmt::format("-p{:02d}", p) + combo_tags[c]);
+        }
+      combos = std::move(next);
+      combo_tags = std::move(next_tags);
+    }
+    for (const auto& [base, vin] : incident)
+      for (double alpha : alphas)
+        for (const auto& seed : seeds)
+          for (std::size_t c = 0; c < combos.size(); ++c) {
+            ImpactSpec s;
+            s.id = base;
+            if (alphas.size() > 1) s.id += fmt::format("-a{}", format_value(alpha));
+            if (seed && seeds.size() > 1) s.id += fmt::format("-s{}", *seed);
+            s.id += combo_tags[c];
+            s.shape = shape;
+            s.vin = vin;
+            s.alpha_in_rad = alpha * std::numbers::pi / 180.0;
+            s.seed = seed;
+            s.params = merged(combos[c]);
+            add(std::move(s), line_of(*g), "design");
+          }
+  }
+  if (d.impacts.empty())
+    throw InputError(path, 0, "impact", "the design has no impact: give [[impact]] or [design]");
+  return d;
+}
+
+// ---------------------------------------------------------------- results file
+}  // namespace ricochet::dem

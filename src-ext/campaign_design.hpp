@@ -1,0 +1,29 @@
+// A campaign design: the impacts to run, read from TOML (docs/commands/dem.md, "Design file").
+// Explicit [[impact]] tables, a product design ([design] incident states x angles x seeds x
+// [design.vary]) and a space-filling sample over grain-scale parameters ([design.sample]).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "impact_run.hpp"
+#include "params.hpp"
+
+namespace ricochet::dem {
+
+/// A campaign design (TOML). See docs/commands/dem.md for the keys.
+struct CampaignDesign {
+  std::string source;  ///< the TOML file
+  std::string name;
+  int ranks_per_impact = 1;
+  std::string cache_dir = "dem-cache";  ///< bed cache (relative paths: to the working directory)
+  std::string work_dir = "dem-work";    ///< per-impact folders (log, screen, track)
+  ExtractOptions extract;
+  std::vector<ImpactSpec> impacts;  ///< explicit [[impact]] entries, then the [design] product
+};
+
+/// Reads and checks a design. Throws InputError(file, line, key) on any bad entry: unknown key or
+/// parameter, wrong type, vin not three numbers, duplicate id, empty design.
+CampaignDesign read_campaign_design(const std::string& path, const Decks& decks);
+
+}  // namespace ricochet::dem

@@ -1,0 +1,45 @@
+// The campaign file (HDF5, docs/commands/dem.md "Campaign file"): the index of finished impacts,
+// their tracks, and /impacts in the impact-set schema rewritten from the index. Every write holds
+// an flock on PATH.lock, so that several processes can append to one file.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "impact_run.hpp"
+#include "params.hpp"
+
+namespace ricochet::dem {
+
+/// One row of the campaign index (every impact that ended, whatever its status).
+struct CampaignEntry {
+  std::string id, status, message, shape, bed_key, work_dir;
+  std::string params;  ///< JSON: the spec (spec_json) plus "effective" bed and block parameters
+  std::vector<double> values;  ///< aligned with campaign_value_names()
+};
+/// Numeric columns of /dem/index/values.
+const std::vector<std::string>& campaign_value_names();
+
+/// Appends one finished impact to the campaign file `path` (under an flock on PATH.lock): its
+/// track, its index row, then rewrites /impacts (the impact-set schema) from the index.
+/// `params_json` records the spec. Used by run_campaign and by `ricochet dem impact --out`.
+void append_result(const std::string& path, const ImpactResult& result, const ImpactSpec& spec,
+                   const std::string& design_name);
+
+/// Reads the index of a campaign file (empty when the file or the index does not exist).
+std::vector<CampaignEntry> read_campaign_index(const std::string& path);
+
+/// JSON record of a spec (shape, vin, alpha, seed, overrides).
+std::string spec_json(const ImpactSpec& spec);
+/// spec_json plus the impact's effective grain-scale parameters ("effective": {"bed", "block"}).
+std::string params_json(const ImpactSpec& spec, const ImpactResult& result);
+
+/// Rewrites /impacts (the impact-set schema) from the index entries whose status is "rebound".
+void rewrite_impact_set(const std::string& path, const std::vector<CampaignEntry>& entries,
+                        const std::string& design_name);
+
+/// Records that impact `id` is running (group /dem/running/ID with its work folder), so that a
+/// killed run can tell it apart on resume.
+void mark_running(const std::string& path, const std::string& id, const std::string& work_dir);
+
+}  // namespace ricochet::dem

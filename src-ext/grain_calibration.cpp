@@ -1,0 +1,465 @@
+#include "grain_calibration.hpp"
+
+#include <fmt/format.h>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <openturns/OT.hxx>
+#include <set>
+
+#include "campaign_store.hpp"
+#include "common/error.hpp"
+#include "fit/design.hpp"
+#include "report/plot.hpp"
+#include "upscale.hpp"
+
+namespace ricochet::dem {
+
+namespace {
+
+const char* kComponent[3] = {"vout_x", "vout_y", "wout"};
+const char* kLabel[3] = {"V_out^x [m/s]", "V_out^y [m/s]", "omega_out [rad/s]"};
+
+double parse_number(const std::string& text, const std::string& file, const std::string& name) {
+  try {
+    std::size_t used = 0;
+    const double v = std::stod(text, &used);
+    if (used == text.size()) return v;
+  } catch (const std::exception&) {
+  }
+  throw InputError(file, 0, name,
+                   "value '" + text + "' is not a number: cannot be a surrogate input");
+}
+
+// One kriging model per V_out component, on inputs scaled to [0, 1].
+struct Surrogate {
+  std::vector<OT::KrigingResult> models;
+  Vel3 predict_mean(const OT::Point& u) const {
+    Vel3 m{};
+    for (int c = 0; c < 3; ++c) m[c] = models[c].getMetaModel()(u)[0];
+    return m;
+  }
+};
+
+OT::KrigingResult fit_kriging(const OT::Sample& u, const OT::Sample& y, double noise_var,
+                              const OT::CovarianceModel* fixed) {
+  const std::size_t d = u.getDimension();
+  const OT::Basis basis = OT::ConstantBasisFactory(d).build();
+  OT::CovarianceModel cov =
+      fixed ? *fixed
+            : OT::CovarianceModel(OT::MaternModel(OT::Point(d, 0.5), OT::Point(1, 1.0), 2.5));
+  OT::KrigingAlgorithm algo(u, y, cov, basis);
+  if (noise_var > 0) algo.setNoise(OT::Point(u.getSize(), noise_var));
+  if (fixed)
+    algo.setOptimizeParameters(false);
+  else
+    algo.setOptimizationBounds(OT::Interval(OT::Point(d, 0.02), OT::Point(d, 2.0)));
+  algo.run();
+  return algo.getResult();
+}
+
+}  // namespace
+
+GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const Decks& decks,
+                                        const ImpactSet& target,
+                                        const GrainCalibrationOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  GrainCalibrationResult r;
+  r.source = campaign_h5;
+  if (target.impacts.size() < 2)
+    throw InputError(target.source, 0, "vout", "the target needs at least 2 impacts");
+  ImpactSet set = read_impact_set_h5(campaign_h5);
+  if (!options.where.empty()) set = filter(set, options.where);
+  for (const auto& e : read_campaign_index(campaign_h5))
+    if (e.status != "rebound") ++r.failed;
+  const auto grain = campaign_grain_parameters(campaign_h5, decks);
+
+  // The surrogate's inputs: given, or every grain parameter that the campaign varies.
+  r.parameters = options.parameters;
+  if (r.parameters.empty()) {
+    std::map<std::string, std::set<std::string>> values;
+    for (const auto& im : set.impacts)
+      if (const auto it = grain.find(im.id); it != grain.end())
+        for (const auto& [k, v] : it->second) values[k].insert(v);
+    for (const auto& [k, v] : values)
+      if (v.size() > 1 && k != "bed.seed") r.parameters.push_back(k);
+  }
+  if (r.parameters.empty())
+    throw InputError(campaign_h5, 0, "/dem/index/params",
+                     "the campaign varies no grain parameter: nothing to calibrate");
+  const std::size_t d = r.parameters.size();
+  for (const auto& p : r.parameters) {
+    const auto dot = p.find('.');
+    const std::string section = p.substr(0, dot),
+                      name = dot == std::string::npos ? "" : p.substr(dot + 1);
+    const auto& list = section == "bed" ? decks.bed_params : decks.block_params;
+    const auto it =
+        std::find_if(list.begin(), list.end(), [&](const DeckParam& q) { return q.name == name; });
+    if ((section != "bed" && section != "block") || it == list.end())
+      throw InputError(campaign_h5, 0, p, "unknown grain parameter (use bed.NAME or block.NAME)");
+    r.deck_default.push_back(parse_number(it->default_value, "<decks>", p));
+  }
+
+  // Design points: replicas share every surrogate input.
+  std::map<std::vector<double>, std::size_t> index;
+  std::vector<std::array<std::vector<double>, 3>> samples;
+  for (const auto& im : set.impacts) {
+    const auto it = grain.find(im.id);
+    if (it == grain.end()) continue;
+    std::vector<double> x;
+    for (const auto& p : r.parameters) x.push_back(parse_number(it->second.at(p), campaign_h5, p));
+    auto [pos, inserted] = index.emplace(x, r.points.size());
+    if (inserted) {
+      r.points.push_back(GrainPoint{x, {}, {}, 0, {}});
+      samples.emplace_back();
+    }
+    auto& pt = r.points[pos->second];
+    pt.ids.push_back(im.id);
+    ++pt.replicas;
+    for (int c = 0; c < 3; ++c) samples[pos->second][c].push_back(im.vout[c]);
+  }
+  const std::size_t n = r.points.size();
+  if (n < d + 2)
+    throw InputError(
+        campaign_h5, 0, "/impacts",
+        fmt::format("{} design points with a rebound for {} parameters: need at least {}", n, d,
+                    d + 2));
+  // Replica means and the pooled within-point variance (the noise of a mean: var / replicas).
+  Vel3 ss{}, dof{};
+  for (std::size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) {
+      const auto& v = samples[i][c];
+      double m = 0;
+      for (double x : v) m += x;
+      m /= static_cast<double>(v.size());
+      r.points[i].mean[c] = m;
+      for (double x : v) ss[c] += (x - m) * (x - m);
+      dof[c] += static_cast<double>(v.size()) - 1;
+    }
+  for (int c = 0; c < 3; ++c) r.replicate_sd[c] = dof[c] > 0 ? std::sqrt(ss[c] / dof[c]) : 0.0;
+  double mean_replicas = 0;
+  for (const auto& p : r.points)
+    mean_replicas += static_cast<double>(p.replicas) / static_cast<double>(n);
+
+  r.lower.assign(d, 0.0);
+  r.upper.assign(d, 0.0);
+  for (std::size_t k = 0; k < d; ++k) {
+    r.lower[k] = r.upper[k] = r.points[0].x[k];
+    for (const auto& p : r.points) {
+      r.lower[k] = std::min(r.lower[k], p.x[k]);
+      r.upper[k] = std::max(r.upper[k], p.x[k]);
+    }
+    if (!(r.upper[k] > r.lower[k]))
+      throw InputError(campaign_h5, 0, r.parameters[k], "takes one value only among the rebounds");
+  }
+  auto scaled = [&](const std::vector<double>& x) {
+    OT::Point u(d);
+    for (std::size_t k = 0; k < d; ++k) u[k] = (x[k] - r.lower[k]) / (r.upper[k] - r.lower[k]);
+    return u;
+  };
+  OT::Sample u(n, d);
+  for (std::size_t i = 0; i < n; ++i) u[i] = scaled(r.points[i].x);
+
+  // The target: the measured rebounds' mean and standard deviation.
+  r.target_n = target.impacts.size();
+  for (int c = 0; c < 3; ++c) {
+    double m = 0, s = 0;
+    for (const auto& im : target.impacts) m += im.vout[c];
+    m /= static_cast<double>(r.target_n);
+    for (const auto& im : target.impacts) s += (im.vout[c] - m) * (im.vout[c] - m);
+    r.target_mean[c] = m;
+    r.target_sd[c] = std::sqrt(s / static_cast<double>(r.target_n - 1));
+  }
+
+  // The search designs first: lhs_unit_design takes the OpenTURNS generator's lock itself.
+  const auto search_u = fit::lhs_unit_design(d, options.search_n, options.seed + 1);
+  auto local = fit::lhs_unit_design(d, options.search_n / 4, options.seed + 2);
+  // OpenTURNS's random generator is process-wide (fit/design.hpp): hold it for the whole fit.
+  std::lock_guard<std::mutex> lock(fit::openturns_rng_mutex());
+  OT::RandomGenerator::SetSeed(options.seed);
+  Surrogate sur;
+  for (int c = 0; c < 3; ++c) {
+    OT::Sample y(n, 1);
+    for (std::size_t i = 0; i < n; ++i) y(i, 0) = r.points[i].mean[c];
+    const double noise = r.replicate_sd[c] * r.replicate_sd[c] / mean_replicas;
+    sur.models.push_back(fit_kriging(u, y, noise, nullptr));
+    // Leave-one-out with the full fit's covariance parameters (hyperparameters not refitted).
+    const OT::CovarianceModel cov = sur.models.back().getCovarianceModel();
+    double press = 0, var = 0, ybar = 0;
+    for (std::size_t i = 0; i < n; ++i) ybar += y(i, 0) / static_cast<double>(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      OT::Sample ui(0, d), yi(0, 1);
+      for (std::size_t j = 0; j < n; ++j)
+        if (j != i) {
+          ui.add(u[j]);
+          yi.add(y[j]);
+        }
+      const auto res = fit_kriging(ui, yi, noise, &cov);
+      r.points[i].loo[c] = res.getMetaModel()(u[i])[0];
+      press += std::pow(y(i, 0) - r.points[i].loo[c], 2);
+      var += std::pow(y(i, 0) - ybar, 2);
+    }
+    r.q2[c] = 1.0 - press / var;
+    r.rmse_loo[c] = std::sqrt(press / static_cast<double>(n));
+  }
+
+  // Sobol indices on the surrogate (Saltelli 2010 estimators, OpenTURNS), inputs uniform on the
+  // sampled box.
+  const OT::ComposedDistribution unit(
+      OT::ComposedDistribution::DistributionCollection(d, OT::Uniform(0.0, 1.0)));
+  const OT::Sample sobol_in = OT::SobolIndicesExperiment(unit, options.sobol_n).generate();
+  for (int c = 0; c < 3; ++c) {
+    OT::SaltelliSensitivityAlgorithm algo(sobol_in, sur.models[c].getMetaModel()(sobol_in),
+                                          options.sobol_n);
+    algo.setBootstrapSize(200);
+    const OT::Point f = algo.getFirstOrderIndices(), t = algo.getTotalOrderIndices();
+    const OT::Interval fi = algo.getFirstOrderIndicesInterval(),
+                       ti = algo.getTotalOrderIndicesInterval();
+    for (std::size_t k = 0; k < d; ++k) {
+      r.first[c].push_back(f[k]);
+      r.total[c].push_back(t[k]);
+      r.first_lo[c].push_back(fi.getLowerBound()[k]);
+      r.first_hi[c].push_back(fi.getUpperBound()[k]);
+      r.total_lo[c].push_back(ti.getLowerBound()[k]);
+      r.total_hi[c].push_back(ti.getUpperBound()[k]);
+    }
+  }
+
+  // The calibrated point: the smallest expected misfit J over a space-filling search, then a
+  // second search in a box a tenth as wide around the best candidate.
+  auto misfit = [&](const OT::Sample& s, std::vector<double>& j, std::vector<char>* ok) {
+    j.assign(s.getSize(), 0.0);
+    if (ok) ok->assign(s.getSize(), 1);
+    for (int c = 0; c < 3; ++c) {
+      const OT::Sample m = sur.models[c].getMetaModel()(s);
+      const OT::Sample v = sur.models[c].getConditionalMarginalVariance(s);
+      const double sd2 = r.target_sd[c] * r.target_sd[c];
+      for (std::size_t i = 0; i < s.getSize(); ++i) {
+        const double e = m(i, 0) - r.target_mean[c];
+        j[i] += (e * e + std::max(0.0, v(i, 0))) / sd2;
+        if (ok && std::abs(e) > 0.5 * r.target_sd[c]) (*ok)[i] = 0;
+      }
+    }
+  };
+  auto to_sample = [&](const std::vector<double>& flat, std::size_t count) {
+    OT::Sample s(count, d);
+    for (std::size_t i = 0; i < count; ++i)
+      for (std::size_t k = 0; k < d; ++k) s(i, k) = flat[i * d + k];
+    return s;
+  };
+  const OT::Sample search = to_sample(search_u, options.search_n);
+  std::vector<double> j;
+  std::vector<char> ok;
+  misfit(search, j, &ok);
+  std::size_t best = static_cast<std::size_t>(std::min_element(j.begin(), j.end()) - j.begin());
+  r.acceptable_fraction =
+      static_cast<double>(std::count(ok.begin(), ok.end(), 1)) / static_cast<double>(ok.size());
+  OT::Point ubest = search[best];
+  double jbest = j[best];
+  for (std::size_t i = 0; i < options.search_n / 4; ++i)
+    for (std::size_t k = 0; k < d; ++k)
+      local[i * d + k] = std::clamp(ubest[k] + 0.1 * (local[i * d + k] - 0.5), 0.0, 1.0);
+  const OT::Sample near = to_sample(local, options.search_n / 4);
+  misfit(near, j, nullptr);
+  best = static_cast<std::size_t>(std::min_element(j.begin(), j.end()) - j.begin());
+  if (j[best] < jbest) {
+    ubest = near[best];
+    jbest = j[best];
+  }
+  r.best_misfit = jbest;
+  for (std::size_t k = 0; k < d; ++k)
+    r.best.push_back(r.lower[k] + ubest[k] * (r.upper[k] - r.lower[k]));
+  for (int c = 0; c < 3; ++c) {
+    r.best_mean[c] = sur.models[c].getMetaModel()(ubest)[0];
+    r.best_sd[c] = std::sqrt(std::max(0.0, sur.models[c].getConditionalMarginalVariance(ubest)));
+  }
+
+  // The abacus: one parameter at a time through the calibrated point.
+  const std::size_t grid_n = 41;
+  r.grid.resize(d);
+  r.curve_mean.resize(d);
+  r.curve_sd.resize(d);
+  for (std::size_t k = 0; k < d; ++k) {
+    OT::Sample s(grid_n, d);
+    for (std::size_t i = 0; i < grid_n; ++i) {
+      s[i] = ubest;
+      s(i, k) = static_cast<double>(i) / static_cast<double>(grid_n - 1);
+      r.grid[k].push_back(r.lower[k] + s(i, k) * (r.upper[k] - r.lower[k]));
+    }
+    for (int c = 0; c < 3; ++c) {
+      const OT::Sample m = sur.models[c].getMetaModel()(s);
+      const OT::Sample v = sur.models[c].getConditionalMarginalVariance(s);
+      for (std::size_t i = 0; i < grid_n; ++i) {
+        r.curve_mean[k][c].push_back(m(i, 0));
+        r.curve_sd[k][c].push_back(std::sqrt(std::max(0.0, v(i, 0))));
+      }
+    }
+  }
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return r;
+}
+
+std::string grain_calibration_json(const GrainCalibrationResult& r) {
+  using nlohmann::json;
+  json j;
+  j["source"] = r.source;
+  j["parameters"] = r.parameters;
+  j["lower"] = r.lower;
+  j["upper"] = r.upper;
+  j["deck_default"] = r.deck_default;
+  j["design_points"] = r.points.size();
+  j["failed_impacts"] = r.failed;
+  j["replicate_sd"] = r.replicate_sd;
+  json comp = json::object();
+  for (int c = 0; c < 3; ++c) {
+    json s = json::object();
+    for (std::size_t k = 0; k < r.parameters.size(); ++k)
+      s[r.parameters[k]] = {{"first", r.first[c][k]},
+                            {"first_interval", {r.first_lo[c][k], r.first_hi[c][k]}},
+                            {"total", r.total[c][k]},
+                            {"total_interval", {r.total_lo[c][k], r.total_hi[c][k]}}};
+    comp[kComponent[c]] = {
+        {"q2_loo", r.q2[c]},
+        {"rmse_loo", r.rmse_loo[c]},
+        {"target_mean", r.target_mean[c]},
+        {"target_sd", r.target_sd[c]},
+        {"predicted_mean", r.best_mean[c]},
+        {"predicted_sd", r.best_sd[c]},
+        {"gap_in_target_sd", (r.best_mean[c] - r.target_mean[c]) / r.target_sd[c]},
+        {"sobol", s}};
+  }
+  j["components"] = comp;
+  json best = json::object();
+  for (std::size_t k = 0; k < r.parameters.size(); ++k) best[r.parameters[k]] = r.best[k];
+  j["calibrated"] = best;
+  j["misfit"] = r.best_misfit;
+  j["acceptable_fraction"] = r.acceptable_fraction;
+  j["target_impacts"] = r.target_n;
+  json pts = json::array();
+  for (const auto& p : r.points)
+    pts.push_back(
+        {{"x", p.x}, {"mean", p.mean}, {"loo", p.loo}, {"replicas", p.replicas}, {"ids", p.ids}});
+  j["points"] = pts;
+  j["seconds"] = r.seconds;
+  return j.dump();
+}
+
+std::vector<std::string> write_grain_calibration_figures(const GrainCalibrationResult& r,
+                                                         const std::string& dir) {
+  using report::Figure;
+  using report::Panel;
+  using report::Series;
+  std::vector<std::string> files;
+  const std::size_t d = r.parameters.size();
+  // Colour-blind-safe palette (Okabe and Ito 2008).
+  const char* palette[] = {"#0072B2", "#E69F00", "#009E73", "#CC79A7",
+                           "#56B4E9", "#D55E00", "#F0E442", "#000000"};
+
+  Figure sobol;
+  sobol.title =
+      "Sobol indices of the resolved V_out on the surrogate (first order: filled, total: open; 95 "
+      "% bootstrap)";
+  for (int c = 0; c < 3; ++c) {
+    Panel p;
+    p.title = kLabel[c] + fmt::format(" (LOO Q2 = {:.2f})", r.q2[c]);
+    p.xlabel = "parameter";
+    p.ylabel = "Sobol index";
+    p.xmin = 0.5;
+    p.xmax = static_cast<double>(d) + 0.5;
+    p.ymin = -0.05;
+    p.ymax = 1.05;
+    p.key = "top left";
+    for (std::size_t k = 0; k < d; ++k) {
+      const double x = static_cast<double>(k + 1);
+      Series f{r.parameters[k],    {x - 0.12},         {r.first[c][k]}, "errorbars",
+               {r.first_lo[c][k]}, {r.first_hi[c][k]}, palette[k % 8],  7};
+      Series t{"",
+               {x + 0.12},
+               {r.total[c][k]},
+               "errorbars",
+               {r.total_lo[c][k]},
+               {r.total_hi[c][k]},
+               palette[k % 8],
+               6};
+      p.series.push_back(f);
+      p.series.push_back(t);
+    }
+    sobol.panels.push_back(p);
+  }
+  files.push_back(dir + "/grains_sobol.svg");
+  report::render_svg(sobol, files.back());
+
+  Figure loo;
+  loo.title =
+      "Surrogate validation: leave-one-out prediction against each design point's replica mean";
+  for (int c = 0; c < 3; ++c) {
+    Panel p;
+    p.title = kLabel[c] + fmt::format(" Q2 = {:.2f}, RMSE = {:.3g}", r.q2[c], r.rmse_loo[c]);
+    p.xlabel = "resolved (replica mean)";
+    p.ylabel = "leave-one-out prediction";
+    Series s{"design points", {}, {}, "points", {}, {}, palette[0], 7};
+    double lo = 1e300, hi = -1e300;
+    for (const auto& q : r.points) {
+      s.x.push_back(q.mean[c]);
+      s.y.push_back(q.loo[c]);
+      lo = std::min({lo, q.mean[c], q.loo[c]});
+      hi = std::max({hi, q.mean[c], q.loo[c]});
+    }
+    p.series.push_back(s);
+    p.series.push_back(Series{"1:1", {lo, hi}, {lo, hi}, "lines", {}, {}, "#000000", 7});
+    p.key = "top left";
+    loo.panels.push_back(p);
+  }
+  files.push_back(dir + "/grains_loo.svg");
+  report::render_svg(loo, files.back());
+
+  Figure abacus;
+  abacus.title =
+      "Abacus: surrogate V_out against each grain parameter through the calibrated point (mean +- "
+      "2 sd; band: target mean +- 0.5 sd)";
+  abacus.columns = static_cast<int>(d);
+  abacus.width_px = 260 * static_cast<int>(d);
+  abacus.height_px = 780;
+  for (int c = 0; c < 3; ++c)
+    for (std::size_t k = 0; k < d; ++k) {
+      Panel p;
+      p.xlabel = r.parameters[k];
+      p.ylabel = kLabel[c];
+      p.key = "off";
+      Series m{"surrogate", r.grid[k], r.curve_mean[k][c], "lines", {}, {}, palette[0], 7};
+      Series lo{"-2 sd", r.grid[k], {}, "lines", {}, {}, "#56B4E9", 7};
+      Series hi{"+2 sd", r.grid[k], {}, "lines", {}, {}, "#56B4E9", 7};
+      for (std::size_t i = 0; i < r.grid[k].size(); ++i) {
+        lo.y.push_back(r.curve_mean[k][c][i] - 2 * r.curve_sd[k][c][i]);
+        hi.y.push_back(r.curve_mean[k][c][i] + 2 * r.curve_sd[k][c][i]);
+      }
+      const double a = r.lower[k], b = r.upper[k];
+      Series t1{"target",
+                {a, b},
+                {r.target_mean[c] - 0.5 * r.target_sd[c], r.target_mean[c] - 0.5 * r.target_sd[c]},
+                "lines",
+                {},
+                {},
+                "#D55E00",
+                7};
+      Series t2{"",
+                {a, b},
+                {r.target_mean[c] + 0.5 * r.target_sd[c], r.target_mean[c] + 0.5 * r.target_sd[c]},
+                "lines",
+                {},
+                {},
+                "#D55E00",
+                7};
+      Series at{"calibrated", {r.best[k]}, {r.best_mean[c]}, "points", {}, {}, "#000000", 5};
+      p.series = {lo, hi, m, t1, t2, at};
+      abacus.panels.push_back(p);
+    }
+  files.push_back(dir + "/grains_abacus.svg");
+  report::render_svg(abacus, files.back());
+  return files;
+}
+
+}  // namespace ricochet::dem

@@ -1,0 +1,91 @@
+// Calibration of the resolved bed's grain-scale parameters against measured rebounds (issue 11):
+// a kriging surrogate of the resolved V_out over the grain parameters that a campaign sampled
+// ([design.sample], campaign_design.hpp), validated by leave-one-out, its Sobol indices (the
+// "abacus": which grain parameter moves which rebound component), and the grain parameters whose
+// predicted V_out matches a target (the lab's mean rebound).
+//
+// Model (Santner, Williams and Notz 2003, ch. 3; OpenTURNS KrigingAlgorithm): for each V_out
+// component c, y_c(x) = beta_c + Z_c(x) + eps, Z a Gaussian process with a Matern 5/2 covariance
+// over the parameters scaled to [0, 1], eps the replicate noise of a design point's mean (pooled
+// within-point variance / replicas). The calibrated point minimises the expected standardised
+// misfit  J(x) = sum_c [(m_c(x) - t_c)^2 + s_c(x)^2] / sd_c^2,  m_c and s_c^2 the kriging mean and
+// variance, t_c and sd_c the target's mean and standard deviation: the posterior expectation of
+// the squared distance in target standard deviations, which favours regions the design supports.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "impact/impact_set.hpp"
+#include "params.hpp"
+
+namespace ricochet::dem {
+
+struct GrainCalibrationOptions {
+  /// Parameters ("bed.NAME" / "block.NAME") of the surrogate. Empty: every bed.* and block.*
+  /// parameter that takes more than one value in the campaign (bed.seed excluded).
+  std::vector<std::string> parameters;
+  std::string where;             ///< impact-set filter applied to the campaign's /impacts first
+  std::uint64_t seed = 1;        ///< OpenTURNS seed of the Sobol and search samples
+  std::size_t sobol_n = 20000;   ///< base sample size of the Saltelli estimator on the surrogate
+  std::size_t search_n = 20000;  ///< candidate points of the misfit search before the local polish
+};
+
+/// One design point: a set of grain parameters and its replicas' mean rebound.
+struct GrainPoint {
+  std::vector<double> x;  ///< parameter values (units of the decks)
+  Vel3 mean{};            ///< mean V_out of the replicas (m/s, m/s, rad/s)
+  Vel3 loo{};             ///< leave-one-out prediction of `mean`
+  std::size_t replicas = 0;
+  std::vector<std::string> ids;
+};
+
+struct GrainCalibrationResult {
+  std::string source;                   ///< the campaign file
+  std::vector<std::string> parameters;  ///< surrogate inputs
+  std::vector<double> lower, upper;     ///< their sampled ranges
+  std::vector<double> deck_default;     ///< their values in the decks (grain-defaults.in etc.)
+  std::vector<GrainPoint> points;
+  std::size_t failed = 0;            ///< impacts of the campaign that did not rebound
+  Vel3 replicate_sd{};               ///< pooled within-point standard deviation of V_out
+  std::array<double, 3> q2{};        ///< leave-one-out Q2 per component
+  std::array<double, 3> rmse_loo{};  ///< leave-one-out root-mean-square error per component
+  /// Sobol indices on the surrogate, [component][parameter], with 95 % bootstrap intervals.
+  std::array<std::vector<double>, 3> first, total, first_lo, first_hi, total_lo, total_hi;
+  /// The target (mean and standard deviation of V_out over its impacts) and its size.
+  Vel3 target_mean{}, target_sd{};
+  std::size_t target_n = 0;
+  std::vector<double> best;     ///< the calibrated parameters
+  Vel3 best_mean{}, best_sd{};  ///< surrogate mean and standard deviation at `best`
+  double best_misfit = 0;       ///< J(best)
+  /// Fraction of the sampled box where every component's surrogate mean is within 0.5 target
+  /// standard deviations of the target mean (the acceptable set: how unique `best` is).
+  double acceptable_fraction = 0;
+  /// The abacus: for each parameter k, the surrogate along a grid of that parameter with the
+  /// others at `best`: grid[k], mean[k][c][i], sd[k][c][i].
+  std::vector<std::vector<double>> grid;
+  std::vector<std::array<std::vector<double>, 3>> curve_mean, curve_sd;
+  double seconds = 0;
+};
+
+/// Reads the campaign's rebounds (its /impacts) and their grain parameters, groups replicas
+/// (same parameters), fits the surrogate, validates it, computes Sobol indices and calibrates
+/// to the V_out distribution of `target` (e.g. the lab cylinders). Throws InputError naming the
+/// file when there are fewer design points than parameters + 2, a parameter is unknown or not
+/// numeric, or the target is empty.
+GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const Decks& decks,
+                                        const ImpactSet& target,
+                                        const GrainCalibrationOptions& options);
+
+/// JSON document (nlohmann dump) of a result: keys documented in docs/commands/calibrate-grains.md.
+std::string grain_calibration_json(const GrainCalibrationResult& r);
+
+/// Figures (SVG) into `dir`: grains_sobol.svg (first and total indices per parameter, per V_out
+/// component, with intervals), grains_loo.svg (leave-one-out prediction against the replicas'
+/// mean), grains_abacus.svg (each component against each parameter through the calibrated
+/// point, surrogate mean +- 2 sd, design points, target band). Returns the files written.
+std::vector<std::string> write_grain_calibration_figures(const GrainCalibrationResult& r,
+                                                         const std::string& dir);
+
+}  // namespace ricochet::dem
