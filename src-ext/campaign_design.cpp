@@ -192,8 +192,8 @@ CampaignDesign read_campaign_design(const std::string& path, const Decks& decks)
 
   if (const auto* g = table_at(root, "design", path, "")) {
     check_keys(*g,
-               {"shape", "incident", "incident_from", "where", "alpha_in_deg", "seeds", "vary",
-                "sample", "id_prefix"},
+               {"shape", "incident", "incident_from", "where", "alpha_in_deg",
+                "alpha_in_deg_sample", "seeds", "vary", "sample", "id_prefix"},
                path, "design");
     std::string shape = "cylinder";
     if (const auto* n = g->get("shape")) {
@@ -230,6 +230,33 @@ CampaignDesign read_campaign_design(const std::string& path, const Decks& decks)
                          "expected a list of angles (deg)");
       alphas.clear();
       for (const auto& x : *a) alphas.push_back(number_of(x, path, "design.alpha_in_deg"));
+    }
+    // An unknown orientation (the lab triangles, paper Appendix A): one angle per incident state,
+    // stratified over [low, high] (a one-dimensional Latin hypercube, seeded), kept in the spec.
+    std::vector<double> sampled_alpha;
+    if (const auto* n = g->get("alpha_in_deg_sample")) {
+      const std::string field = "design.alpha_in_deg_sample";
+      const toml::table* t = n->as_table();
+      if (!t)
+        throw InputError(path, line_of(*n), field, "expected { range = [low, high], seed = N }");
+      check_keys(*t, {"range", "seed"}, path, field);
+      const toml::array* a = t->get("range") ? t->get("range")->as_array() : nullptr;
+      if (!a || a->size() != 2)
+        throw InputError(path, line_of(*n), field + ".range", "expected [low, high] in degrees");
+      const double lo = number_of(*a->get(0), path, field), hi = number_of(*a->get(1), path, field);
+      if (!(lo < hi)) throw InputError(path, line_of(*a), field + ".range", "expected low < high");
+      if (g->get("alpha_in_deg"))
+        throw InputError(path, line_of(*n), field,
+                         "give alpha_in_deg or alpha_in_deg_sample, not both");
+      std::int64_t seed = 1;
+      if (const auto* x = t->get("seed")) {
+        const auto v = x->value<std::int64_t>();
+        if (!v || *v < 0)
+          throw InputError(path, line_of(*x), field + ".seed", "expected an integer >= 0");
+        seed = *v;
+      }
+      for (double u : fit::lhs_unit_design(1, incident.size(), static_cast<std::uint64_t>(seed)))
+        sampled_alpha.push_back(lo + (hi - lo) * u);
     }
     std::vector<std::optional<std::int64_t>> seeds = {std::nullopt};
     if (const auto* n = g->get("seeds")) {
@@ -330,10 +357,11 @@ CampaignDesign read_campaign_design(const std::string& path, const Decks& decks)
       combos = std::move(next);
       combo_tags = std::move(next_tags);
     }
-    for (const auto& [base, vin] : incident)
-      for (double alpha : alphas)
+    for (std::size_t inc = 0; inc < incident.size(); ++inc)
+      for (double alpha : sampled_alpha.empty() ? alphas : std::vector<double>{sampled_alpha[inc]})
         for (const auto& seed : seeds)
           for (std::size_t c = 0; c < combos.size(); ++c) {
+            const auto& [base, vin] = incident[inc];
             ImpactSpec s;
             s.id = base;
             if (alphas.size() > 1) s.id += fmt::format("-a{}", format_value(alpha));

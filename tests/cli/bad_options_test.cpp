@@ -68,6 +68,8 @@ const std::vector<BadCase> kCases = {
     {"dem bed --bogus", "--bogus"},
     {"dem campaign no-such-design.toml", "no-such-design.toml"},
     {"upscale no-such-campaign.h5", "no-such-campaign.h5"},
+    {"calibrate-grains no-such-campaign.h5 --lab " + kCyl, "no-such-campaign.h5"},
+    {"calibrate-grains " + kCyl, "--lab"},
 };
 
 class BadOptions : public test::ProgramTest, public ::testing::WithParamInterface<BadCase> {};

@@ -221,6 +221,26 @@ seed = 3
     EXPECT_EQ(spec_json(again.impacts[i]), spec_json(d.impacts[i]));
 }
 
+// alpha_in_deg_sample: the lab triangles' unknown orientation, one stratified angle per release.
+TEST(Design, OneSampledOrientationPerIncidentState) {
+  const auto path = temp_file(
+      "tri.toml", "[design]\nshape = \"triangle\"\nincident_from = \"" +
+                      std::string(RICOCHET_SOURCE_DIR) +
+                      "/data/lab/triangles.csv\"\nalpha_in_deg_sample = { range = [-60.0, 60.0], "
+                      "seed = 4 }\n");
+  const auto d = read_campaign_design(path, decks());
+  ASSERT_EQ(d.impacts.size(), 31u);  // paper Appendix A, triangles
+  std::set<int> strata;
+  for (const auto& s : d.impacts) {
+    const double deg = s.alpha_in_rad * 180.0 / std::numbers::pi;
+    ASSERT_GE(deg, -60.0);
+    ASSERT_LE(deg, 60.0);
+    strata.insert(static_cast<int>((deg + 60.0) / 120.0 * 31));
+    EXPECT_EQ(s.id[0], 'T');  // the lab ids, no angle suffix
+  }
+  EXPECT_EQ(strata.size(), 31u);
+}
+
 TEST(Design, IncidentStatesFromTheLabFile) {
   const auto path =
       temp_file("lab.toml", "[design]\nincident_from = \"" + std::string(RICOCHET_SOURCE_DIR) +
