@@ -60,6 +60,8 @@ void add_compare_command(CLI::App& app);
 void add_ladder_command(CLI::App& app);
 void add_report_command(CLI::App& app);
 void add_dem_command(CLI::App& app);
+/// `dem drop` (cmd_dem_drop.cpp), added to the `dem` subcommand by add_dem_command.
+void add_dem_drop_command(CLI::App& dem);
 void add_upscale_command(CLI::App& app);
 void add_calibrate_grains_command(CLI::App& app);
 

@@ -440,6 +440,8 @@ void add_dem_command(CLI::App& app) {
   c->add_flag("--retry-crashed", camp->retry, "Rerun impacts that were running when a run died");
   add_output_options(c, camp->output);
   c->callback([camp] { run_campaign_command(*camp); });
+
+  add_dem_drop_command(*dem);  // cmd_dem_drop.cpp
 }
 
 }  // namespace ricochet::cli
