@@ -179,6 +179,13 @@ GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const De
   auto local = fit::lhs_unit_design(d, options.search_n / 4, options.seed + 2);
   // OpenTURNS's random generator is process-wide (fit/design.hpp): hold it for the whole fit.
   std::lock_guard<std::mutex> lock(fit::openturns_rng_mutex());
+  // OpenTURNS warns whenever it narrows the kriging scale bounds to the data's range ("for
+  // coherency"): noise for the user, the bounds are ours. Warnings off while this fit runs.
+  struct QuietWarnings {
+    OT::Log::Severity flags = OT::Log::Flags();
+    QuietWarnings() { OT::Log::Show(flags & ~OT::Log::WARN); }
+    ~QuietWarnings() { OT::Log::Show(flags); }
+  } quiet;
   OT::RandomGenerator::SetSeed(options.seed);
   Surrogate sur;
   for (int c = 0; c < 3; ++c) {
