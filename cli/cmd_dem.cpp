@@ -18,6 +18,7 @@
 #include "block_template.hpp"
 #include "campaign.hpp"
 #include "cli_common.hpp"
+#include "mpi_session.hpp"
 #include "common/error.hpp"
 #include "common/progress.hpp"
 #include "engine/shape.hpp"
@@ -30,32 +31,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-// MPI for the lifetime of one dem subcommand (LIGGGHTS needs it; other subcommands do not).
-class MpiSession {
- public:
-  MpiSession() {
-    int initialized = 0;
-    MPI_Initialized(&initialized);
-    if (!initialized) {
-      MPI_Init(nullptr, nullptr);
-      owner_ = true;
-    }
-    MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
-    MPI_Comm_size(MPI_COMM_WORLD, &size_);
-  }
-  ~MpiSession() {
-    if (owner_) MPI_Finalize();
-  }
-  MpiSession(const MpiSession&) = delete;
-  MpiSession& operator=(const MpiSession&) = delete;
-  int rank() const { return rank_; }
-  int size() const { return size_; }
-
- private:
-  bool owner_ = false;
-  int rank_ = 0, size_ = 1;
-};
 
 struct CommonOptions {
   std::string decks;

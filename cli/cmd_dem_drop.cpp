@@ -21,6 +21,7 @@
 
 #include "bed.hpp"
 #include "cli_common.hpp"
+#include "mpi_session.hpp"
 #include "common/csv.hpp"
 #include "common/error.hpp"
 #include "drop.hpp"
@@ -34,32 +35,6 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 constexpr double kGravity = 9.81;  // m/s^2, as in the decks
-
-// MPI for the lifetime of the subcommand (LIGGGHTS needs it).
-class Mpi {
- public:
-  Mpi() {
-    int initialized = 0;
-    MPI_Initialized(&initialized);
-    if (!initialized) {
-      MPI_Init(nullptr, nullptr);
-      owner_ = true;
-    }
-    MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
-    MPI_Comm_size(MPI_COMM_WORLD, &size_);
-  }
-  ~Mpi() {
-    if (owner_) MPI_Finalize();
-  }
-  Mpi(const Mpi&) = delete;
-  Mpi& operator=(const Mpi&) = delete;
-  int rank() const { return rank_; }
-  int size() const { return size_; }
-
- private:
-  bool owner_ = false;
-  int rank_ = 0, size_ = 1;
-};
 
 struct DropOptions {
   std::vector<double> heights = {0.05, 0.1, 0.2, 0.5, 1.0};
@@ -322,7 +297,7 @@ std::string decks_digest(const dem::Decks& decks) {
 }
 
 void run_drop_command(const DropOptions& o) {
-  Mpi mpi;
+  MpiSession mpi;
   const auto decks = dem::Decks::locate(o.decks);
   // --set: bed.* and block.* are checked like every dem command's; drop.* and repose.* against
   // the index variables of drop/setup.in and repose/in.repose (positive numbers).
