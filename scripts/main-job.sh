@@ -41,6 +41,15 @@ mkdir -p "$OUT/dem"
 echo "== Upscaling: the reduced engine's e_n^2, mu, mu_R fitted to the resolved impacts"
 "$R" upscale "$OUT/dem/main-job.h5" --lab "$CYL" --figures "$OUT/figures/upscale" \
   --out "$OUT/upscale-main-job.h5"
+echo "== The calibrated resolved bed against the lab (shipped campaigns, data/resolved; issue 11)"
+# Hours of LIGGGHTS, shipped as data: the grain calibration's surrogate and the real campaigns at
+# the lab's cylinder states and (blind) triangle states, each read here in seconds.
+"$R" calibrate-grains "$ROOT/data/resolved/bed-calibration.h5" --lab "$CYL" \
+  --figures "$OUT/figures/calibrate-grains"
+"$R" upscale "$ROOT/data/resolved/lab-cylinders.h5" --lab "$CYL" \
+  --figures "$OUT/figures/resolved-lab-cylinders"
+"$R" upscale "$ROOT/data/resolved/lab-triangles-blind.h5" --shape triangle --lab "$TRI" \
+  --figures "$OUT/figures/resolved-lab-triangles-blind"
 echo "== Compare, diagnose, model ladder and the HTML validation report (issue 6, docs/diagnosis.md)"
 # The resolved campaigns join the lab data: the diagnosis works on any impact set, so the
 # resolved model is judged as a truth like the lab (the long studies of
@@ -48,6 +57,8 @@ echo "== Compare, diagnose, model ladder and the HTML validation report (issue 6
 REPORT_DATA=("$CYL"); REPORT_LABELS=(--label "lab cylinders")
 if [ $QUICK -eq 0 ]; then REPORT_DATA+=("$TRI"); REPORT_LABELS+=(--label "lab triangles"); fi
 REPORT_DATA+=("$OUT/dem/main-job.h5"); REPORT_LABELS+=(--label "LIGGGHTS campaign (small bed)")
+REPORT_DATA+=("$ROOT/data/resolved/lab-cylinders.h5")
+REPORT_LABELS+=(--label "LIGGGHTS, calibrated bed, lab cylinder states")
 if [ $QUICK -eq 0 ]; then
   for c in "$OUT"/resolved/speeds.h5 "$OUT"/resolved/lab-cylinders.h5; do
     [ -f "$c" ] || continue

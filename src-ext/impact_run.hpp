@@ -82,7 +82,7 @@ struct ImpactResult {
   /// grain-block contact's (deck defaults with the spec's overrides), recorded with the result.
   std::map<std::string, std::string> bed_values, block_values;
   long grains = 0, steps = 0, block_spheres = 0;
-  long grains_lost = 0;  ///< grains thrown out of the box (tolerated up to grains / 1000)
+  long grains_lost = 0;  ///< grains thrown out of the box (tolerated up to grains / 100)
   double dt_s = 0, wall_s = 0, sim_time_s = 0;
   double cpu_s = 0;  ///< CPU time of the LIGGGHTS run, summed over the instance's ranks
   double rayleigh_fraction = 0, hertz_fraction = 0;  ///< from fix check/timestep/gran
