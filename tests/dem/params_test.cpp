@@ -275,6 +275,22 @@ TEST(Design, ShippedCampaignDesigns) {
   EXPECT_EQ(
       read_campaign_design((dir / "lab-cylinders-replicas.toml").string(), decks()).impacts.size(),
       56u);
+  // The calibration study's designs (docs/resolved-model.md, "Calibration of the grains").
+  EXPECT_EQ(read_campaign_design((dir / "bed-calibration.toml").string(), decks()).impacts.size(),
+            144u);  // 48 sampled grain sets x 3 positions
+  const auto cal = read_campaign_design((dir / "lab-cylinders-calibrated.toml").string(), decks());
+  const auto tri = read_campaign_design((dir / "lab-triangles-blind.toml").string(), decks());
+  EXPECT_EQ(cal.impacts.size(), 28u);
+  EXPECT_EQ(tri.impacts.size(), 31u);
+  // The blind triangles use the calibrated grains and grain-block contact, nothing re-tuned.
+  for (const char* k : {"e_gg", "mu_gg", "mu_pour", "mur_gg"})
+    EXPECT_EQ(tri.impacts[0].params.bed.at(k), cal.impacts[0].params.bed.at(k)) << k;
+  EXPECT_EQ(tri.impacts[0].params.block, cal.impacts[0].params.block);
+  const auto conv = read_campaign_design((dir / "convergence.toml").string(), decks());
+  ASSERT_EQ(conv.impacts.size(), 18u);  // 6 resolutions x 3 replica beds
+  std::set<std::string> conv_beds;
+  for (const auto& s : conv.impacts) conv_beds.insert(bed_key(decks(), bed_overrides(s)));
+  EXPECT_EQ(conv_beds.size(), 18u);
 }
 
 void expect_error(const std::string& text, std::size_t line, const std::string& field) {
