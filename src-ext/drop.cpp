@@ -13,6 +13,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "chunk_run.hpp"
 #include "impact_run.hpp"
 #include "liggghts.hpp"
 
@@ -25,7 +26,6 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kGravity = 9.81;  // m/s^2, as in the decks (fix gravity 9.81)
 // The decks' fix check/timestep/gran warns above this fraction of the Rayleigh and Hertz times.
-constexpr double kTimestepLimit = 0.2;
 constexpr std::size_t kColumns = 11;
 
 double process_cpu_s() {
@@ -252,40 +252,18 @@ DropResult run_drop(const DropSpec& spec, const DropContext& ctx, MPI_Comm comm)
       r.message = fmt::format("{} atoms after the sphere's insertion, expected {} grains + 1",
                               lmp.natoms(), bed.grains);
     } else {
-      for (;;) {
-        lmp.command(fmt::format("run {}", chunk));
-        const double t = lmp.time_s();
-        if (lmp.natoms() != expected) {
-          r.status = "lost_atoms";
-          r.message =
-              fmt::format("{} atoms at t = {:.4f} s, expected {}", lmp.natoms(), t, expected);
-          break;
-        }
-        bool finite = true;
-        for (const char* v : {"sx", "sy", "sz", "svz"})
-          finite = finite && std::isfinite(lmp.number(v).value_or(kNaN));
-        if (!finite) {
-          r.status = "nan";
-          r.message = fmt::format("the sphere state is not finite at t = {:.4f} s", t);
-          break;
-        }
-        const double rayleigh = lmp.fix_vector("ts_check", 0);
-        const double hertz = lmp.fix_vector("ts_check", 1);
-        if (rayleigh > kTimestepLimit || hertz > kTimestepLimit) {
-          r.status = "timestep";
-          r.message = fmt::format(
-              "time step {:.3g} s is {:.2f} of the Rayleigh time and {:.2f} of the Hertz time",
-              r.dt_s, rayleigh, hertz);
-          break;
-        }
-        lmp.file(deck_dir + "/check.in");
-        if (ctx.progress) ctx.progress(t, t_max);
-        if (lmp.string("drop_done").value_or("1") == "1") {
-          r.status = lmp.string("status").value_or("unknown");
-          break;
-        }
-      }
-      if (r.status != "lost_atoms" && r.status != "nan" && r.status != "timestep") {
+      ChunkRun run;
+      run.chunk_steps = chunk;
+      run.check_file = deck_dir + "/check.in";
+      run.done_variable = "drop_done";
+      run.body = "sphere";
+      run.state_variables = {"sx", "sy", "sz", "svz"};
+      run.expected_atoms = expected;
+      if (ctx.progress) run.progress = [&](double t) { ctx.progress(t, t_max); };
+      const ChunkOutcome outcome = run_chunks(lmp, run);
+      r.status = outcome.status;
+      r.message = outcome.message;
+      if (outcome.deck_stopped) {
         r.t_contact_s = lmp.number("t_contact_start").value_or(-1);
         lmp.file(deck_dir + "/finish.in");
       }

@@ -15,6 +15,7 @@
 #include <stdexcept>
 
 #include "block_template.hpp"
+#include "chunk_run.hpp"
 #include "liggghts.hpp"
 
 namespace ricochet::dem {
@@ -26,7 +27,6 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kGravity = 9.81;  // m/s^2, as in the decks (fix gravity 9.81)
 // The decks' fix check/timestep/gran warns above this fraction of the Rayleigh and Hertz times.
-constexpr double kTimestepLimit = 0.2;
 
 double run_param(const ImpactSpec& spec, const Decks& decks, const std::string& name) {
   const auto it = spec.params.run.find(name);
@@ -288,56 +288,39 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
                               lmp.natoms(), bed.grains, r.block_spheres);
     } else {
       before = surface_profile(lmp, bed, crater_bin);
-      for (;;) {
-        lmp.command(fmt::format("run {}", chunk));
-        const double t = lmp.time_s();
-        if (lmp.natoms() != expected) {
-          // A few grains thrown out of the box by the block (the triangles' vertices splash
-          // them over the top) do not change the block's motion; a lost block sphere, or more
-          // than a hundredth of the grains, ends the run.
-          // The grains group is fixed at set-up and loses the atoms that leave the box: the rest
-          // of the atoms are the block's spheres.
-          const long grains_now = static_cast<long>(lmp.number("grain_atoms").value_or(0));
-          const long block_now = lmp.natoms() - grains_now;
-          const long grains_lost = bed.grains - grains_now;
-          if (block_now != r.block_spheres || grains_lost > (bed.grains + 99) / 100) {
-            r.status = "lost_atoms";
-            r.message = fmt::format(
-                "{} atoms at t = {:.4f} s, expected {} ({} of {} block spheres): grains or the "
-                "block left the box (time step too large?)",
-                lmp.natoms(), t, expected, block_now, r.block_spheres);
-            break;
-          }
-          r.grains_lost = grains_lost;
-        }
-        bool finite = true;
-        for (const char* v : {"bx", "by", "bvx", "bvy", "bw"})
-          finite = finite && std::isfinite(lmp.number(v).value_or(kNaN));
-        if (!finite) {
-          r.status = "nan";
-          r.message = fmt::format("the block state is not finite at t = {:.4f} s", t);
-          break;
-        }
-        r.rayleigh_fraction = std::max(r.rayleigh_fraction, lmp.fix_vector("ts_check", 0));
-        r.hertz_fraction = std::max(r.hertz_fraction, lmp.fix_vector("ts_check", 1));
-        if (r.rayleigh_fraction > kTimestepLimit || r.hertz_fraction > kTimestepLimit) {
-          r.status = "timestep";
-          r.message = fmt::format(
-              "time step {:.3g} s is {:.2f} of the Rayleigh time and {:.2f} of the Hertz time "
-              "(limit {}): lower dt_frac",
-              r.dt_s, r.rayleigh_fraction, r.hertz_fraction, kTimestepLimit);
-          break;
-        }
-        lmp.file(decks.impact_dir + "/check.in");
-        if (ctx.progress) ctx.progress(t, t_max);
-        if (lmp.string("impact_done").value_or("1") == "1") {
-          r.status = lmp.string("status").value_or("unknown");
-          break;
-        }
-      }
+      ChunkRun run;
+      run.chunk_steps = chunk;
+      run.check_file = decks.impact_dir + "/check.in";
+      run.done_variable = "impact_done";
+      run.body = "block";
+      run.state_variables = {"bx", "by", "bvx", "bvy", "bw"};
+      run.expected_atoms = expected;
+      // A few grains thrown out of the box by the block (the triangles' vertices splash them
+      // over the top) do not change the block's motion; a lost block sphere, or more than a
+      // hundredth of the grains, ends the run (the deck's check.in applies the same rule). The
+      // grains group is fixed at set-up and loses the atoms that leave the box: the rest of the
+      // atoms are the block's spheres.
+      run.atoms_lost = [&](double t) -> std::string {
+        const long grains_now = static_cast<long>(lmp.number("grain_atoms").value_or(0));
+        const long block_now = lmp.natoms() - grains_now;
+        const long grains_lost = bed.grains - grains_now;
+        if (block_now != r.block_spheres || grains_lost > (bed.grains + 99) / 100)
+          return fmt::format(
+              "{} atoms at t = {:.4f} s, expected {} ({} of {} block spheres): grains or the "
+              "block left the box (time step too large?)",
+              lmp.natoms(), t, expected, block_now, r.block_spheres);
+        r.grains_lost = grains_lost;
+        return "";
+      };
+      if (ctx.progress) run.progress = [&](double t) { ctx.progress(t, t_max); };
+      const ChunkOutcome outcome = run_chunks(lmp, run);
+      r.status = outcome.status;
+      r.message = outcome.message;
+      r.rayleigh_fraction = outcome.rayleigh_fraction;
+      r.hertz_fraction = outcome.hertz_fraction;
       // After a failure found by the driver the block state may be gone or meaningless: the
       // deck's summary would evaluate it, so it is written only when the deck itself stopped.
-      if (r.status != "lost_atoms" && r.status != "nan" && r.status != "timestep") {
+      if (outcome.deck_stopped) {
         deck_contact_end = lmp.number("t_contact_end").value_or(-1);
         lmp.file(decks.impact_dir + "/finish.in");
         after = surface_profile(lmp, bed, crater_bin);

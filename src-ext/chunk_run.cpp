@@ -1,0 +1,54 @@
+#include "chunk_run.hpp"
+
+#include <fmt/format.h>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace ricochet::dem {
+
+ChunkOutcome run_chunks(Liggghts& lmp, const ChunkRun& run) {
+  ChunkOutcome o;
+  for (;;) {
+    lmp.command(fmt::format("run {}", run.chunk_steps));
+    const double t = lmp.time_s();
+    if (lmp.natoms() != run.expected_atoms) {
+      std::string lost = run.atoms_lost ? run.atoms_lost(t)
+                                        : fmt::format("{} atoms at t = {:.4f} s, expected {}",
+                                                      lmp.natoms(), t, run.expected_atoms);
+      if (!lost.empty()) {
+        o.status = "lost_atoms";
+        o.message = std::move(lost);
+        return o;
+      }
+    }
+    bool finite = true;
+    for (const auto& v : run.state_variables)
+      finite =
+          finite && std::isfinite(lmp.number(v).value_or(std::numeric_limits<double>::quiet_NaN()));
+    if (!finite) {
+      o.status = "nan";
+      o.message = fmt::format("the {} state is not finite at t = {:.4f} s", run.body, t);
+      return o;
+    }
+    o.rayleigh_fraction = std::max(o.rayleigh_fraction, lmp.fix_vector("ts_check", 0));
+    o.hertz_fraction = std::max(o.hertz_fraction, lmp.fix_vector("ts_check", 1));
+    if (o.rayleigh_fraction > kTimestepLimit || o.hertz_fraction > kTimestepLimit) {
+      o.status = "timestep";
+      o.message = fmt::format(
+          "time step {:.3g} s is {:.2f} of the Rayleigh time and {:.2f} of the Hertz time "
+          "(limit {}): lower dt_frac",
+          lmp.timestep_s(), o.rayleigh_fraction, o.hertz_fraction, kTimestepLimit);
+      return o;
+    }
+    lmp.file(run.check_file);
+    if (run.progress) run.progress(t);
+    if (lmp.string(run.done_variable).value_or("1") == "1") {
+      o.status = lmp.string("status").value_or("unknown");
+      o.deck_stopped = true;
+      return o;
+    }
+  }
+}
+
+}  // namespace ricochet::dem
