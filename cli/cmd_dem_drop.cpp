@@ -21,11 +21,11 @@
 
 #include "bed.hpp"
 #include "cli_common.hpp"
-#include "mpi_session.hpp"
 #include "common/csv.hpp"
 #include "common/error.hpp"
 #include "drop.hpp"
 #include "granular_fits.hpp"
+#include "mpi_session.hpp"
 #include "params.hpp"
 
 namespace ricochet::cli {
@@ -137,32 +137,6 @@ std::vector<std::string> to_row(const dem::DropResult& r, long seed) {
           r.message};
 }
 
-// One CSV line into cells (double-quoted cells with "" for a quote, as csv_cell writes them).
-std::vector<std::string> split_csv(const std::string& line) {
-  std::vector<std::string> cells(1);
-  bool quoted = false;
-  for (std::size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (quoted) {
-      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
-        cells.back() += '"';
-        ++i;
-      } else if (c == '"') {
-        quoted = false;
-      } else {
-        cells.back() += c;
-      }
-    } else if (c == '"') {
-      quoted = true;
-    } else if (c == ',') {
-      cells.emplace_back();
-    } else {
-      cells.back() += c;
-    }
-  }
-  return cells;
-}
-
 struct Row {
   std::map<std::string, std::string> cells;
   double d(const std::string& k) const {
@@ -184,7 +158,9 @@ std::vector<Row> read_rows(const std::string& path) {
   while (std::getline(in, line)) {
     ++lineno;
     if (line.empty() || line[0] == '#') continue;
-    auto cells = split_csv(line);
+    auto cells = csv_split(line, path, lineno, [&](std::size_t i) {
+      return i < header.size() ? header[i] : std::string();
+    });
     if (header.empty()) {
       header = cells;
       continue;
@@ -235,12 +211,17 @@ std::map<std::string, dem::DropTrack> read_tracks(const std::string& path) {
   std::ifstream in(path);
   std::string line;
   bool header = true;
+  std::size_t lineno = 0;
   while (std::getline(in, line)) {
+    ++lineno;
     if (header) {
       header = false;
       continue;
     }
-    const auto cells = split_csv(line);
+    const auto cells = csv_split(line, path, lineno, [](std::size_t i) {
+      const auto& names = dem::DropTrack::column_names();
+      return i == 0 ? std::string("id") : i - 1 < names.size() ? names[i - 1] : std::string();
+    });
     if (cells.size() != dem::DropTrack::column_names().size() + 1) continue;
     auto& tr = tracks[cells[0]];
     for (std::size_t c = 1; c < cells.size(); ++c)

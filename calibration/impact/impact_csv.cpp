@@ -29,51 +29,6 @@ struct FileColumn {
   std::size_t extra_index = 0;
 };
 
-// Splits one line into cells. Cells may be double-quoted ("a,b", "say ""hi"""); quoted text is
-// kept verbatim, unquoted text is trimmed. A quoted cell cannot span lines. `column_name(i)`
-// names cell i for errors.
-template <typename NameFn>
-std::vector<std::string> split_cells(std::string_view line, const std::string& file,
-                                     std::size_t line_no, NameFn column_name) {
-  std::vector<std::string> cells;
-  std::size_t i = 0;
-  while (true) {
-    while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
-    std::string cell;
-    if (i < line.size() && line[i] == '"') {
-      ++i;
-      bool closed = false;
-      while (i < line.size()) {
-        if (line[i] == '"') {
-          if (i + 1 < line.size() && line[i + 1] == '"') {
-            cell += '"';
-            i += 2;
-            continue;
-          }
-          ++i;
-          closed = true;
-          break;
-        }
-        cell += line[i++];
-      }
-      if (!closed) throw InputError(file, line_no, column_name(cells.size()), "unterminated quote");
-      while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
-      if (i < line.size() && line[i] != ',')
-        throw InputError(file, line_no, column_name(cells.size()),
-                         "unexpected text after a closing quote");
-    } else {
-      const auto comma = line.find(',', i);
-      const auto end = comma == std::string_view::npos ? line.size() : comma;
-      cell = std::string(trim(line.substr(i, end - i)));
-      i = end;
-    }
-    cells.push_back(std::move(cell));
-    if (i >= line.size()) break;
-    ++i;  // the comma
-  }
-  return cells;
-}
-
 // Parses "name[unit]" (unit optional) and classifies the column.
 FileColumn parse_header_cell(const std::string& cell, const std::string& file, std::size_t line,
                              std::size_t index, ImpactSet& set) {
@@ -157,8 +112,8 @@ ImpactSet parse_impact_set_csv(const std::string& text, const std::string& name)
     if (trim(line).empty()) continue;
 
     if (!have_header) {
-      const auto cells = split_cells(
-          line, name, line_no, [](std::size_t i) { return "column " + std::to_string(i + 1); });
+      const auto cells = csv_split(line, name, line_no,
+                                   [](std::size_t i) { return "column " + std::to_string(i + 1); });
       std::unordered_map<std::string, std::size_t> seen;
       for (std::size_t i = 0; i < cells.size(); ++i) {
         columns.push_back(parse_header_cell(cells[i], name, line_no, i, set));
@@ -184,7 +139,7 @@ ImpactSet parse_impact_set_csv(const std::string& text, const std::string& name)
     auto column_name = [&](std::size_t i) {
       return i < columns.size() ? columns[i].name : "column " + std::to_string(i + 1);
     };
-    const auto cells = split_cells(line, name, line_no, column_name);
+    const auto cells = csv_split(line, name, line_no, column_name);
     if (cells.size() != columns.size()) {
       const std::size_t at = std::min(cells.size(), columns.size());
       throw InputError(name, line_no, column_name(at),
