@@ -24,6 +24,7 @@
 #include "common/csv.hpp"
 #include "common/error.hpp"
 #include "drop.hpp"
+#include "drop_store.hpp"
 #include "granular_fits.hpp"
 #include "mpi_session.hpp"
 #include "params.hpp"
@@ -33,8 +34,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-constexpr double kGravity = 9.81;  // m/s^2, as in the decks
 
 struct DropOptions {
   std::vector<double> heights = {0.05, 0.1, 0.2, 0.5, 1.0};
@@ -47,188 +46,6 @@ struct DropOptions {
   double tolerance = 0.05;
   OutputOptions output;
 };
-
-// --------------------------------------------------------------- per-drop CSV (resumable)
-
-const std::vector<std::string>& row_names() {
-  static const std::vector<std::string> names = {"id",
-                                                 "seed",
-                                                 "h_drop_m",
-                                                 "status",
-                                                 "depth_final_m",
-                                                 "depth_max_m",
-                                                 "H_total_m",
-                                                 "v_impact_mps",
-                                                 "v_contact_mps",
-                                                 "depth_contact_m",
-                                                 "v_rebound_mps",
-                                                 "v_free_fall_mps",
-                                                 "D_sphere_m",
-                                                 "rho_sphere",
-                                                 "mass_kg",
-                                                 "rho_bulk",
-                                                 "t_contact_s",
-                                                 "t_penetration_s",
-                                                 "kd_samples",
-                                                 "kd_g_mps2",
-                                                 "kd_g_se",
-                                                 "kd_d1_m",
-                                                 "kd_d1_se",
-                                                 "kd_k_Npm",
-                                                 "kd_k_se",
-                                                 "kdf_g_mps2",
-                                                 "kdf_d1_m",
-                                                 "kdf_k_Npm",
-                                                 "grains",
-                                                 "steps",
-                                                 "dt_s",
-                                                 "wall_s",
-                                                 "cpu_s",
-                                                 "sim_time_s",
-                                                 "bed_key",
-                                                 "message"};
-  return names;
-}
-
-std::string num(double v) {
-  return std::isfinite(v) ? dem::format_value(v) : "nan";
-}
-
-std::vector<std::string> to_row(const dem::DropResult& r, long seed) {
-  auto kd = [](const std::optional<dem::KatsuragiDurianFit>& f, auto get) {
-    return f ? num(get(*f)) : "nan";
-  };
-  using F = dem::KatsuragiDurianFit;
-  return {r.id,
-          std::to_string(seed),
-          num(r.h_drop_m),
-          r.status,
-          num(r.depth_final_m),
-          num(r.depth_max_m),
-          num(r.H_total_m),
-          num(r.v_impact_mps),
-          num(r.v_contact_mps),
-          num(r.depth_contact_m),
-          num(r.v_rebound_mps),
-          num(std::sqrt(2 * kGravity * r.h_drop_m)),
-          num(r.D_sphere_m),
-          num(r.rho_sphere),
-          num(r.mass_kg),
-          num(r.rho_bulk),
-          num(r.t_contact_s),
-          num(r.t_penetration_s),
-          std::to_string(r.kd_samples),
-          kd(r.kd_trajectory, [](const F& f) { return f.g_mps2; }),
-          kd(r.kd_trajectory, [](const F& f) { return f.g_se; }),
-          kd(r.kd_trajectory, [](const F& f) { return f.d1_m; }),
-          kd(r.kd_trajectory, [](const F& f) { return f.d1_se; }),
-          kd(r.kd_trajectory, [](const F& f) { return f.k_Npm; }),
-          kd(r.kd_trajectory, [](const F& f) { return f.k_se; }),
-          kd(r.kd_force, [](const F& f) { return f.g_mps2; }),
-          kd(r.kd_force, [](const F& f) { return f.d1_m; }),
-          kd(r.kd_force, [](const F& f) { return f.k_Npm; }),
-          std::to_string(r.grains),
-          std::to_string(r.steps),
-          num(r.dt_s),
-          num(r.wall_s),
-          num(r.cpu_s),
-          num(r.sim_time_s),
-          r.bed_key,
-          r.message};
-}
-
-struct Row {
-  std::map<std::string, std::string> cells;
-  double d(const std::string& k) const {
-    const auto it = cells.find(k);
-    return it == cells.end() ? NAN : std::strtod(it->second.c_str(), nullptr);
-  }
-  std::string s(const std::string& k) const {
-    const auto it = cells.find(k);
-    return it == cells.end() ? "" : it->second;
-  }
-};
-
-std::vector<Row> read_rows(const std::string& path) {
-  std::vector<Row> rows;
-  std::ifstream in(path);
-  std::string line;
-  std::vector<std::string> header;
-  std::size_t lineno = 0;
-  while (std::getline(in, line)) {
-    ++lineno;
-    if (line.empty() || line[0] == '#') continue;
-    auto cells = csv_split(line, path, lineno, [&](std::size_t i) {
-      return i < header.size() ? header[i] : std::string();
-    });
-    if (header.empty()) {
-      header = cells;
-      continue;
-    }
-    if (cells.size() != header.size())
-      throw InputError(path, lineno, "", "expected " + std::to_string(header.size()) + " cells");
-    Row r;
-    for (std::size_t c = 0; c < cells.size(); ++c) r.cells[header[c]] = cells[c];
-    rows.push_back(std::move(r));
-  }
-  return rows;
-}
-
-std::string tracks_path(const std::string& out) {
-  return out.substr(0, out.size() - 4) + ".tracks.csv";
-}
-std::string repose_path(const std::string& out) {
-  return out.substr(0, out.size() - 4) + ".repose.json";
-}
-
-void append_drop(const std::string& out, const dem::DropResult& r, long seed) {
-  const bool fresh = !fs::exists(out);
-  {
-    std::ofstream f(out, std::ios::app);
-    if (!f) throw InputError(out, 0, "--out", "cannot write");
-    if (fresh) f << csv_row(row_names()) << "\n";
-    f << csv_row(to_row(r, seed)) << "\n";
-  }
-  const std::string tp = tracks_path(out);
-  const bool fresh_tracks = !fs::exists(tp);
-  std::ofstream f(tp, std::ios::app);
-  if (!f) throw InputError(tp, 0, "--out", "cannot write");
-  if (fresh_tracks) {
-    f << "id";
-    for (const auto& c : dem::DropTrack::column_names()) f << "," << c;
-    f << "\n";
-  }
-  for (std::size_t i = 0; i < r.track.size(); ++i) {
-    f << r.id;
-    for (std::size_t c = 0; c < dem::DropTrack::column_names().size(); ++c)
-      f << "," << num(r.track.column(c)[i]);
-    f << "\n";
-  }
-}
-
-std::map<std::string, dem::DropTrack> read_tracks(const std::string& path) {
-  std::map<std::string, dem::DropTrack> tracks;
-  std::ifstream in(path);
-  std::string line;
-  bool header = true;
-  std::size_t lineno = 0;
-  while (std::getline(in, line)) {
-    ++lineno;
-    if (header) {
-      header = false;
-      continue;
-    }
-    const auto cells = csv_split(line, path, lineno, [](std::size_t i) {
-      const auto& names = dem::DropTrack::column_names();
-      return i == 0 ? std::string("id") : i - 1 < names.size() ? names[i - 1] : std::string();
-    });
-    if (cells.size() != dem::DropTrack::column_names().size() + 1) continue;
-    auto& tr = tracks[cells[0]];
-    for (std::size_t c = 1; c < cells.size(); ++c)
-      tr.column(c - 1).push_back(std::strtod(cells[c].c_str(), nullptr));
-  }
-  return tracks;
-}
 
 json repose_json(const dem::ReposeResult& r) {
   return {{"status", r.status},
@@ -259,22 +76,6 @@ json kd_json(const dem::KatsuragiDurianFit& f) {
           {"k_se", f.k_se},
           {"residual_sd_mps2", f.residual_sd},
           {"variance_inflation", f.variance_inflation}};
-}
-
-// FNV-1a 64 of the drop and repose decks' text: the provenance of a study's numbers.
-std::string decks_digest(const dem::Decks& decks) {
-  std::uint64_t h = 1469598103934665603ull;
-  for (const char* f :
-       {"/drop/setup.in", "/drop/check.in", "/drop/finish.in", "/repose/in.repose"}) {
-    std::ifstream in(decks.root + f, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    for (unsigned char c : s.str()) {
-      h ^= c;
-      h *= 1099511628211ull;
-    }
-  }
-  return fmt::format("{:016x}", h);
 }
 
 void run_drop_command(const DropOptions& o) {
@@ -326,15 +127,15 @@ void run_drop_command(const DropOptions& o) {
     if (!(h > 0)) throw InputError("<command line>", 0, "--heights", "heights must be > 0");
 
   // Drops already in the file are skipped (resume).
-  std::set<std::string> done;
-  if (!out.empty() && fs::exists(out))
-    for (const auto& row : read_rows(out)) done.insert(row.s("id"));
+  const std::optional<dem::DropStore> store =
+      out.empty() ? std::nullopt : std::optional<dem::DropStore>(dem::DropStore(out));
+  const std::set<std::string> done = store ? store->done_ids() : std::set<std::string>{};
 
   // The angle of repose (once per output file, or imposed with --mu).
   json repose_doc;
   double mu = o.mu;
   if (mu <= 0) {
-    const std::string rp = out.empty() ? "" : repose_path(out);
+    const std::string rp = store ? store->repose_path() : "";
     if (!rp.empty() && fs::exists(rp)) {
       std::ifstream in(rp);
       repose_doc = json::parse(in);
@@ -376,7 +177,7 @@ void run_drop_command(const DropOptions& o) {
       if (mpi.rank() == 0) {
         std::cerr << fmt::format("[dem drop] {}: {} ({}) in {:.0f} s\n", r.id, r.status, r.message,
                                  r.wall_s);
-        if (!out.empty()) append_drop(out, r, seed);
+        if (store) store->append(r, seed);
       }
       fresh.emplace_back(std::move(r), seed);
     }
@@ -384,20 +185,15 @@ void run_drop_command(const DropOptions& o) {
 
   // Every drop of the study: the file's rows (with this run's), else this run's.
   struct Drop {
-    Row row;
+    dem::DropRow row;
     dem::DropTrack track;
   };
   std::vector<Drop> drops;
-  if (!out.empty()) {
-    auto tracks = read_tracks(tracks_path(out));
-    for (auto& row : read_rows(out)) drops.push_back({row, std::move(tracks[row.s("id")])});
+  if (store) {
+    auto tracks = store->tracks();
+    for (auto& row : store->rows()) drops.push_back({row, std::move(tracks[row.text("id")])});
   } else {
-    for (auto& [r, seed] : fresh) {
-      const auto cells = to_row(r, seed);
-      Row row;
-      for (std::size_t c = 0; c < cells.size(); ++c) row.cells[row_names()[c]] = cells[c];
-      drops.push_back({row, r.track});
-    }
+    for (auto& [r, seed] : fresh) drops.push_back({dem::drop_row(r, seed), r.track});
   }
 
   json list = json::array();
@@ -410,8 +206,8 @@ void run_drop_command(const DropOptions& o) {
   const dem::DropAnalysisOptions analysis{o.half_window, o.stop_fraction};
   for (const auto& dr : drops) {
     json x;
-    for (const auto& name : row_names()) {
-      const std::string v = dr.row.s(name);
+    for (const auto& name : dem::drop_row_names()) {
+      const std::string v = dr.row.text(name);
       char* end = nullptr;
       const double num_v = std::strtod(v.c_str(), &end);
       if (end != v.c_str() && *end == '\0')
@@ -420,41 +216,42 @@ void run_drop_command(const DropOptions& o) {
         x[name] = v;
     }
     // Uehara et al. 2003 Eq. (1) for this drop's own H and bulk density.
-    if (std::isfinite(dr.row.d("H_total_m")) && dr.row.d("H_total_m") > 0)
-      x["d_uehara_m"] = dem::uehara_depth_m(dr.row.d("H_total_m"), dr.row.d("rho_sphere"),
-                                            dr.row.d("rho_bulk"), dr.row.d("D_sphere_m"), mu);
+    if (std::isfinite(dr.row.number("H_total_m")) && dr.row.number("H_total_m") > 0)
+      x["d_uehara_m"] =
+          dem::uehara_depth_m(dr.row.number("H_total_m"), dr.row.number("rho_sphere"),
+                              dr.row.number("rho_bulk"), dr.row.number("D_sphere_m"), mu);
     list.push_back(x);
-    const std::string status = dr.row.s("status");
+    const std::string status = dr.row.text("status");
     if (status != "at_rest" && status != "rebound") continue;
     // A sphere that bounced off the bed has no resting depth (Uehara's d) but a penetration
     // phase on the way in (Katsuragi-Durian) and a largest depth.
-    if (dr.row.d("depth_max_m") > 0) {
-      H_max.push_back(dr.row.d("h_drop_m") + dr.row.d("depth_max_m"));
-      d_max.push_back(dr.row.d("depth_max_m"));
+    if (dr.row.number("depth_max_m") > 0) {
+      H_max.push_back(dr.row.number("h_drop_m") + dr.row.number("depth_max_m"));
+      d_max.push_back(dr.row.number("depth_max_m"));
     }
     ++n_run;
-    mass = dr.row.d("mass_kg");
-    rho_b = dr.row.d("rho_sphere");
-    D_b = dr.row.d("D_sphere_m");
-    rho_g_sum += dr.row.d("rho_bulk");
-    wall_sum += dr.row.d("wall_s");
-    cpu_sum += dr.row.d("cpu_s");
-    grain_steps += dr.row.d("steps") * (dr.row.d("grains") + 1);
+    mass = dr.row.number("mass_kg");
+    rho_b = dr.row.number("rho_sphere");
+    D_b = dr.row.number("D_sphere_m");
+    rho_g_sum += dr.row.number("rho_bulk");
+    wall_sum += dr.row.number("wall_s");
+    cpu_sum += dr.row.number("cpu_s");
+    grain_steps += dr.row.number("steps") * (dr.row.number("grains") + 1);
     if (status == "at_rest") {
       ++n_ok;
-      H.push_back(dr.row.d("H_total_m"));
-      d.push_back(dr.row.d("depth_final_m"));
+      H.push_back(dr.row.number("H_total_m"));
+      d.push_back(dr.row.number("depth_final_m"));
     }
-    const auto s = dem::drop_samples(dr.track, analysis, mass * kGravity);
+    const auto s = dem::drop_samples(dr.track, analysis, mass * dem::kDeckGravity_mps2);
     pooled.insert(pooled.end(), s.begin(), s.end());
     for (const auto& x : s)
       pooled_force.push_back({dr.track.depth[x.index], -dr.track.vz[x.index],
-                              kGravity - dr.track.fcz[x.index] / mass, x.index});
+                              dem::kDeckGravity_mps2 - dr.track.fcz[x.index] / mass, x.index});
   }
   const double rho_g = n_run ? rho_g_sum / static_cast<double>(n_run) : NAN;
   json j = {{"out", out},
             {"ranks", mpi.size()},
-            {"decks_digest", decks_digest(decks)},
+            {"decks_digest", dem::drop_decks_digest(decks)},
             {"bed_decks_digest", decks.bed_decks_digest()},
             {"bed",
              {{"key", bed.key},
@@ -545,7 +342,7 @@ void run_drop_command(const DropOptions& o) {
     try {
       const auto f = dem::fit_katsuragi_durian(pooled, mass, inflation);
       const auto ff = dem::fit_katsuragi_durian(pooled_force, mass, inflation);
-      const auto fg = dem::fit_katsuragi_durian(pooled, mass, inflation, kGravity);
+      const auto fg = dem::fit_katsuragi_durian(pooled, mass, inflation, dem::kDeckGravity_mps2);
       kd["trajectory"] = kd_json(f);
       kd["force"] = kd_json(ff);
       kd["trajectory_g_fixed"] = kd_json(fg);
@@ -554,14 +351,15 @@ void run_drop_command(const DropOptions& o) {
       // the sphere's m / d1 in units of rho_g x its projected area, carried to the lab block.
       const double area = std::numbers::pi / 4 * D_b * D_b;
       const double c_drag = f.drag_kg_per_m / (rho_g * area);
-      const double c_k = f.k_Npm / (rho_g * kGravity * area);
-      kd["inertial_drag"] = {{"cd_bounds_kg_per_m", {0.0, 5000.0}},
-                             {"cd_detection_benchmark_kg_per_m", 40.0},
-                             {"sphere_m_over_d1_kg_per_m", f.drag_kg_per_m},
-                             {"m_over_d1_over_rho_g_area", c_drag},
-                             {"lab_cylinder_cd_kg_per_m", c_drag * rho_g * 0.08 * 0.29},
-                             {"k_over_rho_g_g_area", c_k},
-                             {"lab_cylinder_k_Npm", c_k * rho_g * kGravity * 0.08 * 0.29}};
+      const double c_k = f.k_Npm / (rho_g * dem::kDeckGravity_mps2 * area);
+      kd["inertial_drag"] = {
+          {"cd_bounds_kg_per_m", {0.0, 5000.0}},
+          {"cd_detection_benchmark_kg_per_m", 40.0},
+          {"sphere_m_over_d1_kg_per_m", f.drag_kg_per_m},
+          {"m_over_d1_over_rho_g_area", c_drag},
+          {"lab_cylinder_cd_kg_per_m", c_drag * rho_g * 0.08 * 0.29},
+          {"k_over_rho_g_g_area", c_k},
+          {"lab_cylinder_k_Npm", c_k * rho_g * dem::kDeckGravity_mps2 * 0.08 * 0.29}};
       text += fmt::format(
           "Katsuragi-Durian (pooled, {} samples): g = {:.2f} +- {:.2f} m/s^2, d1 = {:.4f} +- "
           "{:.4f} m (m/d1 = {:.2f} +- {:.2f} kg/m), k = {:.0f} +- {:.0f} N/m\n"

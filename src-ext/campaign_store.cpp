@@ -140,9 +140,7 @@ std::string replicate_label(const std::string& params_json) {
   for (const auto& [section, name] : {std::pair{"run", "x_impact_frac"}, std::pair{"bed", "seed"},
                                       std::pair{"run", "block_seed"}})
     if (j.contains(section) && j[section].is_object()) j[section].erase(name);
-  std::uint64_t h = 1469598103934665603ull;
-  for (unsigned char c : j.dump()) h = (h ^ c) * 1099511628211ull;
-  return fmt::format("r{:016x}", h);
+  return fmt::format("r{:016x}", fnv1a(j.dump()));
 }
 }  // namespace
 

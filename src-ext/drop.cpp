@@ -24,7 +24,6 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kGravity = 9.81;  // m/s^2, as in the decks (fix gravity 9.81)
 // The decks' fix check/timestep/gran warns above this fraction of the Rayleigh and Hertz times.
 constexpr std::size_t kColumns = 11;
 
@@ -145,7 +144,7 @@ void analyse_drop(DropResult& r, const DropAnalysisOptions& options) {
     }
   r.v_rebound_mps = 0;
   for (std::size_t i = 0; i < tr.size(); ++i)
-    if (tr.fcz[i] > 0.05 * r.mass_kg * kGravity) {
+    if (tr.fcz[i] > 0.05 * r.mass_kg * kDeckGravity_mps2) {
       r.v_contact_mps = -tr.vz[i];
       r.depth_contact_m = tr.depth[i];
       break;
@@ -153,7 +152,7 @@ void analyse_drop(DropResult& r, const DropAnalysisOptions& options) {
   for (std::size_t i = 0; i < tr.size(); ++i)
     if (r.t_contact_s >= 0 && tr.t[i] >= r.t_contact_s)
       r.v_rebound_mps = std::max(r.v_rebound_mps, tr.vz[i]);
-  const auto samples = drop_samples(tr, options, r.mass_kg * kGravity);
+  const auto samples = drop_samples(tr, options, r.mass_kg * kDeckGravity_mps2);
   r.kd_samples = samples.size();
   // The derivative window correlates 2 w + 1 neighbouring samples: inflate the variances so.
   const double inflation = static_cast<double>(2 * options.half_window + 1);
@@ -167,8 +166,8 @@ void analyse_drop(DropResult& r, const DropAnalysisOptions& options) {
     // (z positive down, F_z the upward contact force).
     std::vector<KdSample> force;
     for (const auto& s : samples)
-      force.push_back(
-          {tr.depth[s.index], -tr.vz[s.index], kGravity - tr.fcz[s.index] / r.mass_kg, s.index});
+      force.push_back({tr.depth[s.index], -tr.vz[s.index],
+                       kDeckGravity_mps2 - tr.fcz[s.index] / r.mass_kg, s.index});
     try {
       // Instantaneous forces: correlated over a grain contact time, a few records.
       r.kd_force = fit_katsuragi_durian(force, r.mass_kg, inflation);

@@ -25,7 +25,6 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kGravity = 9.81;  // m/s^2, as in the decks (fix gravity 9.81)
 // The decks' fix check/timestep/gran warns above this fraction of the Rayleigh and Hertz times.
 
 double run_param(const ImpactSpec& spec, const Decks& decks, const std::string& name) {
@@ -202,7 +201,7 @@ std::string validate_setup(const ImpactSpec& spec, const Shape& shape, const Dec
         "at least {:.3f} m from the wall behind it and touch at least {:.3f} m before the wall "
         "ahead (bounding radius + 4 grain radii, twice the bounding radius ahead) of the {} m bed",
         x_ins, x_contact, back, front, bed.Lx_m);
-  const double drop = -spec.vin[kVy] * t_pre - 0.5 * kGravity * t_pre * t_pre;
+  const double drop = -spec.vin[kVy] * t_pre - 0.5 * kDeckGravity_mps2 * t_pre * t_pre;
   const double y_ins = bed.z_surface_m + shape.depth_below_centroid(spec.alpha_in_rad) + drop;
   if (y_ins + shape.bounding_radius() > bed.z_box_top_m)
     return fmt::format(
@@ -364,7 +363,8 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
   // DEM contact-force window: the deck's criterion (check.in) at full record resolution, from the
   // first touch to the last touch before the deck's own separation time (check.in samples chunk
   // ends; later touches are grains thrown up with the block, whose impulses are negligible).
-  const double threshold = run_param(spec, decks, "f_contact_frac") * block_mass * kGravity;
+  const double threshold =
+      run_param(spec, decks, "f_contact_frac") * block_mass * kDeckGravity_mps2;
   const double deck_end = deck_contact_end;
   std::size_t i0 = tr.size(), i1 = tr.size();
   for (std::size_t i = 0; i < tr.size(); ++i) {
@@ -387,8 +387,8 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
   // Energy lost over the contact, kinetic plus potential, for the lab-length block (the slab
   // carries block_mass / shape.mass_kg of it).
   const double scale = shape.mass_kg / block_mass;
-  const double e0 = tr.ke_block[i0] + block_mass * kGravity * tr.y[i0];
-  const double e1 = tr.ke_block[i1] + block_mass * kGravity * tr.y[i1];
+  const double e0 = tr.ke_block[i0] + block_mass * kDeckGravity_mps2 * tr.y[i0];
+  const double e1 = tr.ke_block[i1] + block_mass * kDeckGravity_mps2 * tr.y[i1];
   r.energy_dissipated_J = (e0 - e1) * scale;
   r.energy_dissipated_frac = (e0 - e1) / tr.ke_block[i0];
 

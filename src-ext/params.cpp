@@ -40,14 +40,6 @@ bool parse_double(const std::string& text, double& v) {
   return r.ec == std::errc() && r.ptr == e;
 }
 
-std::uint64_t fnv1a(const std::string& text, std::uint64_t h = 1469598103934665603ull) {
-  for (unsigned char c : text) {
-    h ^= c;
-    h *= 1099511628211ull;
-  }
-  return h;
-}
-
 const std::vector<DeckParam>& section_params(const Decks& decks, const std::string& section) {
   if (section == "bed") return decks.bed_params;
   if (section == "block") return decks.block_params;
@@ -107,6 +99,14 @@ Decks Decks::locate(const std::string& root) {
   for (auto& p : read_deck_params(d.impact_dir + "/setup.in"))
     if (!kWiring.count(p.name)) d.impact_params.push_back(p);
   return d;
+}
+
+std::uint64_t fnv1a(std::string_view text, std::uint64_t h) {
+  for (unsigned char c : text) {
+    h ^= c;
+    h *= 1099511628211ull;  // the 64-bit FNV prime
+  }
+  return h;
 }
 
 std::string Decks::bed_decks_digest() const {
