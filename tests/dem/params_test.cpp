@@ -287,10 +287,20 @@ TEST(Design, ShippedCampaignDesigns) {
     EXPECT_EQ(tri.impacts[0].params.bed.at(k), cal.impacts[0].params.bed.at(k)) << k;
   EXPECT_EQ(tri.impacts[0].params.block, cal.impacts[0].params.block);
   const auto conv = read_campaign_design((dir / "convergence.toml").string(), decks());
-  ASSERT_EQ(conv.impacts.size(), 18u);  // 6 resolutions x 3 replica beds
+  ASSERT_EQ(conv.impacts.size(), 27u);  // 9 resolutions x 3 replica beds
   std::set<std::string> conv_beds;
   for (const auto& s : conv.impacts) conv_beds.insert(bed_key(decks(), bed_overrides(s)));
-  EXPECT_EQ(conv_beds.size(), 18u);
+  EXPECT_EQ(conv_beds.size(), 27u);
+  // The loop's sets (issue 11 item 5): the calibrated bed, three positions on one bed.
+  for (const auto& [name, n] : {std::pair{"speeds-calibrated.toml", 27u},
+                                std::pair{"lab-cylinders-calibrated-replicas.toml", 84u}}) {
+    const auto d = read_campaign_design((dir / name).string(), decks());
+    EXPECT_EQ(d.impacts.size(), n) << name;
+    std::set<std::string> beds;
+    for (const auto& s : d.impacts) beds.insert(bed_key(decks(), bed_overrides(s)));
+    EXPECT_EQ(beds, std::set<std::string>{bed_key(decks(), bed_overrides(cal.impacts[0]))}) << name;
+    EXPECT_EQ(d.impacts[0].params.block, cal.impacts[0].params.block) << name;
+  }
 }
 
 void expect_error(const std::string& text, std::size_t line, const std::string& field) {
