@@ -28,12 +28,15 @@ TEST_F(ShippedData, StatsReadsEveryResolvedCampaign) {
     ASSERT_EQ(r.status, 0) << entry.path() << "\n" << r.err;
     const auto j = nlohmann::json::parse(r.out);
     ASSERT_TRUE(j.contains("n")) << r.out.substr(0, 400);
-    EXPECT_GE(j["n"].get<int>(), 20) << entry.path();
+    // The fewest rebounds of a shipped campaign: speeds.h5, 17 of 27 (the others reached an
+    // end wall of the small slab; data/resolved/README.md).
+    EXPECT_GE(j["n"].get<int>(), 17) << entry.path();
     for (const char* c : {"vout_x", "vout_y", "wout"})
       EXPECT_TRUE(std::isfinite(j["columns"][c]["mean"].get<double>())) << entry.path() << " " << c;
   }
-  // bed-calibration, lab-cylinders, lab-triangles-blind
-  EXPECT_GE(files, 3);
+  // bed-calibration, convergence, lab-cylinders, lab-cylinders-replicas, lab-triangles-blind,
+  // speeds
+  EXPECT_GE(files, 6);
 }
 
 }  // namespace
