@@ -13,7 +13,6 @@
 #include <memory>
 #include <numbers>
 #include <set>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -21,7 +20,6 @@
 
 #include "bed.hpp"
 #include "cli_common.hpp"
-#include "common/csv.hpp"
 #include "common/error.hpp"
 #include "drop.hpp"
 #include "drop_store.hpp"

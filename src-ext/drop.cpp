@@ -24,7 +24,6 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-// The decks' fix check/timestep/gran warns above this fraction of the Rayleigh and Hertz times.
 constexpr std::size_t kColumns = 11;
 
 double process_cpu_s() {

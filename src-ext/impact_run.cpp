@@ -25,7 +25,6 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-// The decks' fix check/timestep/gran warns above this fraction of the Rayleigh and Hertz times.
 
 double run_param(const ImpactSpec& spec, const Decks& decks, const std::string& name) {
   const auto it = spec.params.run.find(name);
