@@ -17,14 +17,10 @@ namespace ricochet::diagnosis {
 
 std::array<bool, kObservables> observables_of(const ImpactSet& set, const AssessOptions& o) {
   std::array<bool, kObservables> use{true, true, true, false, false};
-  if (!o.use_features || set.empty()) return use;
-  bool h = true, t = true;
-  for (const auto& im : set.impacts) {
-    h = h && im.penetration.has_value();
-    t = t && im.contact_duration.has_value();
-  }
-  use[kObsPenetration] = h;
-  use[kObsDuration] = t;
+  if (!o.use_features) return use;
+  const fit::ErrorOptions e = fit::with_contact_terms(o.fit.error, set);
+  use[kObsPenetration] = e.penetration;
+  use[kObsDuration] = e.contact_duration;
   return use;
 }
 
@@ -71,6 +67,10 @@ fit::FitOptions fit_options_for(const ImpactSet& set, const AssessOptions& o) {
   return f;
 }
 
+Model calibration_model_for(const Model& model, const ImpactSet& set, const AssessOptions& o) {
+  return fit::calibration_model(model, fit_options_for(set, o).error);
+}
+
 Obs error_scale(const Impact& im, const AssessOptions& o) {
   const Vel3 d = fit::error_scale(im.vout, o.fit.error);
   Obs out{d[0], d[1], d[2], 1.0, 1.0};
@@ -111,14 +111,18 @@ std::vector<ObsPrediction> predict_observables(const Model& model, const Shape& 
   return to_observables(fit::predict(model, shape, params, set, fit_options_for(set, o)));
 }
 
-std::vector<ParameterProbe> probe_calibrated(const Model& model, const Shape& shape,
+std::vector<ParameterProbe> probe_calibrated(const Model& model_in, const Shape& shape,
                                              const ImpactSet& set, const AssessOptions& o) {
+  const Model model = calibration_model_for(model_in, set, o);
   std::vector<ParameterProbe> out;
   for (std::size_t j : model.calibrated_indices()) {
     std::vector<double> params = model.values();
-    const double range = model.upper(j) - model.lower(j);
-    double step = 0.02 * range;
-    if (params[j] + step > model.upper(j)) step = -step;
+    const double lo = model.lower(j), hi = model.upper(j), range = hi - lo;
+    // A stiffness spans four decades: 2 % of its range would move it by 2e7 N/m, twice the
+    // paper's kn; 2 % of its log range is a 20 % step, as the fit's own variable sees it.
+    const bool log = fit::log_scaled(lo, hi);
+    double step = log ? params[j] * (std::pow(hi / lo, 0.02) - 1.0) : 0.02 * range;
+    if (params[j] + step > hi) step = log ? params[j] * (std::pow(hi / lo, -0.02) - 1.0) : -step;
     params[j] += step;
     out.push_back({j, step, range, predict_observables(model, shape, params, set, o)});
   }
@@ -395,9 +399,11 @@ std::vector<double> carry_values(const Model& to, const std::vector<std::string>
   return v;
 }
 
-Assessment assess(const Model& model, const Shape& shape, const ImpactSet& set,
+Assessment assess(const Model& model_in, const Shape& shape, const ImpactSet& set,
                   const AssessOptions& options, const Assessment* warm) {
   const AssessOptions o = resolve_scale(set, options);
+  // The parameters every fit below calibrates (the fit module decides the same way).
+  const Model model = calibration_model_for(model_in, set, o);
   const auto t0 = std::chrono::steady_clock::now();
   if (set.size() < 2) throw std::invalid_argument("assess: at least two releases are needed");
   const std::size_t n = set.size();
@@ -408,7 +414,9 @@ Assessment assess(const Model& model, const Shape& shape, const ImpactSet& set,
   a.use = observables_of(set, o);
   fit::FitOptions fo = fit_options_for(set, o);
   fo.intervals = false;
-  fo.starts = o.population_starts;
+  fo.starts = !o.refine_start && fit::uses_contact_terms(fo.error)
+                  ? std::max(o.population_starts, o.contact_population_starts)
+                  : o.population_starts;
   a.population = fit::calibrate_population(model, shape, set, fo);
   if (o.refine_start) {
     // A warm model (a calibrated one plus an effect at its neutral value) is also refined

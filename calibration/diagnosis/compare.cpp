@@ -52,10 +52,12 @@ Model with_values(const Model& model, const std::vector<double>& values) {
   return m;
 }
 
-Baseline compare(const Model& model, const Shape& shape, const ImpactSet& set,
+Baseline compare(const Model& model_in, const Shape& shape, const ImpactSet& set,
                  const DiagnoseOptions& options) {
   DiagnoseOptions o = options;
   o.assess = resolve_scale(set, options.assess);
+  // kn calibrated too when the set's contact features enter the error (assess.hpp).
+  const Model model = calibration_model_for(model_in, set, o.assess);
   const auto t0 = std::chrono::steady_clock::now();
   Baseline b;
   b.base = assess(model, shape, set, o.assess);

@@ -49,4 +49,20 @@ double noise_threshold(const Vel3& measured, const Vel3& sigma, const ErrorOptio
   return delta;
 }
 
+double contact_noise_threshold(const Impact& impact, double sigma_penetration_m,
+                               double sigma_contact_duration_s, const ErrorOptions& options) {
+  double delta = 0;
+  if (options.penetration && impact.penetration) {
+    const double r =
+        sigma_penetration_m / std::max(*impact.penetration, options.penetration_floor_m);
+    delta += r * r;
+  }
+  if (options.contact_duration && impact.contact_duration) {
+    const double r = sigma_contact_duration_s /
+                     std::max(*impact.contact_duration, options.contact_duration_floor_s);
+    delta += r * r;
+  }
+  return delta;
+}
+
 }  // namespace ricochet::fit

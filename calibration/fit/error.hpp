@@ -58,4 +58,10 @@ std::array<double, 2> contact_error_terms(double penetration_sim_m, double conta
 /// identifiability (fit/fit.hpp).
 double noise_threshold(const Vel3& measured, const Vel3& sigma, const ErrorOptions& options = {});
 
+/// The contact terms' share of Delta: (sigma_h / d_h)^2 + (sigma_T / d_T)^2, d as in
+/// contact_error_terms(), for each term that `options` turns on and the impact has; 0 otherwise.
+/// sigma_h [m], sigma_T [s]: standard uncertainties of the measured penetration and duration.
+double contact_noise_threshold(const Impact& impact, double sigma_penetration_m,
+                               double sigma_contact_duration_s, const ErrorOptions& options);
+
 }  // namespace ricochet::fit
