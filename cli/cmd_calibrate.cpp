@@ -225,11 +225,9 @@ void run(const CalibrateOptions& o) {
     doc["settings"] = fit::to_json(options);
     doc["equation"] =
         std::string("Eq. 7: sum over vx, vy, w of ((V_sim - V_meas) / max(|V_meas|, floor))^2") +
-        (options.error.penetration ? " + ((h_sim - h_meas) / max(h_meas, penetration_floor_m))^2"
-                                   : "") +
-        (options.error.contact_duration
-             ? " + ((T_sim - T_meas) / max(T_meas, contact_duration_floor_s))^2"
-             : "");
+        (options.error.penetration ? " + ((h_sim - h_meas) / penetration_scale_m)^2" : "") +
+        (options.error.contact_duration ? " + ((T_sim - T_meas) / contact_duration_scale_s)^2"
+                                        : "");
     doc["threshold_definition"] =
         "near-optimal: Eq. 7 <= optimum + threshold_scale * sum_k (sigma_k / max(|V_meas_k|, "
         "floor_k))^2, plus (sigma_h / d_h)^2 and (sigma_T / d_T)^2 for the contact terms";

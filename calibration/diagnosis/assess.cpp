@@ -15,13 +15,22 @@
 
 namespace ricochet::diagnosis {
 
+namespace {
+
+// The error options on `set`: the contact terms of the set's features (fit::with_contact_terms:
+// switches and their constant denominators) unless use_features is off.
+fit::ErrorOptions error_options_for(const ImpactSet& set, const AssessOptions& o) {
+  if (o.use_features) return fit::with_contact_terms(o.fit.error, set);
+  fit::ErrorOptions e = o.fit.error;
+  e.penetration = e.contact_duration = false;
+  return e;
+}
+
+}  // namespace
+
 std::array<bool, kObservables> observables_of(const ImpactSet& set, const AssessOptions& o) {
-  std::array<bool, kObservables> use{true, true, true, false, false};
-  if (!o.use_features) return use;
-  const fit::ErrorOptions e = fit::with_contact_terms(o.fit.error, set);
-  use[kObsPenetration] = e.penetration;
-  use[kObsDuration] = e.contact_duration;
-  return use;
+  const fit::ErrorOptions e = error_options_for(set, o);
+  return {true, true, true, e.penetration, e.contact_duration};
 }
 
 const char* error_scale_name(ErrorScale scale) {
@@ -30,22 +39,26 @@ const char* error_scale_name(ErrorScale scale) {
 
 AssessOptions resolve_scale(const ImpactSet& set, const AssessOptions& in) {
   AssessOptions o = in;
-  if (o.scale == ErrorScale::kEq7 || set.empty()) return o;
-  const double n = static_cast<double>(set.size());
-  Vel3 mean_v{};
-  double mean_h = 0, mean_t = 0;
-  for (const auto& im : set.impacts) {
-    for (int k = 0; k < 3; ++k) mean_v[k] += std::fabs(im.vout[k]) / n;
-    mean_h += im.penetration.value_or(0.0) / n;
-    mean_t += im.contact_duration.value_or(0.0) / n;
-  }
+  if (o.unresolved_error || set.empty()) return o;  // resolved: resolving again changes nothing
   // Resolved once per set; a fold re-resolves on its training releases (resolve_scale_on).
   o.unresolved_error = in.fit.error;
   auto& e = o.fit.error;
-  for (int k = 0; k < 3; ++k) e.floor[k] = std::max(e.floor[k], mean_v[k]);
-  e.penetration_floor_m = std::max(e.penetration_floor_m, mean_h);
-  e.contact_duration_floor_s = std::max(e.contact_duration_floor_s, mean_t);
-  o.scale = ErrorScale::kEq7;  // resolved: resolving again changes nothing
+  if (o.scale == ErrorScale::kSetMean) {
+    const double n = static_cast<double>(set.size());
+    Vel3 mean_v{};
+    double mean_h = 0, mean_t = 0;
+    for (const auto& im : set.impacts) {
+      for (int k = 0; k < 3; ++k) mean_v[k] += std::fabs(im.vout[k]) / n;
+      mean_h += im.penetration.value_or(0.0) / n;
+      mean_t += im.contact_duration.value_or(0.0) / n;
+    }
+    for (int k = 0; k < 3; ++k) e.floor[k] = std::max(e.floor[k], mean_v[k]);
+    e.penetration_floor_m = std::max(e.penetration_floor_m, mean_h);
+    e.contact_duration_floor_s = std::max(e.contact_duration_floor_s, mean_t);
+  }
+  // The contact terms and their constant denominators on this set, whatever the scale of the
+  // velocity terms (the set's mean feature, at least its floor: the same in both modes).
+  e = error_options_for(set, o);
   return o;
 }
 
@@ -53,7 +66,6 @@ AssessOptions resolve_scale_on(const ImpactSet& subset, const AssessOptions& opt
   AssessOptions o = options;
   if (o.unresolved_error) {
     o.fit.error = *o.unresolved_error;
-    o.scale = ErrorScale::kSetMean;
     o.unresolved_error.reset();
   }
   return resolve_scale(subset, o);
@@ -61,9 +73,7 @@ AssessOptions resolve_scale_on(const ImpactSet& subset, const AssessOptions& opt
 
 fit::FitOptions fit_options_for(const ImpactSet& set, const AssessOptions& o) {
   fit::FitOptions f = o.fit;
-  const auto use = observables_of(set, o);
-  f.error.penetration = use[kObsPenetration];
-  f.error.contact_duration = use[kObsDuration];
+  f.error = error_options_for(set, o);
   return f;
 }
 
@@ -73,12 +83,8 @@ Model calibration_model_for(const Model& model, const ImpactSet& set, const Asse
 
 Obs error_scale(const Impact& im, const AssessOptions& o) {
   const Vel3 d = fit::error_scale(im.vout, o.fit.error);
-  Obs out{d[0], d[1], d[2], 1.0, 1.0};
-  if (im.penetration)
-    out[kObsPenetration] = std::max(*im.penetration, o.fit.error.penetration_floor_m);
-  if (im.contact_duration)
-    out[kObsDuration] = std::max(*im.contact_duration, o.fit.error.contact_duration_floor_s);
-  return out;
+  const std::array<double, 2> c = fit::contact_error_scale(im, o.fit.error);
+  return {d[0], d[1], d[2], c[0], c[1]};
 }
 
 namespace {

@@ -7,9 +7,12 @@
 // of term for the maximum penetration h and the contact duration T:
 //   e_i = sum_k ((V_k^sim - V_k^meas) / d_k)^2
 //         + ((h^sim - h^meas) / d_h)^2 + ((T^sim - T^meas) / d_T)^2
-//   d_k = max(|V_k^meas|, floor_k), d_h = max(h^meas, 0.5 mm), d_T = max(T^meas, 1 ms),
-// every floor then raised to the set's mean |measured value| of its observable (ErrorScale::
-// kSetMean, the default; kEq7 keeps the paper's floors of 0.1 m/s, 0.1 m/s, 1 rad/s).
+//   d_k = max(|V_k^meas|, floor_k), every floor then raised to the set's mean |measured value|
+//   of its observable (ErrorScale::kSetMean, the default; kEq7 keeps the paper's floors of
+//   0.1 m/s, 0.1 m/s, 1 rad/s);
+//   d_h, d_T: one constant per set, its mean measured penetration and contact duration (at
+//   least 0.5 mm and 1 ms; fit::with_contact_terms, fit/error.hpp gives the reason), in both
+//   modes.
 // The feature terms make effects that barely change V_out but change the contact itself
 // (hertz_stiffness) visible; calibration then fits them too (fit::ErrorOptions). On the paper's
 // lab data (no penetration, no duration) with kEq7, e_i is exactly Eq. 7.

@@ -62,8 +62,10 @@ Baseline compare(const Model& model_in, const Shape& shape, const ImpactSet& set
   Baseline b;
   b.base = assess(model, shape, set, o.assess);
   const auto& ef = o.assess.fit.error;
-  b.error_floors = {ef.floor[0], ef.floor[1], ef.floor[2], ef.penetration_floor_m,
-                    ef.contact_duration_floor_s};
+  b.error_floors = {
+      ef.floor[0], ef.floor[1], ef.floor[2],
+      ef.penetration_scale_m > 0 ? ef.penetration_scale_m : ef.penetration_floor_m,
+      ef.contact_duration_scale_s > 0 ? ef.contact_duration_scale_s : ef.contact_duration_floor_s};
   const Model warm = with_values(model, b.base.population.params);
   b.floor = noise_floor(warm, shape, b.base.population.params, set, b.base.use, o.assess);
   b.adequacy = adequacy(b.base, b.floor);

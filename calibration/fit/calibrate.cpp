@@ -40,10 +40,19 @@ bool uses_contact_terms(const ErrorOptions& error) {
 ErrorOptions with_contact_terms(const ErrorOptions& error, const ImpactSet& set) {
   ErrorOptions e = error;
   e.penetration = e.contact_duration = !set.empty();
+  double mean_h = 0, mean_t = 0;
   for (const auto& im : set.impacts) {
     e.penetration = e.penetration && im.penetration.has_value();
     e.contact_duration = e.contact_duration && im.contact_duration.has_value();
+    mean_h += im.penetration.value_or(0.0) / static_cast<double>(set.size());
+    mean_t += im.contact_duration.value_or(0.0) / static_cast<double>(set.size());
   }
+  // One constant denominator per contact term (ErrorOptions, fit/error.hpp), unless one was
+  // already decided.
+  if (e.penetration && !(e.penetration_scale_m > 0))
+    e.penetration_scale_m = std::max(mean_h, e.penetration_floor_m);
+  if (e.contact_duration && !(e.contact_duration_scale_s > 0))
+    e.contact_duration_scale_s = std::max(mean_t, e.contact_duration_floor_s);
   return e;
 }
 

@@ -10,8 +10,9 @@
 // velocities alone, which hardly depend on it). Which stiffnesses the features identify was
 // measured on sets of an independent simulator (docs/diagnosis.md, "Which stiffnesses the
 // contact features identify"): kn identified (population fits of 40 releases with lab-like
-// noise: +18 % on average, from the contact terms' measured denominators; 1 % without feature
-// noise); kt and kr not (their intervals reach a bound).
+// noise: +4 % +- 9 % over 5 sets with one constant denominator per contact term, fit/error.hpp;
+// +18 % with denominators that followed each release's reading); kt and kr not (their
+// intervals reach a bound).
 //
 // Search variables: each calibrated parameter is mapped to [0, 1] linearly between its bounds,
 // or logarithmically when its bounds are positive and span two decades or more (log_scaled():
@@ -71,8 +72,13 @@ namespace ricochet::fit {
 bool uses_contact_terms(const ErrorOptions& error);
 
 /// `error` with each contact term switched on when every release of `set` carries its feature
-/// (penetration, contact_duration), off otherwise (empty set: off). The rule by which the
-/// diagnosis and `ricochet calibrate` decide that a set's features enter the error.
+/// (penetration, contact_duration), off otherwise (empty set: off), and each term switched on
+/// given its one denominator for the set (fit/error.hpp, ErrorOptions::penetration_scale_m,
+/// contact_duration_scale_s): the set's mean measured value, at least the term's floor. A
+/// scale already set (> 0) is kept: it was decided on the set the caller chose (a per-release
+/// fit of one release of a set keeps the set's scale; a fold's options are resolved on its
+/// training releases before they get here). The rule by which the diagnosis and `ricochet
+/// calibrate` decide that, and how, a set's features enter the error.
 ErrorOptions with_contact_terms(const ErrorOptions& error, const ImpactSet& set);
 
 /// The model a fit with `error` calibrates: THE decision of which parameters are fitted (file

@@ -175,6 +175,8 @@ nlohmann::json to_json(const FitOptions& o) {
           {"error_contact_duration", o.error.contact_duration},
           {"error_penetration_floor_m", o.error.penetration_floor_m},
           {"error_contact_duration_floor_s", o.error.contact_duration_floor_s},
+          {"error_penetration_scale_m", o.error.penetration_scale_m},
+          {"error_contact_duration_scale_s", o.error.contact_duration_scale_s},
           {"sigma_penetration_m", o.sigma_penetration_m},
           {"sigma_contact_duration_s", o.sigma_contact_duration_s},
           {"seed", o.seed},

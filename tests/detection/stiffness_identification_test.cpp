@@ -98,13 +98,26 @@ TEST(StiffnessCalibration, KnRecoveredFromAnIndependentSet) {
   fit::FitOptions fo =
       diagnosis::fit_options_for(set, diagnosis::resolve_scale(set, diagnosis::AssessOptions{}));
   ASSERT_TRUE(fo.error.penetration && fo.error.contact_duration);
+  // One constant denominator per contact term: the set's mean penetration and duration.
+  EXPECT_GT(fo.error.penetration_scale_m, 0.0);
+  EXPECT_GT(fo.error.contact_duration_scale_s, 0.0);
   fo.interval_resolution = 0.005;
   const fit::PopulationFit p = fit::calibrate_population(paper, shape, set, fo);
   const double kn = p.params[paper.index("kn")];
-  // Tolerance 25 %: over five seeds the study (stiffness_study) found 2.9-3.9e7 N/m, mean
-  // +18 %: the contact terms' denominators max(measured, set mean) weight down the releases
-  // whose 0.5 mm penetration noise went up (1 % without feature noise). A fixed kn is 1e7.
-  EXPECT_NEAR(kn / kn_true, 1.0, 0.25) << "kn = " << kn << " N/m";
+  // Tolerance 12 %: over seeds 1-5 the study (stiffness_study) found 2.68-3.41e7 N/m, mean
+  // 3.11e7 +- 0.27e7 (sd); this set (seed 1) 3.28e7 (+9 %). With the per-release
+  // denominators max(measured, set mean), which weight down the releases whose 0.5 mm
+  // penetration noise went up, the same set gave 3.62e7 (+21 %; mean +18 % over the seeds),
+  // checked below. A fixed kn is 1e7.
+  EXPECT_NEAR(kn / kn_true, 1.0, 0.12) << "kn = " << kn << " N/m";
+  fit::FitOptions per_release = fo;
+  per_release.error.penetration_scale_m = per_release.error.contact_duration_scale_s = 0;
+  per_release.intervals = false;
+  const double kn_per_release =
+      fit::calibrate_population(paper, shape, set, per_release).params[paper.index("kn")];
+  EXPECT_GT(kn_per_release / kn_true, 1.12) << "kn = " << kn_per_release << " N/m";
+  RecordProperty("kn_N_per_m", std::to_string(kn));
+  RecordProperty("kn_per_release_denominators_N_per_m", std::to_string(kn_per_release));
   const fit::ParameterInterval* iv = nullptr;
   for (const auto& i : p.intervals)
     if (i.name == "kn") iv = &i;

@@ -61,10 +61,11 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 0.01));
   app.add_option("--noise-duration", noise_t, "Contact duration noise sd [s]")
       ->check(CLI::Range(0.0, 0.01));
-  bool constant_scale = false;
-  app.add_flag("--constant-feature-scale", constant_scale,
-               "Contact terms divided by the set's largest measured value (one constant per "
-               "feature) instead of max(measured, set mean): the bias check of the study");
+  bool per_release_scale = false;
+  app.add_flag("--per-release-feature-scale", per_release_scale,
+               "Contact terms divided by max(measured, set mean) release by release (the rule "
+               "before fit::ErrorOptions::penetration_scale_m; biased) instead of one constant "
+               "per feature, the set's mean measured value");
   CLI11_PARSE(app, argc, argv);
 
   truth::SetOptions so;
@@ -89,19 +90,18 @@ int main(int argc, char** argv) {
   for (int seed = 1; seed <= seeds; ++seed) {
     so.seed = static_cast<std::uint64_t>(seed);
     const ImpactSet set = truth::make_set(so).set;
-    // The diagnosis's fit options on this set (compare, diagnose, ladder): the contact terms,
-    // and every error floor raised to the set's mean magnitude (ErrorScale::kSetMean: with the
-    // fit module's own floors, 0.5 mm and 1 ms, a release whose measured penetration is small,
-    // and noisy, is weighted up by its own noise, and kn comes out biased high).
+    // The diagnosis's fit options on this set (compare, diagnose, ladder): the contact terms
+    // with one constant denominator per feature (the set's mean measured value,
+    // fit::with_contact_terms), and every velocity floor raised to the set's mean magnitude
+    // (ErrorScale::kSetMean).
     fit::FitOptions fo =
         diagnosis::fit_options_for(set, diagnosis::resolve_scale(set, diagnosis::AssessOptions{}));
     fo.interval_resolution = resolution;
-    if (constant_scale)
-      for (const auto& im : set.impacts) {
-        fo.error.penetration_floor_m = std::max(fo.error.penetration_floor_m, *im.penetration);
-        fo.error.contact_duration_floor_s =
-            std::max(fo.error.contact_duration_floor_s, *im.contact_duration);
-      }
+    // The old rule: d_h = max(h_meas, set mean) per release (floors raised by kSetMean).
+    const auto old_rule = [&](fit::ErrorOptions& e) {
+      if (per_release_scale) e.penetration_scale_m = e.contact_duration_scale_s = 0;
+    };
+    old_rule(fo.error);
     fo.threads = 0;
     nlohmann::json line = {{"seed", seed}, {"n", set.size()}};
     const Model kn_model = fit::calibration_model(paper, fo.error);
@@ -118,6 +118,7 @@ int main(int argc, char** argv) {
     if (!first.impacts.empty()) {
       fit::FitOptions fr = fo;
       fr.error = fit::with_contact_terms(fo.error, first);
+      old_rule(fr.error);
       for (const auto& rf : fit::calibrate_releases(all, shape, first, fr))
         for (const auto& iv : rf.intervals) {
           ++counts[iv.name][fit::identifiability_name(iv.status)];
