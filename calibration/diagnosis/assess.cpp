@@ -345,9 +345,17 @@ Model windowed(const Model& model, double window) {
   Model m = model;
   if (!(window < 1.0)) return m;
   for (std::size_t i : m.calibrated_indices()) {
-    const double v = m.values()[i];
-    const double half = window * (m.upper(i) - m.lower(i));
-    m.set_bounds(m.spec(i).name, std::max(m.lower(i), v - half), std::min(m.upper(i), v + half));
+    const double v = m.values()[i], lo = m.lower(i), hi = m.upper(i);
+    // A parameter the fit searches in log(value) (fit::log_scaled: kn, 1e5-1e9 N/m) gets the
+    // window in that variable, v / r to v r with r = (hi / lo)^window (x/ 4 for kn at 0.15): a
+    // linear window of 0.15 x 1e9 N/m around 1e7 would be [1e5, 1.6e8], no window at all.
+    if (fit::log_scaled(lo, hi) && v > 0) {
+      const double r = std::pow(hi / lo, window);
+      m.set_bounds(m.spec(i).name, std::max(lo, v / r), std::min(hi, v * r));
+      continue;
+    }
+    const double half = window * (hi - lo);
+    m.set_bounds(m.spec(i).name, std::max(lo, v - half), std::min(hi, v + half));
   }
   return m;
 }

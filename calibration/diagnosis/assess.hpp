@@ -301,7 +301,8 @@ struct Assessment {
 };
 
 /// The model with each calibrated parameter's bounds narrowed to +- window x its range around
-/// its current value (clipped to the bounds); window >= 1 leaves the model unchanged.
+/// its current value (clipped to the bounds), in log(value) for a parameter the fit searches
+/// in log(value) (fit::log_scaled); window >= 1 leaves the model unchanged.
 Model windowed(const Model& model, double window);
 
 /// The parameter vector of `to` with every parameter that `from_names` also has set to its
