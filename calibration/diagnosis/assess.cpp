@@ -413,6 +413,25 @@ std::vector<double> carry_values(const Model& to, const std::vector<std::string>
   return v;
 }
 
+fit::PopulationFit refine_warm(const Model& start, const Shape& shape, const ImpactSet& set,
+                               const fit::FitOptions& options) {
+  Model held = start;
+  bool any = false;
+  for (const Effect* e : start.effects())
+    for (std::string_view name : e->signature().contact_identified) {
+      const std::size_t i = held.index(name);
+      if (!held.calibrated(i)) continue;
+      held.set_bounds(name, held.values()[i], held.values()[i]);
+      any = true;
+    }
+  if (!any) return fit::calibrate_population(start, shape, set, options);
+  const fit::PopulationFit first = fit::calibrate_population(held, shape, set, options);
+  Model released = start;
+  released.set_values(first.params);
+  fit::PopulationFit second = fit::calibrate_population(released, shape, set, options);
+  return second.error <= first.error ? second : first;
+}
+
 Assessment assess(const Model& model_in, const Shape& shape, const ImpactSet& set,
                   const AssessOptions& options, const Assessment* warm) {
   const AssessOptions o = resolve_scale(set, options);
@@ -439,8 +458,7 @@ Assessment assess(const Model& model_in, const Shape& shape, const ImpactSet& se
     fit::FitOptions fl = fo;
     fl.starts = 1;
     fl.design_points = o.fold_warm_design_points;
-    const fit::PopulationFit local =
-        fit::calibrate_population(windowed(model, 0.15), shape, set, fl);
+    const fit::PopulationFit local = refine_warm(windowed(model, 0.15), shape, set, fl);
     if (local.error < a.population.error) a.population = local;
   }
 
@@ -509,7 +527,7 @@ Assessment assess(const Model& model_in, const Shape& shape, const ImpactSet& se
       for (std::size_t t = 0; t < line.size() && t < o.fold_refinements; ++t) {
         Model start = model;
         start.set_values(line[t].second);
-        fit::PopulationFit f = fit::calibrate_population(start, shape, train, fj);
+        fit::PopulationFit f = refine_warm(start, shape, train, fj);
         if (pf.params.empty() || f.error < pf.error) pf = std::move(f);
       }
     } else {
