@@ -1,6 +1,8 @@
 // `ricochet calibrate DATA --shape S [--model FILE] [--seed K] [--starts N] --json`: per-release
 // calibration of paper Eq. 7 with identifiability intervals, and optionally one population fit
-// (docs/commands/calibrate.md).
+// (docs/commands/calibrate.md). When every release has penetration and/or contact duration,
+// those terms join Eq. 7 and kn is calibrated too (fit::with_contact_terms,
+// fit::calibration_model: the diagnosis's rule); --no-features keeps Eq. 7 and kn fixed.
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -30,7 +32,7 @@ struct CalibrateOptions {
   int starts = 4, design_points = 0, threads = 0;
   std::vector<double> sigma, alpha_range_deg;
   double threshold_scale = 1.0;
-  bool no_intervals = false, population = false, resume = false;
+  bool no_intervals = false, population = false, resume = false, no_features = false;
 };
 
 Vel3 parse_sigma(const std::vector<double>& v) {
@@ -159,10 +161,14 @@ void run(const CalibrateOptions& o) {
   if (!o.output.out.empty()) require_extension("--out", o.output.out, {".csv", ".h5", ".hdf5"});
   if (o.resume && !h5)
     throw InputError("<command line>", 0, "--resume", "needs --out FILE.h5 (the file to continue)");
-  const Model model = o.model.build_model();
+  const Model given = o.model.build_model();
   const Shape shape = o.model.build_shape();
-  const fit::FitOptions options = fit_options(o);
+  fit::FitOptions options = fit_options(o);
   const ImpactSet set = fit::select_shape(filter(read_impact_set(o.data), o.where), shape);
+  // The set's contact features enter the error, and then kn is calibrated: the same rule as
+  // compare, diagnose and ladder (fit/fit.hpp).
+  if (!o.no_features) options.error = fit::with_contact_terms(options.error, set);
+  const Model model = fit::calibration_model(given, options.error);
 
   std::unique_ptr<fit::ReleaseFitStore> store;
   if (h5)
@@ -217,10 +223,14 @@ void run(const CalibrateOptions& o) {
     doc["data"] = o.data;
     doc["model"] = model.to_json();
     doc["settings"] = fit::to_json(options);
-    doc["equation"] = "Eq. 7: sum over vx, vy, w of ((V_sim - V_meas) / max(|V_meas|, floor))^2";
+    doc["equation"] =
+        std::string("Eq. 7: sum over vx, vy, w of ((V_sim - V_meas) / max(|V_meas|, floor))^2") +
+        (options.error.penetration ? " + ((h_sim - h_meas) / penetration_scale_m)^2" : "") +
+        (options.error.contact_duration ? " + ((T_sim - T_meas) / contact_duration_scale_s)^2"
+                                        : "");
     doc["threshold_definition"] =
         "near-optimal: Eq. 7 <= optimum + threshold_scale * sum_k (sigma_k / max(|V_meas_k|, "
-        "floor_k))^2";
+        "floor_k))^2, plus (sigma_h / d_h)^2 and (sigma_T / d_T)^2 for the contact terms";
     if (!shape.is_disc())
       doc["alpha_in"] = {
           {"mode", fit::alpha_mode_name(options.alpha.mode)},
@@ -260,6 +270,9 @@ void add_calibrate_command(CLI::App& app) {
                   "Multiply the near-optimal threshold (e.g. 4 for two sigma)")
       ->capture_default_str();
   sub->add_flag("--no-intervals", opts->no_intervals, "Skip the identifiability intervals");
+  sub->add_flag("--no-features", opts->no_features,
+                "Ignore penetration and contact duration even when the data have them (Eq. 7 "
+                "alone; kn stays fixed)");
   sub->add_option("--alpha", opts->alpha_mode,
                   "Unknown alpha_in of non-disc blocks: fit (nuisance) or marginal")
       ->capture_default_str();

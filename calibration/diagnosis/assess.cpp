@@ -15,17 +15,22 @@
 
 namespace ricochet::diagnosis {
 
+namespace {
+
+// The error options on `set`: the contact terms of the set's features (fit::with_contact_terms:
+// switches and their constant denominators) unless use_features is off.
+fit::ErrorOptions error_options_for(const ImpactSet& set, const AssessOptions& o) {
+  if (o.use_features) return fit::with_contact_terms(o.fit.error, set);
+  fit::ErrorOptions e = o.fit.error;
+  e.penetration = e.contact_duration = false;
+  return e;
+}
+
+}  // namespace
+
 std::array<bool, kObservables> observables_of(const ImpactSet& set, const AssessOptions& o) {
-  std::array<bool, kObservables> use{true, true, true, false, false};
-  if (!o.use_features || set.empty()) return use;
-  bool h = true, t = true;
-  for (const auto& im : set.impacts) {
-    h = h && im.penetration.has_value();
-    t = t && im.contact_duration.has_value();
-  }
-  use[kObsPenetration] = h;
-  use[kObsDuration] = t;
-  return use;
+  const fit::ErrorOptions e = error_options_for(set, o);
+  return {true, true, true, e.penetration, e.contact_duration};
 }
 
 const char* error_scale_name(ErrorScale scale) {
@@ -34,22 +39,26 @@ const char* error_scale_name(ErrorScale scale) {
 
 AssessOptions resolve_scale(const ImpactSet& set, const AssessOptions& in) {
   AssessOptions o = in;
-  if (o.scale == ErrorScale::kEq7 || set.empty()) return o;
-  const double n = static_cast<double>(set.size());
-  Vel3 mean_v{};
-  double mean_h = 0, mean_t = 0;
-  for (const auto& im : set.impacts) {
-    for (int k = 0; k < 3; ++k) mean_v[k] += std::fabs(im.vout[k]) / n;
-    mean_h += im.penetration.value_or(0.0) / n;
-    mean_t += im.contact_duration.value_or(0.0) / n;
-  }
+  if (o.unresolved_error || set.empty()) return o;  // resolved: resolving again changes nothing
   // Resolved once per set; a fold re-resolves on its training releases (resolve_scale_on).
   o.unresolved_error = in.fit.error;
   auto& e = o.fit.error;
-  for (int k = 0; k < 3; ++k) e.floor[k] = std::max(e.floor[k], mean_v[k]);
-  e.penetration_floor_m = std::max(e.penetration_floor_m, mean_h);
-  e.contact_duration_floor_s = std::max(e.contact_duration_floor_s, mean_t);
-  o.scale = ErrorScale::kEq7;  // resolved: resolving again changes nothing
+  if (o.scale == ErrorScale::kSetMean) {
+    const double n = static_cast<double>(set.size());
+    Vel3 mean_v{};
+    double mean_h = 0, mean_t = 0;
+    for (const auto& im : set.impacts) {
+      for (int k = 0; k < 3; ++k) mean_v[k] += std::fabs(im.vout[k]) / n;
+      mean_h += im.penetration.value_or(0.0) / n;
+      mean_t += im.contact_duration.value_or(0.0) / n;
+    }
+    for (int k = 0; k < 3; ++k) e.floor[k] = std::max(e.floor[k], mean_v[k]);
+    e.penetration_floor_m = std::max(e.penetration_floor_m, mean_h);
+    e.contact_duration_floor_s = std::max(e.contact_duration_floor_s, mean_t);
+  }
+  // The contact terms and their constant denominators on this set, whatever the scale of the
+  // velocity terms (the set's mean feature, at least its floor: the same in both modes).
+  e = error_options_for(set, o);
   return o;
 }
 
@@ -57,7 +66,6 @@ AssessOptions resolve_scale_on(const ImpactSet& subset, const AssessOptions& opt
   AssessOptions o = options;
   if (o.unresolved_error) {
     o.fit.error = *o.unresolved_error;
-    o.scale = ErrorScale::kSetMean;
     o.unresolved_error.reset();
   }
   return resolve_scale(subset, o);
@@ -65,20 +73,18 @@ AssessOptions resolve_scale_on(const ImpactSet& subset, const AssessOptions& opt
 
 fit::FitOptions fit_options_for(const ImpactSet& set, const AssessOptions& o) {
   fit::FitOptions f = o.fit;
-  const auto use = observables_of(set, o);
-  f.error.penetration = use[kObsPenetration];
-  f.error.contact_duration = use[kObsDuration];
+  f.error = error_options_for(set, o);
   return f;
+}
+
+Model calibration_model_for(const Model& model, const ImpactSet& set, const AssessOptions& o) {
+  return fit::calibration_model(model, fit_options_for(set, o).error);
 }
 
 Obs error_scale(const Impact& im, const AssessOptions& o) {
   const Vel3 d = fit::error_scale(im.vout, o.fit.error);
-  Obs out{d[0], d[1], d[2], 1.0, 1.0};
-  if (im.penetration)
-    out[kObsPenetration] = std::max(*im.penetration, o.fit.error.penetration_floor_m);
-  if (im.contact_duration)
-    out[kObsDuration] = std::max(*im.contact_duration, o.fit.error.contact_duration_floor_s);
-  return out;
+  const std::array<double, 2> c = fit::contact_error_scale(im, o.fit.error);
+  return {d[0], d[1], d[2], c[0], c[1]};
 }
 
 namespace {
@@ -111,14 +117,18 @@ std::vector<ObsPrediction> predict_observables(const Model& model, const Shape& 
   return to_observables(fit::predict(model, shape, params, set, fit_options_for(set, o)));
 }
 
-std::vector<ParameterProbe> probe_calibrated(const Model& model, const Shape& shape,
+std::vector<ParameterProbe> probe_calibrated(const Model& model_in, const Shape& shape,
                                              const ImpactSet& set, const AssessOptions& o) {
+  const Model model = calibration_model_for(model_in, set, o);
   std::vector<ParameterProbe> out;
   for (std::size_t j : model.calibrated_indices()) {
     std::vector<double> params = model.values();
-    const double range = model.upper(j) - model.lower(j);
-    double step = 0.02 * range;
-    if (params[j] + step > model.upper(j)) step = -step;
+    const double lo = model.lower(j), hi = model.upper(j), range = hi - lo;
+    // A stiffness spans four decades: 2 % of its range would move it by 2e7 N/m, twice the
+    // paper's kn; 2 % of its log range is a 20 % step, as the fit's own variable sees it.
+    const bool log = fit::log_scaled(lo, hi);
+    double step = log ? params[j] * (std::pow(hi / lo, 0.02) - 1.0) : 0.02 * range;
+    if (params[j] + step > hi) step = log ? params[j] * (std::pow(hi / lo, -0.02) - 1.0) : -step;
     params[j] += step;
     out.push_back({j, step, range, predict_observables(model, shape, params, set, o)});
   }
@@ -335,9 +345,17 @@ Model windowed(const Model& model, double window) {
   Model m = model;
   if (!(window < 1.0)) return m;
   for (std::size_t i : m.calibrated_indices()) {
-    const double v = m.values()[i];
-    const double half = window * (m.upper(i) - m.lower(i));
-    m.set_bounds(m.spec(i).name, std::max(m.lower(i), v - half), std::min(m.upper(i), v + half));
+    const double v = m.values()[i], lo = m.lower(i), hi = m.upper(i);
+    // A parameter the fit searches in log(value) (fit::log_scaled: kn, 1e5-1e9 N/m) gets the
+    // window in that variable, v / r to v r with r = (hi / lo)^window (x/ 4 for kn at 0.15): a
+    // linear window of 0.15 x 1e9 N/m around 1e7 would be [1e5, 1.6e8], no window at all.
+    if (fit::log_scaled(lo, hi) && v > 0) {
+      const double r = std::pow(hi / lo, window);
+      m.set_bounds(m.spec(i).name, std::max(lo, v / r), std::min(hi, v * r));
+      continue;
+    }
+    const double half = window * (hi - lo);
+    m.set_bounds(m.spec(i).name, std::max(lo, v - half), std::min(hi, v + half));
   }
   return m;
 }
@@ -395,9 +413,30 @@ std::vector<double> carry_values(const Model& to, const std::vector<std::string>
   return v;
 }
 
-Assessment assess(const Model& model, const Shape& shape, const ImpactSet& set,
+fit::PopulationFit refine_warm(const Model& start, const Shape& shape, const ImpactSet& set,
+                               const fit::FitOptions& options) {
+  Model held = start;
+  bool any = false;
+  for (const Effect* e : start.effects())
+    for (std::string_view name : e->signature().contact_identified) {
+      const std::size_t i = held.index(name);
+      if (!held.calibrated(i)) continue;
+      held.set_bounds(name, held.values()[i], held.values()[i]);
+      any = true;
+    }
+  if (!any) return fit::calibrate_population(start, shape, set, options);
+  const fit::PopulationFit first = fit::calibrate_population(held, shape, set, options);
+  Model released = start;
+  released.set_values(first.params);
+  fit::PopulationFit second = fit::calibrate_population(released, shape, set, options);
+  return second.error <= first.error ? second : first;
+}
+
+Assessment assess(const Model& model_in, const Shape& shape, const ImpactSet& set,
                   const AssessOptions& options, const Assessment* warm) {
   const AssessOptions o = resolve_scale(set, options);
+  // The parameters every fit below calibrates (the fit module decides the same way).
+  const Model model = calibration_model_for(model_in, set, o);
   const auto t0 = std::chrono::steady_clock::now();
   if (set.size() < 2) throw std::invalid_argument("assess: at least two releases are needed");
   const std::size_t n = set.size();
@@ -408,7 +447,9 @@ Assessment assess(const Model& model, const Shape& shape, const ImpactSet& set,
   a.use = observables_of(set, o);
   fit::FitOptions fo = fit_options_for(set, o);
   fo.intervals = false;
-  fo.starts = o.population_starts;
+  fo.starts = !o.refine_start && fit::uses_contact_terms(fo.error)
+                  ? std::max(o.population_starts, o.contact_population_starts)
+                  : o.population_starts;
   a.population = fit::calibrate_population(model, shape, set, fo);
   if (o.refine_start) {
     // A warm model (a calibrated one plus an effect at its neutral value) is also refined
@@ -417,8 +458,7 @@ Assessment assess(const Model& model, const Shape& shape, const ImpactSet& set,
     fit::FitOptions fl = fo;
     fl.starts = 1;
     fl.design_points = o.fold_warm_design_points;
-    const fit::PopulationFit local =
-        fit::calibrate_population(windowed(model, 0.15), shape, set, fl);
+    const fit::PopulationFit local = refine_warm(windowed(model, 0.15), shape, set, fl);
     if (local.error < a.population.error) a.population = local;
   }
 
@@ -487,7 +527,7 @@ Assessment assess(const Model& model, const Shape& shape, const ImpactSet& set,
       for (std::size_t t = 0; t < line.size() && t < o.fold_refinements; ++t) {
         Model start = model;
         start.set_values(line[t].second);
-        fit::PopulationFit f = fit::calibrate_population(start, shape, train, fj);
+        fit::PopulationFit f = refine_warm(start, shape, train, fj);
         if (pf.params.empty() || f.error < pf.error) pf = std::move(f);
       }
     } else {

@@ -52,16 +52,20 @@ Model with_values(const Model& model, const std::vector<double>& values) {
   return m;
 }
 
-Baseline compare(const Model& model, const Shape& shape, const ImpactSet& set,
+Baseline compare(const Model& model_in, const Shape& shape, const ImpactSet& set,
                  const DiagnoseOptions& options) {
   DiagnoseOptions o = options;
   o.assess = resolve_scale(set, options.assess);
+  // kn calibrated too when the set's contact features enter the error (assess.hpp).
+  const Model model = calibration_model_for(model_in, set, o.assess);
   const auto t0 = std::chrono::steady_clock::now();
   Baseline b;
   b.base = assess(model, shape, set, o.assess);
   const auto& ef = o.assess.fit.error;
-  b.error_floors = {ef.floor[0], ef.floor[1], ef.floor[2], ef.penetration_floor_m,
-                    ef.contact_duration_floor_s};
+  b.error_floors = {
+      ef.floor[0], ef.floor[1], ef.floor[2],
+      ef.penetration_scale_m > 0 ? ef.penetration_scale_m : ef.penetration_floor_m,
+      ef.contact_duration_scale_s > 0 ? ef.contact_duration_scale_s : ef.contact_duration_floor_s};
   const Model warm = with_values(model, b.base.population.params);
   b.floor = noise_floor(warm, shape, b.base.population.params, set, b.base.use, o.assess);
   b.adequacy = adequacy(b.base, b.floor);

@@ -111,7 +111,9 @@ struct Baseline {
   PopulationScatter scatter;  ///< the parameters' release-to-release spread (scatter.hpp)
   /// Two-sample KS test of the measured against the held-out predicted values, per observable.
   std::array<stats::KsResult, kObservables> ks{};
-  /// Floors of the error denominators actually used (m/s, m/s, rad/s, m, s; AssessOptions::scale).
+  /// Floors of the error denominators actually used (m/s, m/s, rad/s, m, s; AssessOptions::scale);
+  /// for penetration and contact duration the one constant denominator of the set
+  /// (fit::ErrorOptions::penetration_scale_m, contact_duration_scale_s).
   Obs error_floors{};
   double seconds = 0;
 };

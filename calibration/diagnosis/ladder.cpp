@@ -16,7 +16,8 @@ Ladder ladder(const Model& model, const Shape& shape, const ImpactSet& set,
   o.assess = resolve_scale(set, options.assess);
   Ladder l;
   const EffectRegistry& registry = registry_of(o);
-  Model current = model;
+  // The base model as calibrated on this set (kn too when its contact features enter the error).
+  Model current = calibration_model_for(model, set, o.assess);
   Progress progress("ladder", adds.size() + 1, o.progress);
   for (std::size_t r = 0; r <= adds.size(); ++r) {
     Rung rung;

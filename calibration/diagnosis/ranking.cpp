@@ -144,7 +144,9 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
   const Baseline& b = d.baseline;
   const Assessment& base = b.base;
   const EffectRegistry& registry = detail::registry_of(o);
-  const Model warm = with_values(model, base.population.params);
+  // The base model as calibrated on this set (kn too when its contact features enter the error).
+  const Model warm =
+      with_values(calibration_model_for(model, set, o.assess), base.population.params);
   const detail::Directions dirs = detail::base_directions(warm, shape, set, base, o.assess);
 
   // The family: every registered effect not in the model (catalog, plugins, generated laws),

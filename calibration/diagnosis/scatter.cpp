@@ -73,7 +73,8 @@ PopulationScatter population_scatter(const Model& warm, const Shape& shape, cons
   PopulationScatter out;
   const std::size_t n = set.size();
   if (floor.variance.size() != n || n < 4) return out;
-  const std::vector<std::size_t> cal = warm.calibrated_indices();
+  // The parameters the fits on this set calibrate (kn too with contact terms): the probes'.
+  const std::vector<std::size_t> cal = calibration_model_for(warm, set, o).calibrated_indices();
   std::vector<int> obs;
   for (int k = 0; k < kObservables; ++k)
     if (base.use[k]) obs.push_back(k);

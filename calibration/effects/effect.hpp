@@ -114,6 +114,12 @@ struct Signature {
   /// (diagnosis/signature.hpp). The paper's kn is one: a numerical stiffness that sets the
   /// contact's duration and penetration, not the rebound.
   std::span<const std::string_view> nuisance = {};
+  /// Parameters of this effect, fixed by default, that the contact features (maximum
+  /// penetration, contact duration) identify: a fit whose error compares those features
+  /// calibrates them too, within their bounds (fit::calibration_model, the one place that
+  /// decides). The paper's kn is one; kt and kr are not (docs/diagnosis.md, "Which stiffnesses
+  /// the contact features identify").
+  std::span<const std::string_view> contact_identified = {};
 };
 
 /// Interface of a physical effect. Implementations are stateless (all history lives in the

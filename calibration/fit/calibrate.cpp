@@ -33,6 +33,41 @@ const char* identifiability_name(Identifiability status) {
   return "?";
 }
 
+bool uses_contact_terms(const ErrorOptions& error) {
+  return error.penetration || error.contact_duration;
+}
+
+ErrorOptions with_contact_terms(const ErrorOptions& error, const ImpactSet& set) {
+  ErrorOptions e = error;
+  e.penetration = e.contact_duration = !set.empty();
+  double mean_h = 0, mean_t = 0;
+  for (const auto& im : set.impacts) {
+    e.penetration = e.penetration && im.penetration.has_value();
+    e.contact_duration = e.contact_duration && im.contact_duration.has_value();
+    mean_h += im.penetration.value_or(0.0) / static_cast<double>(set.size());
+    mean_t += im.contact_duration.value_or(0.0) / static_cast<double>(set.size());
+  }
+  // One constant denominator per contact term (ErrorOptions, fit/error.hpp), unless one was
+  // already decided.
+  if (e.penetration && !(e.penetration_scale_m > 0))
+    e.penetration_scale_m = std::max(mean_h, e.penetration_floor_m);
+  if (e.contact_duration && !(e.contact_duration_scale_s > 0))
+    e.contact_duration_scale_s = std::max(mean_t, e.contact_duration_floor_s);
+  return e;
+}
+
+Model calibration_model(const Model& model, const ErrorOptions& error) {
+  Model m = model;
+  if (!uses_contact_terms(error)) return m;
+  for (const Effect* e : model.effects())
+    for (std::string_view name : e->signature().contact_identified) m.set_calibrated(name, true);
+  return m;
+}
+
+bool log_scaled(double lower, double upper) {
+  return lower > 0 && upper >= 100.0 * lower;
+}
+
 double ReleaseFit::value(const std::string& name) const {
   for (std::size_t i = 0; i < names.size(); ++i)
     if (names[i] == name) return params[i];
@@ -63,24 +98,33 @@ std::vector<double> alpha_grid(const AlphaOptions& a) {
   return g;
 }
 
-// The calibrated parameters of a model as the variables of a unit box.
+// The calibrated parameters of a fit (calibration_model) as the variables of a unit box:
+// linear between the bounds, or in log(value) for bounds spanning two decades (log_scaled).
 struct ParameterBox {
   std::vector<std::size_t> index;
   std::vector<double> lo, hi;
+  std::vector<char> log;
 
-  explicit ParameterBox(const Model& model) {
-    index = model.calibrated_indices();
+  ParameterBox(const Model& model, const ErrorOptions& error) {
+    index = calibration_model(model, error).calibrated_indices();
     if (index.empty())
       throw std::invalid_argument("the model has no calibrated parameter (model file `calibrate`)");
     for (std::size_t i : index) {
       lo.push_back(model.lower(i));
       hi.push_back(model.upper(i));
+      log.push_back(log_scaled(model.lower(i), model.upper(i)) ? 1 : 0);
     }
   }
   std::size_t size() const { return index.size(); }
-  double to_value(std::size_t k, double u) const { return lo[k] + (hi[k] - lo[k]) * u; }
+  double to_value(std::size_t k, double u) const {
+    if (log[k]) return lo[k] * std::pow(hi[k] / lo[k], u);
+    return lo[k] + (hi[k] - lo[k]) * u;
+  }
   double to_unit(std::size_t k, double v) const {
-    return hi[k] > lo[k] ? std::clamp((v - lo[k]) / (hi[k] - lo[k]), 0.0, 1.0) : 0.0;
+    if (!(hi[k] > lo[k])) return 0.0;
+    const double u = log[k] ? std::log(std::max(v, lo[k]) / lo[k]) / std::log(hi[k] / lo[k])
+                            : (v - lo[k]) / (hi[k] - lo[k]);
+    return std::clamp(u, 0.0, 1.0);
   }
 };
 
@@ -249,19 +293,22 @@ std::vector<double> near_points(const LocalResult& best, const std::vector<Local
   return out;
 }
 
+// `value_of` maps a unit coordinate to the parameter's value (ParameterBox::to_value).
+template <class ValueOf>
 ParameterInterval make_interval(const std::string& name, const std::string& unit, double lo,
-                                double hi, double value, const detail::UnitInterval& ui) {
+                                double hi, double value, const detail::UnitInterval& ui,
+                                const ValueOf& value_of) {
   ParameterInterval iv;
   iv.name = name;
   iv.unit = unit;
   iv.bound_lo = lo;
   iv.bound_hi = hi;
   iv.value = value;
-  iv.lo = lo + (hi - lo) * ui.lo;
-  iv.hi = lo + (hi - lo) * ui.hi;
+  iv.lo = value_of(ui.lo);
+  iv.hi = value_of(ui.hi);
   iv.lo_at_bound = ui.lo_at_bound;
   iv.hi_at_bound = ui.hi_at_bound;
-  for (const auto& p : ui.profile) iv.profile.push_back({lo + (hi - lo) * p[0], p[1]});
+  for (const auto& p : ui.profile) iv.profile.push_back({value_of(p[0]), p[1]});
   return iv;
 }
 
@@ -311,11 +358,13 @@ std::vector<ParameterInterval> intervals_of(Problem& problem, const LocalResult&
     if (j < box.size()) {
       const ParameterSpec& s = model.spec(box.index[j]);
       iv = make_interval(std::string(s.name), std::string(s.unit), box.lo[j], box.hi[j],
-                         box.to_value(j, best.u[j]), ui);
+                         box.to_value(j, best.u[j]), ui,
+                         [&](double u) { return box.to_value(j, u); });
     } else {
       const double half = 0.5 * (alpha->max_rad - alpha->min_rad);
-      iv = make_interval("alpha_in", "rad", alpha_centre - half, alpha_centre + half, alpha_centre,
-                         ui);
+      const double lo = alpha_centre - half, hi = alpha_centre + half;
+      iv = make_interval("alpha_in", "rad", lo, hi, alpha_centre, ui,
+                         [&](double u) { return lo + (hi - lo) * u; });
     }
     if (j < box.size())
       detail::classify(
@@ -336,7 +385,7 @@ ReleaseFit fit_release(detail::Simulator& sim, const Model& model, const Shape& 
                        const Impact& impact, const FitOptions& options,
                        const std::vector<double>& design) {
   const auto t0 = std::chrono::steady_clock::now();
-  const ParameterBox box(model);
+  const ParameterBox box(model, options.error);
   const AlphaPlan alpha = plan_alpha(shape, impact, options.alpha, true);
   ReleaseProblem problem(sim, model, impact, options, box, alpha);
   const std::size_t d = problem.dim();
@@ -364,7 +413,10 @@ ReleaseFit fit_release(detail::Simulator& sim, const Model& model, const Shape& 
     fit.alpha_rad = alpha.fixed[0];
 
   const Vel3 sigma = impact.sigma_vout ? *impact.sigma_vout : options.sigma;
-  fit.threshold = options.threshold_scale * noise_threshold(impact.vout, sigma, options.error);
+  fit.threshold = options.threshold_scale *
+                  (noise_threshold(impact.vout, sigma, options.error) +
+                   contact_noise_threshold(impact, options.sigma_penetration_m,
+                                           options.sigma_contact_duration_s, options.error));
   if (options.intervals) {
     const double limit = best.f + fit.threshold;
     std::vector<double> inside = near_points(best, ends, design, design_values, d, limit);
@@ -394,7 +446,7 @@ ReleaseFit fit_release(detail::Simulator& sim, const Model& model, const Shape& 
 
 std::size_t design_dim(const Model& model, const Shape& shape, const Impact& impact,
                        const FitOptions& options) {
-  return model.calibrated_indices().size() +
+  return ParameterBox(model, options.error).size() +
          (plan_alpha(shape, impact, options.alpha, true).fitted ? 1 : 0);
 }
 
@@ -402,7 +454,7 @@ std::size_t design_dim(const Model& model, const Shape& shape, const Impact& imp
 
 ReleaseFit calibrate_release(const Model& model, const Shape& shape, const Impact& impact,
                              const FitOptions& options) {
-  const ParameterBox box(model);
+  const ParameterBox box(model, options.error);
   const std::vector<double> design =
       start_design(box, model, design_dim(model, shape, impact, options), options);
   detail::FiberPool pool(model, shape, pool_engine(options, 1));
@@ -415,7 +467,7 @@ ReleaseFit calibrate_release(const Model& model, const Shape& shape, const Impac
 std::vector<ReleaseFit> calibrate_releases(const Model& model, const Shape& shape,
                                            const ImpactSet& set, const FitOptions& options,
                                            const ReleaseHooks& hooks) {
-  const ParameterBox box(model);  // validates the model before any thread starts
+  const ParameterBox box(model, options.error);  // validates the model before threads start
   std::vector<ReleaseFit> out(set.size());
   std::vector<std::size_t> todo;
   for (std::size_t i = 0; i < set.size(); ++i)
@@ -600,7 +652,7 @@ PopulationFit calibrate_population(const Model& model, const Shape& shape, const
                                    const FitOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   if (set.empty()) throw std::invalid_argument("calibrate_population: empty impact set");
-  const ParameterBox box(model);
+  const ParameterBox box(model, options.error);
   const std::vector<double> design = start_design(box, model, box.size(), options);
   // Each evaluation is already a batch over releases; the pool merges the parallel searches'
   // batches and spreads them over the threads.
@@ -622,7 +674,9 @@ PopulationFit calibrate_population(const Model& model, const Shape& shape, const
     double sum_delta = 0;
     for (const auto& im : set.impacts)
       sum_delta +=
-          noise_threshold(im.vout, im.sigma_vout ? *im.sigma_vout : options.sigma, options.error);
+          noise_threshold(im.vout, im.sigma_vout ? *im.sigma_vout : options.sigma, options.error) +
+          contact_noise_threshold(im, options.sigma_penetration_m, options.sigma_contact_duration_s,
+                                  options.error);
     // Mean per-release Delta (3 degrees of freedom), inflated by the reduced chi-square when
     // the releases scatter more than the noise (see fit.hpp).
     fit.threshold = options.threshold_scale * sum_delta / static_cast<double>(set.size()) *

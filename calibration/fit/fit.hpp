@@ -1,9 +1,23 @@
 // Calibration of contact-model parameters against measured rebounds (Garcia et al. 2020,
 // section 4.2, Eq. 7, Table 4), with identifiability, population fits and predictions.
 //
-// What is calibrated: the parameters of any Model flagged calibrated (Model::calibrated_indices(),
-// the paper's law: en2, mu, muR), within the model's calibration bounds (Model::lower/upper).
-// Every other parameter stays at its model value (the paper's kn, kt, kr).
+// What is calibrated: the parameters of calibration_model(model, options.error): those of the
+// Model flagged calibrated (Model::calibrated_indices(), the paper's law: en2, mu, muR), plus,
+// when the error compares the maximum penetration or the contact duration (ErrorOptions), the
+// parameters that effects declare identified by those features (Signature::
+// contact_identified: the paper's kn), within the model's calibration bounds (Model::lower/
+// upper). Every other parameter stays at its model value (the paper's kt, kr; and kn on rebound
+// velocities alone, which hardly depend on it). Which stiffnesses the features identify was
+// measured on sets of an independent simulator (docs/diagnosis.md, "Which stiffnesses the
+// contact features identify"): kn identified (population fits of 40 releases with lab-like
+// noise: +4 % +- 9 % over 5 sets with one constant denominator per contact term, fit/error.hpp;
+// +18 % with denominators that followed each release's reading); kt and kr not (their
+// intervals reach a bound).
+//
+// Search variables: each calibrated parameter is mapped to [0, 1] linearly between its bounds,
+// or logarithmically when its bounds are positive and span two decades or more (log_scaled():
+// the stiffnesses, whose bounds span four), so that a step, a start design and the interval
+// resolution are relative there (1 % of the log range of kn is 9.6 % of its value).
 //
 // Per-release fit (calibrate_release): minimise Eq. 7 (fit/error.hpp) for one release with
 // NLopt BOBYQA (Powell's derivative-free trust-region method; the paper used Powell's conjugate
@@ -23,7 +37,9 @@
 // Identifiability (not in the paper): the near-optimal set of a release is every parameter
 // vector whose Eq. 7 is within Delta of the optimum, Delta = sum_k (sigma_k / d_k)^2 the expected
 // Eq. 7 of the true parameters under measurement noise (fit/error.hpp, noise_threshold()). sigma
-// comes from the impact's sigma_vout, else from FitOptions::sigma. For each parameter the
+// comes from the impact's sigma_vout, else from FitOptions::sigma; with contact terms, Delta
+// also counts (sigma_h / d_h)^2 + (sigma_T / d_T)^2 (FitOptions::sigma_penetration_m,
+// sigma_contact_duration_s; contact_noise_threshold()). For each parameter the
 // interval [lo, hi] of its values over that set is found by a profile walk: step away from the
 // optimum, re-optimise all other parameters (BOBYQA, warm start, stop as soon as the threshold is
 // met), double the step while inside, then bisect to the resolution. Only verified near-optimal
@@ -51,6 +67,31 @@
 #include "impact/impact_set.hpp"
 
 namespace ricochet::fit {
+
+/// Whether `error` has a contact term (ErrorOptions::penetration or contact_duration).
+bool uses_contact_terms(const ErrorOptions& error);
+
+/// `error` with each contact term switched on when every release of `set` carries its feature
+/// (penetration, contact_duration), off otherwise (empty set: off), and each term switched on
+/// given its one denominator for the set (fit/error.hpp, ErrorOptions::penetration_scale_m,
+/// contact_duration_scale_s): the set's mean measured value, at least the term's floor. A
+/// scale already set (> 0) is kept: it was decided on the set the caller chose (a per-release
+/// fit of one release of a set keeps the set's scale; a fold's options are resolved on its
+/// training releases before they get here). The rule by which the diagnosis and `ricochet
+/// calibrate` decide that, and how, a set's features enter the error.
+ErrorOptions with_contact_terms(const ErrorOptions& error, const ImpactSet& set);
+
+/// The model a fit with `error` calibrates: THE decision of which parameters are fitted (file
+/// comment). `model` itself when `error` compares rebound velocities only; otherwise `model`
+/// with every parameter an effect declares in Signature::contact_identified (the normal
+/// stiffness kn) flagged calibrated too. Idempotent. Every fit function applies it; callers
+/// that enumerate the calibrated parameters themselves (the diagnosis, the calibrate command's
+/// output) apply it to the model they hold, so that both see the same parameters.
+Model calibration_model(const Model& model, const ErrorOptions& error);
+
+/// Whether a parameter with calibration bounds [lower, upper] is searched in log(value):
+/// lower > 0 and upper >= 100 lower (file comment).
+bool log_scaled(double lower, double upper);
 
 /// Added to Eq. 7 when the engine reports no rebound (block still in contact at max_time_s or
 /// never touching): such parameter values cannot explain a measured rebound.
@@ -113,6 +154,12 @@ struct FitOptions {
   /// sigma_vout. Default: the differences between the two operators' means in paper Table 1
   /// (0.1 m/s, 0.1 m/s, 3.4 rad/s), the paper's own estimate of the pointing error.
   Vel3 sigma = {0.1, 0.1, 3.4};
+  /// Standard uncertainty of the maximum penetration [m] and of the contact duration [s] in
+  /// the near-optimal threshold when the error has those terms (noise_threshold): the lab-scale
+  /// estimates of diagnosis::NoiseSpec::lab() (pixel size 0.5 mm; one frame of the 400 frames/s
+  /// camera at each end, 1 ms).
+  double sigma_penetration_m = 0.5e-3;
+  double sigma_contact_duration_s = 1e-3;
   double threshold_scale = 1.0;  ///< multiplies Delta (e.g. 4 for "two sigma")
   /// Interval resolution, as a fraction of each parameter's bound range.
   double interval_resolution = 0.01;

@@ -7,6 +7,7 @@
 //                     --out set.csv [--truth truth.json] [--lab data/lab/cylinders.csv]
 //   independent_truth --family F --calibrate-shift [--design lab --n 40 --seed 1]
 //   independent_truth --family F --strength S --oracle [--family-size 45] [--design, --n, --seed]
+// --contact-features also writes penetration and contact duration (noise 0.5 mm, 1 ms).
 // --oracle prints the oracle's z and powers (truth_sim.hpp, "The oracle's ceiling") as one JSON
 // line, and writes the set only when --out is given.
 // The provenance defaults to the set's path with .truth.json instead of its extension.
@@ -31,6 +32,7 @@ int main(int argc, char** argv) {
   long long n = 40;
   std::uint64_t seed = 1;
   bool calibrate = false, no_refit = false, oracle = false, engine_numerics = false;
+  bool contact_features = false;
   long long family_size = static_cast<long long>(truth::kOracleFamilySize);
   lab = std::string(RICOCHET_SOURCE_DIR) + "/data/lab/cylinders.csv";
   app.add_option("--family", family,
@@ -52,6 +54,8 @@ int main(int argc, char** argv) {
                  "Provenance JSON (the truth; never given to diagnose); default: next to --out");
   app.add_option("--lab", lab, "Lab cylinders whose incident states the lab design resamples")
       ->capture_default_str();
+  app.add_flag("--contact-features", contact_features,
+               "Also write penetration and contact_duration (Gaussian noise 0.5 mm, 1 ms)");
   app.add_flag("--calibrate-shift", calibrate,
                "Print the strength whose mean V_out shift reaches the lab scale (for --design, "
                "--n, --seed) and exit");
@@ -109,6 +113,7 @@ int main(int argc, char** argv) {
   o.refit = !no_refit;
   if (engine_numerics) o.numerics = ricochet::truth::kEngineNumerics;
   o.oracle_family_size = static_cast<std::size_t>(family_size);
+  o.contact_features = contact_features;
   try {
     if (o.design == truth::Design::kLab) {
       for (const auto& im : read_impact_set(lab).impacts)

@@ -394,15 +394,23 @@ TruthSet make_set(const SetOptions& o) {
     std::array<double, 3> nin, nout;
     for (int k = 0; k < 3; ++k) nin[k] = rng.normal();
     for (int k = 0; k < 3; ++k) nout[k] = rng.normal();
+    std::array<double, 2> ncontact{};
+    if (o.contact_features)
+      for (double& x : ncontact) x = rng.normal();
     const Rebound r = collide(vin, g, o.numerics);
     Impact im;
     for (int k = 0; k < 3; ++k) {
       im.vin[k] = vin[k] + kNoiseIn[k] * nin[k];
       im.vout[k] = r.vout[k] + kNoiseOut[k] * nout[k];
     }
-    // A release the lab could not have recorded (no rebound, not falling, not rising) is drawn
-    // again; the count is in the provenance.
-    if (!r.ok || vin[1] >= 0 || im.vin[1] >= 0 || im.vout[1] <= 0) {
+    if (o.contact_features) {
+      im.penetration = r.peak_overlap + o.noise_penetration_m * ncontact[0];
+      im.contact_duration = r.duration + o.noise_contact_duration_s * ncontact[1];
+    }
+    // A release the lab could not have recorded (no rebound, not falling, not rising; a
+    // non-positive penetration or duration) is drawn again; the count is in the provenance.
+    if (!r.ok || vin[1] >= 0 || im.vin[1] >= 0 || im.vout[1] <= 0 ||
+        (o.contact_features && (*im.penetration <= 0 || *im.contact_duration <= 0))) {
       ++redrawn;
       continue;
     }
@@ -558,9 +566,17 @@ TruthSet make_set(const SetOptions& o) {
         {"muR", {kMuRLo, kMuRHi}},
         {"distribution", "uniform, drawn per release"}}},
       {"noise", {{"vin", kNoiseIn}, {"vout", kNoiseOut}, {"distribution", "Gaussian, 1 sd"}}},
-      {"observables", {"vin_x", "vin_y", "win", "vout_x", "vout_y", "wout"}},
+      {"observables",
+       o.contact_features
+           ? std::vector<std::string>{"vin_x", "vin_y", "win", "vout_x", "vout_y", "wout",
+                                      "penetration", "contact_duration"}
+           : std::vector<std::string>{"vin_x", "vin_y", "win", "vout_x", "vout_y", "wout"}},
       {"releases", releases}};
   if (!oracle.is_null()) out.truth["oracle"] = oracle;
+  if (o.contact_features) {
+    out.truth["noise"]["penetration_m"] = o.noise_penetration_m;
+    out.truth["noise"]["contact_duration_s"] = o.noise_contact_duration_s;
+  }
   return out;
 }
 

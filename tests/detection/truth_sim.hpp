@@ -53,6 +53,11 @@
 // the paper's Table 4 cylinder row (0.15 +- 0.06, 0.23 +- 0.11, 0.16 +- 0.04). Noise (Gaussian,
 // 1 sd): V_in (0.05 m/s, 0.05 m/s, 1.4 rad/s), V_out (0.05 m/s, 0.03 m/s, 2 rad/s). Observables:
 // velocities only, no uncertainty columns (like the lab): the diagnosis assumes its own noise.
+// With SetOptions::contact_features also the maximum overlap (`penetration`) and the contact
+// duration, each with Gaussian noise (default the lab-scale estimates of 0.5 mm and 1 ms,
+// diagnosis::NoiseSpec::lab()), as a resolved campaign or an instrumented lab would have them:
+// the sets of the stiffness identifiability study (docs/diagnosis.md, "Which stiffnesses the
+// contact features identify").
 // Randomness: one std::mt19937_64 per set with hand-written uniform (top 53 bits) and
 // Box-Muller normal draws, in a fixed order per release, so a set is bit-for-bit reproducible
 // from its seed (std:: distributions are not specified bit for bit across libraries).
@@ -208,6 +213,13 @@ struct SetOptions {
   bool refit = true;
   /// Size of the Bonferroni family for the oracle's family power (alpha / size).
   std::size_t oracle_family_size = kOracleFamilySize;
+  /// Also write `penetration` (Rebound::peak_overlap) and `contact_duration` (Rebound::duration)
+  /// with Gaussian noise of these standard deviations [m], [s]; their two normal draws come
+  /// after a release's velocity noise, so a set without them is unchanged bit for bit. A
+  /// release whose noisy penetration or duration is not positive is drawn again.
+  bool contact_features = false;
+  double noise_penetration_m = 0.5e-3;
+  double noise_contact_duration_s = 1e-3;
 };
 
 struct TruthSet {

@@ -10,9 +10,11 @@
 // forms, scatter and the generated laws competing, are in tests/detection/.
 //
 // Design of every set (docs/diagnosis.md, "Tests"): 40 cylinder releases, wide incident design,
-// lab measurement noise (paper Table 1 scale), base parameters en2 = 0.2, mu = 0.4, muR = 0.15
-// unless the case says otherwise, seed 11. The magnitudes are those of the detection study where
-// detection is reliable (not marginal), so that the tests check the method, not luck.
+// lab measurement noise (paper Table 1 scale; penetration 0.5 mm, contact duration 1 ms, or a
+// resolved run's 0.1 mm and 0.2 ms where the case says so: kn is calibrated on these features,
+// docs/diagnosis.md, "What a free kn does to detection"), base parameters en2 = 0.2, mu = 0.4,
+// muR = 0.15 unless the case says otherwise, seed 11. The magnitudes are those of the detection
+// study where detection is reliable (not marginal), so that the tests check the method, not luck.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -115,7 +117,13 @@ INSTANTIATE_TEST_SUITE_P(
         // kv = 0.5 s/m: at 0.25 the leak-free test gives t = 2.4 and a Holm-adjusted p of
         // 0.096 over the five catalog candidates (40 releases).
         HiddenCase{"rate_restitution", {"rate_restitution"}, {{"kv", 0.5}}},
-        HiddenCase{"inertial_drag", {"inertial_drag"}, {{"cd", 2000.0}}},
+        // Penetration and duration at a resolved run's precision (0.1 mm, 0.2 ms), not the lab's
+        // 0.5 mm and 1 ms: with kn calibrated on the contact features, a stiffer kn and a lower
+        // e_n^2 mimic the drag there (InertialDragAtLabNoiseIsAbsorbedByAFreeKn below).
+        HiddenCase{"inertial_drag",
+                   {"inertial_drag"},
+                   {{"cd", 2000.0}},
+                   NoiseSpec::parse("lab,penetration=1e-4,contact_duration=2e-4")},
         HiddenCase{"ploughing", {"ploughing"}, {{"cp", 6e8}}},
         // Friction only acts while the contact slides: with the lab's noise the recalibrated
         // mu absorbs most of a depth-hardening friction; at half the lab's noise and a_mu at
@@ -140,6 +148,34 @@ TEST(HiddenEffect, NoHiddenEffectNoFalseAlarm) {
   EXPECT_NE(d.summary.find("no candidate of"), std::string::npos) << d.summary;
 }
 
+// The honest limit of the contact features at the lab's noise (0.5 mm, 1 ms) once kn is
+// calibrated on them (docs/diagnosis.md, "Which stiffnesses the contact features identify"). The
+// drag fn = cd vn^2 (cd = 2000 kg/m) against a 13.9 kg cylinder: at max penetration the spring
+// holds only 81 % (1 m/s) to 45 % (5 m/s) of the incoming energy, and the penetration is that of
+// a drag-free spring of kn_eff = m v^2 / h^2 = 1.2e7 (1 m/s) to 2.2e7 N/m (5 m/s), h = 1.06 to
+// 3.96 mm (semi-implicit integration of m h'' = -kn h - cd h'^2, kn = 1e7 N/m). One constant kn
+// fitted over 1-5 m/s leaves an rms penetration misfit of 0.19 mm (at most 0.32 mm): below the
+// 0.5 mm noise, above the 0.1 mm of the case in EachFamily. So a stiffer kn (for the
+// penetration) with a lower e_n^2 (for the dissipated energy, keeping the unloading stiffness
+// kn e_n^2 and with it the duration) absorbs the drag: the base model is adequate, and what
+// remains is the drag's speed dependence, which 40 releases do not resolve (held-out drop t =
+// 2.5, Holm p 0.09; with kn fixed at the truth the base model was 3.4 times its floor).
+TEST(HiddenEffect, InertialDragAtLabNoiseIsAbsorbedByAFreeKn) {
+  const ImpactSet set = hidden_set({"drag_lab", {"inertial_drag"}, {{"cd", 2000.0}}});
+  const Model paper = Model::paper();
+  DiagnoseOptions o = options();
+  o.assess.release_fits = false;
+  const Baseline b = compare(paper, Shape::cylinder(), set, o);
+  ASSERT_EQ(b.base.calibrated,
+            (std::vector<std::string>{"kn", "en2", "mu", "muR"}));  // kn free: features used
+  EXPECT_TRUE(b.adequacy.adequate)
+      << "held-out " << b.base.heldout.error.mean << " vs floor " << b.floor.value.mean;
+  // The mechanism: kn stiffer than the truth's 1e7 N/m, e_n^2 below the truth's 0.2.
+  const std::vector<double>& p = b.base.population.params;
+  EXPECT_GT(p[paper.index("kn")], 1.4e7);
+  EXPECT_LT(p[paper.index("en2")], 0.15);
+}
+
 TEST(HiddenEffect, StiffnessIsInvisibleInVelocitiesAlone) {
   // The honest limit: without penetration and contact duration the same hidden stiffness law
   // leaves no trace the diagnosis can support.
@@ -160,21 +196,42 @@ TEST(HiddenEffect, StiffnessIsInvisibleInVelocitiesAlone) {
 // kv = 0.5 s/m: at 0.25 the second round's rate law had Holm-adjusted p = 0.10 under the
 // leak-free corrected test (it was found by the old paired test, which ignored the splits'
 // shared training releases).
+// Penetration and duration at a resolved run's precision (0.1 mm, 0.2 ms). At the lab's 0.5 mm
+// and 1 ms, with kn calibrated on them, round 1 added inertial_drag (supported, held-out error
+// 1.08 -> 0.69) and round 2 supported nothing: the speed-dependent restitution lengthens the
+// unloading at high speed (mean contact 13 ms against 6 ms for the paper's law), the base fit
+// softens kn to 6.3e6 N/m for the durations, and drag, which caps the penetration at high speed,
+// repairs the penetrations that the soft kn makes too deep (cold fit of paper + drag: kn =
+// 3.7e6 N/m, cd = 3150 kg/m). Drag's penetration differs from a constant kn's by 0.2 mm rms
+// (InertialDragAtLabNoiseIsAbsorbedByAFreeKn): hidden by 0.5 mm of noise, resolved by 0.1 mm,
+// where round 1 finds ploughing and round 2 the rate law. With kn fixed at the truth (before it
+// was calibrated) the lab noise sufficed.
 TEST(HiddenEffect, TwoHiddenEffectsFoundByTwoRoundsOfTheLadder) {
   const ImpactSet set =
-      hidden_set({"two", {"rate_restitution", "ploughing"}, {{"kv", 0.5}, {"cp", 6e8}}});
+      hidden_set({"two",
+                  {"rate_restitution", "ploughing"},
+                  {{"kv", 0.5}, {"cp", 6e8}},
+                  NoiseSpec::parse("lab,penetration=1e-4,contact_duration=2e-4")});
   DiagnoseOptions o = options();
   o.assess.release_fits = false;
   const Ladder l = auto_ladder(Model::paper(), Shape::cylinder(), set, 3, o);
-  ASSERT_GE(l.rungs.size(), 3u) << l.stop_reason;
+  std::string rounds;
+  for (std::size_t r = 0; r < l.rounds.size(); ++r)
+    rounds += "round " + std::to_string(r + 1) + ": " + ranking_text(l.rounds[r]) + "\n";
+  ASSERT_GE(l.rungs.size(), 3u) << l.stop_reason << "\n" << rounds;
   std::vector<std::string> found = {l.rungs[1].added, l.rungs[2].added};
   std::sort(found.begin(), found.end());
-  EXPECT_EQ(found, (std::vector<std::string>{"ploughing", "rate_restitution"}));
+  EXPECT_EQ(found, (std::vector<std::string>{"ploughing", "rate_restitution"})) << rounds;
   // The error falls at each rung and ends within the noise floor.
   EXPECT_LT(l.rungs[1].assessment.heldout.error.mean, l.rungs[0].assessment.heldout.error.mean);
   EXPECT_LT(l.rungs[2].assessment.heldout.error.mean, l.rungs[1].assessment.heldout.error.mean);
-  EXPECT_TRUE(l.rungs[2].adequacy.adequate);
   EXPECT_FALSE(l.rungs[0].adequacy.adequate);
+  // Within the floor: judged by the diagnosis of the two-effect model (the last round: a fresh
+  // multi-start fit, held-out 0.094 against its floor 0.079, threshold 0.117), not by the warm
+  // fit of the rung that added the rate law (kv = 0.30 s/m for 0.5; 0.113 against the base
+  // model's floor 0.071, threshold 0.106).
+  ASSERT_EQ(l.rounds.size(), 3u) << "a third effect was added: " << l.rungs.back().added;
+  EXPECT_EQ(l.rounds.back().verdict, "adequate") << rounds;
   EXPECT_EQ(l.rungs.size(), 3u) << "a third effect was added: " << l.rungs.back().added;
 }
 

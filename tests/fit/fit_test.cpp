@@ -72,6 +72,50 @@ TEST(Eq7, NoiseThresholdIsTheExpectedErrorOfTheTruth) {
   EXPECT_NEAR(noise_threshold(meas, sigma), std::pow(0.1 / 3, 2) + 0.04 + 0.01, 1e-12);
 }
 
+// The contact terms (fit/error.hpp): one constant denominator per feature for the whole set,
+// the set's mean measured value floored (with_contact_terms), so that a release's own noisy
+// reading does not weight it; 0 falls back to the per-release max(measured, floor).
+TEST(ContactTerms, OneConstantDenominatorPerFeatureForTheSet) {
+  ImpactSet set;
+  for (const auto& [h, t] : {std::pair{1.0e-3, 3.0e-3}, {3.0e-3, 5.0e-3}, {0.2e-3, 0.4e-3}}) {
+    Impact im;
+    im.penetration = h;
+    im.contact_duration = t;
+    set.impacts.push_back(im);
+  }
+  const ErrorOptions e = with_contact_terms(ErrorOptions{}, set);
+  ASSERT_TRUE(e.penetration && e.contact_duration);
+  EXPECT_NEAR(e.penetration_scale_m, 1.4e-3, 1e-15);       // mean of 1, 3, 0.2 mm
+  EXPECT_NEAR(e.contact_duration_scale_s, 2.8e-3, 1e-15);  // mean of 3, 5, 0.4 ms
+  // Every release divides by the same d, whatever its own reading: a miss of 0.7 mm costs 0.25
+  // on each of them (per release it cost 0.49, 0.054 and 1.96 for max(h, 0.5 mm)).
+  for (const Impact& im : set.impacts) {
+    const auto t = contact_error_terms(*im.penetration + 0.7e-3, *im.contact_duration, im, e);
+    EXPECT_NEAR(t[0], 0.25, 1e-12);
+    EXPECT_EQ(t[1], 0.0);
+    // The near-optimal threshold uses the same denominators: (0.5 mm / 1.4 mm)^2 + (1 / 2.8)^2.
+    EXPECT_NEAR(contact_noise_threshold(im, 0.5e-3, 1e-3, e),
+                std::pow(0.5 / 1.4, 2) + std::pow(1.0 / 2.8, 2), 1e-12);
+  }
+  ErrorOptions per_release = e;
+  per_release.penetration_scale_m = per_release.contact_duration_scale_s = 0;
+  const Impact& shallow = set.impacts[2];
+  EXPECT_NEAR(contact_error_terms(0.9e-3, 0.4e-3, shallow, per_release)[0], 1.96, 1e-12);
+  // A scale already decided is kept (a per-release fit keeps its set's denominators); the
+  // floors bound it below (a set of 0.2 mm readings: 0.5 mm).
+  ImpactSet one;
+  one.impacts = {shallow};
+  EXPECT_EQ(with_contact_terms(e, one).penetration_scale_m, e.penetration_scale_m);
+  EXPECT_EQ(with_contact_terms(ErrorOptions{}, one).penetration_scale_m, 0.5e-3);
+  // A set missing a feature on one release has no such term, and no scale.
+  ImpactSet partial = set;
+  partial.impacts[1].penetration.reset();
+  const ErrorOptions p = with_contact_terms(ErrorOptions{}, partial);
+  EXPECT_FALSE(p.penetration);
+  EXPECT_EQ(p.penetration_scale_m, 0.0);
+  EXPECT_TRUE(p.contact_duration);
+}
+
 TEST(CalibrateRelease, RecoversSlidingCylinderExactly) {
   // Small friction: the contact slides throughout, so mu, muR and en2 all act on V_out.
   const Model model = Model::paper();
