@@ -111,6 +111,39 @@ void write_h5(const std::string& path, const dem::UpscaleResult& r, const Model&
   }
 }
 
+// Mean and sample standard deviation of the resolved and the lab values, their difference in
+// lab standard deviations and the two-sample KS test.
+nlohmann::json gap_json(const std::vector<double>& dem_v, const std::vector<double>& lab_v) {
+  auto mean_sd = [](const std::vector<double>& v) {
+    double m = 0, s = 0;
+    for (double x : v) m += x;
+    m /= static_cast<double>(v.size());
+    for (double x : v) s += (x - m) * (x - m);
+    return std::array<double, 2>{
+        m, v.size() > 1 ? std::sqrt(s / static_cast<double>(v.size() - 1)) : NAN};
+  };
+  const auto a = mean_sd(dem_v), b = mean_sd(lab_v);
+  const auto ks = stats::ks_two_sample(dem_v, lab_v);
+  return {{"dem_mean", a[0]},
+          {"dem_std", a[1]},
+          {"lab_mean", b[0]},
+          {"lab_std", b[1]},
+          {"difference", a[0] - b[0]},
+          {"difference_in_lab_std", (a[0] - b[0]) / b[1]},
+          {"ks_statistic", ks.statistic},
+          {"ks_p_value", ks.p_value}};
+}
+
+void print_gap(const std::string& name, const nlohmann::json& v) {
+  std::cout << fmt::format(
+      "  {}: resolved {:.3f} +- {:.3f}, lab {:.3f} +- {:.3f}, gap {:+.3f} ({:+.1f} lab std), "
+      "KS D = {:.2f}, p = {:.2g}\n",
+      name, v["dem_mean"].get<double>(), v["dem_std"].get<double>(), v["lab_mean"].get<double>(),
+      v["lab_std"].get<double>(), v["difference"].get<double>(),
+      v["difference_in_lab_std"].get<double>(), v["ks_statistic"].get<double>(),
+      v["ks_p_value"].get<double>());
+}
+
 void run(const UpscaleCliOptions& o) {
   if (!o.output.out.empty()) require_extension("--out", o.output.out, {".h5", ".hdf5"});
   const auto decks = dem::Decks::locate(o.decks);
@@ -125,44 +158,33 @@ void run(const UpscaleCliOptions& o) {
   u.fit.starts = o.starts;
   u.fit.threads = o.threads;
   u.fit.intervals = !o.no_intervals;
-  const dem::UpscaleResult r = dem::upscale(o.campaign, decks, model, shape, u);
-
   std::unique_ptr<ImpactSet> lab;
   if (!o.lab.empty())
     lab = std::make_unique<ImpactSet>(fit::select_shape(read_impact_set(o.lab), shape));
+  u.lab = lab.get();
+  const dem::UpscaleResult r = dem::upscale(o.campaign, decks, model, shape, u);
+
   std::vector<std::string> figures;
-  if (!o.figures.empty()) figures = dem::write_upscale_figures(r, o.figures, lab.get());
+  if (!o.figures.empty()) figures = dem::write_upscale_figures(r, o.figures);
   if (!o.output.out.empty()) write_h5(o.output.out, r, model, shape, u.fit);
 
   nlohmann::json j = result_json(r);
   j["figures"] = figures;
   if (lab) {
-    // The gap to the lab, in numbers: mean and standard deviation of V_out on both sides.
+    // The gap to the lab, in numbers: V_out, then each parameter calibrated on both sides.
     nlohmann::json gap;
-    const char* names[3] = {"vout_x", "vout_y", "wout"};
-    for (int c = 0; c < 3; ++c) {
-      const auto dem_v = r.set.feature(names[c]);
-      const auto lab_v = lab->feature(names[c]);
-      auto mean_sd = [](const std::vector<double>& v) {
-        double m = 0, s = 0;
-        for (double x : v) m += x;
-        m /= static_cast<double>(v.size());
-        for (double x : v) s += (x - m) * (x - m);
-        return std::array<double, 2>{
-            m, v.size() > 1 ? std::sqrt(s / static_cast<double>(v.size() - 1)) : NAN};
-      };
-      const auto a = mean_sd(dem_v), b = mean_sd(lab_v);
-      const auto ks = stats::ks_two_sample(dem_v, lab_v);
-      gap[names[c]] = {{"dem_mean", a[0]},
-                       {"dem_std", a[1]},
-                       {"lab_mean", b[0]},
-                       {"lab_std", b[1]},
-                       {"difference", a[0] - b[0]},
-                       {"difference_in_lab_std", (a[0] - b[0]) / b[1]},
-                       {"ks_statistic", ks.statistic},
-                       {"ks_p_value", ks.p_value}};
-    }
+    for (const char* name : {"vout_x", "vout_y", "wout"})
+      gap[name] = gap_json(r.set.feature(name), lab->feature(name));
     j["gap_to_lab"] = gap;
+    nlohmann::json params;
+    if (!r.impacts.empty())
+      for (std::size_t c : r.impacts.front().fit.calibrated) {
+        std::vector<double> dem_v, lab_v;
+        for (const auto& im : r.impacts) dem_v.push_back(im.fit.params[c]);
+        for (const auto& f : r.lab_fits) lab_v.push_back(f.params[c]);
+        params[r.impacts.front().fit.names[c]] = gap_json(dem_v, lab_v);
+      }
+    j["parameters_vs_lab"] = params;
   }
   if (o.output.json) {
     print_json(j);
@@ -195,15 +217,12 @@ void run(const UpscaleCliOptions& o) {
       std::cout << fmt::format(" {} = {:.3f}", u2.fit.names[c], u2.fit.params[c]);
     std::cout << fmt::format("  (Eq. 7 = {:.2g})\n", u2.fit.error);
   }
-  if (j.contains("gap_to_lab"))
-    for (const auto& [k, v] : j["gap_to_lab"].items())
-      std::cout << fmt::format(
-          "  {}: resolved {:.3f} +- {:.3f}, lab {:.3f} +- {:.3f}, gap {:+.3f} ({:+.1f} lab std), "
-          "KS D = {:.2f}, p = {:.2g}\n",
-          k, v["dem_mean"].get<double>(), v["dem_std"].get<double>(), v["lab_mean"].get<double>(),
-          v["lab_std"].get<double>(), v["difference"].get<double>(),
-          v["difference_in_lab_std"].get<double>(), v["ks_statistic"].get<double>(),
-          v["ks_p_value"].get<double>());
+  if (j.contains("gap_to_lab")) {
+    for (const auto& [k, v] : j["gap_to_lab"].items()) print_gap(k, v);
+    std::cout << "  equivalent parameters, resolved per impact against lab per release (one "
+                 "engine):\n";
+    for (const auto& [k, v] : j["parameters_vs_lab"].items()) print_gap(k, v);
+  }
   for (const auto& f : figures) std::cout << "  figure: " << f << "\n";
 }
 

@@ -138,6 +138,10 @@ UpscaleResult upscale(const std::string& campaign_h5, const Decks& decks, const 
     g.population = fit::calibrate_population(model, shape, sub, options.fit);
   }
   if (r.groups.size() > 1) r.campaign = fit::calibrate_population(model, shape, r.set, options.fit);
+  if (options.lab && !options.lab->impacts.empty()) {
+    r.lab = *options.lab;
+    r.lab_fits = fit::calibrate_releases(model, shape, r.lab, options.fit);
+  }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;
 }
@@ -152,8 +156,7 @@ double number_or_nan(const std::string& s) {
 
 }  // namespace
 
-std::vector<std::string> write_upscale_figures(const UpscaleResult& r, const std::string& dir,
-                                               const ImpactSet* lab) {
+std::vector<std::string> write_upscale_figures(const UpscaleResult& r, const std::string& dir) {
   std::vector<std::string> written;
   fs::create_directories(dir);
   if (r.impacts.empty()) return written;
@@ -242,21 +245,38 @@ std::vector<std::string> write_upscale_figures(const UpscaleResult& r, const std
     written.push_back(path);
   }
 
-  // The gap to the lab: ECDFs of V_out.
-  if (lab) {
+  // The gap to the lab: ECDFs of V_out, then of the parameters calibrated on both sides.
+  if (!r.lab.impacts.empty()) {
     report::Figure fig;
     fig.title = "Reflected velocities: resolved impacts vs lab (" + r.shape + ")";
     const char* labels[3] = {"V_out^x [m/s]", "V_out^y [m/s]", "omega_out [rad/s]"};
     for (int c = 0; c < 3; ++c) {
       std::vector<double> dem, measured;
       for (const auto& im : r.set.impacts) dem.push_back(im.vout[c]);
-      for (const auto& im : lab->impacts) measured.push_back(im.vout[c]);
+      for (const auto& im : r.lab.impacts) measured.push_back(im.vout[c]);
       fig.panels.push_back(
           report::ecdf_panel(labels[c], labels[c],
                              {{"LIGGGHTS (" + std::to_string(dem.size()) + ")", dem},
                               {"lab (" + std::to_string(measured.size()) + ")", measured}}));
     }
     const std::string path = (fs::path(dir) / "upscale_vs_lab.svg").string();
+    report::render_svg(fig, path);
+    written.push_back(path);
+  }
+  if (!r.lab_fits.empty()) {
+    report::Figure fig;
+    fig.title = "Equivalent contact parameters: resolved impacts vs lab releases, one engine (" +
+                r.shape + ")";
+    for (std::size_t c : calibrated) {
+      std::vector<double> dem, measured;
+      for (const auto& u : r.impacts) dem.push_back(u.fit.params[c]);
+      for (const auto& f : r.lab_fits) measured.push_back(f.params[c]);
+      fig.panels.push_back(report::ecdf_panel(
+          names[c], names[c],
+          {{"LIGGGHTS, per impact (" + std::to_string(dem.size()) + ")", dem},
+           {"lab, per release (" + std::to_string(measured.size()) + ")", measured}}));
+    }
+    const std::string path = (fs::path(dir) / "upscale_parameters_vs_lab.svg").string();
     report::render_svg(fig, path);
     written.push_back(path);
   }

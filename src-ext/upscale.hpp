@@ -25,6 +25,12 @@ struct UpscaleOptions {
   /// excluded: replicas belong to one group).
   std::vector<std::string> by;
   std::string where;  ///< impact-set filter applied to the campaign's /impacts first
+  /// Measured releases to compare with (already of the campaign's shape), or none. They are
+  /// calibrated per release with the same model, shape and fit options (paper Eq. 7; their own
+  /// noise is fit.sigma, the lab's operator scale, unless a release carries its own), so that the
+  /// resolved and the measured equivalent parameters come from one engine: the paper's Table 4
+  /// was fitted by another implementation and is not a like-for-like reference.
+  const ImpactSet* lab = nullptr;
 };
 
 /// One resolved impact with its grain-scale parameters and its calibration.
@@ -57,6 +63,8 @@ struct UpscaleResult {
   /// (no replicates: the lab's operator scale, fit::FitOptions::sigma).
   Vel3 noise_sigma{};
   std::string noise_source;
+  ImpactSet lab;                          ///< UpscaleOptions::lab (empty when none)
+  std::vector<fit::ReleaseFit> lab_fits;  ///< its per-release calibrations, in its order
   double seconds = 0;
 };
 
@@ -78,10 +86,11 @@ std::map<std::string, std::map<std::string, std::string>> campaign_grain_paramet
 ///   upscale_abacus_<P>.svg  for each numeric grouping parameter P: each fitted parameter of
 ///                           the group fits (with its near-optimal interval) and of the
 ///                           impacts, against P;
-///   upscale_vs_lab.svg      when `lab` is given: ECDFs of V_out of the resolved impacts and of
-///                           the lab releases (paper Figs. 9-10 style).
+///   upscale_vs_lab.svg      with lab releases: ECDFs of V_out of the resolved impacts and of
+///                           the lab releases (paper Figs. 9-10 style);
+///   upscale_parameters_vs_lab.svg  with lab releases: ECDFs of each calibrated parameter, per
+///                           resolved impact and per lab release (one engine for both).
 /// Returns the files written.
-std::vector<std::string> write_upscale_figures(const UpscaleResult& result, const std::string& dir,
-                                               const ImpactSet* lab = nullptr);
+std::vector<std::string> write_upscale_figures(const UpscaleResult& result, const std::string& dir);
 
 }  // namespace ricochet::dem
