@@ -301,6 +301,29 @@ TEST(Design, ShippedCampaignDesigns) {
     EXPECT_EQ(beds, std::set<std::string>{bed_key(decks(), bed_overrides(cal.impacts[0]))}) << name;
     EXPECT_EQ(d.impacts[0].params.block, cal.impacts[0].params.block) << name;
   }
+  // The second calibration: two designs on the 1.0 m slab, the real check of its optimum and the
+  // blind triangles on that bed, which differ from the first blind run by the bed only.
+  EXPECT_EQ(
+      read_campaign_design((dir / "bed-calibration-long.toml").string(), decks()).impacts.size(),
+      60u);  // 30 sampled grain sets x 2 positions
+  EXPECT_EQ(
+      read_campaign_design((dir / "bed-calibration-refine.toml").string(), decks()).impacts.size(),
+      48u);  // 24 x 2
+  EXPECT_EQ(
+      read_campaign_design((dir / "bed-probe-stiffness.toml").string(), decks()).impacts.size(),
+      24u);  // 3 stiffnesses x 2 restitutions x 2 frictions x 2 positions
+  const auto cal2 =
+      read_campaign_design((dir / "lab-cylinders-calibrated-long.toml").string(), decks());
+  const auto tri2 = read_campaign_design((dir / "lab-triangles-blind-long.toml").string(), decks());
+  EXPECT_EQ(cal2.impacts.size(), 28u);
+  ASSERT_EQ(tri2.impacts.size(), 31u);
+  EXPECT_EQ(bed_key(decks(), bed_overrides(tri2.impacts[0])),
+            bed_key(decks(), bed_overrides(cal2.impacts[0])));
+  EXPECT_EQ(tri2.impacts[0].params.block, cal2.impacts[0].params.block);
+  for (std::size_t k = 0; k < tri.impacts.size(); ++k) {
+    EXPECT_EQ(tri2.impacts[k].id, tri.impacts[k].id);
+    EXPECT_EQ(tri2.impacts[k].alpha_in_rad, tri.impacts[k].alpha_in_rad) << tri.impacts[k].id;
+  }
 }
 
 void expect_error(const std::string& text, std::size_t line, const std::string& field) {
