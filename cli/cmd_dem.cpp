@@ -18,12 +18,12 @@
 #include "block_template.hpp"
 #include "campaign.hpp"
 #include "cli_common.hpp"
-#include "mpi_session.hpp"
 #include "common/error.hpp"
 #include "common/progress.hpp"
 #include "engine/shape.hpp"
 #include "impact/impact_set.hpp"
 #include "impact_run.hpp"
+#include "mpi_session.hpp"
 #include "params.hpp"
 
 namespace ricochet::cli {
@@ -158,8 +158,7 @@ struct BedOptions {
   bool dry_run = false;
 };
 
-void run_bed(const BedOptions& o) {
-  MpiSession mpi;
+void run_bed_on_rank(const BedOptions& o, const MpiSession& mpi) {
   const auto decks = dem::Decks::locate(o.common.decks);
   dem::Overrides ov;
   for (const auto& s : o.common.sets) dem::apply_set_option(decks, s, ov);
@@ -193,6 +192,11 @@ void run_bed(const BedOptions& o) {
                              bed.settled ? "" : " -- NOT SETTLED");
 }
 
+void run_bed(const BedOptions& o) {
+  MpiSession mpi;
+  mpi.run([&] { run_bed_on_rank(o, mpi); });
+}
+
 // ------------------------------------------------------------------ impact
 
 struct ImpactOptions {
@@ -208,8 +212,7 @@ struct ImpactOptions {
   std::string window;
 };
 
-void run_impact_command(const ImpactOptions& o) {
-  MpiSession mpi;
+void run_impact_command_on_rank(const ImpactOptions& o, const MpiSession& mpi) {
   const auto decks = dem::Decks::locate(o.common.decks);
   dem::ImpactSpec spec;
   spec.id = o.id;
@@ -299,6 +302,11 @@ void run_impact_command(const ImpactOptions& o) {
   }
 }
 
+void run_impact_command(const ImpactOptions& o) {
+  MpiSession mpi;
+  mpi.run([&] { run_impact_command_on_rank(o, mpi); });
+}
+
 // ------------------------------------------------------------------ campaign
 
 struct CampaignOptions {
@@ -308,8 +316,7 @@ struct CampaignOptions {
   OutputOptions output;
 };
 
-void run_campaign_command(const CampaignOptions& o) {
-  MpiSession mpi;
+void run_campaign_command_on_rank(const CampaignOptions& o, const MpiSession& mpi) {
   const auto decks = dem::Decks::locate(o.decks);
   const auto design = dem::read_campaign_design(o.design, decks);
   if (o.output.out.empty())
@@ -354,6 +361,11 @@ void run_campaign_command(const CampaignOptions& o) {
     for (const auto& [status, n] : counts) std::cout << fmt::format("  {:>18}: {}\n", status, n);
     std::cout << "results: " << co.out << " (/impacts, /dem/index, /dem/tracks)\n";
   }
+}
+
+void run_campaign_command(const CampaignOptions& o) {
+  MpiSession mpi;
+  mpi.run([&] { run_campaign_command_on_rank(o, mpi); });
 }
 
 }  // namespace

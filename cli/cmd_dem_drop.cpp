@@ -76,8 +76,7 @@ json kd_json(const dem::KatsuragiDurianFit& f) {
           {"variance_inflation", f.variance_inflation}};
 }
 
-void run_drop_command(const DropOptions& o) {
-  MpiSession mpi;
+void run_drop_command_on_rank(const DropOptions& o, const MpiSession& mpi) {
   const auto decks = dem::Decks::locate(o.decks);
   // --set: bed.* and block.* are checked like every dem command's; drop.* and repose.* against
   // the index variables of drop/setup.in and repose/in.repose (positive numbers).
@@ -387,6 +386,11 @@ void run_drop_command(const DropOptions& o) {
         x.value("id", ""), x.value("status", ""), getd(x, "h_drop_m"), getd(x, "depth_final_m"),
         getd(x, "d_uehara_m"), getd(x, "H_total_m"));
   std::cout << text;
+}
+
+void run_drop_command(const DropOptions& o) {
+  MpiSession mpi;
+  mpi.run([&] { run_drop_command_on_rank(o, mpi); });
 }
 
 }  // namespace

@@ -83,6 +83,24 @@ TEST(DemEndToEnd, SameImpactOnTwoMpiRanks) {
   }
 }
 
+// An error on the ranks of an MPI job ends the job with the CLI's status and a message naming the
+// rank, instead of leaving ranks waiting in MPI_Finalize or a barrier (a campaign hung that way
+// for 15 minutes when one rank failed). `timeout` turns a hang into status 124.
+TEST(DemCampaign, AnErrorUnderMpirunEndsTheJobWithItsStatus) {
+  const auto dir = temp_dir("mpi-error");
+  const auto design = (dir / "bad.toml").string();
+  std::ofstream(design) << "[design]\nincident = [[2.9, -2.3]]\n";
+  const auto [rc, out] =
+      shell("timeout 120 " + mpirun(2) + RICOCHET_BIN + " dem campaign " + design + " --decks " +
+            RICOCHET_SOURCE_DIR + "/liggghts-inputs --out " + (dir / "x.h5").string() + " 2>&1");
+  EXPECT_EQ(rc, 2) << out;
+  EXPECT_NE(
+      out.find("ricochet: error (MPI rank 1 of 2): " + design + ":2: field 'design.incident[0]'"),
+      std::string::npos)
+      << out;
+  EXPECT_FALSE(fs::exists(dir / "x.h5"));
+}
+
 TEST(DemCampaign, KilledCampaignResumesWithoutLosingFinishedImpacts) {
   const fs::path work = temp_dir("resume");
   const std::string design = (work / "design.toml").string();
