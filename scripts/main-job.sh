@@ -42,13 +42,14 @@ echo "== Upscaling: the reduced engine's e_n^2, mu, mu_R fitted to the resolved 
 "$R" upscale "$OUT/dem/main-job.h5" --lab "$CYL" --figures "$OUT/figures/upscale" \
   --out "$OUT/upscale-main-job.h5"
 echo "== The calibrated resolved bed against the lab (shipped campaigns, data/resolved; issue 11)"
-# Hours of LIGGGHTS, shipped as data: the grain calibration's surrogate and the real campaigns at
-# the lab's cylinder states and (blind) triangle states, each read here in seconds.
-"$R" calibrate-grains "$ROOT/data/resolved/bed-calibration.h5" --lab "$CYL" \
+# Hours of LIGGGHTS, shipped as data: the second grain calibration's surrogate (refined box, 1.0 m
+# slab) and the real campaigns on its optimum at the lab's cylinder states and (blind) triangle
+# states, each read here in seconds (the first calibration's files are beside them).
+"$R" calibrate-grains "$ROOT/data/resolved/bed-calibration-refine.h5" --lab "$CYL" \
   --figures "$OUT/figures/calibrate-grains"
-"$R" upscale "$ROOT/data/resolved/lab-cylinders.h5" --lab "$CYL" \
+"$R" upscale "$ROOT/data/resolved/lab-cylinders-long.h5" --lab "$CYL" \
   --figures "$OUT/figures/resolved-lab-cylinders"
-"$R" upscale "$ROOT/data/resolved/lab-triangles-blind.h5" --shape triangle --lab "$TRI" \
+"$R" upscale "$ROOT/data/resolved/lab-triangles-blind-long.h5" --shape triangle --lab "$TRI" \
   --figures "$OUT/figures/resolved-lab-triangles-blind"
 echo "== Compare, diagnose, model ladder and the HTML validation report (issue 6, docs/diagnosis.md)"
 # The resolved campaigns join the lab data: the diagnosis works on any impact set, so the
@@ -57,7 +58,7 @@ echo "== Compare, diagnose, model ladder and the HTML validation report (issue 6
 REPORT_DATA=("$CYL"); REPORT_LABELS=(--label "lab cylinders")
 if [ $QUICK -eq 0 ]; then REPORT_DATA+=("$TRI"); REPORT_LABELS+=(--label "lab triangles"); fi
 REPORT_DATA+=("$OUT/dem/main-job.h5"); REPORT_LABELS+=(--label "LIGGGHTS campaign (small bed)")
-REPORT_DATA+=("$ROOT/data/resolved/lab-cylinders.h5")
+REPORT_DATA+=("$ROOT/data/resolved/lab-cylinders-long.h5")
 REPORT_LABELS+=(--label "LIGGGHTS, calibrated bed, lab cylinder states")
 if [ $QUICK -eq 0 ]; then
   for c in "$OUT"/resolved/speeds.h5 "$OUT"/resolved/lab-cylinders.h5; do

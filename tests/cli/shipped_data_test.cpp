@@ -34,10 +34,11 @@ TEST_F(ShippedData, StatsReadsEveryResolvedCampaign) {
     for (const char* c : {"vout_x", "vout_y", "wout"})
       EXPECT_TRUE(std::isfinite(j["columns"][c]["mean"].get<double>())) << entry.path() << " " << c;
   }
-  // bed-calibration, bed-calibration-long, bed-calibration-refine, bed-probe-stiffness,
-  // convergence, lab-cylinders, lab-cylinders-long, lab-cylinders-replicas, lab-triangles-blind,
-  // lab-triangles-blind-long, speeds
-  EXPECT_GE(files, 11);
+  // bed-calibration, bed-calibration-long, bed-calibration-refine, bed-probe-rolling,
+  // bed-probe-stiffness, convergence, lab-cylinders, lab-cylinders-long,
+  // lab-cylinders-long-replicas, lab-cylinders-replicas, lab-triangles-blind,
+  // lab-triangles-blind-long, speeds, speeds-long
+  EXPECT_GE(files, 14);
 }
 
 }  // namespace

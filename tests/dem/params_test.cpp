@@ -320,6 +320,19 @@ TEST(Design, ShippedCampaignDesigns) {
   EXPECT_EQ(bed_key(decks(), bed_overrides(tri2.impacts[0])),
             bed_key(decks(), bed_overrides(cal2.impacts[0])));
   EXPECT_EQ(tri2.impacts[0].params.block, cal2.impacts[0].params.block);
+  EXPECT_EQ(read_campaign_design((dir / "bed-probe-rolling.toml").string(), decks()).impacts.size(),
+            8u);  // 4 grain-block rolling frictions x 2 positions
+  // The loop's sets on the second bed: that bed only, three positions.
+  for (const auto& [name, n] : {std::pair{"speeds-calibrated-long.toml", 27u},
+                                std::pair{"lab-cylinders-calibrated-long-replicas.toml", 84u}}) {
+    const auto d = read_campaign_design((dir / name).string(), decks());
+    EXPECT_EQ(d.impacts.size(), n) << name;
+    std::set<std::string> beds;
+    for (const auto& s : d.impacts) beds.insert(bed_key(decks(), bed_overrides(s)));
+    EXPECT_EQ(beds, std::set<std::string>{bed_key(decks(), bed_overrides(cal2.impacts[0]))})
+        << name;
+    EXPECT_EQ(d.impacts[0].params.block, cal2.impacts[0].params.block) << name;
+  }
   for (std::size_t k = 0; k < tri.impacts.size(); ++k) {
     EXPECT_EQ(tri2.impacts[k].id, tri.impacts[k].id);
     EXPECT_EQ(tri2.impacts[k].alpha_in_rad, tri.impacts[k].alpha_in_rad) << tri.impacts[k].id;
