@@ -291,16 +291,18 @@ TEST(Design, ShippedCampaignDesigns) {
   std::set<std::string> conv_beds;
   for (const auto& s : conv.impacts) conv_beds.insert(bed_key(decks(), bed_overrides(s)));
   EXPECT_EQ(conv_beds.size(), 27u);
-  // The loop's sets (issue 11 item 5): the calibrated bed, three positions on one bed.
-  for (const auto& [name, n] : {std::pair{"speeds-calibrated.toml", 27u},
-                                std::pair{"lab-cylinders-calibrated-replicas.toml", 84u}}) {
+  // The loop's sets (issue 11 item 5): N impacts, all on the bed and block of `calibrated`.
+  auto expect_loop_set = [&](const char* name, std::size_t n, const CampaignDesign& calibrated) {
     const auto d = read_campaign_design((dir / name).string(), decks());
     EXPECT_EQ(d.impacts.size(), n) << name;
     std::set<std::string> beds;
     for (const auto& s : d.impacts) beds.insert(bed_key(decks(), bed_overrides(s)));
-    EXPECT_EQ(beds, std::set<std::string>{bed_key(decks(), bed_overrides(cal.impacts[0]))}) << name;
-    EXPECT_EQ(d.impacts[0].params.block, cal.impacts[0].params.block) << name;
-  }
+    EXPECT_EQ(beds, std::set<std::string>{bed_key(decks(), bed_overrides(calibrated.impacts[0]))})
+        << name;
+    EXPECT_EQ(d.impacts[0].params.block, calibrated.impacts[0].params.block) << name;
+  };
+  expect_loop_set("speeds-calibrated.toml", 27, cal);
+  expect_loop_set("lab-cylinders-calibrated-replicas.toml", 84, cal);
   // The second calibration: two designs on the 1.0 m slab, the real check of its optimum and the
   // blind triangles on that bed, which differ from the first blind run by the bed only.
   EXPECT_EQ(
@@ -322,17 +324,9 @@ TEST(Design, ShippedCampaignDesigns) {
   EXPECT_EQ(tri2.impacts[0].params.block, cal2.impacts[0].params.block);
   EXPECT_EQ(read_campaign_design((dir / "bed-probe-rolling.toml").string(), decks()).impacts.size(),
             8u);  // 4 grain-block rolling frictions x 2 positions
-  // The loop's sets on the second bed: that bed only, three positions.
-  for (const auto& [name, n] : {std::pair{"speeds-calibrated-long.toml", 27u},
-                                std::pair{"lab-cylinders-calibrated-long-replicas.toml", 84u}}) {
-    const auto d = read_campaign_design((dir / name).string(), decks());
-    EXPECT_EQ(d.impacts.size(), n) << name;
-    std::set<std::string> beds;
-    for (const auto& s : d.impacts) beds.insert(bed_key(decks(), bed_overrides(s)));
-    EXPECT_EQ(beds, std::set<std::string>{bed_key(decks(), bed_overrides(cal2.impacts[0]))})
-        << name;
-    EXPECT_EQ(d.impacts[0].params.block, cal2.impacts[0].params.block) << name;
-  }
+  // The loop's sets on the second bed.
+  expect_loop_set("speeds-calibrated-long.toml", 27, cal2);
+  expect_loop_set("lab-cylinders-calibrated-long-replicas.toml", 84, cal2);
   for (std::size_t k = 0; k < tri.impacts.size(); ++k) {
     EXPECT_EQ(tri2.impacts[k].id, tri.impacts[k].id);
     EXPECT_EQ(tri2.impacts[k].alpha_in_rad, tri.impacts[k].alpha_in_rad) << tri.impacts[k].id;
