@@ -8,6 +8,7 @@
 #include "diagnosis/signature.hpp"
 
 namespace ricochet::diagnosis {
+using detail::left_neutral;
 using detail::registry_of;
 
 Ladder ladder(const Model& model, const Shape& shape, const ImpactSet& set,
@@ -86,8 +87,19 @@ Ladder auto_ladder(const Model& model, const Shape& shape, const ImpactSet& set,
     }
     const Candidate& best = d.ranking.front();
     const EffectRegistry& registry = registry_of(o);
-    for (const auto& e : best.effects) current = current.with_effect(e, true, registry);
-    current = with_values(current, best.assessment.population.params);
+    Model next = current;
+    for (const auto& e : best.effects) next = next.with_effect(e, true, registry);
+    // A supported candidate whose own parameters the fit left at neutral adds nothing: the
+    // held-out error it "gained" came from refitting the other parameters (seen on a resolved
+    // campaign, where they went into the corners of their box; docs/diagnosis.md).
+    if (left_neutral(next, best.assessment.population.params, best.effects, registry)) {
+      l.stop_reason = fmt::format(
+          "the best supported candidate, {}, was left at its neutral value by the fit: it adds "
+          "nothing (the error fell through the other parameters), so it is not added",
+          best.effect);
+      break;
+    }
+    current = with_values(next, best.assessment.population.params);
     Rung rung;
     rung.added = best.effect;
     rung.law = best.law;

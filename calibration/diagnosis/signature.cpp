@@ -149,6 +149,18 @@ std::string law_of(const Model& model, std::span<const double> values,
   return out;
 }
 
+bool left_neutral(const Model& model, std::span<const double> values,
+                  const std::vector<std::string>& effects, const EffectRegistry& registry) {
+  bool any = false;
+  for (const auto& name : effects)
+    for (const auto& p : registry.get(name).parameters()) {
+      if (std::isnan(p.neutral)) continue;
+      any = true;
+      if (values[model.index(p.name)] != p.neutral) return false;
+    }
+  return any;
+}
+
 std::string meaning_of(const Effect& effect) {
   const Signature s = effect.signature();
   return s.meaning.empty() ? std::string(effect.summary()) : std::string(s.meaning);

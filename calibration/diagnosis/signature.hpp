@@ -64,6 +64,12 @@ const EffectRegistry& registry_of(const DiagnoseOptions& o);
 std::string law_of(const Model& model, std::span<const double> values,
                    const std::vector<std::string>& effects, const EffectRegistry& registry);
 
+/// True when every parameter of the named effects that has a neutral value sits exactly at it in
+/// `values` (the full parameter vector of `model`): the fit did not use the effects, whatever the
+/// error did. False when any parameter moved, or when none of them declares a neutral value.
+bool left_neutral(const Model& model, std::span<const double> values,
+                  const std::vector<std::string>& effects, const EffectRegistry& registry);
+
 /// What the effect stands for: its declared meaning, else its summary.
 std::string meaning_of(const Effect& effect);
 

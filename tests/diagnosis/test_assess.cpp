@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "diagnosis/assess.hpp"
+#include "diagnosis/signature.hpp"
 #include "diagnosis/synth.hpp"
 #include "diagnosis/trends.hpp"
 #include "report/html.hpp"
@@ -273,10 +274,9 @@ TEST(Assess, CrossValidationDesignIsAPartitionPerRepeat) {
 TEST(Signatures, EveryRegisteredEffectDeclaresOne) {
   const Model paper = Model::paper();
   const std::vector<std::string> quantities = {"residual vx", "residual vy", "residual w",
-                                               "residual penetration",
-                                               "residual contact_duration"};
-  const std::vector<std::string> features = {"speed_in",     "abs_vin_y", "vin_x",
-                                             "win",          "impact_angle", "alpha_in",
+                                               "residual penetration", "residual contact_duration"};
+  const std::vector<std::string> features = {"speed_in",    "abs_vin_y",       "vin_x",
+                                             "win",         "impact_angle",    "alpha_in",
                                              "penetration", "contact_duration"};
   for (const Effect* e : EffectRegistry::global().all()) {
     const Signature s = e->signature();
@@ -365,6 +365,22 @@ TEST(Html, PageEmbedsFiguresAndEscapesText) {
   EXPECT_EQ(outside.find("http"), std::string::npos);
   EXPECT_EQ(outside.find("src=\"/"), std::string::npos);
   EXPECT_THROW(page.figure_file("/nonexistent.svg", "x"), std::runtime_error);
+}
+
+// A supported candidate that the fit left at its neutral value adds nothing: auto_ladder stops on
+// it instead of adding it (a resolved campaign's third rung, docs/diagnosis.md).
+TEST(LeftNeutral, OnlyWhenEveryParameterOfTheEffectsSitsAtItsNeutralValue) {
+  const EffectRegistry& reg = EffectRegistry::global();
+  const Model m = Model::paper()
+                      .with_effect("rate_restitution", true, reg)
+                      .with_effect("kn_spin_linear", true, reg);
+  std::vector<double> v = m.values();
+  EXPECT_TRUE(detail::left_neutral(m, v, {"rate_restitution"}, reg));
+  EXPECT_TRUE(detail::left_neutral(m, v, {"rate_restitution", "kn_spin_linear"}, reg));
+  v[m.index("c_kn_spin")] = 0.01;
+  EXPECT_TRUE(detail::left_neutral(m, v, {"rate_restitution"}, reg));
+  EXPECT_FALSE(detail::left_neutral(m, v, {"kn_spin_linear"}, reg));
+  EXPECT_FALSE(detail::left_neutral(m, v, {"rate_restitution", "kn_spin_linear"}, reg));
 }
 
 }  // namespace
