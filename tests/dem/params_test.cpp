@@ -324,6 +324,13 @@ TEST(Design, ShippedCampaignDesigns) {
   EXPECT_EQ(tri2.impacts[0].params.block, cal2.impacts[0].params.block);
   EXPECT_EQ(read_campaign_design((dir / "bed-probe-rolling.toml").string(), decks()).impacts.size(),
             8u);  // 4 grain-block rolling frictions x 2 positions
+  EXPECT_EQ(read_campaign_design((dir / "bed-probe-depth.toml").string(), decks()).impacts.size(),
+            6u);  // 3 depths x 2 positions
+  const auto deep =
+      read_campaign_design((dir / "lab-cylinders-calibrated-long-deep.toml").string(), decks());
+  ASSERT_EQ(deep.impacts.size(), 28u);
+  EXPECT_EQ(deep.impacts[0].params.bed.at("H_m"), "0.1");  // the one change from the second bed
+  EXPECT_EQ(deep.impacts[0].params.block, cal2.impacts[0].params.block);
   // The loop's sets on the second bed.
   expect_loop_set("speeds-calibrated-long.toml", 27, cal2);
   expect_loop_set("lab-cylinders-calibrated-long-replicas.toml", 84, cal2);
