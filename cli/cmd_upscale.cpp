@@ -114,22 +114,14 @@ void write_h5(const std::string& path, const dem::UpscaleResult& r, const Model&
 // Mean and sample standard deviation of the resolved and the lab values, their difference in
 // lab standard deviations and the two-sample KS test.
 nlohmann::json gap_json(const std::vector<double>& dem_v, const std::vector<double>& lab_v) {
-  auto mean_sd = [](const std::vector<double>& v) {
-    double m = 0, s = 0;
-    for (double x : v) m += x;
-    m /= static_cast<double>(v.size());
-    for (double x : v) s += (x - m) * (x - m);
-    return std::array<double, 2>{
-        m, v.size() > 1 ? std::sqrt(s / static_cast<double>(v.size() - 1)) : NAN};
-  };
-  const auto a = mean_sd(dem_v), b = mean_sd(lab_v);
+  const stats::Summary a = stats::summarize(dem_v), b = stats::summarize(lab_v);
   const auto ks = stats::ks_two_sample(dem_v, lab_v);
-  return {{"dem_mean", a[0]},
-          {"dem_std", a[1]},
-          {"lab_mean", b[0]},
-          {"lab_std", b[1]},
-          {"difference", a[0] - b[0]},
-          {"difference_in_lab_std", (a[0] - b[0]) / b[1]},
+  return {{"dem_mean", a.mean},
+          {"dem_std", a.std},
+          {"lab_mean", b.mean},
+          {"lab_std", b.std},
+          {"difference", a.mean - b.mean},
+          {"difference_in_lab_std", (a.mean - b.mean) / b.std},
           {"ks_statistic", ks.statistic},
           {"ks_p_value", ks.p_value}};
 }

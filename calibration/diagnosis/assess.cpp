@@ -46,18 +46,13 @@ AssessOptions resolve_scale(const ImpactSet& set, const AssessOptions& in) {
   if (o.scale == ErrorScale::kSetMean) {
     const double n = static_cast<double>(set.size());
     Vel3 mean_v{};
-    double mean_h = 0, mean_t = 0;
-    for (const auto& im : set.impacts) {
+    for (const auto& im : set.impacts)
       for (int k = 0; k < 3; ++k) mean_v[k] += std::fabs(im.vout[k]) / n;
-      mean_h += im.penetration.value_or(0.0) / n;
-      mean_t += im.contact_duration.value_or(0.0) / n;
-    }
     for (int k = 0; k < 3; ++k) e.floor[k] = std::max(e.floor[k], mean_v[k]);
-    e.penetration_floor_m = std::max(e.penetration_floor_m, mean_h);
-    e.contact_duration_floor_s = std::max(e.contact_duration_floor_s, mean_t);
   }
   // The contact terms and their constant denominators on this set, whatever the scale of the
-  // velocity terms (the set's mean feature, at least its floor: the same in both modes).
+  // velocity terms: the set's mean feature, at least its floor, decided in one place
+  // (fit::with_contact_terms), the same in both modes.
   e = error_options_for(set, o);
   return o;
 }

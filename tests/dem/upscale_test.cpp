@@ -61,10 +61,17 @@ void append_synthetic(const std::string& path, const Model& truth, const std::st
     }
 }
 
-TEST(Upscale, GroupsByTheVaryingGrainParameterAndRecoversEachGroupsRestitution) {
-  const fs::path dir = fs::temp_directory_path() / ("dem-upscale-" + std::to_string(::getpid()));
+// A fresh, empty directory for one test, unique to this process.
+fs::path fresh_dir(const std::string& name) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("dem-upscale" + name + "-" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
+  return dir;
+}
+
+TEST(Upscale, GroupsByTheVaryingGrainParameterAndRecoversEachGroupsRestitution) {
+  const fs::path dir = fresh_dir("");
   const std::string path = (dir / "campaign.h5").string();
   const Shape shape = Shape::cylinder();
   const Model paper = Model::paper();
@@ -120,10 +127,7 @@ TEST(Upscale, GroupsByTheVaryingGrainParameterAndRecoversEachGroupsRestitution) 
 // parameters side by side. Here the "lab" has e_n^2 = 0.30 and the campaign 0.10; each side must
 // come out as its own, not as the other.
 TEST(Upscale, LabReleasesAreCalibratedWithTheSameEngine) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("dem-upscale-lab-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = fresh_dir("-lab");
   const std::string path = (dir / "campaign.h5").string();
   const Model paper = Model::paper();
   Model resolved = paper, measured = paper;
@@ -161,10 +165,7 @@ TEST(Upscale, LabReleasesAreCalibratedWithTheSameEngine) {
 // Replicas (here: two seeds of each incident state) that scatter give the noise of the intervals:
 // the campaign file labels them as replicates, and upscale pools their scatter.
 TEST(Upscale, ScatterOfReplicasIsTheNoiseOfTheIntervals) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("dem-upscale-noise-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = fresh_dir("-noise");
   const std::string path = (dir / "campaign.h5").string();
   const Model paper = Model::paper();
   const Vel3 offset = {0.05, 0.02, 1.0};  // replica s0 at -offset, s1 at +offset
