@@ -29,6 +29,7 @@ TEST_F(ShippedData, StatsReadsEveryResolvedCampaign) {
                                                {"bed-calibration-refine.h5", 48},
                                                {"bed-probe-depth.h5", 6},
                                                {"bed-probe-rolling.h5", 8},
+                                               {"bed-probe-rolling-model.h5", 6},
                                                {"bed-probe-stiffness.h5", 23},
                                                {"convergence.h5", 27},
                                                {"lab-cylinders.h5", 28},

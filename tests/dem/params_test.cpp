@@ -324,6 +324,13 @@ TEST(Design, ShippedCampaignDesigns) {
   EXPECT_EQ(tri2.impacts[0].params.block, cal2.impacts[0].params.block);
   EXPECT_EQ(read_campaign_design((dir / "bed-probe-rolling.toml").string(), decks()).impacts.size(),
             8u);  // 4 grain-block rolling frictions x 2 positions
+  const auto rolling_model =
+      read_campaign_design((dir / "bed-probe-rolling-model.toml").string(), decks());
+  ASSERT_EQ(rolling_model.impacts.size(), 6u);  // 3 grain rolling frictions x 2 positions
+  EXPECT_EQ(rolling_model.impacts[0].params.bed.at("rolling_model"), "cdt");
+  const auto cal4 = read_campaign_design((dir / "bed-calibration-cdt.toml").string(), decks());
+  ASSERT_EQ(cal4.impacts.size(), 80u);  // 40 Latin-hypercube sets x 2 positions
+  EXPECT_EQ(cal4.impacts[0].params.bed.at("rolling_model"), "cdt");
   EXPECT_EQ(read_campaign_design((dir / "bed-probe-depth.toml").string(), decks()).impacts.size(),
             6u);  // 3 depths x 2 positions
   const auto deep =
