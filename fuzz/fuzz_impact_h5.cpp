@@ -1,6 +1,6 @@
 // libFuzzer target for the impact-set HDF5 reader (see fuzz/README.md).
 //
-// The input bytes are written to a temporary file (one per process, in /dev/shm when it exists)
+// The input bytes are written to a temporary file (one per process, see temp_name)
 // and read with read_impact_set_h5, which opens files by name like every Ricochet command does.
 // Properties checked on every input:
 //  1. read_impact_set_h5 either returns a set or throws InputError naming the file; any other
@@ -28,10 +28,14 @@ namespace {
   ricochet::fuzz::fail("fuzz_impact_h5", what, detail);
 }
 
+// $RICOCHET_FUZZ_TMPDIR (the bench gives each run its own folder and removes it, so that inputs
+// a crash interrupts are not left behind), else /dev/shm, else the temporary folder.
 std::string temp_name(const char* tag) {
   namespace fs = std::filesystem;
-  const fs::path dir =
-      fs::is_directory("/dev/shm") ? fs::path("/dev/shm") : fs::temp_directory_path();
+  const char* env = std::getenv("RICOCHET_FUZZ_TMPDIR");
+  const fs::path dir = env && *env                    ? fs::path(env)
+                       : fs::is_directory("/dev/shm") ? fs::path("/dev/shm")
+                                                      : fs::temp_directory_path();
   return (dir / ("ricochet-fuzz-" + std::to_string(::getpid()) + "-" + tag + ".h5")).string();
 }
 

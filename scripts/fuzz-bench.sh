@@ -28,7 +28,9 @@ for t in "${TARGETS[@]}"; do
     echo "| $t | not built | | | | |"
     continue
   fi
-  mkdir -p "$WORK/$t/corpus" "$WORK/$t/artifacts"
+  mkdir -p "$WORK/$t/corpus" "$WORK/$t/artifacts" "$WORK/$t/tmp"
+  # fuzz_impact_h5 writes each input there; a crashed input's file goes with the folder below.
+  export RICOCHET_FUZZ_TMPDIR=$WORK/$t/tmp
   flags=
   if [ "$t" = impact_h5 ]; then
     # HDF5 1.10.8 crashes, loops or runs out of memory on damaged variable-length strings
@@ -71,6 +73,7 @@ for t in "${TARGETS[@]}"; do
     findings=1 # failed without a reproducer file
   fi
   total_findings=$((total_findings + findings))
+  rm -rf "$WORK/$t/tmp"
   wall=$(python3 -c "import sys; s=float(sys.argv[2])-float(sys.argv[1]); print(f'{s:.0f} s')" \
     "$start" "$end")
   printf '| %s | %s | %s | %s | %s | %s |\n' "$t" "$(printf "%'d" "${runs:-0}")" \
