@@ -10,6 +10,11 @@ mkdir -p "$OUT"
 
 section() { [ -z "$FILTER" ] || [[ "$1" == *"$FILTER"* ]]; }
 
+# The fuzz bench runs for tens of minutes: only on request (./run.sh bench fuzz).
+if [ "$FILTER" = fuzz ]; then
+  exec "$ROOT/scripts/fuzz-bench.sh" "$BUILD"
+fi
+
 if section engine; then
   echo "== Reduced engine: cylinder collisions per second (target >= 200,000 on 2 cores)"
   "$BUILD/benchmarks/bench_engine" --benchmark_out="$OUT/engine.json" --benchmark_out_format=json \

@@ -4,10 +4,12 @@
 #include <toml++/toml.h>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <numbers>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <tuple>
 
 #include "common/error.hpp"
@@ -44,9 +46,28 @@ const toml::table* table_at(const toml::table& t, const char* key, const std::st
   return n->as_table();
 }
 
+// A finite number (found by fuzz/fuzz_campaign_toml: nan and inf were accepted as velocities,
+// angles, frame rates and sampling ranges).
 double number_of(const toml::node& n, const std::string& file, const std::string& field) {
-  if (auto v = n.value<double>()) return *v;
-  throw InputError(file, line_of(n), field, "expected a number");
+  const auto v = n.value<double>();
+  if (!v) throw InputError(file, line_of(n), field, "expected a number");
+  if (!std::isfinite(*v)) throw InputError(file, line_of(n), field, "expected a finite number");
+  return *v;
+}
+
+// Largest number of impacts a design may describe. Far beyond any LIGGGHTS campaign (an impact
+// costs CPU minutes); it stops a typo such as n = 100000000 from exhausting memory while the
+// design is expanded, before anything runs.
+constexpr std::size_t kMaxDesignImpacts = 10000;
+
+// Throws when a design would grow to `count` impacts (count computed without overflow).
+void check_design_size(double count, const std::string& file, std::size_t line,
+                       const std::string& field) {
+  if (count > static_cast<double>(kMaxDesignImpacts))
+    throw InputError(file, line, field,
+                     fmt::format("the design would have {:.0f} impacts, more than the limit of {}: "
+                                 "split it into several campaigns",
+                                 count, kMaxDesignImpacts));
 }
 
 std::string string_of(const toml::node& n, const std::string& file, const std::string& field) {
@@ -103,9 +124,18 @@ void check_shape(const std::string& shape, const std::string& file, std::size_t 
 }  // namespace
 
 CampaignDesign read_campaign_design(const std::string& path, const Decks& decks) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, 0, "", "cannot open the design file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_campaign_design(text.str(), path, decks);
+}
+
+CampaignDesign parse_campaign_design(const std::string& text, const std::string& path,
+                                     const Decks& decks) {
   toml::table root;
   try {
-    root = toml::parse_file(path);
+    root = toml::parse(text, path);
   } catch (const toml::parse_error& e) {
     throw InputError(path, static_cast<std::size_t>(e.source().begin.line), "",
                      std::string(e.description()));
@@ -177,6 +207,9 @@ CampaignDesign read_campaign_design(const std::string& path, const Decks& decks)
       s.vin = read_vin(*vin, path, where + "vin");
       if (const auto* n = t->get("alpha_in_deg"))
         s.alpha_in_rad = number_of(*n, path, where + "alpha_in_deg") * std::numbers::pi / 180.0;
+      if (!std::isfinite(s.alpha_in_rad))
+        throw InputError(path, line_of(*t->get("alpha_in_deg")), where + "alpha_in_deg",
+                         "angle too large");
       if (const auto* n = t->get("seed")) {
         const auto v = n->value<std::int64_t>();
         if (!v || *v < 0)
@@ -217,7 +250,15 @@ CampaignDesign read_campaign_design(const std::string& path, const Decks& decks)
       std::string file = string_of(*n, path, "design.incident_from");
       if (fs::path(file).is_relative()) file = (fs::path(path).parent_path() / file).string();
       ImpactSet set = read_impact_set(file);
-      if (const auto* w = g->get("where")) set = filter(set, string_of(*w, path, "design.where"));
+      if (const auto* w = g->get("where")) {
+        try {
+          set = filter(set, string_of(*w, path, "design.where"));
+        } catch (const InputError& e) {
+          if (e.file() != "--where") throw;
+          throw InputError(path, line_of(*w), "design.where",
+                           e.detail() + " (term '" + e.field() + "')");
+        }
+      }
       for (const auto& im : set.impacts) incident.emplace_back(prefix + im.id, im.vin);
     }
     if (incident.empty())
@@ -229,7 +270,11 @@ CampaignDesign read_campaign_design(const std::string& path, const Decks& decks)
         throw InputError(path, line_of(*n), "design.alpha_in_deg",
                          "expected a list of angles (deg)");
       alphas.clear();
-      for (const auto& x : *a) alphas.push_back(number_of(x, path, "design.alpha_in_deg"));
+      for (const auto& x : *a) {
+        alphas.push_back(number_of(x, path, "design.alpha_in_deg"));
+        if (!std::isfinite(alphas.back() * std::numbers::pi / 180.0))
+          throw InputError(path, line_of(x), "design.alpha_in_deg", "angle too large");
+      }
     }
     // An unknown orientation (the lab triangles, paper Appendix A): one angle per incident state,
     // stratified over [low, high] (a one-dimensional Latin hypercube, seeded), kept in the spec.
@@ -245,6 +290,9 @@ CampaignDesign read_campaign_design(const std::string& path, const Decks& decks)
         throw InputError(path, line_of(*n), field + ".range", "expected [low, high] in degrees");
       const double lo = number_of(*a->get(0), path, field), hi = number_of(*a->get(1), path, field);
       if (!(lo < hi)) throw InputError(path, line_of(*a), field + ".range", "expected low < high");
+      if (!std::isfinite((hi - lo) * std::numbers::pi) || !std::isfinite(lo * std::numbers::pi) ||
+          !std::isfinite(hi * std::numbers::pi))
+        throw InputError(path, line_of(*a), field + ".range", "range too wide");
       if (g->get("alpha_in_deg"))
         throw InputError(path, line_of(*n), field,
                          "give alpha_in_deg or alpha_in_deg_sample, not both");
@@ -286,6 +334,8 @@ CampaignDesign read_campaign_design(const std::string& path, const Decks& decks)
         const toml::array* a = v.as_array();
         if (!a || a->empty())
           throw InputError(path, line_of(v), "design.vary." + key, "expected a list of values");
+        check_design_size(static_cast<double>(combos.size()) * static_cast<double>(a->size()), path,
+                          line_of(v), "design.vary." + key);
         std::vector<Overrides> next;
         std::vector<std::string> next_tags;
         for (std::size_t c = 0; c < combos.size(); ++c)
@@ -329,12 +379,15 @@ CampaignDesign read_campaign_design(const std::string& path, const Decks& decks)
         const double lo = number_of(*a->get(0), path, field),
                      hi = number_of(*a->get(1), path, field);
         if (!(lo < hi)) throw InputError(path, line_of(v), field, "expected low < high");
+        if (!std::isfinite(hi - lo)) throw InputError(path, line_of(v), field, "range too wide");
         const std::string name = key.substr(dot + 1);
         for (double x : {lo, hi})
           check_param(decks, section, name, format_value(x), path, line_of(v));
         axes.emplace_back(section, name, lo, hi);
       }
       if (n == 0) throw InputError(path, line_of(*sample), "design.sample.n", "missing");
+      check_design_size(static_cast<double>(combos.size()) * static_cast<double>(n), path,
+                        line_of(*sample->get("n")), "design.sample.n");
       if (axes.empty())
         throw InputError(path, line_of(*sample), "design.sample", "no parameter to sample");
       const auto u = fit::lhs_unit_design(axes.size(), static_cast<std::size_t>(n),
@@ -357,6 +410,12 @@ CampaignDesign read_campaign_design(const std::string& path, const Decks& decks)
       combos = std::move(next);
       combo_tags = std::move(next_tags);
     }
+    check_design_size(static_cast<double>(d.impacts.size()) +
+                          static_cast<double>(incident.size()) *
+                              static_cast<double>(sampled_alpha.empty() ? alphas.size() : 1) *
+                              static_cast<double>(seeds.size()) *
+                              static_cast<double>(combos.size()),
+                      path, line_of(*g), "design");
     for (std::size_t inc = 0; inc < incident.size(); ++inc)
       for (double alpha : sampled_alpha.empty() ? alphas : std::vector<double>{sampled_alpha[inc]})
         for (const auto& seed : seeds)

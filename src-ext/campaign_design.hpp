@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "impact_run.hpp"
+#include "impact_spec.hpp"
 #include "params.hpp"
 
 namespace ricochet::dem {
@@ -25,5 +25,8 @@ struct CampaignDesign {
 /// Reads and checks a design. Throws InputError(file, line, key) on any bad entry: unknown key or
 /// parameter, wrong type, vin not three numbers, duplicate id, empty design.
 CampaignDesign read_campaign_design(const std::string& path, const Decks& decks);
+/// Same from TOML text; `path` names the file in errors and anchors a relative incident_from.
+CampaignDesign parse_campaign_design(const std::string& text, const std::string& path,
+                                     const Decks& decks);
 
 }  // namespace ricochet::dem

@@ -202,6 +202,18 @@ nlohmann::json Model::to_json() const {
   return j;
 }
 
+namespace {
+// A double as TOML text that reads back to the same bits: the shortest form at 17 digits, with
+// "-0.0" for negative zero (std::ostream writes "-0", which TOML reads as the integer 0).
+struct TomlNumber {
+  double v;
+};
+std::ostream& operator<<(std::ostream& s, TomlNumber n) {
+  if (n.v == 0 && std::signbit(n.v)) return s << "-0.0";
+  return s << n.v;
+}
+}  // namespace
+
 std::string Model::to_toml() const {
   std::ostringstream s;
   s.precision(17);
@@ -246,10 +258,11 @@ std::string Model::to_toml() const {
   }
   s << "\n[parameters]\n";
   for (std::size_t i = 0; i < specs_.size(); ++i)
-    s << specs_[i].name << " = " << values_[i] << "  # " << specs_[i].unit << "\n";
+    s << specs_[i].name << " = " << TomlNumber{values_[i]} << "  # " << specs_[i].unit << "\n";
   s << "\n[bounds]\n";
   for (std::size_t i = 0; i < specs_.size(); ++i)
-    s << specs_[i].name << " = [" << lower_[i] << ", " << upper_[i] << "]\n";
+    s << specs_[i].name << " = [" << TomlNumber{lower_[i]} << ", " << TomlNumber{upper_[i]}
+      << "]\n";
   return s.str();
 }
 
@@ -281,6 +294,17 @@ Model Model::from_toml_string(const std::string& text, const std::string& name,
       throw InputError(name, line_of(node), k,
                        "unknown key; a model file has effects, calibrate, [parameters], [bounds], "
                        "[[law]]");
+  }
+  // A present key of the wrong kind is an error, not an absent key (found by
+  // fuzz/fuzz_model_toml: `calibrate = 0` was ignored).
+  const std::pair<const char*, bool> kinds[] = {
+      {"effects", false}, {"calibrate", false}, {"parameters", true}, {"bounds", true}};
+  for (const auto& [key, is_table] : kinds) {
+    const toml::node* n = table.get(key);
+    if (n && (is_table ? !n->is_table() : !n->is_array()))
+      throw InputError(name, line_of(*n), key,
+                       is_table ? "expected a table ([" + std::string(key) + "])"
+                                : "expected a list of names in [\"...\"]");
   }
   const toml::array* effects = table["effects"].as_array();
   if (!effects)

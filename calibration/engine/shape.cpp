@@ -3,6 +3,8 @@
 #include <toml++/toml.h>
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <sstream>
 
 #include "common/error.hpp"
 
@@ -40,42 +42,70 @@ Shape Shape::triangle() {
 }
 
 namespace {
-double require_number(const toml::table& t, const char* key, const std::string& file) {
-  const auto node = t[key];
-  if (!node) throw InputError(file, 0, key, "missing");
-  if (auto v = node.value<double>()) return *v;
-  throw InputError(file, static_cast<std::size_t>(node.node()->source().begin.line), key,
-                   "expected a number");
+std::size_t line_of(const toml::node& n) {
+  return static_cast<std::size_t>(n.source().begin.line);
+}
+
+// A finite number; `positive`: also > 0. Errors name the key's line.
+double number_at(const toml::node& n, const char* key, const std::string& file, bool positive) {
+  const auto v = n.value<double>();
+  if (!v || !std::isfinite(*v)) throw InputError(file, line_of(n), key, "expected a finite number");
+  if (positive && !(*v > 0)) throw InputError(file, line_of(n), key, "must be > 0");
+  return *v;
+}
+
+double require_positive(const toml::table& t, const char* key, const std::string& file) {
+  const toml::node* n = t.get(key);
+  if (!n) throw InputError(file, 0, key, "missing");
+  return number_at(*n, key, file, true);
 }
 }  // namespace
 
 Shape Shape::from_toml_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, 0, "", "cannot open the shape file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return from_toml_string(text.str(), path);
+}
+
+Shape Shape::from_toml_string(const std::string& text, const std::string& path) {
   toml::table t;
   try {
-    t = toml::parse_file(path);
+    t = toml::parse(text, path);
   } catch (const toml::parse_error& e) {
     throw InputError(path, static_cast<std::size_t>(e.source().begin.line), "",
                      std::string(e.description()));
   }
   Shape s;
-  s.name = t["name"].value_or(std::string("custom"));
-  const toml::array* verts = t["vertices"].as_array();
+  s.name = "custom";
+  if (const toml::node* n = t.get("name")) {
+    const auto name = n->value<std::string>();
+    if (!name) throw InputError(path, line_of(*n), "name", "expected a string");
+    s.name = *name;
+  }
+  const toml::node* verts_node = t.get("vertices");
+  const toml::array* verts = verts_node ? verts_node->as_array() : nullptr;
   if (!verts || verts->empty())
-    throw InputError(path, 0, "vertices", "missing list of [x, y] vertices in metres");
+    throw InputError(path, verts_node ? line_of(*verts_node) : 0, "vertices",
+                     "missing list of [x, y] vertices in metres");
   for (const auto& v : *verts) {
     const toml::array* xy = v.as_array();
-    const auto line = static_cast<std::size_t>(v.source().begin.line);
+    const auto line = line_of(v);
     if (!xy || xy->size() != 2 || !xy->get(0)->value<double>() || !xy->get(1)->value<double>())
       throw InputError(path, line, "vertices", "each vertex must be [x, y] in metres");
-    s.vertices.push_back({*xy->get(0)->value<double>(), *xy->get(1)->value<double>()});
+    const double x = *xy->get(0)->value<double>(), y = *xy->get(1)->value<double>();
+    if (!std::isfinite(x) || !std::isfinite(y))
+      throw InputError(path, line, "vertices", "vertex coordinates must be finite");
+    s.vertices.push_back({x, y});
   }
-  s.rounding_radius_m = require_number(t, "rounding_radius_m", path);
-  s.mass_kg = require_number(t, "mass_kg", path);
-  s.inertia_kgm2 = require_number(t, "inertia_kgm2", path);
-  s.length_m = t["length_m"].value_or(0.0);
-  if (!(s.rounding_radius_m > 0)) throw InputError(path, 0, "rounding_radius_m", "must be > 0");
-  if (!(s.mass_kg > 0)) throw InputError(path, 0, "mass_kg", "must be > 0");
-  if (!(s.inertia_kgm2 > 0)) throw InputError(path, 0, "inertia_kgm2", "must be > 0");
+  s.rounding_radius_m = require_positive(t, "rounding_radius_m", path);
+  s.mass_kg = require_positive(t, "mass_kg", path);
+  s.inertia_kgm2 = require_positive(t, "inertia_kgm2", path);
+  if (const toml::node* n = t.get("length_m")) {
+    s.length_m = number_at(*n, "length_m", path, false);
+    if (s.length_m < 0) throw InputError(path, line_of(*n), "length_m", "must be >= 0");
+  }
   // The centroid must be the centre of mass: the engine's lever arms assume it.
   double cx = 0, cy = 0;
   for (const auto& v : s.vertices) {
@@ -84,8 +114,8 @@ Shape Shape::from_toml_file(const std::string& path) {
   }
   cx /= static_cast<double>(s.vertices.size());
   cy /= static_cast<double>(s.vertices.size());
-  if (std::hypot(cx, cy) > 1e-3 * s.bounding_radius())
-    throw InputError(path, 0, "vertices",
+  if (!(std::hypot(cx, cy) <= 1e-3 * s.bounding_radius()))
+    throw InputError(path, line_of(*verts_node), "vertices",
                      "the vertices' mean must be at the origin (the centre of mass)");
   return s;
 }

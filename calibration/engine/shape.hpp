@@ -33,6 +33,8 @@ struct Shape {
   /// Reads a shape file (TOML: name, vertices, rounding_radius_m, mass_kg, inertia_kgm2,
   /// length_m). Throws InputError naming file, line and key.
   static Shape from_toml_file(const std::string& path);
+  /// Same from TOML text; `name` is the file named in errors (used by the fuzz target).
+  static Shape from_toml_string(const std::string& text, const std::string& name);
   /// "cylinder", "triangle", or a path to a shape file.
   static Shape resolve(const std::string& name_or_path);
 };

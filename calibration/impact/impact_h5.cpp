@@ -58,16 +58,16 @@ struct H5Column {
 
 }  // namespace
 
-ImpactSet read_impact_set_h5(const std::string& path) {
-  std::unique_ptr<h5::File> file;
-  try {
-    file = std::make_unique<h5::File>(path, h5::File::Mode::kRead);
-  } catch (const std::runtime_error&) {
-    throw InputError(path, 0, "", "cannot open as HDF5 (missing file or not an HDF5 file)");
-  }
+namespace {
+
+// The reader proper. `field` names what is being read, for the errors of the HDF5 layer.
+ImpactSet read_h5(const h5::File& f, const std::string& path, std::string& field) {
+  const h5::File* file = &f;
   const std::string group = "/impacts";
+  field = "impacts";
   if (!file->exists(group))
     throw InputError(path, 0, "impacts", "no group /impacts: not a Ricochet impact set");
+  field = "schema";
   if (!file->has_attr(group, "schema"))
     throw InputError(path, 0, "schema", "group /impacts has no 'schema' attribute");
   const std::string schema = file->attr_string(group, "schema");
@@ -78,6 +78,7 @@ ImpactSet read_impact_set_h5(const std::string& path) {
   ImpactSet set;
   set.source = path;
   std::vector<std::string> names;
+  field = "columns";
   if (file->has_attr(group, "columns")) {
     names = split_commas(file->attr_string(group, "columns"));
   } else {
@@ -92,6 +93,7 @@ ImpactSet read_impact_set_h5(const std::string& path) {
   for (const auto& name : names) {
     H5Column col;
     col.name = name;
+    field = name;
     col.spec = find_column(name);
     if (!is_valid_column_name(name) || name == "speed_in")
       throw InputError(path, 0, name, "invalid or reserved column name");
@@ -159,6 +161,7 @@ ImpactSet read_impact_set_h5(const std::string& path) {
         throw InputError(path, 0, s + c, "missing dataset: " + s + "x, y and w come together");
   }
 
+  field = "";
   RowAssembler rows(path, "value is NaN", "row");
   for (std::size_t i = 0; i < n_rows; ++i) {
     const std::size_t line = i + 1;  // errors name the row as index + 1
@@ -191,6 +194,27 @@ ImpactSet read_impact_set_h5(const std::string& path) {
     }
   }
   return set;
+}
+
+}  // namespace
+
+ImpactSet read_impact_set_h5(const std::string& path) {
+  std::unique_ptr<h5::File> file;
+  try {
+    file = std::make_unique<h5::File>(path, h5::File::Mode::kRead);
+  } catch (const std::runtime_error&) {
+    throw InputError(path, 0, "", "cannot open as HDF5 (missing file or not an HDF5 file)");
+  }
+  std::string field;
+  try {
+    return read_h5(*file, path, field);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::runtime_error& e) {
+    // A damaged file: the HDF5 layer fails on an object the reader found (found by
+    // fuzz/fuzz_impact_h5). Name the column or attribute being read.
+    throw InputError(path, 0, field, std::string("damaged HDF5 file: ") + e.what());
+  }
 }
 
 void write_impact_set_h5(const ImpactSet& set, const std::string& path, const std::string& group) {

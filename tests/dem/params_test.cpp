@@ -387,4 +387,35 @@ TEST(Design, ErrorsNameFileLineAndKey) {
   expect_error("[campaign]\nname = \"empty\"\n", 0, "impact");
 }
 
+// Found with fuzz/fuzz_campaign_toml's property checks: nan and inf were accepted as velocities,
+// angles and frame rates, an angle of 1e308 degrees overflowed to an infinite angle in radians,
+// n = 100000000 samples exhausted memory (or time) while the design was expanded, and an error in
+// `where` named "--where" instead of the design file.
+TEST(Design, NonFiniteNumbersHugeDesignsAndBadFiltersAreLocatedErrors) {
+  expect_error("[[impact]]\nvin = [nan, -2.3, 0]\n", 2, "impact[0].vin");
+  expect_error("[[impact]]\nvin = [1, -2.3, 0]\nalpha_in_deg = inf\n", 3, "impact[0].alpha_in_deg");
+  expect_error("[[impact]]\nvin = [1, -2.3, 0]\nalpha_in_deg = 1e308\n", 3,
+               "impact[0].alpha_in_deg");
+  expect_error("[extract]\nfps = inf\n[[impact]]\nvin = [1, -2.3, 0]\n", 2, "extract.fps");
+  expect_error("[design]\nincident = [[1, -2, 0]]\nalpha_in_deg = [0, 1e308]\n", 3,
+               "design.alpha_in_deg");
+  expect_error(
+      "[design]\nincident = [[1, -2, 0]]\nalpha_in_deg_sample = { range = [-1e308, 1e308] }\n", 3,
+      "design.alpha_in_deg_sample.range");
+  expect_error(
+      "[design]\nincident = [[1, -2, 0]]\n[design.sample]\nn = 100000000\n"
+      "\"bed.E_grain_Pa\" = [1e8, 4e8]\n",
+      4, "design.sample.n");
+  expect_error(
+      "[design]\nincident = [[1, -2, 0], [2, -3, 0]]\nseeds = [0, 1, 2, 3, 4, 5, 6, 7, 8, 9]\n"
+      "[design.vary]\n"
+      "\"run.x_impact_frac\" = [0.30, 0.31, 0.32, 0.33, 0.34, 0.35, 0.36, 0.37, 0.38, 0.39]\n"
+      "\"block.mu_gb\" = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0]\n"
+      "\"block.e_gb\" = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0]\n",
+      1, "design");
+  expect_error("[design]\nincident_from = \"" + std::string(RICOCHET_SOURCE_DIR) +
+                   "/data/lab/cylinders.csv\"\nwhere = \"vin_x<<3\"\n",
+               3, "design.where");
+}
+
 }  // namespace

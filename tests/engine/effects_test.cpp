@@ -1,8 +1,12 @@
 // The effect registry, model composition, and the invariants of every registered effect.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "common/error.hpp"
 #include "effects/model.hpp"
@@ -150,6 +154,32 @@ TEST(Effects, ModelFileRoundTrip) {
   EXPECT_EQ(back.calibrated_indices(), m.calibrated_indices());
 }
 
+// Found by fuzz/fuzz_model_toml: `calibrate = 0` was silently ignored (so were `parameters` and
+// `bounds` that are not tables), and a bound of -0.0 was written as "-0", which reads back as
+// +0.0: the round trip was not exact.
+TEST(Effects, MistypedModelKeysAreErrorsAndNegativeZeroRoundTrips) {
+  const std::string effects = "effects = [\"normal\", \"tangential\", \"rolling\"]\n";
+  for (const auto& [text, field] : std::vector<std::pair<std::string, std::string>>{
+           {effects + "calibrate = 0\n", "calibrate"},
+           {effects + "parameters = [1]\n", "parameters"},
+           {effects + "bounds = \"none\"\n", "bounds"},
+           {"effects = \"normal\"\n", "effects"}}) {
+    try {
+      Model::from_toml_string(text, "m.toml");
+      ADD_FAILURE() << text;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file(), "m.toml");
+      EXPECT_EQ(e.field(), field) << text;
+      EXPECT_EQ(e.line(), field == "effects" ? 1u : 2u) << text;
+    }
+  }
+  const Model m = Model::from_toml_string(effects + "[bounds]\nmu = [-0.0, 0.1]\n", "m.toml");
+  const std::string text = m.to_toml();
+  const Model back = Model::from_toml_string(text, "back.toml");
+  EXPECT_TRUE(std::signbit(back.lower(back.index("mu")))) << text;
+  EXPECT_EQ(back.to_toml(), text);
+}
+
 TEST(Shapes, FilesMatchBuiltIns) {
   const std::filesystem::path dir = std::filesystem::path(RICOCHET_SOURCE_DIR) / "data/shapes";
   for (const Shape& builtin : {Shape::cylinder(), Shape::triangle()}) {
@@ -183,6 +213,38 @@ TEST(Shapes, FileErrorsNameTheKey) {
     EXPECT_EQ(e.field(), "mass_kg");
   }
   EXPECT_THROW(Shape::resolve("hexagon"), InputError);
+}
+
+// Found by fuzz/fuzz_shape_toml: an infinite radius (or mass, inertia, vertex) was accepted, and
+// a length of the wrong type was silently 0. Errors name the file, the key's line and the key.
+TEST(Shapes, NonFiniteOrMistypedValuesAreRefusedWithTheirLine) {
+  const std::string ok_tail = "mass_kg = 2\ninertia_kgm2 = 0.01\n";
+  const struct {
+    std::string text;
+    std::size_t line;
+    std::string field;
+  } cases[] = {
+      {"vertices = [[0.0, 0.0]]\nrounding_radius_m = +inf\n" + ok_tail, 2, "rounding_radius_m"},
+      {"vertices = [[0.0, 0.0]]\nrounding_radius_m = 0.1\nmass_kg = nan\ninertia_kgm2 = 1\n", 3,
+       "mass_kg"},
+      {"vertices = [\n  [0.0, 0.0],\n  [inf, 0.0]]\nrounding_radius_m = 0.1\n" + ok_tail, 3,
+       "vertices"},
+      {"vertices = [[0.0, 0.0]]\nrounding_radius_m = 0.1\n" + ok_tail + "length_m = \"long\"\n", 5,
+       "length_m"},
+      {"vertices = [[0.0, 0.0]]\nrounding_radius_m = 0.1\n" + ok_tail + "length_m = -0.2\n", 5,
+       "length_m"},
+      {"name = 3\nvertices = [[0.0, 0.0]]\nrounding_radius_m = 0.1\n" + ok_tail, 1, "name"},
+  };
+  for (const auto& c : cases) {
+    try {
+      Shape::from_toml_string(c.text, "bad.toml");
+      ADD_FAILURE() << c.text;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file(), "bad.toml") << c.text;
+      EXPECT_EQ(e.line(), c.line) << c.text;
+      EXPECT_EQ(e.field(), c.field) << c.text;
+    }
+  }
 }
 
 }  // namespace
