@@ -38,9 +38,10 @@ foreach(f bin/ricochet lib/cmake/Ricochet/RicochetConfig.cmake
 endforeach()
 
 # 2. No path of the source tree compiled into what was installed (data are found at run time).
+string(REGEX REPLACE "([][+.*()^$?|\\])" "\\\\\\1" source_re "${SOURCE_DIR}/")
 file(GLOB_RECURSE binaries ${prefix}/bin/* ${prefix}/lib/*.a)
 foreach(b IN LISTS binaries)
-  file(STRINGS ${b} hits REGEX "${SOURCE_DIR}/(data|liggghts-inputs)")
+  file(STRINGS ${b} hits REGEX "${source_re}")
   if(hits)
     message(FATAL_ERROR "${b} holds source paths: ${hits}")
   endif()
