@@ -64,5 +64,9 @@ void add_dem_command(CLI::App& app);
 void add_dem_drop_command(CLI::App& dem);
 void add_upscale_command(CLI::App& app);
 void add_calibrate_grains_command(CLI::App& app);
+/// In a build without LIGGGHTS (cmd_without_liggghts.cpp): `dem`, `upscale` and
+/// `calibrate-grains` as subcommands that exit with status 1 saying how to get LIGGGHTS.
+void add_without_liggghts_commands(CLI::App& app);
+std::string without_liggghts_message(const std::string& command);
 
 }  // namespace ricochet::cli

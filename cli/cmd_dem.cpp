@@ -40,7 +40,8 @@ struct CommonOptions {
 
 void add_common(CLI::App* sub, CommonOptions& o, bool with_sets = true) {
   sub->add_option("--decks", o.decks,
-                  "liggghts-inputs folder (default: $RICOCHET_LIGGGHTS_INPUTS or the source tree)");
+                  "liggghts-inputs folder (default: $RICOCHET_LIGGGHTS_INPUTS, else "
+                  "share/ricochet/liggghts-inputs beside the program)");
   if (with_sets)
     sub->add_option("--set", o.sets,
                     "Parameter override SECTION.NAME=VALUE, SECTION bed, block or run (repeatable; "

@@ -26,9 +26,14 @@ int main(int argc, char** argv) {
   ricochet::cli::add_diagnose_command(app);
   ricochet::cli::add_ladder_command(app);
   ricochet::cli::add_report_command(app);
+  // The resolved model needs LIGGGHTS (RICOCHET_HAVE_LIGGGHTS, set by CMake: cli/CMakeLists.txt).
+#if RICOCHET_HAVE_LIGGGHTS
   ricochet::cli::add_dem_command(app);
   ricochet::cli::add_upscale_command(app);
   ricochet::cli::add_calibrate_grains_command(app);
+#else
+  ricochet::cli::add_without_liggghts_commands(app);
+#endif
 
   // Each subcommand (and sub-subcommand) records its full name before its options parse, so that
   // print_json can stamp the JSON documents with it.

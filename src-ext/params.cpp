@@ -13,10 +13,7 @@
 #include <stdexcept>
 
 #include "common/error.hpp"
-
-#ifndef RICOCHET_LIGGGHTS_INPUTS
-#define RICOCHET_LIGGGHTS_INPUTS ""
-#endif
+#include "common/paths.hpp"
 
 namespace ricochet::dem {
 
@@ -79,11 +76,7 @@ std::vector<DeckParam> read_deck_params(const std::string& path) {
 }
 
 Decks Decks::locate(const std::string& root) {
-  std::string r = root;
-  if (r.empty()) {
-    if (const char* env = std::getenv("RICOCHET_LIGGGHTS_INPUTS")) r = env;
-  }
-  if (r.empty()) r = RICOCHET_LIGGGHTS_INPUTS;
+  const std::string r = root.empty() ? liggghts_inputs_dir().string() : root;
   Decks d;
   d.root = fs::absolute(r).lexically_normal().string();
   d.bed_deck = (fs::path(d.root) / "bed" / "in.bed").string();

@@ -33,8 +33,9 @@ struct Decks {
   std::vector<DeckParam> block_params;   ///< block-defaults.in: grain-block contact
   std::vector<DeckParam> impact_params;  ///< setup.in: incident state and run control
 
-  /// `root` = the liggghts-inputs folder; empty = $RICOCHET_LIGGGHTS_INPUTS, else the source
-  /// tree's folder (compiled in). Throws std::runtime_error when the decks are not there.
+  /// `root` = the liggghts-inputs folder; empty = liggghts_inputs_dir() (common/paths.hpp:
+  /// $RICOCHET_LIGGGHTS_INPUTS, else share/ricochet/liggghts-inputs beside the program).
+  /// Throws std::runtime_error when the decks are not there.
   static Decks locate(const std::string& root = "");
   /// Hash (16 hex digits, FNV-1a 64) of the text of every file a bed depends on (in.bed and
   /// common/*.in) without comments and blank lines: part of the bed cache key, so editing a

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "common/error.hpp"
+#include "common/paths.hpp"
 #include "fit/design.hpp"
 #include "fit/fit.hpp"
 
@@ -285,8 +286,7 @@ SynthResult synthesize(const Model& truth, const Shape& shape, const SynthOption
 }
 
 ImpactSet lab_incident_states(const Shape& shape) {
-  const char* env = std::getenv("RICOCHET_DATA_DIR");
-  const std::filesystem::path dir = env && *env ? env : RICOCHET_DATA_DIR;
+  const std::filesystem::path dir = data_dir();
   const std::string file = shape.name == "triangle" ? "triangles.csv" : "cylinders.csv";
   return read_impact_set((dir / "lab" / file).string());
 }

@@ -111,7 +111,8 @@ struct SynthResult {
 SynthResult synthesize(const Model& truth, const Shape& shape, const SynthOptions& options);
 
 /// The lab's measured incident states for a shape: data/lab/cylinders.csv or triangles.csv
-/// (RICOCHET_DATA_DIR overrides the data directory). Other shapes: the cylinders'.
+/// in the data folder (common/paths.hpp: $RICOCHET_DATA_DIR, else share/ricochet/data beside the
+/// program). Other shapes: the cylinders'.
 ImpactSet lab_incident_states(const Shape& shape);
 
 /// Extra columns written by synthesize() next to the penetration and contact duration: their

@@ -72,10 +72,19 @@ const std::vector<BadCase> kCases = {
     {"calibrate-grains " + kCyl, "--lab"},
 };
 
+// The subcommands of the resolved model, which need LIGGGHTS.
+bool needs_liggghts(const std::string& args) {
+  for (const char* sub : {"dem", "upscale", "calibrate-grains"})
+    if (args == sub || args.rfind(std::string(sub) + " ", 0) == 0) return true;
+  return false;
+}
+
 class BadOptions : public test::ProgramTest, public ::testing::WithParamInterface<BadCase> {};
 
 TEST_P(BadOptions, ExitTwoNamingTheOption) {
   const BadCase& c = GetParam();
+  if (needs_liggghts(c.args) && !test::program_has_liggghts())
+    GTEST_SKIP() << "this ricochet has no LIGGGHTS (WithoutLiggghts checks what it says)";
   const test::RunResult r = ricochet(c.args);
   EXPECT_EQ(r.status, 2) << c.args << "\n" << r.err;
   EXPECT_NE(r.err.find(c.says), std::string::npos) << c.args << "\nstderr: " << r.err;
@@ -97,6 +106,7 @@ class GoodExits : public test::ProgramTest {};
 
 TEST_F(GoodExits, HelpAndVersionExitZero) {
   for (const std::string args : {"--version", "--help", "montecarlo --help", "dem impact --help"}) {
+    if (needs_liggghts(args) && !test::program_has_liggghts()) continue;
     const test::RunResult r = ricochet(args);
     EXPECT_EQ(r.status, 0) << args << "\n" << r.err;
     EXPECT_FALSE(r.out.empty()) << args;
@@ -114,6 +124,7 @@ TEST_F(GoodExits, JsonNamesTheCommandAndVersion) {
       {"dem template --shape cylinder --out " + quote((dir_ / "t").string()) + " --json",
        "dem template"}};
   for (const auto& [args, command] : runs) {
+    if (needs_liggghts(args) && !test::program_has_liggghts()) continue;
     const test::RunResult r = ricochet(args);
     ASSERT_EQ(r.status, 0) << args << "\n" << r.err;
     const auto doc = nlohmann::json::parse(r.out);
@@ -148,6 +159,29 @@ TEST_F(GoodExits, EffectsOutWritesTheCatalog) {
   EXPECT_NE(text.find("\nnormal,normal,0,kn,N/m,100000,1000000000,10000000,,0,"), std::string::npos)
       << text.substr(0, 600);
   EXPECT_EQ(nlohmann::json::parse(test::slurp(json))["effects"], doc["effects"]);
+}
+
+// A build without LIGGGHTS keeps the resolved model's subcommands: whatever their arguments, they
+// exit with the runtime-failure status 1, say what is missing and how to get it, and print
+// nothing on stdout; --help still works.
+TEST_F(GoodExits, WithoutLiggghtsTheResolvedModelSaysHowToGetIt) {
+  if (test::program_has_liggghts()) GTEST_SKIP() << "this ricochet has LIGGGHTS";
+  const std::vector<std::string> runs = {
+      "dem", "dem impact --alpha-deg 30 --json", "dem campaign design.toml --out c.h5",
+      "upscale campaign.h5 --lab " + kCyl, "calibrate-grains campaign.h5 --lab " + kCyl};
+  for (const std::string& args : runs) {
+    const test::RunResult r = ricochet(args);
+    EXPECT_EQ(r.status, 1) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find("needs LIGGGHTS, and this build of ricochet has none"), std::string::npos)
+        << args << "\n"
+        << r.err;
+    EXPECT_NE(r.err.find("apt install liggghts libliggghts-dev"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("-DRICOCHET_WITH_LIGGGHTS=ON"), std::string::npos) << r.err;
+    EXPECT_TRUE(r.out.empty()) << args << "\nstdout: " << r.out;
+  }
+  const test::RunResult help = ricochet("--help");
+  ASSERT_EQ(help.status, 0);
+  EXPECT_NE(help.out.find("no LIGGGHTS"), std::string::npos) << help.out;
 }
 
 // --where on the diagnosis commands keeps only the matching releases (as stats does).

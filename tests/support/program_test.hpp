@@ -1,6 +1,8 @@
 // Test support shared by every test that runs the built `ricochet` program (RICOCHET_EXE, set by
-// CMake): a per-test temporary directory, and a runner capturing stdout, stderr and the exit
-// code. Not a GoogleTest module of its own: tests/<module>/ include it as "support/...".
+// CMake; the environment variable RICOCHET_TEST_EXE overrides it, e.g. tests/cli's nodeps run
+// against a program built without LIGGGHTS): a per-test temporary directory, and a runner
+// capturing stdout, stderr and the exit code. Not a GoogleTest module of its own: tests/<module>/
+// include it as "support/...".
 #pragma once
 
 #include <gtest/gtest.h>
@@ -9,6 +11,7 @@
 
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -34,6 +37,21 @@ inline std::string slurp(const std::filesystem::path& path) {
   return s.str();
 }
 
+// The program the tests run: $RICOCHET_TEST_EXE, else RICOCHET_EXE.
+inline std::string program() {
+  const char* env = std::getenv("RICOCHET_TEST_EXE");
+  return env && *env ? env : RICOCHET_EXE;
+}
+
+#ifdef RICOCHET_HAVE_LIGGGHTS
+// Whether that program has the LIGGGHTS subcommands: $RICOCHET_TEST_HAVE_LIGGGHTS (0 or 1), else
+// the build's RICOCHET_HAVE_LIGGGHTS.
+inline bool program_has_liggghts() {
+  const char* env = std::getenv("RICOCHET_TEST_HAVE_LIGGGHTS");
+  return env && *env ? std::string(env) != "0" : RICOCHET_HAVE_LIGGGHTS != 0;
+}
+#endif
+
 class ProgramTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -48,7 +66,7 @@ class ProgramTest : public ::testing::Test {
   // Runs `ricochet ARGS` (ARGS already shell-quoted).
   RunResult ricochet(const std::string& args) const {
     const auto err = dir_ / "stderr.txt";
-    const std::string cmd = quote(RICOCHET_EXE) + " " + args + " 2>" + quote(err.string());
+    const std::string cmd = quote(program()) + " " + args + " 2>" + quote(err.string());
     RunResult run;
     FILE* pipe = ::popen(cmd.c_str(), "r");
     if (!pipe) return run;
