@@ -345,6 +345,25 @@ TEST(Design, ShippedCampaignDesigns) {
     EXPECT_EQ(tri2.impacts[k].id, tri.impacts[k].id);
     EXPECT_EQ(tri2.impacts[k].alpha_in_rad, tri.impacts[k].alpha_in_rad) << tri.impacts[k].id;
   }
+  // The third calibration (cdt): the real check at the optimum, the loop's speeds set and the
+  // blind triangles on that one bed; the blind triangles keep the first blind run's orientations,
+  // so that the three blind predictions differ by the bed only.
+  const auto cal3 = read_campaign_design((dir / "lab-cylinders-cdt.toml").string(), decks());
+  ASSERT_EQ(cal3.impacts.size(), 84u);  // 28 lab states x 3 positions
+  EXPECT_EQ(cal3.impacts[0].params.bed.at("rolling_model"), "cdt");
+  expect_loop_set("speeds-cdt.toml", 27, cal3);
+  expect_loop_set("lab-triangles-blind-cdt.toml", 31, cal3);
+  const auto tri3 = read_campaign_design((dir / "lab-triangles-blind-cdt.toml").string(), decks());
+  for (std::size_t k = 0; k < tri.impacts.size(); ++k)
+    EXPECT_EQ(tri3.impacts[k].alpha_in_rad, tri.impacts[k].alpha_in_rad) << tri.impacts[k].id;
+  const auto resolution =
+      read_campaign_design((dir / "bed-probe-resolution-cdt.toml").string(), decks());
+  ASSERT_EQ(resolution.impacts.size(), 8u);  // {1, 0.75} x grains {0.06, 0.10} m deep x 2
+  EXPECT_EQ(bed_key(decks(), bed_overrides(resolution.impacts[0])),
+            bed_key(decks(), bed_overrides(cal3.impacts[0])));  // the base is the checked bed
+  EXPECT_EQ(read_campaign_design((dir / "bed-probe-width-cdt.toml").string(), decks())
+                .impacts.size(),
+            4u);  // 2 widths x 2 positions
 }
 
 void expect_error(const std::string& text, std::size_t line, const std::string& field) {
