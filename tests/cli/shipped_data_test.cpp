@@ -32,6 +32,7 @@ TEST_F(ShippedData, StatsReadsEveryResolvedCampaign) {
                                                {"bed-probe-rolling.h5", 8},
                                                {"bed-probe-rolling-model.h5", 6},
                                                {"bed-probe-resolution-cdt.h5", 8},
+                                               {"bed-probe-width-cdt.h5", 4},
                                                {"bed-probe-stiffness.h5", 23},
                                                {"convergence.h5", 27},
                                                {"lab-cylinders.h5", 28},
@@ -44,6 +45,7 @@ TEST_F(ShippedData, StatsReadsEveryResolvedCampaign) {
                                                {"lab-triangles-blind.h5", 26},
                                                {"lab-triangles-blind-long.h5", 30},
                                                {"speeds.h5", 17},
+                                               {"speeds-cdt.h5", 19},
                                                {"speeds-long.h5", 27}};
   const fs::path dir = fs::path(RICOCHET_SOURCE_DIR) / "data/resolved";
   std::set<std::string> seen;
