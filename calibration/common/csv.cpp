@@ -5,7 +5,7 @@
 namespace ricochet {
 namespace {
 
-// The blanks the reader trims (impact_detail::trim).
+// The blanks the reader trims (csv_trim).
 bool is_blank(char c) {
   return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
 }
@@ -17,13 +17,13 @@ bool needs_quotes(std::string_view s) {
   return is_blank(s.front()) || is_blank(s.back());
 }
 
-std::string_view trim(std::string_view s) {
+}  // namespace
+
+std::string_view csv_trim(std::string_view s) {
   while (!s.empty() && is_blank(s.front())) s.remove_prefix(1);
   while (!s.empty() && is_blank(s.back())) s.remove_suffix(1);
   return s;
 }
-
-}  // namespace
 
 std::string csv_cell(std::string_view text) {
   if (!needs_quotes(text)) return std::string(text);
@@ -76,7 +76,7 @@ std::vector<std::string> csv_split(std::string_view line, const std::string& fil
     } else {
       const auto comma = line.find(',', i);
       const auto end = comma == std::string_view::npos ? line.size() : comma;
-      cell = std::string(trim(line.substr(i, end - i)));
+      cell = std::string(csv_trim(line.substr(i, end - i)));
       i = end;
     }
     cells.push_back(std::move(cell));

@@ -19,6 +19,9 @@ std::string csv_cell(std::string_view text);
 /// The cells joined by commas (each through csv_cell), without the line end.
 std::string csv_row(std::span<const std::string> cells);
 
+/// `text` without the blanks the reader trims around an unquoted cell (space, tab, CR, VT, FF).
+std::string_view csv_trim(std::string_view text);
+
 /// Splits one line into cells. Cells may be double-quoted ("a,b", "say ""hi"""); quoted text is
 /// kept verbatim, unquoted text is trimmed. A quoted cell cannot span lines. Throws
 /// InputError(file, line_no, column_name(i), ...) on an unterminated quote or text after a

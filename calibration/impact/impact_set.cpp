@@ -21,25 +21,6 @@ namespace ricochet {
 namespace impact_detail {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
-
-const std::array<Unit, 14> kUnits = {{
-    {"m/s", Dim::kVelocity, 1.0},
-    {"cm/s", Dim::kVelocity, 1e-2},
-    {"mm/s", Dim::kVelocity, 1e-3},
-    {"rad/s", Dim::kAngularVelocity, 1.0},
-    {"deg/s", Dim::kAngularVelocity, kDeg},
-    {"rpm", Dim::kAngularVelocity, 2.0 * std::numbers::pi / 60.0},
-    {"m", Dim::kLength, 1.0},
-    {"cm", Dim::kLength, 1e-2},
-    {"mm", Dim::kLength, 1e-3},
-    {"s", Dim::kTime, 1.0},
-    {"ms", Dim::kTime, 1e-3},
-    {"rad", Dim::kAngle, 1.0},
-    {"deg", Dim::kAngle, kDeg},
-    {"-", Dim::kDimensionless, 1.0},
-}};
-
 bool has_control_char(std::string_view s) {
   return std::any_of(s.begin(), s.end(), [](char c) {
     const auto u = static_cast<unsigned char>(c);
@@ -69,62 +50,6 @@ void check_non_negative(double v, const char* field, const char* unit, const std
 }
 
 }  // namespace
-
-const Unit* find_unit(std::string_view name) {
-  for (const auto& u : kUnits)
-    if (name == u.name) return &u;
-  return nullptr;
-}
-
-const char* si_unit(Dim dim) {
-  switch (dim) {
-    case Dim::kVelocity:
-      return "m/s";
-    case Dim::kAngularVelocity:
-      return "rad/s";
-    case Dim::kLength:
-      return "m";
-    case Dim::kTime:
-      return "s";
-    case Dim::kAngle:
-      return "rad";
-    case Dim::kDimensionless:
-      return "-";
-    case Dim::kText:
-      return "";
-  }
-  return "";
-}
-
-const char* dim_name(Dim dim) {
-  switch (dim) {
-    case Dim::kVelocity:
-      return "velocity";
-    case Dim::kAngularVelocity:
-      return "angular velocity";
-    case Dim::kLength:
-      return "length";
-    case Dim::kTime:
-      return "time";
-    case Dim::kAngle:
-      return "angle";
-    case Dim::kDimensionless:
-      return "dimensionless";
-    case Dim::kText:
-      return "text";
-  }
-  return "";
-}
-
-std::string units_of(Dim dim) {
-  std::string out;
-  for (const auto& u : kUnits) {
-    if (dim != Dim::kText && u.dim != dim) continue;
-    if (!out.empty()) out += ", ";
-    out += u.name;
-  }
-  return out;
-}
 
 const std::vector<ColumnSpec>& schema_columns() {
   static const std::vector<ColumnSpec> columns = {
@@ -363,14 +288,6 @@ bool parse_number(std::string_view text, double& value) {
   if (text.empty()) return false;
   const auto res = std::from_chars(text.data(), text.data() + text.size(), value);
   return res.ec == std::errc() && res.ptr == text.data() + text.size();
-}
-
-std::string_view trim(std::string_view text) {
-  constexpr std::string_view kSpace = " \t\r\v\f";
-  const auto b = text.find_first_not_of(kSpace);
-  if (b == std::string_view::npos) return {};
-  const auto e = text.find_last_not_of(kSpace);
-  return text.substr(b, e - b + 1);
 }
 
 void RowAssembler::store(Impact& m, const ColumnSpec* spec, std::size_t extra_index,

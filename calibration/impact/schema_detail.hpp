@@ -13,26 +13,19 @@
 #include <unordered_map>
 #include <vector>
 
+#include "common/csv.hpp"
+#include "common/units.hpp"
 #include "impact/impact_set.hpp"
 
 namespace ricochet::impact_detail {
 
-/// Physical dimension of a column; fixes which units it accepts and its SI unit.
-enum class Dim { kVelocity, kAngularVelocity, kLength, kTime, kAngle, kDimensionless, kText };
-
-/// A unit the readers accept: value_SI = value_in_file * to_si.
-struct Unit {
-  const char* name;
-  Dim dim;
-  double to_si;
-};
-/// The unit named `name` (exact, case-sensitive), or nullptr if unknown.
-const Unit* find_unit(std::string_view name);
-/// SI unit written by the writers for a dimension ("m/s", "rad/s", "m", "s", "rad", "-").
-const char* si_unit(Dim dim);
-/// "m/s, cm/s, mm/s" for messages; all known units when dim is kText.
-std::string units_of(Dim dim);
-const char* dim_name(Dim dim);
+// The unit table is the one shared with the track reader (common/units.hpp).
+using units::Dim;
+using units::dim_name;
+using units::find_unit;
+using units::si_unit;
+using units::Unit;
+using units::units_of;
 
 /// Schema columns other than extras, in the order the writers emit them.
 enum class Col {
@@ -114,7 +107,9 @@ std::string format_number(double value);
 /// character is left over or the value is out of range. NaN/inf parse: the caller checks.
 bool parse_number(std::string_view text, double& value);
 
-/// Trims spaces, tabs, CR, VT and FF on both sides.
-std::string_view trim(std::string_view text);
+/// Trims spaces, tabs, CR, VT and FF on both sides (the CSV cell rule, common/csv.hpp).
+inline std::string_view trim(std::string_view text) {
+  return csv_trim(text);
+}
 
 }  // namespace ricochet::impact_detail

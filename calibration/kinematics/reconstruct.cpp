@@ -13,7 +13,9 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/csv.hpp"
 #include "common/error.hpp"
+#include "common/units.hpp"
 
 namespace ricochet::kinematics {
 namespace {
@@ -21,64 +23,27 @@ namespace {
 // ---------------------------------------------------------------------------------------------
 // Track CSV reader
 
-std::string trim(std::string_view s) {
-  const auto b = s.find_first_not_of(" \t\r");
-  if (b == std::string_view::npos) return {};
-  const auto e = s.find_last_not_of(" \t\r");
-  return std::string(s.substr(b, e - b + 1));
-}
+using units::Dim;
 
-std::vector<std::string> split_csv(const std::string& line) {
-  std::vector<std::string> cells;
-  std::size_t start = 0;
-  while (true) {
-    const auto comma = line.find(',', start);
-    cells.push_back(trim(std::string_view(line).substr(
-        start, comma == std::string::npos ? std::string::npos : comma - start)));
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  return cells;
-}
+// The track's own unit besides the shared table: image pixels, scaled by --pixel-size.
+constexpr std::string_view kPixels = "px";
 
-enum class Quantity { kTime, kLength, kAngle };
-
-/// Factor to SI of a unit of the given quantity; nullopt if the unit does not fit. For lengths,
-/// `px` returns 0 (scaled later by the pixel size).
-std::optional<double> unit_factor(Quantity q, const std::string& unit) {
-  switch (q) {
-    case Quantity::kTime:
-      if (unit == "s") return 1.0;
-      if (unit == "ms") return 1e-3;
-      break;
-    case Quantity::kLength:
-      if (unit == "m") return 1.0;
-      if (unit == "mm") return 1e-3;
-      if (unit == "px") return 0.0;
-      break;
-    case Quantity::kAngle:
-      if (unit == "rad") return 1.0;
-      if (unit == "deg") return std::numbers::pi / 180.0;
-      break;
-  }
+/// Factor to SI of a unit of the given dimension (the shared table, common/units.hpp); nullopt
+/// if the unit does not fit. For lengths, `px` returns 0 (scaled later by the pixel size).
+std::optional<double> unit_factor(Dim dim, const std::string& unit) {
+  if (dim == Dim::kLength && unit == kPixels) return 0.0;
+  if (const units::Unit* u = units::find_unit(unit, dim)) return u->to_si;
   return std::nullopt;
 }
 
-const char* units_of(Quantity q) {
-  switch (q) {
-    case Quantity::kTime:
-      return "s, ms";
-    case Quantity::kLength:
-      return "px, mm, m";
-    case Quantity::kAngle:
-      return "rad, deg";
-  }
-  return "";
+/// The units a track column accepts, for messages: "px, m, cm, mm" for lengths.
+std::string track_units_of(Dim dim) {
+  return (dim == Dim::kLength ? std::string(kPixels) + ", " : std::string()) + units::units_of(dim);
 }
 
 struct TrackColumn {
   const char* name;
-  Quantity quantity;
+  Dim quantity;
   int index = -1;     // position in the row, -1 if absent
   double factor = 1;  // to SI
   bool pixels = false;
@@ -433,9 +398,9 @@ Track parse_track_csv(const std::string& text, const std::string& name,
   std::istringstream in(text);
   std::string line;
   std::size_t lineno = 0, header_line = 0;
-  std::vector<TrackColumn> cols = {{"t", Quantity::kTime},        {"x", Quantity::kLength},
-                                   {"y", Quantity::kLength},      {"mark_x", Quantity::kLength},
-                                   {"mark_y", Quantity::kLength}, {"theta", Quantity::kAngle}};
+  std::vector<TrackColumn> cols = {{"t", Dim::kTime},        {"x", Dim::kLength},
+                                   {"y", Dim::kLength},      {"mark_x", Dim::kLength},
+                                   {"mark_y", Dim::kLength}, {"theta", Dim::kAngle}};
   enum { kT, kX, kY, kMx, kMy, kTheta };
   std::size_t width = 0;
   std::vector<std::string> header_names;
@@ -443,32 +408,38 @@ Track parse_track_csv(const std::string& text, const std::string& name,
   std::vector<std::size_t> row_lines;
   while (std::getline(in, line)) {
     ++lineno;
-    const std::string trimmed = trim(line);
+    const std::string_view trimmed = csv_trim(line);
     if (trimmed.empty() || trimmed.front() == '#') continue;
-    const std::vector<std::string> cells = split_csv(trimmed);
+    // The CSV cell rule of every reader (common/csv.hpp); an error names the column.
+    const std::vector<std::string> cells =
+        csv_split(trimmed, name, lineno, [&](std::size_t c) -> std::string {
+          return c < header_names.size() ? header_names[c] : "column " + std::to_string(c + 1);
+        });
     if (header_line == 0) {
       header_line = lineno;
       width = cells.size();
       for (const std::string& cell : cells)
-        header_names.push_back(trim(cell.substr(0, cell.find('['))));
+        header_names.emplace_back(csv_trim(std::string_view(cell).substr(0, cell.find('['))));
       for (std::size_t c = 0; c < cells.size(); ++c) {
         const std::string& cell = cells[c];
         const auto open = cell.find('[');
-        const std::string cname = trim(cell.substr(0, open));
+        const std::string cname(csv_trim(std::string_view(cell).substr(0, open)));
         for (TrackColumn& col : cols) {
           if (cname != col.name) continue;
           if (col.index >= 0) throw InputError(name, lineno, cname, "column appears twice");
           if (open == std::string::npos || cell.back() != ']')
             throw InputError(name, lineno, cname,
                              std::string("missing unit: write ") + col.name +
-                                 "[unit] with unit in " + units_of(col.quantity));
-          const std::string unit = trim(cell.substr(open + 1, cell.size() - open - 2));
+                                 "[unit] with unit in " + track_units_of(col.quantity));
+          const std::string unit(
+              csv_trim(std::string_view(cell).substr(open + 1, cell.size() - open - 2)));
           const auto f = unit_factor(col.quantity, unit);
           if (!f)
-            throw InputError(name, lineno, cname,
-                             "unknown unit '" + unit + "' (use " + units_of(col.quantity) + ")");
+            throw InputError(
+                name, lineno, cname,
+                "unknown unit '" + unit + "' (use " + track_units_of(col.quantity) + ")");
           col.index = static_cast<int>(c);
-          col.pixels = col.quantity == Quantity::kLength && *f == 0;
+          col.pixels = col.quantity == Dim::kLength && *f == 0;
           col.factor = *f;
         }
       }
@@ -486,7 +457,7 @@ Track parse_track_csv(const std::string& text, const std::string& name,
                          "or theta");
       bool any_px = false;
       for (TrackColumn& col : cols) {
-        if (col.index < 0 || col.quantity != Quantity::kLength) continue;
+        if (col.index < 0 || col.quantity != Dim::kLength) continue;
         if (col.pixels) {
           any_px = true;
           if (!pixel_size_m)
