@@ -52,10 +52,15 @@ Model with_values(const Model& model, const std::vector<double>& values) {
   return m;
 }
 
-Baseline compare(const Model& model_in, const Shape& shape, const ImpactSet& set,
-                 const DiagnoseOptions& options) {
+DiagnoseOptions resolve_scale(const ImpactSet& set, const DiagnoseOptions& options) {
   DiagnoseOptions o = options;
   o.assess = resolve_scale(set, options.assess);
+  return o;
+}
+
+Baseline compare(const Model& model_in, const Shape& shape, const ImpactSet& set,
+                 const DiagnoseOptions& options) {
+  const DiagnoseOptions o = resolve_scale(set, options);
   // kn calibrated too when the set's contact features enter the error (assess.hpp).
   const Model model = calibration_model_for(model_in, set, o.assess);
   const auto t0 = std::chrono::steady_clock::now();

@@ -117,6 +117,12 @@ struct Baseline {
   Obs error_floors{};
   double seconds = 0;
 };
+
+/// `options` with their assess options resolved on `set` (resolve_scale): the first step of
+/// compare, diagnose and ladder, so that everything they compute on the full set shares one set
+/// of error denominators.
+DiagnoseOptions resolve_scale(const ImpactSet& set, const DiagnoseOptions& options);
+
 Baseline compare(const Model& model, const Shape& shape, const ImpactSet& set,
                  const DiagnoseOptions& options);
 

@@ -40,7 +40,7 @@ DiagnoseOptions make_options(const OptionValues& v) {
   o.assess.release_intervals = !v.no_intervals;
   o.assess.use_features = !v.no_features;
   if (v.orientations < 0 || v.orientations == 1)
-    throw InputError("<command line>", 0, "--orientations", "must be 0 (default) or >= 2");
+    throw InputError("<command line>", 0, "--orientations", "must be 0 (the default) or >= 2");
   if (v.orientations > 0) o.assess.fit.alpha.marginal_points = v.orientations;
   if (v.error == "set-mean")
     o.assess.scale = ErrorScale::kSetMean;

@@ -12,23 +12,27 @@
 
 namespace ricochet::diagnosis {
 
-/// Option values as given on a command line.
+/// Option values as given on a command line. Every default is the library's, read from
+/// DiagnoseOptions / AssessOptions (the one place each is decided, with its reason), so that the
+/// command line and a program calling the library run the same analysis.
 struct OptionValues {
-  std::string folds = "5";  ///< number of folds, or "loro" (leave one release out)
-  std::uint64_t seed = 1;   ///< seed of the calibration's start designs
-  // Defaults are the library's (one place: DiagnoseOptions / AssessOptions).
+  /// Number of folds, or "loro" (leave one release out).
+  std::string folds = std::to_string(AssessOptions{}.folds);
+  std::uint64_t seed = AssessOptions{}.fit.seed;  ///< seed of the calibration's start designs
   double alpha = DiagnoseOptions{}.alpha;         ///< family-wise error rate
   std::size_t repeats = AssessOptions{}.repeats;  ///< repeated k-fold partitions
   std::size_t screen = DiagnoseOptions{}.screen;  ///< generated laws calibrated
-  bool no_pairs = false;                          ///< skip the pair search
+  bool no_pairs = !DiagnoseOptions{}.pairs;       ///< skip the pair search
   std::vector<std::string> candidates;
-  bool no_release_fits = false;    ///< skip per-release calibration (faster)
-  bool no_intervals = false;       ///< per-release fits without identifiability intervals
-  bool no_features = false;        ///< ignore penetration / contact duration
-  std::string error = "set-mean";  ///< error denominators: set-mean or eq7 (ErrorScale)
-  int orientations = 0;  ///< marginal orientation grid of non-disc blocks (0 = fit default)
-  int threads = 0;
-  double dt_s = 1e-5;
+  bool no_release_fits = !AssessOptions{}.release_fits;    ///< skip per-release calibration
+  bool no_intervals = !AssessOptions{}.release_intervals;  ///< per-release fits without intervals
+  bool no_features = !AssessOptions{}.use_features;  ///< ignore penetration / contact duration
+  /// Error denominators: set-mean or eq7 (ErrorScale).
+  std::string error = error_scale_name(AssessOptions{}.scale);
+  /// Marginal orientation grid of non-disc blocks without alpha_in (0 also means this default).
+  int orientations = AssessOptions{}.fit.alpha.marginal_points;
+  int threads = AssessOptions{}.fit.threads;      ///< OpenMP threads, 0 = all
+  double dt_s = AssessOptions{}.fit.engine.dt_s;  ///< engine time step [s]
 };
 
 /// Builds DiagnoseOptions; throws InputError naming the option for a bad value.

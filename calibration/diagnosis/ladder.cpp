@@ -13,8 +13,7 @@ using detail::registry_of;
 
 Ladder ladder(const Model& model, const Shape& shape, const ImpactSet& set,
               const std::vector<std::string>& adds, const DiagnoseOptions& options) {
-  DiagnoseOptions o = options;
-  o.assess = resolve_scale(set, options.assess);
+  const DiagnoseOptions o = resolve_scale(set, options);
   Ladder l;
   const EffectRegistry& registry = registry_of(o);
   // The base model as calibrated on this set (kn too when its contact features enter the error).

@@ -136,8 +136,7 @@ Diagnosis diagnose(const Model& model, const Shape& shape, const ImpactSet& set,
 
 Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, const ImpactSet& set,
                    const DiagnoseOptions& options) {
-  DiagnoseOptions o = options;
-  o.assess = resolve_scale(set, options.assess);
+  const DiagnoseOptions o = resolve_scale(set, options);
   const auto t0 = std::chrono::steady_clock::now();
   Diagnosis d;
   d.baseline = std::move(baseline);

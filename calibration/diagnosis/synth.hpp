@@ -89,12 +89,8 @@ struct SynthOptions {
   /// Features written besides the velocities (as a LIGGGHTS run or an instrumented lab has them;
   /// the paper's lab has none of them). alpha_in only for non-disc shapes.
   bool write_alpha = true, write_penetration = true, write_contact_duration = true;
-  /// Engine settings of the truth runs (max_time_s 0.1 s, like the calibration's).
-  EngineOptions engine = [] {
-    EngineOptions e;
-    e.max_time_s = 0.1;
-    return e;
-  }();
+  /// Engine settings of the truth runs: the calibration's (bulk_engine_options).
+  EngineOptions engine = bulk_engine_options();
   std::string id_prefix = "S";  ///< release ids: S001, S002, ...
 };
 

@@ -132,14 +132,10 @@ struct ParameterInterval {
 };
 
 struct FitOptions {
-  /// Engine settings: time step dt = 1e-5 s (as the paper); a rebound not over after
-  /// max_time_s = 0.1 s (lab contacts last 5-20 ms) is a failed rebound, scored
-  /// Eq. 7 + kFailedRebound. `engine.threads` is ignored inside a release fit.
-  EngineOptions engine = [] {
-    EngineOptions e;
-    e.max_time_s = 0.1;
-    return e;
-  }();
+  /// Engine settings (bulk_engine_options: dt = 1e-5 s as the paper, max_time_s = 0.1 s); a
+  /// rebound not over by then is a failed rebound, scored Eq. 7 + kFailedRebound.
+  /// `engine.threads` is ignored inside a release fit.
+  EngineOptions engine = bulk_engine_options();
   ErrorOptions error;      ///< Eq. 7 denominators
   std::uint64_t seed = 1;  ///< seed of the Latin hypercube start design
   int starts = 4;          ///< BOBYQA runs per fit, from the best design points

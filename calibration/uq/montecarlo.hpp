@@ -29,13 +29,9 @@ namespace ricochet::uq {
 struct MonteCarloOptions {
   std::size_t runs = 50000;
   std::uint64_t seed = 1;
-  /// dt = 1e-5 s; a rebound not over after max_time_s = 0.1 s (lab contacts last 5-20 ms) is a
+  /// bulk_engine_options (dt = 1e-5 s, max_time_s = 0.1 s): a rebound not over by then is a
   /// failed run (status no_rebound), excluded from the CDFs and counted; threads: 0 = all.
-  EngineOptions engine = [] {
-    EngineOptions e;
-    e.max_time_s = 0.1;
-    return e;
-  }();
+  EngineOptions engine = bulk_engine_options();
   /// Fixed incident state (m/s, m/s, rad/s), used unless `incident` is set.
   Vel3 vin = {kPaperVin[0], kPaperVin[1], kPaperVin[2]};
   /// Resample incident states (and alpha_in when present) from these releases.
