@@ -72,7 +72,7 @@ GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const De
   if (target.impacts.size() < 2)
     throw InputError(target.source, 0, "vout", "the target needs at least 2 impacts");
   ImpactSet set = read_impact_set_h5(campaign_h5);
-  if (!options.where.empty()) set = filter(set, options.where);
+  set = filter_nonempty(set, options.where, campaign_h5);
   for (const auto& e : read_campaign_index(campaign_h5))
     if (e.status != "rebound") ++r.failed;
   const auto grain = campaign_grain_parameters(campaign_h5, decks);

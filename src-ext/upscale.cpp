@@ -56,7 +56,7 @@ UpscaleResult upscale(const std::string& campaign_h5, const Decks& decks, const 
   r.source = campaign_h5;
   r.shape = shape.name;
   ImpactSet all = read_impact_set_h5(campaign_h5);
-  if (!options.where.empty()) all = filter(all, options.where);
+  all = filter_nonempty(all, options.where, campaign_h5);
   r.set = fit::select_shape(all, shape);
   const auto grain = campaign_grain_parameters(campaign_h5, decks);
   for (const auto& im : r.set.impacts)

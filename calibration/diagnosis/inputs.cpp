@@ -52,44 +52,45 @@ DiagnoseOptions make_options(const OptionValues& v) {
   return o;
 }
 
-Inputs load_inputs(const std::string& data, const std::string& shape_name,
-                   const std::string& where) {
-  ImpactSet all = read_impact_set(data);
-  if (all.empty()) throw InputError(data, 0, "id", "the impact set has no release");
-  if (!where.empty()) {
-    all = filter(all, where);
-    if (all.empty())
-      throw InputError("<command line>", 0, "--where",
-                       "'" + where + "' keeps no release of " + data);
-  }
-  std::string name = shape_name;
-  if (name.empty()) {
-    std::vector<std::string> shapes;
-    for (const auto& im : all.impacts)
-      if (std::find(shapes.begin(), shapes.end(), im.shape) == shapes.end())
-        shapes.push_back(im.shape);
-    if (shapes.size() > 1) {
-      std::string list;
-      for (const auto& s : shapes) list += (list.empty() ? "" : ", ") + s;
-      throw InputError("<command line>", 0, "--shape",
-                       "the data hold several shapes (" + list + "): choose one with --shape");
-    }
-    name = shapes.front();
-  }
+std::vector<std::string> shapes_to_analyse(const ImpactSet& set, const std::string& shape_name) {
+  if (!shape_name.empty()) return {shape_name};
+  std::vector<std::string> shapes;
+  for (const auto& im : set.impacts)
+    if (std::find(shapes.begin(), shapes.end(), im.shape) == shapes.end())
+      shapes.push_back(im.shape);
+  return shapes;
+}
+
+Inputs select_inputs(const ImpactSet& set, const std::string& shape_name, const std::string& data) {
   Inputs in;
   try {
-    in.shape = Shape::resolve(name);
+    in.shape = Shape::resolve(shape_name);
   } catch (const InputError&) {
     throw;
   } catch (const std::exception& e) {
     throw InputError("<command line>", 0, "--shape", e.what());
   }
-  in.set = fit::select_shape(all, in.shape);
+  in.set = fit::select_shape(set, in.shape);
   if (in.set.size() < 4)
     throw InputError(data, 0, "shape",
                      "only " + std::to_string(in.set.size()) + " release(s) of shape '" +
                          in.shape.name + "': the held-out error needs at least 4");
   return in;
+}
+
+Inputs load_inputs(const std::string& data, const std::string& shape_name,
+                   const std::string& where) {
+  ImpactSet all = read_impact_set(data);
+  if (all.empty()) throw InputError(data, 0, "id", "the impact set has no release");
+  all = filter_nonempty(all, where, data);
+  const std::vector<std::string> shapes = shapes_to_analyse(all, shape_name);
+  if (shapes.size() > 1) {
+    std::string list;
+    for (const auto& s : shapes) list += (list.empty() ? "" : ", ") + s;
+    throw InputError("<command line>", 0, "--shape",
+                     "the data hold several shapes (" + list + "): choose one with --shape");
+  }
+  return select_inputs(all, shapes.front(), data);
 }
 
 }  // namespace ricochet::diagnosis

@@ -41,13 +41,25 @@ DiagnoseOptions make_options(const OptionValues& values);
 /// Resolves the number of folds for a set of n releases ("loro" = n; clamped to [2, n]).
 std::size_t resolve_folds(const std::string& folds, std::size_t n);
 
-/// Reads DATA, keeps the releases matching `where` (impact filter, the --where syntax; empty: all;
-/// none kept is an InputError) and of `shape` (fit::select_shape). When `shape_name` is empty
-/// the shape is the only one present in the data (an error lists them when there are several).
+/// An impact set restricted to one shape, and that shape.
 struct Inputs {
   ImpactSet set;
   Shape shape;
 };
+
+/// The shapes an analysis of `set` covers: {shape_name} when the user named one (--shape), else
+/// every shape present in the data, in order of first appearance. The one rule for choosing the
+/// shape: load_inputs takes the only one, `report` each in turn.
+std::vector<std::string> shapes_to_analyse(const ImpactSet& set, const std::string& shape_name);
+
+/// The releases of `set` (read from `data`) of shape `shape_name` (Shape::resolve; a bad name is an
+/// InputError naming --shape). Fewer than 4 is an InputError naming `data`: the held-out error
+/// needs at least 4.
+Inputs select_inputs(const ImpactSet& set, const std::string& shape_name, const std::string& data);
+
+/// Reads DATA, keeps the releases matching `where` (impact filter, the --where syntax; empty: all;
+/// none kept is an InputError) and of one shape (select_inputs): `shape_name`, or when it is empty
+/// the only one present in the data (an error lists them when there are several).
 Inputs load_inputs(const std::string& data, const std::string& shape_name,
                    const std::string& where = "");
 

@@ -553,6 +553,16 @@ ImpactSet filter(const ImpactSet& set, const std::string& where) {
   return out;
 }
 
+ImpactSet filter_nonempty(const ImpactSet& set, const std::string& where,
+                          const std::string& source) {
+  ImpactSet out = filter(set, where);
+  if (out.empty() && !set.empty() && !trim(where).empty())
+    throw InputError("<command line>", 0, "--where",
+                     "'" + where + "' keeps no release of " + source + " (" +
+                         std::to_string(set.size()) + " releases)");
+  return out;
+}
+
 std::vector<std::vector<std::size_t>> replicate_groups(const ImpactSet& set) {
   std::map<std::string, std::vector<std::size_t>> by_key;
   for (std::size_t i = 0; i < set.impacts.size(); ++i) {

@@ -125,4 +125,10 @@ void validate(const ImpactSet& set);
 /// Throws InputError (file "--where", field = the offending term) for a malformed filter.
 ImpactSet filter(const ImpactSet& set, const std::string& where);
 
+/// filter(set, where) as the commands apply --where: a non-empty filter that keeps no release is an
+/// InputError (field "--where") saying so, naming `where` and `source` (the file `set` came from),
+/// rather than an empty set that fails later with a less telling message.
+ImpactSet filter_nonempty(const ImpactSet& set, const std::string& where,
+                          const std::string& source);
+
 }  // namespace ricochet
