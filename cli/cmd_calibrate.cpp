@@ -18,6 +18,7 @@
 #include "fit/fit.hpp"
 #include "fit/fit_io.hpp"
 #include "model_options.hpp"
+#include "shared_options.hpp"
 #include "uq/distribution.hpp"
 #include "uq/figures.hpp"
 
@@ -25,14 +26,15 @@ namespace ricochet::cli {
 namespace {
 
 struct CalibrateOptions {
-  std::string data, where, figures, alpha_mode = "fit";
+  /// The options bound to fit settings write straight into `fit`: their defaults are the fit
+  /// module's (fit::FitOptions), shown by --help.
+  fit::FitOptions fit;
+  std::string data, where, figures, alpha_mode = fit::alpha_mode_name(fit::FitOptions{}.alpha.mode);
   ModelOptions model;
   OutputOptions output;
-  std::uint64_t seed = 1;
-  int starts = 4, design_points = 0, threads = 0;
   std::vector<double> sigma, alpha_range_deg;
-  double threshold_scale = 1.0;
-  bool no_intervals = false, population = false, resume = false, no_features = false;
+  bool no_intervals = !fit::FitOptions{}.intervals, population = false, resume = false,
+       no_features = false;
 };
 
 Vel3 parse_sigma(const std::vector<double>& v) {
@@ -43,21 +45,15 @@ Vel3 parse_sigma(const std::vector<double>& v) {
 }
 
 fit::FitOptions fit_options(const CalibrateOptions& o) {
-  fit::FitOptions f;
-  const EngineOptions e = o.model.engine_options();
-  f.engine.dt_s = e.dt_s;
-  f.seed = o.seed;
-  if (o.starts < 1) throw InputError("<command line>", 0, "--starts", "must be at least 1");
-  f.starts = o.starts;
-  if (o.design_points < 0)
+  fit::FitOptions f = o.fit;
+  f.engine.dt_s = o.model.engine_options().dt_s;
+  if (f.starts < 1) throw InputError("<command line>", 0, "--starts", "must be at least 1");
+  if (f.design_points < 0)
     throw InputError("<command line>", 0, "--design-points", "must be >= 0 (0 = automatic)");
-  f.design_points = o.design_points;
-  f.threads = o.threads;
   f.intervals = !o.no_intervals;
   if (!o.sigma.empty()) f.sigma = parse_sigma(o.sigma);
-  if (!(o.threshold_scale > 0))
+  if (!(f.threshold_scale > 0))
     throw InputError("<command line>", 0, "--threshold-scale", "must be positive");
-  f.threshold_scale = o.threshold_scale;
   if (o.alpha_mode == "fit")
     f.alpha.mode = fit::AlphaMode::kFit;
   else if (o.alpha_mode == "marginal")
@@ -164,7 +160,8 @@ void run(const CalibrateOptions& o) {
   const Model given = o.model.build_model();
   const Shape shape = o.model.build_shape();
   fit::FitOptions options = fit_options(o);
-  const ImpactSet set = fit::select_shape(filter(read_impact_set(o.data), o.where), shape);
+  const ImpactSet set =
+      fit::select_shape(filter_nonempty(read_impact_set(o.data), o.where, o.data), shape);
   // The set's contact features enter the error, and then kn is calibrated: the same rule as
   // compare, diagnose and ladder (fit/fit.hpp).
   if (!o.no_features) options.error = fit::with_contact_terms(options.error, set);
@@ -257,16 +254,20 @@ void add_calibrate_command(CLI::App& app) {
   sub->add_option("DATA", opts->data, "Impact set (.csv or .h5)")->required();
   add_model_options(sub, opts->model);
   add_output_options(sub, opts->output);
-  sub->add_option("--where", opts->where, "Select releases, e.g. \"vin_x<3.5\"");
-  sub->add_option("--seed", opts->seed, "Seed of the start design")->capture_default_str();
-  sub->add_option("--starts", opts->starts, "BOBYQA runs per release")->capture_default_str();
-  sub->add_option("--design-points", opts->design_points,
-                  "Start design size (0 = 16 per fitted variable)");
+  const fit::FitOptions defaults;
+  add_where_option(sub, opts->where, "the releases of DATA");
+  add_seed_option(sub, opts->fit.seed, "the start design");
+  sub->add_option("--starts", opts->fit.starts, "BOBYQA runs per release")->capture_default_str();
+  sub->add_option("--design-points", opts->fit.design_points,
+                  "Start design size (0 = 16 per fitted variable)")
+      ->capture_default_str();
   sub->add_option("--sigma", opts->sigma,
-                  "Measurement uncertainty of V_out SX,SY,SW (m/s, m/s, rad/s) for the "
-                  "identifiability threshold; default 0.1,0.1,3.4 (paper Table 1)")
+                  fmt::format("Measurement uncertainty of V_out SX,SY,SW (m/s, m/s, rad/s) for "
+                              "the identifiability threshold; default {:g},{:g},{:g} (paper "
+                              "Table 1)",
+                              defaults.sigma[0], defaults.sigma[1], defaults.sigma[2]))
       ->delimiter(',');
-  sub->add_option("--threshold-scale", opts->threshold_scale,
+  sub->add_option("--threshold-scale", opts->fit.threshold_scale,
                   "Multiply the near-optimal threshold (e.g. 4 for two sigma)")
       ->capture_default_str();
   sub->add_flag("--no-intervals", opts->no_intervals, "Skip the identifiability intervals");
@@ -276,19 +277,21 @@ void add_calibrate_command(CLI::App& app) {
   sub->add_option("--alpha", opts->alpha_mode,
                   "Unknown alpha_in of non-disc blocks: fit (nuisance) or marginal")
       ->capture_default_str();
-  sub->add_option("--alpha-range", opts->alpha_range_deg,
-                  "Range of alpha_in LO,HI [deg], one symmetry period (default -60,60)")
+  sub->add_option(
+         "--alpha-range", opts->alpha_range_deg,
+         fmt::format("Range of alpha_in LO,HI [deg], one symmetry period (default "
+                     "{:g},{:g})",
+                     defaults.alpha.min_rad * 180 / M_PI, defaults.alpha.max_rad * 180 / M_PI))
       ->delimiter(',');
   sub->add_flag("--population", opts->population, "Also fit one parameter set to all releases");
-  sub->add_option("--threads", opts->threads, "OpenMP threads (0 = all)");
+  add_threads_option(sub, opts->fit.threads);
   sub->add_flag("--resume", opts->resume, "Continue the run stored in --out FILE.h5");
-  sub->add_option("--figures", opts->figures, "Write SVG figures into DIR");
+  add_figures_option(sub, opts->figures);
   check_range(sub, "--starts", 1, 1000);
   check_range(sub, "--design-points", 0, 1e6);
   check_range(sub, "--sigma", 1e-12, 1e6);
   check_range(sub, "--threshold-scale", 1e-6, 1e6);
   check_range(sub, "--alpha-range", -180, 180);
-  check_range(sub, "--threads", 0, 4096);
   sub->callback([opts] { run(*opts); });
 }
 

@@ -15,14 +15,15 @@
 #include "grain_calibration.hpp"
 #include "impact/impact_set.hpp"
 #include "params.hpp"
+#include "shared_options.hpp"
 
 namespace ricochet::cli {
 namespace {
 
 struct Options {
-  std::string campaign, lab, shape = "cylinder", figures, decks, where;
-  std::vector<std::string> parameters;
-  unsigned seed = 1;
+  std::string campaign, lab, shape = "cylinder", figures, decks;
+  /// --where, --parameters and --seed write into the library's options (and show its defaults).
+  dem::GrainCalibrationOptions calibration;
   OutputOptions output;
 };
 
@@ -31,11 +32,7 @@ void run(const Options& o) {
   const auto decks = dem::Decks::locate(o.decks);
   const Shape shape = Shape::resolve(o.shape);
   const ImpactSet lab = fit::select_shape(read_impact_set(o.lab), shape);
-  dem::GrainCalibrationOptions opt;
-  opt.parameters = o.parameters;
-  opt.where = o.where;
-  opt.seed = o.seed;
-  const auto r = dem::calibrate_grains(o.campaign, decks, lab, opt);
+  const auto r = dem::calibrate_grains(o.campaign, decks, lab, o.calibration);
   std::vector<std::string> figures;
   if (!o.figures.empty()) figures = dem::write_grain_calibration_figures(r, o.figures);
   nlohmann::json j = nlohmann::json::parse(dem::grain_calibration_json(r));
@@ -88,12 +85,13 @@ void add_calibrate_grains_command(CLI::App& app) {
       ->required()
       ->check(CLI::ExistingFile);
   sub->add_option("--shape", o->shape, "Shape of the target's impacts to use (cylinder, triangle)");
-  sub->add_option("--parameters", o->parameters,
+  sub->add_option("--parameters", o->calibration.parameters,
                   "Surrogate inputs, e.g. bed.mu_gg block.mur_gb (default: those that vary)");
-  sub->add_option("--where", o->where, "Select the campaign's impacts, e.g. \"vin_x<3\"");
-  sub->add_option("--figures", o->figures, "Write SVG figures into DIR");
+  // Not applied to --lab (as upscale): the filter may name the campaign's own columns.
+  add_where_option(sub, o->calibration.where, "the campaign's impacts");
+  add_figures_option(sub, o->figures);
   sub->add_option("--decks", o->decks, "liggghts-inputs folder (for the parameters' defaults)");
-  sub->add_option("--seed", o->seed, "Seed of the Sobol and search samples");
+  add_seed_option(sub, o->calibration.seed, "the Sobol and search samples");
   sub->add_flag("--json", o->output.json, "Print one machine-readable JSON document on stdout");
   sub->add_option("--out", o->output.out, "Write the JSON document to FILE (.json)");
   sub->callback([o] { run(*o); });

@@ -9,6 +9,7 @@
 #include <map>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,7 @@
 #include "impact_run.hpp"
 #include "mpi_session.hpp"
 #include "params.hpp"
+#include "shared_options.hpp"
 
 namespace ricochet::cli {
 namespace {
@@ -203,29 +205,26 @@ void run_bed(const BedOptions& o) {
 struct ImpactOptions {
   CommonOptions common;
   OutputOptions output;
-  std::string shape = "cylinder";
-  std::vector<double> vin = {2.9, -2.3, -65.0};
+  // The library's defaults (impact_spec.hpp), which --help shows.
+  std::string shape = dem::ImpactSpec{}.shape;
+  std::string vin = format_vin(dem::ImpactSpec{}.vin);
   double alpha_deg = 0;
-  long seed = -1;
+  std::optional<std::uint64_t> seed;
   std::string id = "impact";
   std::string work = "dem-work";
-  double fps = 400;
+  double fps = dem::ExtractOptions{}.fps;
   std::string window;
 };
 
 void run_impact_command_on_rank(const ImpactOptions& o, const MpiSession& mpi) {
-  const auto decks = dem::Decks::locate(o.common.decks);
   dem::ImpactSpec spec;
+  spec.vin = parse_vin(o.vin);
+  const auto decks = dem::Decks::locate(o.common.decks);
   spec.id = o.id;
   spec.shape = o.shape;
   (void)Shape::resolve(o.shape);
-  if (o.vin.size() != 3)
-    throw InputError("<command line>", 0, "--vin", "expected vx,vy,omega (m/s, m/s, rad/s)");
-  spec.vin = {o.vin[0], o.vin[1], o.vin[2]};
-  if (!(spec.vin[kVy] < 0))
-    throw InputError("<command line>", 0, "--vin", "incident vy must be < 0");
   spec.alpha_in_rad = o.alpha_deg * std::numbers::pi / 180.0;
-  if (o.seed >= 0) spec.seed = o.seed;
+  if (o.seed) spec.seed = static_cast<std::int64_t>(*o.seed);
   for (const auto& s : o.common.sets) dem::apply_set_option(decks, s, spec.params);
   if (!o.output.out.empty()) {
     require_extension("--out", o.output.out, {".h5", ".hdf5", ".csv"});
@@ -402,15 +401,16 @@ void add_dem_command(CLI::App& app) {
   auto* i = dem->add_subcommand("impact", "Run one resolved impact on all MPI ranks");
   add_common(i, imp->common);
   add_output_options(i, imp->output);
-  i->add_option("--shape", imp->shape, "cylinder, triangle or a shape file (.toml)");
-  i->add_option("--vin", imp->vin, "Incident state vx,vy,omega (m/s, m/s, rad/s; paper frame)")
-      ->delimiter(',')
-      ->expected(3);
+  i->add_option("--shape", imp->shape, "cylinder, triangle or a shape file (.toml)")
+      ->capture_default_str();
+  add_vin_option(i, imp->vin, "Incident state at first contact, paper frame")
+      ->capture_default_str();
   i->add_option("--alpha-deg", imp->alpha_deg, "Incident orientation [deg]");
-  i->add_option("--seed", imp->seed, "Replica seed (bed and insertion seeds)");
+  add_seed_option(i, imp->seed, "the replica: bed and insertion seeds (default: the decks')");
   i->add_option("--id", imp->id, "Impact id (work folder name)");
   i->add_option("--work", imp->work, "Work folder (per-impact logs and tracks)");
-  i->add_option("--fps", imp->fps, "Frame rate given to the reconstruction (0 = every record)");
+  i->add_option("--fps", imp->fps, "Frame rate given to the reconstruction (0 = every record)")
+      ->capture_default_str();
   i->add_option(
       "--window", imp->window,
       "Contact window: force (default, DEM contact force), ground (paper Fig. 8b) or auto "

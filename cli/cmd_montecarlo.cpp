@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -16,6 +17,7 @@
 #include "fit/fit.hpp"
 #include "fit/fit_io.hpp"
 #include "model_options.hpp"
+#include "shared_options.hpp"
 #include "stats/stats.hpp"
 #include "uq/figures.hpp"
 #include "uq/montecarlo.hpp"
@@ -29,13 +31,14 @@ struct MonteCarloCliOptions {
   ModelOptions model;
   InputOptions inputs;
   OutputOptions output;
-  std::size_t runs = 50000;
-  std::uint64_t seed = 1;
-  std::vector<double> vin, alpha_range_deg;
-  std::string incident, compare, fitted, figures, distance = "cvm";
+  /// --n, --seed and --threads write into mc, --range-runs and --range-evaluations into range:
+  /// their defaults are the uq module's, shown by --help.
+  uq::MonteCarloOptions mc;
+  uq::RangeFitOptions range;
+  std::string vin;
+  std::vector<double> alpha_range_deg;
+  std::string incident, compare, where, fitted, figures, distance = "cvm";
   bool calibrate_ranges = false, resume = false, no_progress = false;
-  std::size_t range_runs = 2000;
-  int range_evaluations = 300, threads = 0;
 };
 
 nlohmann::json moments(const uq::MonteCarloResult& mc) {
@@ -75,9 +78,11 @@ std::vector<uq::ParameterInput> fitted_inputs(const std::string& path, const Mod
 
 void run(const MonteCarloCliOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
+  // --vin is checked before any work, like every option (docs/commands/README.md).
+  const std::optional<Vel3> vin = o.vin.empty() ? std::nullopt : std::optional(parse_vin(o.vin));
   const Model model = o.model.build_model();
   const Shape shape = o.model.build_shape();
-  if (o.runs < 2) throw InputError("<command line>", 0, "--n", "needs at least 2 runs");
+  if (o.mc.runs < 2) throw InputError("<command line>", 0, "--n", "needs at least 2 runs");
   if (!o.vin.empty() && !o.incident.empty())
     throw InputError("<command line>", 0, "--vin", "give either --vin or --incident, not both");
   const bool h5 = !o.output.out.empty() && !o.output.out.ends_with(".csv");
@@ -106,13 +111,10 @@ void run(const MonteCarloCliOptions& o) {
     inputs = o.inputs.build(model);
   }
 
-  uq::MonteCarloOptions mc;
-  mc.runs = o.runs;
-  mc.seed = o.seed;
+  uq::MonteCarloOptions mc = o.mc;
   mc.engine.dt_s = o.model.engine_options().dt_s;
-  mc.engine.threads = o.threads;
   mc.progress = !o.no_progress && !o.output.json;
-  if (!o.vin.empty()) mc.vin = parse_vin_option(o.vin, "--vin");
+  if (vin) mc.vin = *vin;
   if (!o.alpha_range_deg.empty()) {
     if (o.alpha_range_deg.size() != 2 || !(o.alpha_range_deg[0] < o.alpha_range_deg[1]))
       throw InputError("<command line>", 0, "--alpha-range", "expected LO,HI in degrees, LO < HI");
@@ -121,12 +123,14 @@ void run(const MonteCarloCliOptions& o) {
   }
   ImpactSet incident;
   if (!o.incident.empty()) {
-    incident = fit::select_shape(read_impact_set(o.incident), shape);
+    incident =
+        fit::select_shape(filter_nonempty(read_impact_set(o.incident), o.where, o.incident), shape);
     mc.incident = &incident;
   }
   std::unique_ptr<ImpactSet> measured;
   if (!o.compare.empty())
-    measured = std::make_unique<ImpactSet>(fit::select_shape(read_impact_set(o.compare), shape));
+    measured = std::make_unique<ImpactSet>(
+        fit::select_shape(filter_nonempty(read_impact_set(o.compare), o.where, o.compare), shape));
   if (o.calibrate_ranges && !measured)
     throw InputError("<command line>", 0, "--calibrate-ranges", "needs --compare DATA");
 
@@ -167,11 +171,10 @@ void run(const MonteCarloCliOptions& o) {
   }
   std::unique_ptr<uq::MonteCarloResult> calibrated_mc;
   if (o.calibrate_ranges) {
-    uq::RangeFitOptions rf;
+    uq::RangeFitOptions rf = o.range;
     rf.mc = mc;
-    rf.mc.runs = o.range_runs;
+    rf.mc.runs = o.range.mc.runs;
     rf.mc.progress = false;
-    rf.max_evaluations = o.range_evaluations;
     if (o.distance == "ks")
       rf.distance = uq::RangeFitOptions::Distance::kKolmogorovSmirnov;
     else if (o.distance != "cvm")
@@ -189,7 +192,7 @@ void run(const MonteCarloCliOptions& o) {
                         {"objective", fitr.distance},
                         {"objective_start", fitr.initial_distance},
                         {"evaluations", fitr.evaluations},
-                        {"runs_per_evaluation", o.range_runs},
+                        {"runs_per_evaluation", rf.mc.runs},
                         {"check_runs", calibrated_mc->size()},
                         {"ks", uq::components_json(c.ks)},
                         {"p_value", uq::components_json(c.p_value)},
@@ -255,36 +258,39 @@ void add_montecarlo_command(CLI::App& app) {
   add_model_options(sub, opts->model);
   add_output_options(sub, opts->output);
   add_input_options(sub, opts->inputs);
-  sub->add_option("--n", opts->runs, "Number of runs")->capture_default_str();
-  sub->add_option("--seed", opts->seed, "Random seed")->capture_default_str();
-  sub->add_option("--vin", opts->vin, "Fixed incident state VX,VY,W (default 2.9,-2.3,-65)")
-      ->delimiter(',');
+  sub->add_option("--n", opts->mc.runs, "Number of runs")->capture_default_str();
+  add_seed_option(sub, opts->mc.seed, "the runs' random numbers");
+  add_vin_option(sub, opts->vin,
+                 "Fixed incident state (default " + format_vin(uq::MonteCarloOptions{}.vin) + ")");
   sub->add_option("--incident", opts->incident, "Resample incident states from this impact set");
-  sub->add_option("--alpha-range", opts->alpha_range_deg,
-                  "Orientation range of non-disc blocks LO,HI [deg] (default -60,60)")
+  sub->add_option(
+         "--alpha-range", opts->alpha_range_deg,
+         fmt::format("Orientation range of non-disc blocks LO,HI [deg] (default "
+                     "{:g},{:g})",
+                     opts->mc.alpha_min_rad * 180 / M_PI, opts->mc.alpha_max_rad * 180 / M_PI))
       ->delimiter(',');
   sub->add_option("--compare", opts->compare, "Measured impact set: KS per component");
+  add_where_option(sub, opts->where, "the releases of --incident and --compare");
   sub->add_option("--fitted", opts->fitted,
                   "Calibration file (ricochet calibrate --out X.h5): vary each calibrated "
                   "parameter by a distribution fitted to its per-release values");
   sub->add_flag("--calibrate-ranges", opts->calibrate_ranges,
                 "Fit the uniform ranges to the --compare CDFs (common random numbers)");
-  sub->add_option("--range-runs", opts->range_runs, "Runs per evaluation of the range fit")
+  sub->add_option("--range-runs", opts->range.mc.runs, "Runs per evaluation of the range fit")
       ->capture_default_str();
-  sub->add_option("--range-evaluations", opts->range_evaluations,
+  sub->add_option("--range-evaluations", opts->range.max_evaluations,
                   "Objective evaluations of the range fit")
       ->capture_default_str();
   sub->add_option("--distance", opts->distance, "Range-fit distance: cvm or ks")
       ->capture_default_str();
-  sub->add_option("--threads", opts->threads, "OpenMP threads (0 = all)");
+  add_threads_option(sub, opts->mc.engine.threads);
   sub->add_flag("--resume", opts->resume, "Continue the run stored in --out FILE.h5");
   sub->add_flag("--no-progress", opts->no_progress, "No progress bar");
-  sub->add_option("--figures", opts->figures, "Write SVG figures into DIR");
+  add_figures_option(sub, opts->figures);
   check_range(sub, "--n", 1, 1e9);
   check_range(sub, "--alpha-range", -180, 180);
   check_range(sub, "--range-runs", 1, 1e8);
   check_range(sub, "--range-evaluations", 1, 1e7);
-  check_range(sub, "--threads", 0, 4096);
   sub->callback([opts] { run(*opts); });
 }
 

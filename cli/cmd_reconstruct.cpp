@@ -15,6 +15,7 @@
 #include "impact/impact_set.hpp"
 #include "kinematics/reconstruct.hpp"
 #include "report/plot.hpp"
+#include "shared_options.hpp"
 
 namespace ricochet::cli {
 namespace {
@@ -256,8 +257,7 @@ void add_reconstruct_command(CLI::App& app) {
                   "Known pointing uncertainty of one tracked point [m] (default: from residuals)");
   sub->add_option("--id", o->id, "Release id written by --out (default: the track's file name)");
   sub->add_option("--shape", o->shape, "Block shape written by --out")->capture_default_str();
-  sub->add_option("--figures", o->figures,
-                  "Write an SVG of x(t), y(t), theta(t) and the fits into DIR");
+  add_figures_option(sub, o->figures, "an SVG of x(t), y(t), theta(t) and the fits");
   add_output_options(sub, o->output);
   check_range(sub, "--pixel-size", 1e-12, 1e3);
   check_range(sub, "--gravity", 0, 1e3);

@@ -15,6 +15,7 @@
 #include "diagnosis_options.hpp"
 #include "fit/fit.hpp"
 #include "model_options.hpp"
+#include "shared_options.hpp"
 
 namespace ricochet::cli {
 namespace {
@@ -22,6 +23,7 @@ namespace {
 struct ReportCliOptions {
   std::vector<std::string> data;
   std::vector<std::string> labels;
+  std::string where;
   ModelOptions model;
   diagnosis::OptionValues values;
   OutputOptions output;
@@ -47,27 +49,18 @@ void run(ReportCliOptions& o) {
 
   std::vector<diagnosis::ReportInput> inputs;
   for (std::size_t f = 0; f < o.data.size(); ++f) {
-    const ImpactSet all = read_impact_set(o.data[f]);
-    std::vector<std::string> shapes;
-    if (o.shape_given) {
-      shapes.push_back(o.model.shape);
-    } else {
-      for (const auto& im : all.impacts)
-        if (std::find(shapes.begin(), shapes.end(), im.shape) == shapes.end())
-          shapes.push_back(im.shape);
-    }
+    const ImpactSet all = filter_nonempty(read_impact_set(o.data[f]), o.where, o.data[f]);
+    const std::vector<std::string> shapes =
+        diagnosis::shapes_to_analyse(all, o.shape_given ? o.model.shape : "");
     for (const auto& sh : shapes) {
+      diagnosis::Inputs selected = diagnosis::select_inputs(all, sh, o.data[f]);
       diagnosis::ReportInput in;
       in.data = o.data[f];
-      in.shape = Shape::resolve(sh);
-      in.set = fit::select_shape(all, in.shape);
+      in.shape = std::move(selected.shape);
+      in.set = std::move(selected.set);
       const std::string stem = std::filesystem::path(o.data[f]).stem().string();
       in.label = (o.labels.empty() ? stem : o.labels[f]) +
                  (shapes.size() > 1 || o.labels.empty() ? " (" + in.shape.name + ")" : "");
-      if (in.set.size() < 4)
-        throw InputError(o.data[f], 0, "shape",
-                         "only " + std::to_string(in.set.size()) + " release(s) of shape '" + sh +
-                             "': the held-out error needs at least 4");
       inputs.push_back(std::move(in));
     }
   }
@@ -93,6 +86,7 @@ void add_report_command(CLI::App& app) {
   sub->add_option("DATA", o->data, "Impact sets (.csv, .h5): lab data, LIGGGHTS campaigns, ...")
       ->required();
   sub->add_option("--label", o->labels, "A label per DATA file, in order (repeatable)");
+  add_where_option(sub, o->where, "the releases of each DATA");
   add_model_options(sub, o->model);
   sub->add_option("--rounds", o->rounds, "Effects the automatic ladder may add")
       ->capture_default_str();

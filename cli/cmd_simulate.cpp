@@ -8,6 +8,7 @@
 #include "common/h5.hpp"
 #include "engine/engine.hpp"
 #include "model_options.hpp"
+#include "shared_options.hpp"
 
 namespace ricochet::cli {
 namespace {
@@ -15,18 +16,10 @@ namespace {
 struct SimulateOptions {
   ModelOptions model;
   OutputOptions output;
-  std::vector<double> vin;
+  std::string vin;
   double alpha_deg = 0.0;
   bool trace = false;
 };
-
-Vel3 parse_vin(const std::vector<double>& v) {
-  if (v.size() != 3)
-    throw InputError("<command line>", 0, "--vin", "expected VX,VY,W (m/s, m/s, rad/s)");
-  if (!(v[1] < 0.0))
-    throw InputError("<command line>", 0, "--vin", "incident VY must be negative (downwards)");
-  return {v[0], v[1], v[2]};
-}
 
 void write_trace_csv(const Trace& tr, const std::string& path) {
   FILE* f = std::fopen(path.c_str(), "w");
@@ -41,10 +34,10 @@ void write_trace_csv(const Trace& tr, const std::string& path) {
 }
 
 void run(const SimulateOptions& o) {
+  const CollisionCase c{parse_vin(o.vin), o.alpha_deg * M_PI / 180.0};
   const Model model = o.model.build_model();
   const Shape shape = o.model.build_shape();
   const EngineOptions engine = o.model.engine_options();
-  const CollisionCase c{parse_vin(o.vin), o.alpha_deg * M_PI / 180.0};
   Trace trace;
   const bool want_trace = !o.output.out.empty();
   const CollisionResult r = simulate(model, shape, c, {}, engine, want_trace ? &trace : nullptr);
@@ -102,10 +95,7 @@ void run(const SimulateOptions& o) {
 void add_simulate_command(CLI::App& app) {
   auto opts = std::make_shared<SimulateOptions>();
   CLI::App* sub = app.add_subcommand("simulate", "Run one collision of the reduced engine");
-  sub->add_option("--vin", opts->vin, "Incident velocity VX,VY,W (m/s, m/s, rad/s)")
-      ->required()
-      ->delimiter(',')
-      ->expected(3);
+  add_vin_option(sub, opts->vin, "Incident state")->required();
   sub->add_option("--alpha", opts->alpha_deg, "Incidence angle alpha_in [deg]");
   add_model_options(sub, opts->model);
   add_output_options(sub, opts->output);

@@ -11,6 +11,7 @@
 #include "cli_common.hpp"
 #include "common/error.hpp"
 #include "model_options.hpp"
+#include "shared_options.hpp"
 #include "uq/figures.hpp"
 #include "uq/montecarlo.hpp"
 #include "uq/sobol.hpp"
@@ -20,16 +21,22 @@
 namespace ricochet::cli {
 namespace {
 
+// The Monte Carlo's fixed incident state (the lab mean, uq::kPaperVin) and engine settings: both
+// explore the model around the same collision.
+const Vel3 kDefaultVin = uq::MonteCarloOptions{}.vin;
+const EngineOptions kEngine = uq::MonteCarloOptions{}.engine;
+
 struct SobolCliOptions {
   ModelOptions model;
   InputOptions inputs;
   OutputOptions output;
-  std::size_t n = 4096, bootstrap = 200;
-  std::uint64_t seed = 1;
-  double confidence = 0.95, alpha_deg = 0.0;
-  std::vector<double> vin;
-  std::string estimator = "saltelli", figures;
-  int threads = 0;
+  /// --n, --seed, --bootstrap and --confidence write into sobol, --threads into engine: their
+  /// defaults are the uq module's, shown by --help.
+  uq::SobolOptions sobol;
+  EngineOptions engine = kEngine;
+  double alpha_deg = 0.0;
+  std::string vin;
+  std::string estimator = uq::estimator_name(uq::SobolOptions{}.estimator), figures;
 };
 
 void print_text(const uq::SobolResult& r) {
@@ -54,37 +61,32 @@ void print_text(const uq::SobolResult& r) {
 }
 
 void run(const SobolCliOptions& o) {
+  const Vel3 vin = o.vin.empty() ? kDefaultVin : parse_vin(o.vin);
   const Model model = o.model.build_model();
   const Shape shape = o.model.build_shape();
   const std::vector<uq::ParameterInput> inputs = o.inputs.build(model);
   if (inputs.size() < 2)
     throw InputError("<command line>", 0, "--range",
                      "Sobol indices need at least two varied parameters");
-  if (o.n < 16) throw InputError("<command line>", 0, "--n", "base size must be at least 16");
-  if (!(o.confidence > 0 && o.confidence < 1))
+  if (o.sobol.base_size < 16)
+    throw InputError("<command line>", 0, "--n", "base size must be at least 16");
+  if (!(o.sobol.confidence > 0 && o.sobol.confidence < 1))
     throw InputError("<command line>", 0, "--confidence", "must lie in (0, 1)");
   if (!o.output.out.empty()) require_extension("--out", o.output.out, {".h5", ".hdf5"});
-  uq::SobolOptions so;
-  so.base_size = o.n;
-  so.seed = o.seed;
-  so.bootstrap = o.bootstrap;
-  so.confidence = o.confidence;
+  uq::SobolOptions so = o.sobol;
   try {
     so.estimator = uq::parse_estimator(o.estimator);
   } catch (const std::exception& e) {
     throw InputError("<command line>", 0, "--estimator", e.what());
   }
-  const Vel3 vin = o.vin.empty() ? Vel3{uq::kPaperVin[0], uq::kPaperVin[1], uq::kPaperVin[2]}
-                                 : parse_vin_option(o.vin, "--vin");
-  EngineOptions engine = uq::MonteCarloOptions{}.engine;  // same time limit as the Monte Carlo
+  EngineOptions engine = o.engine;
   engine.dt_s = o.model.engine_options().dt_s;
-  engine.threads = o.threads;
   const uq::SobolResult r =
       uq::collision_sobol(model, shape, inputs, vin, o.alpha_deg * M_PI / 180.0, so, engine);
-  nlohmann::json settings = {{"base_size", o.n},         {"seed", o.seed},
-                             {"bootstrap", o.bootstrap}, {"confidence", o.confidence},
-                             {"estimator", o.estimator}, {"vin", {vin[0], vin[1], vin[2]}},
-                             {"alpha_deg", o.alpha_deg}, {"dt_s", engine.dt_s}};
+  nlohmann::json settings = {{"base_size", so.base_size}, {"seed", so.seed},
+                             {"bootstrap", so.bootstrap}, {"confidence", so.confidence},
+                             {"estimator", o.estimator},  {"vin", {vin[0], vin[1], vin[2]}},
+                             {"alpha_deg", o.alpha_deg},  {"dt_s", engine.dt_s}};
   if (!o.output.out.empty()) uq::write_sobol_h5(o.output.out, r, model, shape, inputs, settings);
   if (!o.figures.empty()) {
     std::filesystem::create_directories(o.figures);
@@ -111,22 +113,22 @@ void add_sobol_command(CLI::App& app) {
   add_model_options(sub, opts->model);
   add_output_options(sub, opts->output);
   add_input_options(sub, opts->inputs);
-  sub->add_option("--n", opts->n, "Base sample size N (N (2d + 2) runs)")->capture_default_str();
-  sub->add_option("--seed", opts->seed, "Random seed")->capture_default_str();
+  sub->add_option("--n", opts->sobol.base_size, "Base sample size N (N (2d + 2) runs)")
+      ->capture_default_str();
+  add_seed_option(sub, opts->sobol.seed, "the sample designs");
   sub->add_option("--estimator", opts->estimator, "saltelli, jansen, martinez or mauntz-kucherenko")
       ->capture_default_str();
-  sub->add_option("--bootstrap", opts->bootstrap, "Bootstrap resamples")->capture_default_str();
-  sub->add_option("--confidence", opts->confidence, "Interval level")->capture_default_str();
-  sub->add_option("--vin", opts->vin, "Incident state VX,VY,W (default 2.9,-2.3,-65)")
-      ->delimiter(',');
+  sub->add_option("--bootstrap", opts->sobol.bootstrap, "Bootstrap resamples")
+      ->capture_default_str();
+  sub->add_option("--confidence", opts->sobol.confidence, "Interval level")->capture_default_str();
+  add_vin_option(sub, opts->vin, "Incident state (default " + format_vin(kDefaultVin) + ")");
   sub->add_option("--alpha", opts->alpha_deg, "Orientation of non-disc blocks [deg]");
-  sub->add_option("--threads", opts->threads, "OpenMP threads (0 = all)");
-  sub->add_option("--figures", opts->figures, "Write SVG figures into DIR");
+  add_threads_option(sub, opts->engine.threads);
+  add_figures_option(sub, opts->figures);
   check_range(sub, "--n", 1, 1e8);
   check_range(sub, "--bootstrap", 0, 1e6);
   check_range(sub, "--confidence", 0.5, 0.9999);
   check_range(sub, "--alpha", -360, 360);
-  check_range(sub, "--threads", 0, 4096);
   sub->callback([opts] { run(*opts); });
 }
 

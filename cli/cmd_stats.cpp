@@ -13,6 +13,7 @@
 #include "common/error.hpp"
 #include "common/h5.hpp"
 #include "impact/impact_set.hpp"
+#include "shared_options.hpp"
 #include "stats/stats.hpp"
 
 namespace ricochet::cli {
@@ -127,11 +128,8 @@ void print_table(const std::string& source, const std::string& where, std::size_
 void run(const StatsOptions& o) {
   if (!o.output.out.empty()) require_extension("--out", o.output.out, {".csv", ".h5", ".hdf5"});
   const ImpactSet all = read_impact_set(o.data);
-  const ImpactSet set = filter(all, o.where);
-  if (set.empty())
-    throw InputError("--where", 0, o.where.empty() ? o.data : o.where,
-                     "no release to summarise (" + std::to_string(all.size()) + " in " + o.data +
-                         ", none selected)");
+  const ImpactSet set = filter_nonempty(all, o.where, o.data);
+  if (set.empty()) throw InputError(o.data, 0, "id", "the impact set has no release");
 
   std::array<stats::Summary, 6> summaries;
   for (std::size_t k = 0; k < kColumns.size(); ++k)
@@ -172,9 +170,7 @@ void add_stats_command(CLI::App& app) {
       "Mean, sample standard deviation, coefficient of variation, min and max of the six "
       "velocities of an impact set (paper Table 2)");
   sub->add_option("DATA", options->data, "Impact set (.csv, .h5 or .hdf5)")->required();
-  sub->add_option("--where", options->where,
-                  "Keep only releases matching EXPR, e.g. \"vin_x<3.5\" or "
-                  "\"vin_x>=3.5 && shape==triangle\" (SI units)");
+  add_where_option(sub, options->where, "the releases of DATA");
   add_output_options(sub, options->output);
   sub->callback([options] { run(*options); });
 }

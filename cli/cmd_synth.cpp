@@ -11,6 +11,7 @@
 #include "common/error.hpp"
 #include "diagnosis/synth.hpp"
 #include "model_options.hpp"
+#include "shared_options.hpp"
 
 namespace ricochet::cli {
 namespace {
@@ -18,8 +19,9 @@ namespace {
 struct SynthCliOptions {
   ModelOptions model;
   OutputOptions output;
-  std::size_t n = 30;
-  std::uint64_t seed = 1;
+  /// --n, --seed and --threads write into synth: their defaults are the diagnosis module's.
+  diagnosis::SynthOptions synth;
+  std::string where;
   std::string design = "lab";
   std::string noise = "lab";
   std::string incident;
@@ -81,10 +83,8 @@ void run(const SynthCliOptions& o) {
   if (!o.truth.empty()) require_extension("--truth", o.truth, {".json"});
   const Model truth = o.model.build_model();
   const Shape shape = o.model.build_shape();
-  diagnosis::SynthOptions s;
-  s.n = o.n;
-  if (o.n == 0) throw InputError("<command line>", 0, "--n", "must be at least 1");
-  s.seed = o.seed;
+  diagnosis::SynthOptions s = o.synth;
+  if (s.n == 0) throw InputError("<command line>", 0, "--n", "must be at least 1");
   if (o.design == "lab")
     s.design = diagnosis::Design::kLab;
   else if (o.design == "wide")
@@ -93,8 +93,9 @@ void run(const SynthCliOptions& o) {
     throw InputError("<command line>", 0, "--design", "'" + o.design + "': use lab or wide");
   s.noise = diagnosis::NoiseSpec::parse(o.noise, "--noise");
   if (s.design == diagnosis::Design::kLab)
-    s.incident =
-        o.incident.empty() ? diagnosis::lab_incident_states(shape) : read_impact_set(o.incident);
+    s.incident = o.incident.empty()
+                     ? diagnosis::lab_incident_states(shape)
+                     : filter_nonempty(read_impact_set(o.incident), o.where, o.incident);
   for (const auto& item : o.scatter) {
     const auto eq = item.find('=');
     char* end = nullptr;
@@ -129,7 +130,7 @@ void run(const SynthCliOptions& o) {
         {{"out", o.output.out},
          {"n", r.set.size()},
          {"rejected", r.rejected},
-         {"seed", o.seed},
+         {"seed", s.seed},
          {"design", o.design},
          {"shape", shape.name},
          {"noise", s.noise.to_json()},
@@ -152,8 +153,8 @@ void add_synth_command(CLI::App& app) {
       "like the lab's or a wide design, lab-like measurement noise. The truth is not written "
       "into the data");
   add_model_options(sub, o->model);
-  sub->add_option("--n", o->n, "Number of releases")->capture_default_str();
-  sub->add_option("--seed", o->seed, "Seed of every random draw")->capture_default_str();
+  sub->add_option("--n", o->synth.n, "Number of releases")->capture_default_str();
+  add_seed_option(sub, o->synth.seed, "every random draw");
   sub->add_option("--design", o->design,
                   "lab: resample and perturb measured incident states; wide: uniform over "
                   "V_in^x 1.5..6 m/s, V_in^y -5..-1 m/s, omega_in -90..0 rad/s")
@@ -169,6 +170,7 @@ void add_synth_command(CLI::App& app) {
   sub->add_option("--incident", o->incident,
                   "Impact set whose incident states the lab design resamples (default: the lab "
                   "data of the shape)");
+  add_where_option(sub, o->where, "the releases of --incident");
   sub->add_option("--scatter", o->scatter,
                   "Per-release scatter of a truth parameter, NAME=SD (repeatable)");
   sub->add_option("--features", o->features,
@@ -177,6 +179,7 @@ void add_synth_command(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--truth", o->truth,
                   "Also write the truth (model, options, true states) to this JSON file");
+  add_threads_option(sub, o->synth.engine.threads);
   add_output_options(sub, o->output);
   sub->get_option("--out")->required();
   check_range(sub, "--n", 1, 1e7);

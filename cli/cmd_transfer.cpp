@@ -20,6 +20,7 @@
 #include "common/h5.hpp"
 #include "impact/impact_set.hpp"
 #include "report/plot.hpp"
+#include "shared_options.hpp"
 #include "stats/stats.hpp"
 #include "transfer/transfer.hpp"
 
@@ -325,11 +326,8 @@ void run_fit(const FitOptions& o) {
   if (o.replicates == 0)
     throw InputError("<command line>", 0, "--replicates", "must be at least 1");
   const ImpactSet all = read_impact_set(o.data);
-  const ImpactSet set = filter(all, o.where);
-  if (set.empty())
-    throw InputError("<command line>", 0, "--where",
-                     "no release selected by '" + o.where + "' in " + o.data + " (" +
-                         std::to_string(all.size()) + " releases)");
+  const ImpactSet set = filter_nonempty(all, o.where, o.data);
+  if (set.empty()) throw InputError(o.data, 0, "id", "the impact set has no release");
   const FitResult main = fit_set(set, o.where, o);
 
   // --split FEATURE=VALUE: the two subsets FEATURE < VALUE and FEATURE >= VALUE (paper Fig. 12,
@@ -434,36 +432,14 @@ struct PredictOptions {
   OutputOptions output;
 };
 
-Vel3 parse_vin(const std::string& text) {
-  Vel3 v{};
-  std::stringstream s(text);
-  std::string cell;
-  int k = 0;
-  while (std::getline(s, cell, ',')) {
-    if (k >= 3)
-      throw InputError("<command line>", 0, "--vin",
-                       "expected three values VX,VY,W, got '" + text + "'");
-    try {
-      std::size_t used = 0;
-      v[k] = std::stod(cell, &used);
-      if (used != cell.size() || !std::isfinite(v[k])) throw std::invalid_argument("bad");
-    } catch (const std::exception&) {
-      throw InputError("<command line>", 0, "--vin",
-                       "'" + cell + "' is not a finite number (VX,VY,W in m/s, m/s, rad/s)");
-    }
-    ++k;
-  }
-  if (k != 3)
-    throw InputError("<command line>", 0, "--vin",
-                     "expected three values VX,VY,W, got '" + text + "'");
-  return v;
-}
-
 void run_predict(const PredictOptions& o) {
   if (!o.output.out.empty()) require_extension("--out", o.output.out, {".csv", ".h5", ".hdf5"});
   if (o.vin.empty() == o.incident.empty())
     throw InputError("<command line>", 0, "--vin",
                      "give exactly one of --vin VX,VY,W and --incident DATA");
+  // A transfer model maps any state: vy need not be negative.
+  const std::optional<Vel3> given_vin =
+      o.vin.empty() ? std::nullopt : std::optional(parse_vin(o.vin, /*falling=*/false));
   if (o.model.empty() == o.from.empty())
     throw InputError("<command line>", 0, "--model",
                      "give exactly one of --model FIT.h5 and --from DATA");
@@ -480,9 +456,8 @@ void run_predict(const PredictOptions& o) {
                  {"n", m.n}};
   } else {
     const ImpactSet all = read_impact_set(o.from);
-    const ImpactSet set = filter(all, o.where);
-    if (set.empty())
-      throw InputError("<command line>", 0, "--where", "no release selected in " + o.from);
+    const ImpactSet set = filter_nonempty(all, o.where, o.from);
+    if (set.empty()) throw InputError(o.from, 0, "id", "the impact set has no release");
     model = transfer::fit_diagonal(set).model;
     model_doc = {{"file", nullptr},
                  {"source", o.from},
@@ -495,13 +470,13 @@ void run_predict(const PredictOptions& o) {
   std::vector<Vel3> vin;
   std::vector<std::string> ids;
   ImpactSet incident_set;
-  if (!o.vin.empty()) {
-    vin.push_back(parse_vin(o.vin));
+  if (given_vin) {
+    vin.push_back(*given_vin);
     ids.push_back("vin");
   } else {
-    incident_set = filter(read_impact_set(o.incident), o.where);
+    incident_set = filter_nonempty(read_impact_set(o.incident), o.where, o.incident);
     if (incident_set.empty())
-      throw InputError(o.incident, 0, "--where", "no incident release selected");
+      throw InputError(o.incident, 0, "id", "the impact set has no release");
     vin = transfer::incident(incident_set);
     for (const Impact& i : incident_set.impacts) ids.push_back(i.id);
   }
@@ -643,16 +618,15 @@ void add_transfer_command(CLI::App& app) {
       "Identify A and dA (paper Eq. 2, Table 3), the full 3x3 matrix, their leave-one-out "
       "comparison and the KS comparison of measured and predicted reflected velocities");
   fit->add_option("DATA", fo->data, "Impact set (.csv, .h5 or .hdf5)")->required();
-  fit->add_option("--where", fo->where, "Keep only releases matching EXPR, e.g. \"vin_x<3.5\"");
+  add_where_option(fit, fo->where, "the releases of DATA");
   fit->add_option("--split", fo->split,
                   "Also fit the subsets FEATURE<VALUE and FEATURE>=VALUE, e.g. vin_x=3.5 (paper "
                   "Fig. 12)");
-  fit->add_option("--seed", fo->seed, "Seed of the predicted samples used by the KS comparison")
-      ->capture_default_str();
+  add_seed_option(fit, fo->seed, "the predicted samples used by the KS comparison");
   fit->add_option("--replicates", fo->replicates,
                   "Predicted rebounds per release for the KS comparison and the figures")
       ->capture_default_str();
-  fit->add_option("--figures", fo->figures, "Write SVG CDF figures (paper Figs. 11-12) into DIR");
+  add_figures_option(fit, fo->figures, "SVG CDF figures (paper Figs. 11-12)");
   add_output_options(fit, fo->output);
   check_range(fit, "--replicates", 1, 1e7);
   fit->callback([fo] { run_fit(*fo); });
@@ -660,16 +634,16 @@ void add_transfer_command(CLI::App& app) {
   auto po = std::make_shared<PredictOptions>();
   CLI::App* predict = transfer->add_subcommand(
       "predict", "Sample reflected velocities with Eq. 2 (uniform A per rebound), seeded");
-  predict->add_option("--vin", po->vin, "One incident velocity VX,VY,W [m/s, m/s, rad/s]");
+  add_vin_option(predict, po->vin, "One incident state");
   predict->add_option("--incident", po->incident,
                       "Impact set whose incident velocities are used (its V_out is compared)");
   predict->add_option("--model", po->model, "Model written by `transfer fit --out FIT.h5`");
   predict->add_option("--from", po->from, "Fit Eq. 2 on this impact set instead of --model");
-  predict->add_option("--where", po->where, "Filter applied to --from and --incident data");
+  add_where_option(predict, po->where, "the releases of --from and --incident");
   predict->add_option(
       "--n", po->n, "Rebounds per incident velocity (default 1000 with --vin, 1 with --incident)");
-  predict->add_option("--seed", po->seed, "Seed of the random stream (required)")->required();
-  predict->add_option("--figures", po->figures, "Write an SVG CDF figure into DIR (--incident)");
+  add_seed_option(predict, po->seed, "the random stream (required)")->required();
+  add_figures_option(predict, po->figures, "an SVG CDF figure (with --incident)");
   add_output_options(predict, po->output);
   predict->callback([po] { run_predict(*po); });
 }

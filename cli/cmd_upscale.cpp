@@ -18,6 +18,7 @@
 #include "impact/impact_set.hpp"
 #include "model_options.hpp"
 #include "params.hpp"
+#include "shared_options.hpp"
 #include "stats/stats.hpp"
 #include "upscale.hpp"
 
@@ -29,10 +30,9 @@ struct UpscaleCliOptions {
   ModelOptions model;
   std::vector<std::string> by;
   std::string where, lab, figures, decks;
-  unsigned seed = 1;
-  int starts = 4;
-  int threads = 0;
-  bool no_intervals = false;
+  /// --seed, --starts and --threads write into fit: their defaults are the fit module's.
+  fit::FitOptions fit = dem::UpscaleOptions{}.fit;
+  bool no_intervals = !fit::FitOptions{}.intervals;
   OutputOptions output;
 };
 
@@ -144,11 +144,9 @@ void run(const UpscaleCliOptions& o) {
   dem::UpscaleOptions u;
   u.by = o.by;
   u.where = o.where;
+  u.fit = o.fit;
   u.fit.engine.dt_s = o.model.engine_options().dt_s;
-  u.fit.seed = o.seed;
-  if (o.starts < 1) throw InputError("<command line>", 0, "--starts", "must be at least 1");
-  u.fit.starts = o.starts;
-  u.fit.threads = o.threads;
+  if (u.fit.starts < 1) throw InputError("<command line>", 0, "--starts", "must be at least 1");
   u.fit.intervals = !o.no_intervals;
   std::unique_ptr<ImpactSet> lab;
   if (!o.lab.empty())
@@ -231,14 +229,17 @@ void add_upscale_command(CLI::App& app) {
   sub->add_option("--by", o->by,
                   "Grain-scale parameters defining the groups, e.g. bed.E_grain_Pa (default: those "
                   "that vary)");
-  sub->add_option("--where", o->where, "Select impacts, e.g. \"vin_x<3\"");
+  // Not applied to --lab: a campaign's filter may name its own columns (grain parameters,
+  // resolved-only extras) that lab data do not have.
+  add_where_option(sub, o->where, "the campaign's impacts");
   sub->add_option("--lab", o->lab,
                   "Lab impact set to compare V_out with (e.g. data/lab/cylinders.csv)");
-  sub->add_option("--figures", o->figures, "Write SVG figures into DIR");
+  add_figures_option(sub, o->figures);
   sub->add_option("--decks", o->decks, "liggghts-inputs folder (for the parameters' defaults)");
-  sub->add_option("--seed", o->seed, "Seed of the calibration start design");
-  sub->add_option("--starts", o->starts, "BOBYQA runs per fit");
-  sub->add_option("--threads", o->threads, "OpenMP threads (0 = all)");
+  add_seed_option(sub, o->fit.seed, "the calibration start design");
+  sub->add_option("--starts", o->fit.starts, "BOBYQA runs per fit")->capture_default_str();
+  add_threads_option(sub, o->fit.threads);
+  check_range(sub, "--starts", 1, 1000);
   sub->add_flag("--no-intervals", o->no_intervals, "Skip the identifiability intervals");
   add_output_options(sub, o->output);
   sub->callback([o] { run(*o); });

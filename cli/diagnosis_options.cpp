@@ -3,13 +3,15 @@
 #include <iostream>
 #include <memory>
 
+#include "shared_options.hpp"
+
 namespace ricochet::cli {
 
 void add_diagnosis_options(CLI::App* sub, diagnosis::OptionValues& v,
                            const DiagnosisOptionSet& set) {
   sub->add_option("--folds", v.folds, "k of the k-fold held-out error, or loro")
       ->capture_default_str();
-  sub->add_option("--seed", v.seed, "Seed of the calibration start designs")->capture_default_str();
+  add_seed_option(sub, v.seed, "the calibration start designs");
   sub->add_option("--repeats", v.repeats,
                   "Partitions of the repeated k-fold held-out error (each a different random "
                   "split into folds)")
@@ -41,16 +43,15 @@ void add_diagnosis_options(CLI::App* sub, diagnosis::OptionValues& v,
                   "eq7 (the paper's)")
       ->capture_default_str();
   sub->add_option("--orientations", v.orientations,
-                  "Orientations averaged over for blocks without alpha_in (0 = the default 6)")
+                  "Orientations averaged over for blocks without alpha_in (0: the default)")
       ->capture_default_str();
-  sub->add_option("--threads", v.threads, "Threads (0 = all)")->capture_default_str();
+  add_threads_option(sub, v.threads);
   check_range(sub, "--repeats", 1, 1000);
   if (set.alpha) {
     check_range(sub, "--alpha", 1e-6, 0.5);
     check_range(sub, "--screen", 0, 1e4);
   }
   check_range(sub, "--orientations", 0, 3600);
-  check_range(sub, "--threads", 0, 4096);
 }
 
 CLI::App* add_diagnosis_command(CLI::App& app, const std::string& name,
@@ -60,12 +61,11 @@ CLI::App* add_diagnosis_command(CLI::App& app, const std::string& name,
   auto o = std::make_shared<DiagnosisCliOptions>();
   CLI::App* sub = app.add_subcommand(name, description);
   sub->add_option("DATA", o->data, "Impact set (.csv, .h5)")->required();
-  sub->add_option("--where", o->where,
-                  "Keep only releases matching EXPR, e.g. \"vin_x<3.5\" (SI units; as stats)");
+  add_where_option(sub, o->where, "the releases of DATA");
   add_model_options(sub, o->model);
   if (extra) extra(sub);
   add_diagnosis_options(sub, o->values, set);
-  sub->add_option("--figures", o->figures, "Write SVG figures into this directory");
+  add_figures_option(sub, o->figures);
   if (set.write_model)
     sub->add_option("--write-model", o->write_model,
                     "Write the best model found (with its calibrated values) as a model file "

@@ -60,12 +60,4 @@ std::vector<uq::ParameterInput> InputOptions::build(const Model& model) const {
   return out;
 }
 
-Vel3 parse_vin_option(const std::vector<double>& v, const std::string& option) {
-  if (v.size() != 3)
-    throw InputError("<command line>", 0, option, "expected VX,VY,W (m/s, m/s, rad/s)");
-  if (!(v[1] < 0.0))
-    throw InputError("<command line>", 0, option, "incident VY must be negative (downwards)");
-  return {v[0], v[1], v[2]};
-}
-
 }  // namespace ricochet::cli

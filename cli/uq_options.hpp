@@ -23,7 +23,4 @@ struct InputOptions {
 };
 void add_input_options(CLI::App* sub, InputOptions& options);
 
-/// Parses --vin VX,VY,W (vy < 0); throws InputError naming the option.
-Vel3 parse_vin_option(const std::vector<double>& v, const std::string& option);
-
 }  // namespace ricochet::cli

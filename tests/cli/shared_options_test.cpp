@@ -1,0 +1,116 @@
+// The options declared once for every subcommand (cli/shared_options.hpp): --vin parsed by one
+// function with one message on every command that takes it, and --where accepted by every command
+// that reads an impact set, applied before any work (a filter keeping nothing exits 2 at once) and
+// filtering (fewer releases with it than without).
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "support/program_test.hpp"
+
+namespace ricochet {
+namespace {
+
+using test::quote;
+
+const std::string kCyl = quote(std::string(RICOCHET_SOURCE_DIR) + "/data/lab/cylinders.csv");
+const std::string kCampaign =
+    quote(std::string(RICOCHET_SOURCE_DIR) + "/data/resolved/convergence.h5");
+
+bool needs_liggghts(const std::string& args) {
+  for (const char* sub : {"dem", "upscale", "calibrate-grains"})
+    if (args.rfind(std::string(sub) + " ", 0) == 0) return true;
+  return false;
+}
+
+class SharedOptions : public test::ProgramTest {};
+
+// Every --vin: one parser, one message, exit status 2, nothing on stdout.
+TEST_F(SharedOptions, VinHasOneParserAndOneMessage) {
+  const std::vector<std::string> commands = {"simulate", "transfer predict --seed 1 --from " + kCyl,
+                                             "montecarlo --n 10", "sobol --n 16", "dem impact"};
+  for (const std::string& command : commands) {
+    if (needs_liggghts(command) && !test::program_has_liggghts()) continue;
+    for (const std::string vin : {"1,2", "1,-2,3,4", "1,x,3", "1,,3", "1,-2,nan"}) {
+      const test::RunResult r = ricochet(command + " --vin " + vin);
+      EXPECT_EQ(r.status, 2) << command << " --vin " << vin << "\n" << r.err;
+      EXPECT_NE(
+          r.err.find("field '--vin': expected 3 numbers vx,vy,omega [m/s, m/s, rad/s], got '" +
+                     vin + "'"),
+          std::string::npos)
+          << command << " --vin " << vin << "\n"
+          << r.err;
+      EXPECT_TRUE(r.out.empty()) << command;
+    }
+  }
+  // A block moving up is refused wherever the state is a collision's.
+  for (const std::string command :
+       {"simulate", "montecarlo --n 10", "sobol --n 16", "dem impact"}) {
+    if (needs_liggghts(command) && !test::program_has_liggghts()) continue;
+    const test::RunResult r = ricochet(command + " --vin 2.9,2.3,-65");
+    EXPECT_EQ(r.status, 2) << command << "\n" << r.err;
+    EXPECT_NE(r.err.find("incident vy must be negative (downwards), got '2.9,2.3,-65'"),
+              std::string::npos)
+        << command << "\n"
+        << r.err;
+  }
+  // Negative first components and blanks parse.
+  const test::RunResult ok = ricochet("simulate --vin ' -2.9, -2.3 ,-65' --json");
+  ASSERT_EQ(ok.status, 0) << ok.err;
+  EXPECT_EQ(nlohmann::json::parse(ok.out)["model"].is_object(), true);
+}
+
+// Every command that reads an impact set takes --where and applies it before any work: a filter
+// that keeps no release is bad input (status 2) naming --where, at once.
+TEST_F(SharedOptions, WhereOnEveryCommandThatReadsAnImpactSet) {
+  const std::string none = " --where \"vin_x>100\"";
+  const std::string out = quote((dir_ / "out.html").string());
+  const std::vector<std::string> commands = {
+      "stats " + kCyl,
+      "transfer fit " + kCyl,
+      "transfer predict --seed 1 --vin 2.9,-2.3,-65 --from " + kCyl,
+      "calibrate " + kCyl,
+      "montecarlo --n 10 --compare " + kCyl,
+      "montecarlo --n 10 --incident " + kCyl,
+      "synth --incident " + kCyl + " --out " + quote((dir_ / "s.csv").string()),
+      "compare " + kCyl,
+      "diagnose " + kCyl,
+      "ladder " + kCyl + " --add rate_restitution",
+      "report " + kCyl + " --out " + out,
+      "upscale " + kCampaign,
+      "calibrate-grains " + kCampaign + " --lab " + kCyl};
+  for (const std::string& command : commands) {
+    if (needs_liggghts(command) && !test::program_has_liggghts()) continue;
+    const test::RunResult r = ricochet(command + none);
+    EXPECT_EQ(r.status, 2) << command << "\n" << r.err;
+    EXPECT_NE(r.err.find("--where"), std::string::npos) << command << "\n" << r.err;
+    EXPECT_NE(r.err.find("vin_x>100"), std::string::npos) << command << "\n" << r.err;
+    EXPECT_TRUE(r.out.empty()) << command << "\n" << r.out;
+  }
+}
+
+// And it filters: fewer releases with it than without, the same count everywhere.
+TEST_F(SharedOptions, WhereFilters) {
+  const std::string where = " --where \"vin_x<3\"";
+  const auto json = [&](const std::string& args) {
+    const test::RunResult r = ricochet(args + " --json");
+    EXPECT_EQ(r.status, 0) << args << "\n" << r.err;
+    return r.status == 0 ? nlohmann::json::parse(r.out) : nlohmann::json::object();
+  };
+  const std::size_t all = json("stats " + kCyl)["n"].get<std::size_t>();
+  const std::size_t some = json("stats " + kCyl + where)["n"].get<std::size_t>();
+  ASSERT_EQ(all, 28u);
+  ASSERT_GT(some, 0u);
+  ASSERT_LT(some, all);
+  EXPECT_EQ(json("transfer fit " + kCyl + where)["n"], some);
+  EXPECT_EQ(
+      json("transfer predict --seed 1 --from " + kCyl + " --incident " + kCyl + where)["incidents"],
+      some);
+  EXPECT_EQ(json("montecarlo --n 200 --compare " + kCyl + where)["compare"]["releases"], some);
+  EXPECT_EQ(json("montecarlo --n 200 --compare " + kCyl)["compare"]["releases"], all);
+}
+
+}  // namespace
+}  // namespace ricochet
