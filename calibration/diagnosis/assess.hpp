@@ -309,7 +309,7 @@ struct Assessment {
 /// to a few percent in log(kn) (a 0.01-wide valley of the unit box, coupled to e_n^2 through the
 /// duration); with it free, BOBYQA's single trust radius shrank on that direction and the warm
 /// refinement stopped near its start after 40-70 evaluations, the added parameter at 1-2 % of
-/// its range (engine-made sets of tests/diagnosis/test_detection.cpp: Rankine ploughing found
+/// its range (engine-made sets of tests/diagnosis/detection_test.cpp: Rankine ploughing found
 /// at cp = 2-4e7 N/m^2 for a truth of 6e8, depth friction at a_mu = 0 for 2000 1/m; the
 /// candidates' held-out errors 0.1625 and 0.0229 against 0.0696 and 0.0160 with the hold). Held,
 /// kn is out of the search as it was before it was calibrated, and the second stage lets it

@@ -221,8 +221,10 @@ TEST(Pearson, LabCorrelationAgainstStudentTables) {
 // The O(n log n) statistic and the p-value agree with OpenTURNS's own two-sample test,
 // including with ties (the lab data are rounded to 0.01).
 TEST(Stats, KsMatchesOpenTurnsTwoSampleTest) {
-  const auto cyl = ricochet::read_impact_set(std::string(RICOCHET_SOURCE_DIR) + "/data/lab/cylinders.csv");
-  const auto tri = ricochet::read_impact_set(std::string(RICOCHET_SOURCE_DIR) + "/data/lab/triangles.csv");
+  const auto cyl =
+      ricochet::read_impact_set(std::string(RICOCHET_SOURCE_DIR) + "/data/lab/cylinders.csv");
+  const auto tri =
+      ricochet::read_impact_set(std::string(RICOCHET_SOURCE_DIR) + "/data/lab/triangles.csv");
   for (const char* f : {"vin_x", "vout_x", "vout_y", "wout"}) {
     const auto a = cyl.feature(f), b = tri.feature(f);
     OT::Sample sa(a.size(), 1), sb(b.size(), 1);
