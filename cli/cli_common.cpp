@@ -6,8 +6,10 @@
 #include <fstream>
 
 #include <iostream>
+#include <set>
 
 #include "common/error.hpp"
+#include "common/provenance.hpp"
 
 namespace ricochet::cli {
 
@@ -30,20 +32,44 @@ void check_range(CLI::App* sub, const std::string& name, double lo, double hi) {
 }
 
 namespace {
-std::string& current_command() {
-  static std::string command;
+struct CurrentCommand {
+  std::string name;
+  const CLI::App* parser = nullptr;
+};
+CurrentCommand& current_command() {
+  static CurrentCommand command;
   return command;
 }
 }  // namespace
 
-void set_current_command(std::string command) {
-  current_command() = std::move(command);
+void set_current_command(std::string command, const CLI::App* parser) {
+  current_command() = {std::move(command), parser};
+}
+
+nlohmann::json input_files() {
+  nlohmann::json files = nlohmann::json::array();
+  const CLI::App* parser = current_command().parser;
+  if (!parser) return files;
+  std::set<std::string> seen;
+  for (const CLI::Option* opt : parser->get_options()) {
+    const std::string name = opt->get_name();
+    if (name == "--out" || name == "--write-model" || name == "--truth") continue;
+    for (const std::string& value : opt->results()) {
+      std::error_code ec;
+      if (!std::filesystem::is_regular_file(value, ec) || !seen.insert(value).second) continue;
+      nlohmann::json p = file_provenance(value, name);
+      p["option"] = name;
+      files.push_back(std::move(p));
+    }
+  }
+  return files;
 }
 
 nlohmann::json stamp_json(nlohmann::json doc) {
   if (!doc.is_object()) return doc;
-  if (!doc.contains("command")) doc["command"] = current_command();
+  if (!doc.contains("command")) doc["command"] = current_command().name;
   if (!doc.contains("version")) doc["version"] = kVersion;
+  if (!doc.contains("input_files")) doc["input_files"] = input_files();
   return doc;
 }
 
@@ -61,22 +87,6 @@ void require_extension(const std::string& option, const std::string& path,
     list += std::string(list.empty() ? "" : ", ") + ext;
   }
   throw InputError(path, 0, option, "unsupported file extension; use one of " + list);
-}
-
-void write_text_file(const std::string& path, const std::string& text, const std::string& option) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f) throw InputError(path, 0, option, "cannot open the file for writing");
-    f << text;
-    if (!f.flush()) throw InputError(path, 0, option, "write failed");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw InputError(path, 0, option, "cannot move the written file into place");
-  }
 }
 
 }  // namespace ricochet::cli

@@ -5,6 +5,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "common/csv.hpp"  // CsvTable, write_text_file: the one CSV and text-file writer
+
 namespace ricochet::cli {
 
 /// Options every subcommand accepts.
@@ -28,22 +30,25 @@ void add_output_options(CLI::App* sub, OutputOptions& options);
 /// The program's version (CMake's PROJECT_VERSION).
 inline constexpr const char* kVersion = RICOCHET_VERSION;
 
-/// Records the subcommand being run ("montecarlo", "dem impact"), for print_json. main.cpp sets
-/// it before each subcommand parses its options.
-void set_current_command(std::string command);
+/// Records the subcommand being run ("montecarlo", "dem impact") and its parser, for stamp_json.
+/// main.cpp sets it before each subcommand parses its options.
+void set_current_command(std::string command, const CLI::App* parser = nullptr);
 
-/// `doc` with "command" (the subcommand run) and "version" added, unless it has them (an object;
-/// anything else is returned as is): every JSON document the program emits goes through it.
+/// The provenance of the files the current subcommand reads: for every value of its options and
+/// positional arguments that names an existing regular file (except the files it writes: --out,
+/// --write-model, --truth), {"option", "file", "bytes", "fnv1a64"} (common/provenance.hpp), in
+/// option order, each file once.
+nlohmann::json input_files();
+
+/// `doc` with "command" (the subcommand run), "version" and "input_files" (input_files()) added,
+/// unless it has them (an object; anything else is returned as is): every JSON document the
+/// program emits goes through it.
 nlohmann::json stamp_json(nlohmann::json doc);
 /// Prints stamp_json(doc) pretty on stdout (used when --json is given).
 void print_json(const nlohmann::json& doc);
 /// Throws an InputError naming the option when `out` has an extension other than the allowed.
 void require_extension(const std::string& option, const std::string& path,
                        std::initializer_list<const char*> allowed);
-
-/// Writes `text` to `path` through a temporary file renamed into place (nothing half-written is
-/// left behind); throws an InputError naming the option when the file cannot be written.
-void write_text_file(const std::string& path, const std::string& text, const std::string& option);
 
 // One registration function per subcommand, called in order by main.cpp (explicit registry).
 void add_stats_command(CLI::App& app);

@@ -123,32 +123,31 @@ void print_text(const std::vector<fit::ReleaseFit>& fits, const nlohmann::json& 
 }
 
 void write_csv(const std::string& path, const std::vector<fit::ReleaseFit>& fits) {
-  std::ofstream out(path, std::ios::trunc);
-  if (!out) throw InputError(path, 0, "--out", "cannot open the file for writing");
-  out << "# ricochet calibrate: per-release optimum of paper Eq. 7 and near-optimal intervals\n";
-  out << "id,error,threshold,alpha_rad";
+  CsvTable t;
+  t.comment("ricochet calibrate: per-release optimum of paper Eq. 7 and near-optimal intervals");
+  std::vector<std::string> header = {"id", "error", "threshold", "alpha_rad"};
   const fit::ReleaseFit* first = nullptr;
   for (const auto& f : fits)
     if (!f.id.empty()) first = &f;
   if (first)
-    for (std::size_t i : first->calibrated) {
-      const std::string& n = first->names[i];
-      out << "," << n << "," << n << "_lo," << n << "_hi," << n << "_status";
-    }
-  out << "\n";
+    for (std::size_t i : first->calibrated)
+      for (const char* suffix : {"", "_lo", "_hi", "_status"})
+        header.push_back(first->names[i] + suffix);
+  t.row(header);
   for (const auto& f : fits) {
     if (f.id.empty()) continue;
-    out << f.id << "," << f.error << "," << f.threshold << ","
-        << (std::isfinite(f.alpha_rad) ? fmt::format("{}", f.alpha_rad) : "");
+    std::vector<std::string> row = {f.id, CsvTable::num(f.error), CsvTable::num(f.threshold),
+                                    CsvTable::num(f.alpha_rad)};
     for (std::size_t i : f.calibrated) {
       const fit::ParameterInterval* iv = f.interval(f.names[i]);
-      out << "," << f.params[i] << "," << (iv ? fmt::format("{}", iv->lo) : "") << ","
-          << (iv ? fmt::format("{}", iv->hi) : "") << ","
-          << (iv ? fit::identifiability_name(iv->status) : "");
+      row.push_back(CsvTable::num(f.params[i]));
+      row.push_back(iv ? CsvTable::num(iv->lo) : "");
+      row.push_back(iv ? CsvTable::num(iv->hi) : "");
+      row.push_back(iv ? fit::identifiability_name(iv->status) : "");
     }
-    out << "\n";
+    t.row(row);
   }
-  if (!out) throw InputError(path, 0, "--out", "write failed");
+  t.write(path);
 }
 
 void run(const CalibrateOptions& o) {

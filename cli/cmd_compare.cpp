@@ -24,26 +24,31 @@ namespace {
 void write_out(const std::string& path, const diagnosis::Baseline& b, const ImpactSet& set,
                const nlohmann::json& doc) {
   const auto& a = b.base;
-  if (path.size() > 4 && path.substr(path.size() - 4) == ".csv") {
-    std::ofstream f(path);
-    if (!f) throw InputError(path, 0, "--out", "cannot open the file for writing");
-    f << "# ricochet compare: per release, held-out predictions (each release predicted by a "
-         "population fit that did not see it)\n";
-    f << "id,heldout_error,insample_error,noise_floor";
+  if (path.ends_with(".csv")) {
+    CsvTable t;
+    t.comment(
+        "ricochet compare: per release, held-out predictions (each release predicted by a "
+        "population fit that did not see it)");
+    std::vector<std::string> header = {"id", "heldout_error", "insample_error", "noise_floor"};
     for (int k = 0; k < diagnosis::kObservables; ++k)
-      if (a.use[k])
-        f << ",predicted_" << diagnosis::kObservableNames[k] << "["
-          << diagnosis::kObservableUnits[k] << "],residual_" << diagnosis::kObservableNames[k]
-          << "[" << diagnosis::kObservableUnits[k] << "]";
-    f << "\n";
+      if (a.use[k]) {
+        const std::string unit = std::string("[") + diagnosis::kObservableUnits[k] + "]";
+        header.push_back(std::string("predicted_") + diagnosis::kObservableNames[k] + unit);
+        header.push_back(std::string("residual_") + diagnosis::kObservableNames[k] + unit);
+      }
+    t.row(header);
     for (std::size_t i = 0; i < set.size(); ++i) {
-      f << set.impacts[i].id << ',' << a.heldout.per_release[i] << ',' << a.insample.per_release[i]
-        << ',' << b.floor.per_release[i];
+      std::vector<std::string> row = {set.impacts[i].id, CsvTable::num(a.heldout.per_release[i]),
+                                      CsvTable::num(a.insample.per_release[i]),
+                                      CsvTable::num(b.floor.per_release[i])};
       for (int k = 0; k < diagnosis::kObservables; ++k)
-        if (a.use[k])
-          f << ',' << a.heldout_predictions[i].value[k] << ',' << a.heldout.residual[i][k];
-      f << "\n";
+        if (a.use[k]) {
+          row.push_back(CsvTable::num(a.heldout_predictions[i].value[k]));
+          row.push_back(CsvTable::num(a.heldout.residual[i][k]));
+        }
+      t.row(row);
     }
+    t.write(path);
     return;
   }
   {

@@ -19,22 +19,21 @@ namespace ricochet::cli {
 namespace {
 
 void write_out(const std::string& path, const diagnosis::Diagnosis& d, const nlohmann::json& doc) {
-  if (path.size() > 4 && path.substr(path.size() - 4) == ".csv") {
-    std::ofstream f(path);
-    if (!f) throw InputError(path, 0, "--out", "cannot open the file for writing");
-    f << "# ricochet diagnose: " << d.summary << "\n";
-    f << "# noise floor " << d.baseline.floor.value.mean << " (" << d.baseline.floor.source
-      << "), base held-out error " << d.baseline.base.heldout.error.mean << "\n";
-    f << "rank,effect,heldout_error,error_drop,drop_se,penalty,supported,signature_r,evidence\n";
+  if (path.ends_with(".csv")) {
+    CsvTable t;
+    t.comment("ricochet diagnose: " + d.summary);
+    t.comment(fmt::format("noise floor {} ({}), base held-out error {}",
+                          d.baseline.floor.value.mean, d.baseline.floor.source,
+                          d.baseline.base.heldout.error.mean));
+    t.row({"rank", "effect", "heldout_error", "error_drop", "drop_se", "penalty", "supported",
+           "signature_r", "evidence"});
     for (std::size_t i = 0; i < d.ranking.size(); ++i) {
       const auto& c = d.ranking[i];
-      std::string ev = c.evidence;
-      for (auto& ch : ev)
-        if (ch == '"') ch = '\'';
-      f << i + 1 << ',' << c.effect << ',' << c.heldout_error << ',' << c.error_drop << ','
-        << c.drop_se << ',' << c.penalty << ',' << (c.supported ? 1 : 0) << ',' << c.signature_r
-        << ",\"" << ev << "\"\n";
+      t.row({std::to_string(i + 1), c.effect, CsvTable::num(c.heldout_error),
+             CsvTable::num(c.error_drop), CsvTable::num(c.drop_se), CsvTable::num(c.penalty),
+             c.supported ? "1" : "0", CsvTable::num(c.signature_r), c.evidence});
     }
+    t.write(path);
     return;
   }
   h5::File f(path, h5::File::Mode::kTruncate);

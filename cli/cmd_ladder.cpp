@@ -20,26 +20,32 @@ namespace ricochet::cli {
 namespace {
 
 void write_out(const std::string& path, const diagnosis::Ladder& l, const nlohmann::json& doc) {
-  if (path.size() > 4 && path.substr(path.size() - 4) == ".csv") {
-    std::ofstream f(path);
-    if (!f) throw InputError(path, 0, "--out", "cannot open the file for writing");
-    f << "# ricochet ladder; noise floor " << l.floor.value.mean << " (" << l.floor.source << ")\n";
-    f << "rung,added,model,insample_error,heldout_error,heldout_se,adequate";
+  if (path.ends_with(".csv")) {
+    CsvTable t;
+    t.comment(
+        fmt::format("ricochet ladder; noise floor {} ({})", l.floor.value.mean, l.floor.source));
+    std::vector<std::string> header = {"rung",          "added",      "model",   "insample_error",
+                                       "heldout_error", "heldout_se", "adequate"};
     const auto& use = l.rungs.front().assessment.use;
     for (int k = 0; k < diagnosis::kObservables; ++k)
-      if (use[k]) f << ",heldout_" << diagnosis::kObservableNames[k];
-    f << "\n";
+      if (use[k]) header.push_back(std::string("heldout_") + diagnosis::kObservableNames[k]);
+    t.row(header);
     for (std::size_t r = 0; r < l.rungs.size(); ++r) {
       const auto& a = l.rungs[r].assessment;
       std::string model;
       for (const auto& e : l.rungs[r].effects) model += (model.empty() ? "" : "+") + e;
-      f << r << ',' << l.rungs[r].added << ',' << model << ',' << a.insample.error.mean << ','
-        << a.heldout.error.mean << ',' << a.heldout.error.se << ','
-        << (l.rungs[r].adequacy.adequate ? 1 : 0);
+      std::vector<std::string> row = {std::to_string(r),
+                                      l.rungs[r].added,
+                                      model,
+                                      CsvTable::num(a.insample.error.mean),
+                                      CsvTable::num(a.heldout.error.mean),
+                                      CsvTable::num(a.heldout.error.se),
+                                      l.rungs[r].adequacy.adequate ? "1" : "0"};
       for (int k = 0; k < diagnosis::kObservables; ++k)
-        if (use[k]) f << ',' << a.heldout.term_mean[k];
-      f << "\n";
+        if (use[k]) row.push_back(CsvTable::num(a.heldout.term_mean[k]));
+      t.row(row);
     }
+    t.write(path);
     return;
   }
   h5::File f(path, h5::File::Mode::kTruncate);

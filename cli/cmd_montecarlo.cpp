@@ -201,19 +201,25 @@ void run(const MonteCarloCliOptions& o) {
     if (store) store->write_json("range_fit", doc["range_fit"]);
   }
   if (!o.output.out.empty() && !h5) {
-    std::ofstream out(o.output.out, std::ios::trunc);
-    if (!out) throw InputError(o.output.out, 0, "--out", "cannot open the file for writing");
-    out << "# ricochet montecarlo: one row per run\n";
-    for (const auto& name : result.varied) out << name << ",";
-    out << "vin_x[m/s],vin_y[m/s],win[rad/s],alpha_in[rad],vout_x[m/s],vout_y[m/s],wout[rad/s],"
-           "status\n";
+    CsvTable t;
+    t.comment("ricochet montecarlo: one row per run");
+    std::vector<std::string> header(result.varied.begin(), result.varied.end());
+    for (const char* c : {"vin_x[m/s]", "vin_y[m/s]", "win[rad/s]", "alpha_in[rad]", "vout_x[m/s]",
+                          "vout_y[m/s]", "wout[rad/s]", "status"})
+      header.push_back(c);
+    t.row(header);
     const std::size_t V = result.varied.size();
+    const auto num = CsvTable::num;
     for (std::size_t i = 0; i < result.size(); ++i) {
-      for (std::size_t k = 0; k < V; ++k) out << result.inputs[i * V + k] << ",";
-      out << result.vin[i][0] << "," << result.vin[i][1] << "," << result.vin[i][2] << ","
-          << result.alpha_rad[i] << "," << result.vout[i][0] << "," << result.vout[i][1] << ","
-          << result.vout[i][2] << "," << result.status[i] << "\n";
+      std::vector<std::string> row;
+      for (std::size_t k = 0; k < V; ++k) row.push_back(num(result.inputs[i * V + k]));
+      for (double v : {result.vin[i][0], result.vin[i][1], result.vin[i][2], result.alpha_rad[i],
+                       result.vout[i][0], result.vout[i][1], result.vout[i][2]})
+        row.push_back(num(v));
+      row.push_back(fmt::format("{}", result.status[i]));
+      t.row(row);
     }
+    t.write(o.output.out);
   }
   if (!o.figures.empty()) {
     std::filesystem::create_directories(o.figures);

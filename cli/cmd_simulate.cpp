@@ -22,15 +22,15 @@ struct SimulateOptions {
 };
 
 void write_trace_csv(const Trace& tr, const std::string& path) {
-  FILE* f = std::fopen(path.c_str(), "w");
-  if (!f) throw InputError(path, 0, "--out", "cannot write file");
-  std::fprintf(f,
-               "t[s],x[m],y[m],theta[rad],vx[m/s],vy[m/s],w[rad/s],fn[N],ft[N],moment[N m],h[m]\n");
+  CsvTable t;
+  t.row({"t[s]", "x[m]", "y[m]", "theta[rad]", "vx[m/s]", "vy[m/s]", "w[rad/s]", "fn[N]", "ft[N]",
+         "moment[N m]", "h[m]"});
   for (std::size_t i = 0; i < tr.t.size(); ++i)
-    std::fprintf(f, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", tr.t[i], tr.x[i],
-                 tr.y[i], tr.theta[i], tr.vx[i], tr.vy[i], tr.w[i], tr.fn[i], tr.ft[i],
-                 tr.moment[i], tr.h[i]);
-  std::fclose(f);
+    t.row({CsvTable::num(tr.t[i]), CsvTable::num(tr.x[i]), CsvTable::num(tr.y[i]),
+           CsvTable::num(tr.theta[i]), CsvTable::num(tr.vx[i]), CsvTable::num(tr.vy[i]),
+           CsvTable::num(tr.w[i]), CsvTable::num(tr.fn[i]), CsvTable::num(tr.ft[i]),
+           CsvTable::num(tr.moment[i]), CsvTable::num(tr.h[i])});
+  t.write(path);
 }
 
 void run(const SimulateOptions& o) {

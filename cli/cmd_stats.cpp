@@ -45,24 +45,18 @@ bool has_suffix(const std::string& s, const std::string& suffix) {
          s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-std::string csv_number(double v) {
-  return std::isnan(v) ? std::string() : fmt::format("{}", v);
-}
-
 void write_csv(const std::string& path, const std::string& source, const std::string& where,
                std::size_t n, const std::array<stats::Summary, 6>& s) {
-  std::ofstream out(path, std::ios::trunc);
-  if (!out) throw InputError(path, 0, "--out", "cannot open the file for writing");
-  out << "# ricochet stats of " << source << " (" << n << " releases)\n";
-  if (!where.empty()) out << "# where: " << where << "\n";
-  out << "# std: sample standard deviation (n - 1); cv = std / mean (signed)\n";
-  out << "column,unit,n,mean,std,cv,min,max\n";
+  CsvTable t;
+  t.comment(fmt::format("ricochet stats of {} ({} releases)", source, n));
+  if (!where.empty()) t.comment("where: " + where);
+  t.comment("std: sample standard deviation (n - 1); cv = std / mean (signed)");
+  t.row({"column", "unit", "n", "mean", "std", "cv", "min", "max"});
   for (std::size_t k = 0; k < kColumns.size(); ++k)
-    out << kColumns[k].name << ',' << kColumns[k].unit << ',' << s[k].n << ','
-        << csv_number(s[k].mean) << ',' << csv_number(s[k].std) << ',' << csv_number(s[k].cv) << ','
-        << csv_number(s[k].min) << ',' << csv_number(s[k].max) << '\n';
-  out.close();
-  if (!out) throw InputError(path, 0, "--out", "write failed");
+    t.row({kColumns[k].name, kColumns[k].unit, std::to_string(s[k].n), CsvTable::num(s[k].mean),
+           CsvTable::num(s[k].std), CsvTable::num(s[k].cv), CsvTable::num(s[k].min),
+           CsvTable::num(s[k].max)});
+  t.write(path);
 }
 
 void write_h5(const std::string& path, const std::string& source, const std::string& where,

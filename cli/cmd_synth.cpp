@@ -120,11 +120,7 @@ void run(const SynthCliOptions& o) {
 
   const diagnosis::SynthResult r = diagnosis::synthesize(truth, shape, s);
   write_impact_set(r.set, o.output.out);
-  if (!o.truth.empty()) {
-    std::ofstream f(o.truth);
-    if (!f) throw InputError(o.truth, 0, "--truth", "cannot open the file for writing");
-    f << r.truth.dump(2) << "\n";
-  }
+  if (!o.truth.empty()) write_text_file(o.truth, stamp_json(r.truth).dump(2) + "\n", "--truth");
   if (o.output.json) {
     print_json(
         {{"out", o.output.out},

@@ -202,35 +202,53 @@ std::string row_label(const std::string& stem, const FitResult& r) {
 
 void write_fit_csv(const std::string& path, const std::string& source, const FitResult& r,
                    const FitOptions& o) {
-  std::ofstream out(path, std::ios::trunc);
-  if (!out) throw InputError(path, 0, "--out", "cannot open the file for writing");
-  out << "# ricochet transfer fit of " << source << " (" << r.n << " releases)";
-  if (!r.where.empty()) out << ", where " << r.where;
-  out << "\n# A, dA: paper Eq. 2; M_*: full 3x3 least-squares matrix row (V_out = M V_in), se_*: "
-         "its standard errors; loo_*: leave-one-out RMSE; ks_*: measured vs predicted V_out "
-         "(seed "
-      << o.seed << ", " << o.replicates << " rebounds per release)\n";
-  out << "component,unit,A,dA,mean_in,mean_out,min_in,max_in,min_out,max_out,M_vx,M_vy,M_w,se_vx,"
-         "se_vy,se_w,loo_rmse_constant,loo_rmse_diagonal,loo_rmse_diagonal_lsq,loo_rmse_full,ks_D,"
-         "ks_p\n";
-  auto num = [](double v) { return std::isfinite(v) ? fmt::format("{}", v) : std::string(); };
+  CsvTable t;
+  t.comment(fmt::format("ricochet transfer fit of {} ({} releases){}", source, r.n,
+                        r.where.empty() ? "" : ", where " + r.where));
+  t.comment(fmt::format(
+      "A, dA: paper Eq. 2; M_*: full 3x3 least-squares matrix row (V_out = M V_in), se_*: its "
+      "standard errors; loo_*: leave-one-out RMSE; ks_*: measured vs predicted V_out (seed {}, "
+      "{} rebounds per release)",
+      o.seed, o.replicates));
+  t.row({"component",
+         "unit",
+         "A",
+         "dA",
+         "mean_in",
+         "mean_out",
+         "min_in",
+         "max_in",
+         "min_out",
+         "max_out",
+         "M_vx",
+         "M_vy",
+         "M_w",
+         "se_vx",
+         "se_vy",
+         "se_w",
+         "loo_rmse_constant",
+         "loo_rmse_diagonal",
+         "loo_rmse_diagonal_lsq",
+         "loo_rmse_full",
+         "ks_D",
+         "ks_p"});
+  const auto num = CsvTable::num;
   const double nan = std::nan("");
   for (int c = 0; c < 3; ++c) {
     const auto& d = r.diagonal;
-    out << kComponentNames[c] << ',' << kUnits[c] << ',' << num(d.model.a[c]) << ','
-        << num(d.model.delta_a[c]) << ',' << num(d.mean_in[c]) << ',' << num(d.mean_out[c]) << ','
-        << num(d.min_in[c]) << ',' << num(d.max_in[c]) << ',' << num(d.min_out[c]) << ','
-        << num(d.max_out[c]);
-    for (int k = 0; k < 3; ++k) out << ',' << num(r.full ? r.full->m[c][k] : nan);
-    for (int k = 0; k < 3; ++k) out << ',' << num(r.full ? r.full->se[c][k] : nan);
-    out << ',' << num(r.loo ? r.loo->rmse_constant[c] : nan) << ','
-        << num(r.loo ? r.loo->rmse_diagonal[c] : nan) << ','
-        << num(r.loo ? r.loo->rmse_diagonal_lsq[c] : nan) << ','
-        << num(r.loo ? r.loo->rmse_full[c] : nan) << ',' << num(r.ks.ks[c].statistic) << ','
-        << num(r.ks.ks[c].p_value) << '\n';
+    std::vector<std::string> row = {kComponentNames[c],      kUnits[c],         num(d.model.a[c]),
+                                    num(d.model.delta_a[c]), num(d.mean_in[c]), num(d.mean_out[c]),
+                                    num(d.min_in[c]),        num(d.max_in[c]),  num(d.min_out[c]),
+                                    num(d.max_out[c])};
+    for (int k = 0; k < 3; ++k) row.push_back(num(r.full ? r.full->m[c][k] : nan));
+    for (int k = 0; k < 3; ++k) row.push_back(num(r.full ? r.full->se[c][k] : nan));
+    for (double v : {r.loo ? r.loo->rmse_constant[c] : nan, r.loo ? r.loo->rmse_diagonal[c] : nan,
+                     r.loo ? r.loo->rmse_diagonal_lsq[c] : nan, r.loo ? r.loo->rmse_full[c] : nan,
+                     r.ks.ks[c].statistic, r.ks.ks[c].p_value})
+      row.push_back(num(v));
+    t.row(row);
   }
-  out.close();
-  if (!out) throw InputError(path, 0, "--out", "write failed");
+  t.write(path);
 }
 
 void write_fit_h5(const std::string& path, const std::string& source, const FitResult& r,
@@ -510,22 +528,22 @@ void run_predict(const PredictOptions& o) {
 
   if (!o.output.out.empty()) {
     if (has_suffix(o.output.out, ".csv")) {
-      std::ofstream out(o.output.out, std::ios::trunc);
-      if (!out) throw InputError(o.output.out, 0, "--out", "cannot open the file for writing");
-      out << "# ricochet transfer predict, paper Eq. 2, seed " << o.seed << ", A = (" << model.a[0]
-          << ", " << model.a[1] << ", " << model.a[2] << "), dA = (" << model.delta_a[0] << ", "
-          << model.delta_a[1] << ", " << model.delta_a[2] << ")\n";
-      out << "incident,replicate,vin_x[m/s],vin_y[m/s],win[rad/s],vout_x[m/s],vout_y[m/s],wout[rad/"
-             "s]\n";
+      CsvTable t;
+      t.comment(
+          fmt::format("ricochet transfer predict, paper Eq. 2, seed {}, A = ({}, {}, {}), "
+                      "dA = ({}, {}, {})",
+                      o.seed, model.a[0], model.a[1], model.a[2], model.delta_a[0],
+                      model.delta_a[1], model.delta_a[2]));
+      t.row({"incident", "replicate", "vin_x[m/s]", "vin_y[m/s]", "win[rad/s]", "vout_x[m/s]",
+             "vout_y[m/s]", "wout[rad/s]"});
       for (std::size_t i = 0; i < vin.size(); ++i)
         for (std::size_t r = 0; r < reps; ++r) {
           const Vel3& s = samples[i * reps + r];
-          out << ids[i] << ',' << r << ','
-              << fmt::format("{},{},{},{},{},{}", vin[i][0], vin[i][1], vin[i][2], s[0], s[1], s[2])
-              << '\n';
+          t.row({ids[i], std::to_string(r), CsvTable::num(vin[i][0]), CsvTable::num(vin[i][1]),
+                 CsvTable::num(vin[i][2]), CsvTable::num(s[0]), CsvTable::num(s[1]),
+                 CsvTable::num(s[2])});
         }
-      out.close();
-      if (!out) throw InputError(o.output.out, 0, "--out", "write failed");
+      t.write(o.output.out);
     } else {
       h5::File f(o.output.out, h5::File::Mode::kTruncate);
       std::vector<double> in_flat, out_flat;

@@ -41,7 +41,8 @@ int main(int argc, char** argv) {
                                    const std::string& prefix) -> void {
     for (CLI::App* sub : parent->get_subcommands([](CLI::App*) { return true; })) {
       const std::string name = prefix.empty() ? sub->get_name() : prefix + " " + sub->get_name();
-      sub->preparse_callback([name](std::size_t) { ricochet::cli::set_current_command(name); });
+      sub->preparse_callback(
+          [name, sub](std::size_t) { ricochet::cli::set_current_command(name, sub); });
       self(self, sub, name);
     }
   };

@@ -94,14 +94,6 @@ Decks Decks::locate(const std::string& root) {
   return d;
 }
 
-std::uint64_t fnv1a(std::string_view text, std::uint64_t h) {
-  for (unsigned char c : text) {
-    h ^= c;
-    h *= 1099511628211ull;  // the 64-bit FNV prime
-  }
-  return h;
-}
-
 std::string Decks::bed_decks_digest() const {
   std::vector<std::string> files = {bed_deck};
   for (const auto& e : fs::directory_iterator(common))

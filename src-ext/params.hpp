@@ -9,6 +9,8 @@
 #include <string_view>
 #include <vector>
 
+#include "common/provenance.hpp"  // fnv1a, the one hash of cache keys and deck digests
+
 namespace ricochet::dem {
 
 /// One `variable NAME index VALUE   # comment` line of a deck.
@@ -65,12 +67,6 @@ std::vector<std::pair<std::string, std::string>> effective_bed(
 /// Gravitational acceleration of every deck (`fix gravity ... 9.81` in impact/setup.in and
 /// drop/setup.in): the dem layer's one copy, for the analyses of the decks' output [m/s^2].
 inline constexpr double kDeckGravity_mps2 = 9.81;
-
-/// FNV-1a 64 (Fowler-Noll-Vo) of `text`, continuing from `h`: the one hash of the dem layer's
-/// cache keys, replicate labels and deck digests (not cryptographic: it names, it does not
-/// protect).
-inline constexpr std::uint64_t kFnvOffset = 1469598103934665603ull;
-std::uint64_t fnv1a(std::string_view text, std::uint64_t h = kFnvOffset);
 
 /// Cache key of a bed: hash of the effective parameters and of the decks' text.
 std::string bed_key(const Decks& decks, const std::map<std::string, std::string>& bed);

@@ -1,5 +1,11 @@
 #include "common/csv.hpp"
 
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
 #include "common/error.hpp"
 
 namespace ricochet {
@@ -84,6 +90,60 @@ std::vector<std::string> csv_split(std::string_view line, const std::string& fil
     ++i;  // the comma
   }
   return cells;
+}
+
+CsvTable& CsvTable::comment(std::string_view text) {
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t end = text.find('\n', start);
+    text_ += "# ";
+    text_ += text.substr(start, end == std::string_view::npos ? end : end - start);
+    text_ += '\n';
+    if (end == std::string_view::npos) break;
+    start = end + 1;
+  }
+  return *this;
+}
+
+CsvTable& CsvTable::row(std::span<const std::string> cells) {
+  text_ += csv_row(cells);
+  text_ += '\n';
+  return *this;
+}
+
+std::string shortest_number(double value) {
+  std::array<char, 64> buf;
+  const auto res = std::to_chars(buf.data(), buf.data() + buf.size(), value);
+  return std::string(buf.data(), res.ptr);
+}
+
+std::string CsvTable::num(double v) {
+  return std::isfinite(v) ? shortest_number(v) : std::string();
+}
+
+void CsvTable::write(const std::string& path, const std::string& option) const {
+  write_text_file(path, text_, option);
+}
+
+void write_text_file(const std::string& path, std::string_view text, const std::string& option) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+    if (!f) throw InputError(path, 0, option, "cannot open the file for writing");
+    f.write(text.data(), static_cast<std::streamsize>(text.size()));
+    if (!f.flush()) {
+      f.close();
+      std::error_code ec;
+      std::filesystem::remove(tmp, ec);
+      throw InputError(path, 0, option, "write failed");
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    throw InputError(path, 0, option, "cannot move the written file into place");
+  }
 }
 
 }  // namespace ricochet

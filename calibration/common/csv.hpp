@@ -1,10 +1,12 @@
-// The one CSV cell writer and the one cell reader: the quoting rule every CSV this project writes
-// follows, and its reading side (cells may be double-quoted, unquoted text is trimmed; a line
-// starting with '#' is a comment, left to the callers), so that every cell reads back unchanged.
+// The one CSV writer and the one cell reader: the quoting rule every CSV this project writes
+// follows (csv_cell, CsvTable), and its reading side (cells may be double-quoted, unquoted text is
+// trimmed; a line starting with '#' is a comment, left to the callers), so that every cell reads
+// back unchanged.
 #pragma once
 
 #include <cstddef>
 #include <functional>
+#include <initializer_list>
 #include <span>
 #include <string>
 #include <string_view>
@@ -29,5 +31,37 @@ std::string_view csv_trim(std::string_view text);
 std::vector<std::string> csv_split(std::string_view line, const std::string& file,
                                    std::size_t line_no,
                                    const std::function<std::string(std::size_t)>& column_name);
+
+/// The shortest decimal text that reads back to the same double (std::to_chars; "nan", "inf").
+std::string shortest_number(double value);
+
+/// A CSV document built in memory and written in one piece: '#' comment lines, then rows of cells
+/// (each through csv_cell). Every CSV file the project writes is one of these, so that quoting,
+/// number format and the all-or-nothing write are the same everywhere.
+class CsvTable {
+ public:
+  /// One "# ..." line per line of `text`.
+  CsvTable& comment(std::string_view text);
+  /// One row; the cells are quoted as csv_cell says.
+  CsvTable& row(std::span<const std::string> cells);
+  CsvTable& row(std::initializer_list<std::string> cells) {
+    return row(std::span<const std::string>(cells.begin(), cells.size()));
+  }
+  /// `v` as a cell: shortest_number(v); NaN and +-inf as an empty cell (the readers' "missing").
+  static std::string num(double v);
+  /// The document so far.
+  const std::string& text() const { return text_; }
+  /// Writes the document to `path` through write_text_file (nothing half-written is left).
+  void write(const std::string& path, const std::string& option = "--out") const;
+
+ private:
+  std::string text_;
+};
+
+/// Writes `text` to `path` through a temporary file renamed into place (an interrupted or failed
+/// write leaves no partial file); throws InputError(path, 0, option, ...) when the file cannot be
+/// written.
+void write_text_file(const std::string& path, std::string_view text,
+                     const std::string& option = "--out");
 
 }  // namespace ricochet

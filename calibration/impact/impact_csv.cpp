@@ -240,12 +240,12 @@ std::string format_impact_set_csv(const ImpactSet& set) {
           if (m.replicate) row += csv_cell(*m.replicate);
           break;
         default:
-          if (const auto v = get_numeric(m, c->col)) row += format_number(*v);
+          if (const auto v = get_numeric(m, c->col)) row += shortest_number(*v);
       }
     }
     for (double v : m.extra) {
       row += ',';
-      if (!std::isnan(v)) row += format_number(v);
+      if (!std::isnan(v)) row += shortest_number(v);
     }
     out += row + '\n';
   }
@@ -253,12 +253,7 @@ std::string format_impact_set_csv(const ImpactSet& set) {
 }
 
 void write_impact_set_csv(const ImpactSet& set, const std::string& path) {
-  const std::string text = format_impact_set_csv(set);
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw InputError(path, 0, "", "cannot open the file for writing");
-  out << text;
-  out.close();
-  if (!out) throw InputError(path, 0, "", "write failed (disk full?)");
+  write_text_file(path, format_impact_set_csv(set), "--out");
 }
 
 }  // namespace ricochet

@@ -14,6 +14,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "common/csv.hpp"
 #include "common/error.hpp"
 #include "impact/schema_detail.hpp"
 
@@ -46,7 +47,7 @@ void check_non_negative(double v, const char* field, const char* unit, const std
   check_finite(v, field, file, line);
   if (v < 0)
     throw InputError(file, line, field,
-                     "value " + format_number(v) + " " + unit + " is negative; it must be >= 0");
+                     "value " + shortest_number(v) + " " + unit + " is negative; it must be >= 0");
 }
 
 }  // namespace
@@ -224,11 +225,11 @@ void check_impact(const Impact& m, std::size_t n_extra, const std::string& file,
   // Frame of paper Fig. 1 (y up): the block falls onto the ground and leaves it upwards.
   if (m.vin[kVy] >= 0)
     throw InputError(file, line, "vin_y",
-                     "incident vertical velocity " + format_number(m.vin[kVy]) +
+                     "incident vertical velocity " + shortest_number(m.vin[kVy]) +
                          " m/s must be negative (y is up: the block falls onto the ground)");
   if (m.vout[kVy] <= 0)
     throw InputError(file, line, "vout_y",
-                     "reflected vertical velocity " + format_number(m.vout[kVy]) +
+                     "reflected vertical velocity " + shortest_number(m.vout[kVy]) +
                          " m/s must be positive (y is up: the block leaves the ground)");
   if (m.penetration) check_non_negative(*m.penetration, "penetration", "m", file, line);
   if (m.contact_duration)
@@ -271,12 +272,6 @@ void check_extras_declaration(const ImpactSet& set, const std::string& file, std
                        "extra unit '" + set.extra_units[i] +
                            "' is not an SI unit of the schema (m/s, rad/s, m, s, rad, -)");
   }
-}
-
-std::string format_number(double value) {
-  std::array<char, 64> buf;
-  const auto res = std::to_chars(buf.data(), buf.data() + buf.size(), value);
-  return std::string(buf.data(), res.ptr);
 }
 
 bool parse_number(std::string_view text, double& value) {

@@ -101,8 +101,6 @@ class RowAssembler {
   std::unordered_map<std::string, std::size_t> id_line_;
 };
 
-/// Shortest decimal text that reads back to the same double (std::to_chars).
-std::string format_number(double value);
 /// Parses a whole cell as a double (std::from_chars, optional leading '+'); false if any
 /// character is left over or the value is out of range. NaN/inf parse: the caller checks.
 bool parse_number(std::string_view text, double& value);

@@ -1,5 +1,7 @@
 #include "report/html.hpp"
 
+#include "common/csv.hpp"
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -203,11 +205,7 @@ void HtmlPage::write(const std::string& path) const {
   namespace fs = std::filesystem;
   const fs::path p(path);
   if (p.has_parent_path()) fs::create_directories(p.parent_path());
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw std::runtime_error("report: cannot write " + path);
-  out << html();
-  out.close();
-  if (!out) throw std::runtime_error("report: write failed for " + path);
+  write_text_file(path, html(), "--out");
 }
 
 }  // namespace ricochet::report
