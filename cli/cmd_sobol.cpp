@@ -126,7 +126,8 @@ void add_sobol_command(CLI::App& app) {
   add_threads_option(sub, opts->engine.threads);
   add_figures_option(sub, opts->figures);
   check_range(sub, "--n", 1, 1e8);
-  check_range(sub, "--bootstrap", 0, 1e6);
+  // Percentile intervals need resamples; OpenTURNS refuses a bootstrap size of 0 at run time.
+  check_range(sub, "--bootstrap", 2, 1e6);
   check_range(sub, "--confidence", 0.5, 0.9999);
   check_range(sub, "--alpha", -360, 360);
   sub->callback([opts] { run(*opts); });

@@ -50,7 +50,7 @@ const std::vector<BadCase> kCases = {
     {"montecarlo --range-runs 0", "--range-runs"},
     {"sobol --confidence 1.5", "--confidence: value 1.5 is outside [0.5, 0.9999]"},
     {"sobol --n 0", "--n"},
-    {"sobol --bootstrap -1", "--bootstrap"},
+    {"sobol --bootstrap 0", "--bootstrap: value 0 is outside [2, 1e+06]"},
     {"synth --n 0", "--n: value 0 is outside [1, 1e+07]"},
     {"compare " + kCyl + " --repeats 0", "--repeats: value 0 is outside [1, 1000]"},
     {"compare " + kCyl + " --orientations -1", "--orientations"},
