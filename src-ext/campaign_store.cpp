@@ -140,7 +140,7 @@ std::string replicate_label(const std::string& params_json) {
   for (const auto& [section, name] : {std::pair{"run", "x_impact_frac"}, std::pair{"bed", "seed"},
                                       std::pair{"run", "block_seed"}})
     if (j.contains(section) && j[section].is_object()) j[section].erase(name);
-  return fmt::format("r{:016x}", fnv1a(j.dump()));
+  return fmt::format("r{:016x}", fnv1a(j.dump(), kDemHashSeed));
 }
 }  // namespace
 

@@ -215,7 +215,7 @@ std::map<std::string, DropTrack> DropStore::tracks() const {
 }
 
 std::string drop_decks_digest(const Decks& decks) {
-  std::uint64_t h = kFnvOffset;
+  std::uint64_t h = kDemHashSeed;
   for (const char* f :
        {"/drop/setup.in", "/drop/check.in", "/drop/finish.in", "/repose/in.repose"}) {
     std::ifstream in(decks.root + f, std::ios::binary);

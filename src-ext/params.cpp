@@ -100,7 +100,7 @@ std::string Decks::bed_decks_digest() const {
     if (e.path().extension() == ".in") files.push_back(e.path().string());
   std::sort(files.begin() + 1, files.end());
   // Comments, indentation and blank lines do not change a bed: hash what is left.
-  std::uint64_t h = fnv1a("ricochet-bed-decks-2");
+  std::uint64_t h = fnv1a("ricochet-bed-decks-2", kDemHashSeed);
   for (const auto& f : files) {
     h = fnv1a(fs::path(f).filename().string(), h);
     std::istringstream in(read_text(f));
@@ -222,7 +222,7 @@ std::vector<std::pair<std::string, std::string>> effective_bed(
 std::string bed_key(const Decks& decks, const std::map<std::string, std::string>& bed) {
   std::string text = decks.bed_decks_digest();
   for (const auto& [name, value] : effective_bed(decks, bed)) text += "\n" + name + "=" + value;
-  return fmt::format("{:016x}", fnv1a(text));
+  return fmt::format("{:016x}", fnv1a(text, kDemHashSeed));
 }
 
 }  // namespace ricochet::dem

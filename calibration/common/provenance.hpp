@@ -12,7 +12,7 @@ namespace ricochet {
 /// FNV-1a 64 (Fowler-Noll-Vo; offset basis and prime of the published 64-bit variant) of `text`,
 /// continuing from `h`. It names content (cache keys, replicate labels, input digests); it is not
 /// cryptographic and protects nothing.
-inline constexpr std::uint64_t kFnvOffset = 1469598103934665603ull;
+inline constexpr std::uint64_t kFnvOffset = 14695981039346656037ull;
 std::uint64_t fnv1a(std::string_view text, std::uint64_t h = kFnvOffset);
 
 /// The provenance of the input file `path`: {"file": path, "bytes": size, "fnv1a64": 16 hex

@@ -42,9 +42,10 @@ std::string json_section(const std::string& page) {
   return text.substr(start, end == std::string::npos ? std::string::npos : end - start);
 }
 
-// Whether `key` is named in `text` as `key` (code) or "key" (JSON example).
+// Whether `key` is named in `text` as `key` or `key.member` (code) or "key" (JSON example).
 bool names(const std::string& text, const std::string& key) {
   return text.find("`" + key + "`") != std::string::npos ||
+         text.find("`" + key + ".") != std::string::npos ||
          text.find("\"" + key + "\"") != std::string::npos;
 }
 
@@ -85,16 +86,16 @@ const std::vector<KeysCase> kCases = {
     {"stats " + kCyl, "stats"},
     {"reconstruct @DIR@/track.csv --pixel-size 0.001", "reconstruct"},
     {"transfer fit " + kCyl, "transfer"},
-    {"transfer predict --from " + kCyl + " --vin 2.9,-2.3,-65", "transfer"},
+    {"transfer predict --seed 1 --from " + kCyl + " --vin 2.9,-2.3,-65", "transfer"},
     {"effects", "effects"},
     {"simulate --vin 2.9,-2.3,-65", "simulate"},
-    {"calibrate " + kCyl + " --where \"vin_x>3.4\"", "calibrate"},
+    {"calibrate " + kCyl + " --where \"vin_x>3.1\"", "calibrate"},
     {"montecarlo --n 200 --seed 3 --compare " + kCyl, "montecarlo"},
     {"sobol --n 32 --bootstrap 10", "sobol"},
     {"synth --n 4 --seed 5 --out @DIR@/s.csv", "synth"},
     {"compare " + kCyl + " --repeats 1", "compare"},
     {"diagnose " + kCyl, "diagnose"},
-    {"ladder " + kCyl, "ladder"},
+    {"ladder " + kCyl + " --add rate_restitution", "ladder"},
     {"report " + kCyl + " --out @DIR@/r.html", "report"},
     {"dem template --shape cylinder --out @DIR@/t", "dem"},
     {"upscale " + quote(kSource + "/data/resolved/bed-probe-width-cdt.h5"), "upscale"},
