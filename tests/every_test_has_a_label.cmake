@@ -1,6 +1,7 @@
 # Fails when a ctest test has no label (tests/README.md: unit, cli, dem, detection, fuzz, report,
 # install, nodeps), so that `ctest -L unit` and friends keep selecting every test they should.
 # Run by the test suite.EveryTestHasALabel: cmake -DBUILD_DIR=... -P every_test_has_a_label.cmake
+cmake_policy(SET CMP0057 NEW)  # if(... IN_LIST ...)
 execute_process(COMMAND ${CMAKE_CTEST_COMMAND} --show-only=json-v1
                 WORKING_DIRECTORY ${BUILD_DIR} OUTPUT_VARIABLE json RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
