@@ -28,8 +28,13 @@ const DropResult& the_drop() {
     DropSpec spec;
     spec.id = "drop";
     spec.h_drop_m = 0.2;
-    spec.bed = {{"mode", "box"},   {"Lx_m", "0.14"},  {"Ly_m", "0.14"},  {"H_m", "0.08"},
-                {"r1_m", "0.004"}, {"r2_m", "0.005"}, {"r3_m", "0.006"}, {"headroom_m", "0.1"}};
+    // The grain law of set H, pinned (the drop check's known failure is on that bed).
+    spec.bed = {{"mode", "box"},    {"Lx_m", "0.14"},          {"Ly_m", "0.14"},
+                {"H_m", "0.08"},    {"r1_m", "0.004"},         {"r2_m", "0.005"},
+                {"r3_m", "0.006"},  {"headroom_m", "0.1"},     {"E_grain_Pa", "2e8"},
+                {"e_gg", "0.7"},    {"mu_gg", "0.8"},          {"mur_gg", "0.5"},
+                {"mu_pour", "0.1"}, {"rolling_model", "epsd2"}};
+    spec.block = {{"mu_gb", "0.5"}};
     spec.drop = {{"D_sphere_m", "0.04"}, {"t_max_s", "0.4"}};
     DropContext ctx;
     ctx.decks = &test::decks();
