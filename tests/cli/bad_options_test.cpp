@@ -72,18 +72,11 @@ const std::vector<BadCase> kCases = {
     {"calibrate-grains " + kCyl, "--lab"},
 };
 
-// The subcommands of the resolved model, which need LIGGGHTS.
-bool needs_liggghts(const std::string& args) {
-  for (const char* sub : {"dem", "upscale", "calibrate-grains"})
-    if (args == sub || args.rfind(std::string(sub) + " ", 0) == 0) return true;
-  return false;
-}
-
 class BadOptions : public test::ProgramTest, public ::testing::WithParamInterface<BadCase> {};
 
 TEST_P(BadOptions, ExitTwoNamingTheOption) {
   const BadCase& c = GetParam();
-  if (needs_liggghts(c.args) && !test::program_has_liggghts())
+  if (test::needs_liggghts(c.args) && !test::program_has_liggghts())
     GTEST_SKIP() << "this ricochet has no LIGGGHTS (WithoutLiggghts checks what it says)";
   const test::RunResult r = ricochet(c.args);
   EXPECT_EQ(r.status, 2) << c.args << "\n" << r.err;
@@ -106,7 +99,7 @@ class GoodExits : public test::ProgramTest {};
 
 TEST_F(GoodExits, HelpAndVersionExitZero) {
   for (const std::string args : {"--version", "--help", "montecarlo --help", "dem impact --help"}) {
-    if (needs_liggghts(args) && !test::program_has_liggghts()) continue;
+    if (test::needs_liggghts(args) && !test::program_has_liggghts()) continue;
     const test::RunResult r = ricochet(args);
     EXPECT_EQ(r.status, 0) << args << "\n" << r.err;
     EXPECT_FALSE(r.out.empty()) << args;
@@ -124,7 +117,7 @@ TEST_F(GoodExits, JsonNamesTheCommandAndVersion) {
       {"dem template --shape cylinder --out " + quote((dir_ / "t").string()) + " --json",
        "dem template"}};
   for (const auto& [args, command] : runs) {
-    if (needs_liggghts(args) && !test::program_has_liggghts()) continue;
+    if (test::needs_liggghts(args) && !test::program_has_liggghts()) continue;
     const test::RunResult r = ricochet(args);
     ASSERT_EQ(r.status, 0) << args << "\n" << r.err;
     const auto doc = nlohmann::json::parse(r.out);

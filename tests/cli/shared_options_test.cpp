@@ -19,12 +19,6 @@ const std::string kCyl = quote(std::string(RICOCHET_SOURCE_DIR) + "/data/lab/cyl
 const std::string kCampaign =
     quote(std::string(RICOCHET_SOURCE_DIR) + "/data/resolved/convergence.h5");
 
-bool needs_liggghts(const std::string& args) {
-  for (const char* sub : {"dem", "upscale", "calibrate-grains"})
-    if (args.rfind(std::string(sub) + " ", 0) == 0) return true;
-  return false;
-}
-
 class SharedOptions : public test::ProgramTest {};
 
 // Every --vin: one parser, one message, exit status 2, nothing on stdout.
@@ -32,7 +26,7 @@ TEST_F(SharedOptions, VinHasOneParserAndOneMessage) {
   const std::vector<std::string> commands = {"simulate", "transfer predict --seed 1 --from " + kCyl,
                                              "montecarlo --n 10", "sobol --n 16", "dem impact"};
   for (const std::string& command : commands) {
-    if (needs_liggghts(command) && !test::program_has_liggghts()) continue;
+    if (test::needs_liggghts(command) && !test::program_has_liggghts()) continue;
     for (const std::string vin : {"1,2", "1,-2,3,4", "1,x,3", "1,,3", "1,-2,nan"}) {
       const test::RunResult r = ricochet(command + " --vin " + vin);
       EXPECT_EQ(r.status, 2) << command << " --vin " << vin << "\n" << r.err;
@@ -48,7 +42,7 @@ TEST_F(SharedOptions, VinHasOneParserAndOneMessage) {
   // A block moving up is refused wherever the state is a collision's.
   for (const std::string command :
        {"simulate", "montecarlo --n 10", "sobol --n 16", "dem impact"}) {
-    if (needs_liggghts(command) && !test::program_has_liggghts()) continue;
+    if (test::needs_liggghts(command) && !test::program_has_liggghts()) continue;
     const test::RunResult r = ricochet(command + " --vin 2.9,2.3,-65");
     EXPECT_EQ(r.status, 2) << command << "\n" << r.err;
     EXPECT_NE(r.err.find("incident vy must be negative (downwards), got '2.9,2.3,-65'"),
@@ -82,7 +76,7 @@ TEST_F(SharedOptions, WhereOnEveryCommandThatReadsAnImpactSet) {
       "upscale " + kCampaign,
       "calibrate-grains " + kCampaign + " --lab " + kCyl};
   for (const std::string& command : commands) {
-    if (needs_liggghts(command) && !test::program_has_liggghts()) continue;
+    if (test::needs_liggghts(command) && !test::program_has_liggghts()) continue;
     const test::RunResult r = ricochet(command + none);
     EXPECT_EQ(r.status, 2) << command << "\n" << r.err;
     EXPECT_NE(r.err.find("--where"), std::string::npos) << command << "\n" << r.err;

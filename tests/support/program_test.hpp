@@ -52,6 +52,14 @@ inline bool program_has_liggghts() {
 }
 #endif
 
+// Whether the arguments run a subcommand of the resolved model (dem, upscale, calibrate-grains),
+// which needs LIGGGHTS.
+inline bool needs_liggghts(const std::string& args) {
+  for (const char* sub : {"dem", "upscale", "calibrate-grains"})
+    if (args == sub || args.rfind(std::string(sub) + " ", 0) == 0) return true;
+  return false;
+}
+
 class ProgramTest : public ::testing::Test {
  protected:
   void SetUp() override {
