@@ -1,7 +1,9 @@
-// The tutorial's user effect (examples/user-effect, docs/tutorial-effect.md) is built as a real
-// plugin and loaded the way `ricochet --plugin` loads it, so the tutorial cannot rot.
+// The tutorial's user effect (examples/user-effect, docs/tutorial-effect.md) and the resolved
+// campaigns' rebound threshold (examples/crater-escape) are built as real plugins and loaded the
+// way `ricochet --plugin` loads them, so that neither can rot.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -51,6 +53,34 @@ TEST(UserEffectPlugin, WorksFromTheCommandLine) {
   const auto j = nlohmann::json::parse(out);
   EXPECT_EQ(j["model"]["parameters"]["kg"], 1.0);
   EXPECT_GT(j["vout"][1].get<double>(), 0.9);
+}
+
+// crater_escape: e_n^2_eff = e_n^2 v0^2 / (v0^2 + vc2). Without gravity, a head-on impact without
+// spin under the paper's law returns V_out^y = e_n |V_in^y| (Eq. 4: e_n^2 is the energy
+// restitution of a closed cycle), so the ratio of the rebound with and without the threshold is
+// sqrt(v0^2 / (v0^2 + vc2)): 1/sqrt(2) when vc2 = v0^2. And the restitution grows with the speed.
+TEST(CraterEscapePlugin, HalvesTheReboundEnergyAtTheEscapeSpeedAndGrowsWithSpeed) {
+  EffectRegistry registry = EffectRegistry::with_builtins();
+  registry.load_plugin(RICOCHET_CRATER_PLUGIN_PATH);
+  ASSERT_TRUE(registry.contains("crater_escape"));
+  const auto problems = check_effect_invariants(registry.get("crater_escape"));
+  EXPECT_TRUE(problems.empty()) << problems.front();
+
+  Model model = Model::paper(registry).with_effect("crater_escape", true, registry);
+  EngineOptions no_gravity;
+  no_gravity.gravity_mps2 = 0.0;
+  const auto rebound = [&](double vy, double vc2) {
+    model.set("vc2", vc2);
+    return simulate(model, Shape::cylinder(), {{0.0, vy, 0.0}, 0.0}, {}, no_gravity).vout[kVy] /
+           -vy;
+  };
+  const double v = 2.3;  // m/s, the lab's mean vertical approach speed
+  EXPECT_NEAR(rebound(-v, v * v) / rebound(-v, 0.0), 1.0 / std::sqrt(2.0), 0.02);
+  // With the threshold the slow impact keeps less of its speed than the fast one; without it, the
+  // paper's constant e_n^2 keeps the same fraction.
+  const double vc2 = 1.0;  // m^2/s^2
+  EXPECT_LT(rebound(-1.0, vc2), 0.8 * rebound(-4.0, vc2));
+  EXPECT_NEAR(rebound(-1.0, 0.0), rebound(-4.0, 0.0), 0.02 * rebound(-4.0, 0.0));
 }
 
 }  // namespace
