@@ -81,6 +81,17 @@ TEST(DemEndToEnd, SameImpactOnTwoMpiRanks) {
     const double a = j1["vout"][c], b = j2["vout"][c];
     EXPECT_NEAR(a, b, 0.1 * std::abs(a) + 0.05) << "component " << c;
   }
+  // What must hold exactly on any number of ranks, chaos or not: the energy the DEM reports lost
+  // (its own kinetic energies over the force window) is the energy of the block's velocities at
+  // the same instants, with the lab cylinder's I / m = R^2 / 2 (paper Fig. 4), to 0.01.
+  for (const auto* j : {&j1, &j2}) {
+    const auto ke = [](const nlohmann::json& v) {
+      const double vx = v[0], vy = v[1], w = v[2];
+      return vx * vx + vy * vy + 0.5 * 0.08 * 0.08 * w * w;
+    };
+    const double lost = 1.0 - ke((*j)["v_direct"]["end"]) / ke((*j)["v_direct"]["start"]);
+    EXPECT_NEAR(lost, (*j)["energy_dissipated_frac"].get<double>(), 0.01) << (*j)["ranks"];
+  }
 }
 
 // An error on the ranks of an MPI job ends the job with the CLI's status and a message naming the
