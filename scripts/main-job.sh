@@ -52,7 +52,9 @@ if [ $HAVE_DEM -eq 1 ]; then
   # (the earlier calibrations' files are beside them).
   "$R" calibrate-grains "$ROOT/data/resolved/bed-calibration-cdt.h5" --lab "$CYL" --seed 4 \
     --figures "$OUT/figures/calibrate-grains"
-  "$R" upscale "$ROOT/data/resolved/lab-cylinders-cdt.h5" --lab "$CYL" \
+  # The lab cylinder states reconstructed like the lab (the geometric contact window of paper
+  # Fig. 8b): the fair comparison with the lab's V_out (docs/resolved-calibration.md).
+  "$R" upscale "$ROOT/data/resolved/lab-cylinders-cdt-ground.h5" --lab "$CYL" \
     --figures "$OUT/figures/resolved-lab-cylinders"
   "$R" upscale "$ROOT/data/resolved/lab-triangles-blind-cdt.h5" --shape triangle --lab "$TRI" \
     --figures "$OUT/figures/resolved-lab-triangles-blind"
@@ -68,8 +70,8 @@ if [ $QUICK -eq 0 ]; then REPORT_DATA+=("$TRI"); REPORT_LABELS+=(--label "lab tr
 if [ $HAVE_DEM -eq 1 ]; then
   REPORT_DATA+=("$OUT/dem/main-job.h5"); REPORT_LABELS+=(--label "LIGGGHTS campaign (small bed)")
 fi
-REPORT_DATA+=("$ROOT/data/resolved/lab-cylinders-cdt.h5")
-REPORT_LABELS+=(--label "LIGGGHTS, calibrated bed, lab cylinder states")
+REPORT_DATA+=("$ROOT/data/resolved/lab-cylinders-cdt-ground.h5")
+REPORT_LABELS+=(--label "LIGGGHTS, calibrated bed, lab cylinder states, geometric contact window (paper Fig. 8b)")
 if [ $QUICK -eq 0 ]; then
   for c in "$OUT"/resolved/speeds.h5 "$OUT"/resolved/lab-cylinders.h5; do
     [ -f "$c" ] || continue
