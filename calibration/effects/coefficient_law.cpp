@@ -158,9 +158,7 @@ void run(const ContactBatch& cb, const double* __restrict a, double* __restrict 
   for (std::size_t i = 0; i < n; ++i) {
     double x;
     if constexpr (V == Var::kApproach) {
-      const double v = held[i] > -cb.vn[i] ? held[i] : -cb.vn[i];
-      held[i] = active[i] > 0.0 ? v : 0.0;
-      x = held[i];
+      x = hold_max_approach(held[i], cb.vn[i], active[i]);
     } else if constexpr (V == Var::kSlip) {
       x = std::fabs(cb.vt[i]);
     } else if constexpr (V == Var::kSpin) {

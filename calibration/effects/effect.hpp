@@ -85,6 +85,15 @@ struct ContactBatch {
   double* fy_body = nullptr;  ///< force at the centre of mass, y [N]
 };
 
+/// The largest approach speed -v_n of a contact so far [m/s], held in the state slot `v0` and
+/// cleared out of contact: laws that depend on the impact's speed read it, not the current normal
+/// velocity (which passes through zero at the deepest point). Branch-free, for apply() loops.
+inline double hold_max_approach(double& v0, double vn, double active) {
+  const double v = v0 > -vn ? v0 : -vn;
+  v0 = active > 0.0 ? v : 0.0;
+  return v0;
+}
+
 /// One trend that the diagnosis expects when this effect is missing from a model: a quantity of
 /// the base model (a held-out residual or a per-release calibrated parameter) against an impact
 /// feature (diagnosis/trends.hpp).

@@ -4,7 +4,6 @@
 // kv = 0 recovers the paper's constant e_n^2:
 //   e_n^2_eff = e_n^2 / (1 + kv * v0)^2,   v0 = largest approach speed of this contact so far.
 // Signature in residuals: V_out^y residual and per-release e_n^2 trend with |V_in^y|.
-#include <algorithm>
 
 #include "effects/builtin.hpp"
 
@@ -37,9 +36,7 @@ class RateRestitution final : public Effect {
     return "Bourrier, Dorren, Nicot, Berger & Darve (2009) Geomorphology 107; PlatRock";
   }
   Stage stage() const override { return Stage::kCoefficient; }
-  Signature signature() const override {
-    return {"speed-dependent restitution", kSignature};
-  }
+  Signature signature() const override { return {"speed-dependent restitution", kSignature}; }
   std::span<const ParameterSpec> parameters() const override { return kParams; }
   std::span<const StateSpec> state() const override { return kState; }
 
@@ -51,9 +48,7 @@ class RateRestitution final : public Effect {
     double* __restrict enf = c.en2_factor;
     RICOCHET_SIMD
     for (std::size_t i = 0; i < c.n; ++i) {
-      const double v = std::max(v0[i], -vn[i]);
-      v0[i] = active[i] > 0.0 ? v : 0.0;
-      const double r = 1.0 + kv[i] * v0[i];
+      const double r = 1.0 + kv[i] * hold_max_approach(v0[i], vn[i], active[i]);
       enf[i] /= r * r;
     }
   }

@@ -15,7 +15,6 @@
 // residual rising with the impact speed and the penetration.
 //   ricochet ladder data/resolved/speeds-cdt.h5 --shape cylinder --add crater_escape
 //       --plugin build/examples/crater-escape/libcrater_escape.so
-#include <algorithm>
 #include <memory>
 
 #include "effects/effect.hpp"
@@ -71,9 +70,8 @@ class CraterEscape final : public Effect {
     double* __restrict enf = c.en2_factor;
     RICOCHET_SIMD
     for (std::size_t i = 0; i < c.n; ++i) {
-      const double v = std::max(v0[i], -vn[i]);
-      v0[i] = active[i] > 0.0 ? v : 0.0;
-      const double v2 = v0[i] * v0[i];
+      const double v = ricochet::hold_max_approach(v0[i], vn[i], active[i]);
+      const double v2 = v * v;
       // At contact onset v0 can be 0 for a step: the factor is then 1 if vc2 = 0, else 0.
       const double denom = v2 + vc2[i];
       enf[i] *= denom > 0.0 ? v2 / denom : 1.0;
