@@ -3,7 +3,7 @@
 #include <fmt/format.h>
 
 #include <filesystem>
-#include <fstream>
+#include <optional>
 
 #include <iostream>
 #include <set>
@@ -35,6 +35,7 @@ namespace {
 struct CurrentCommand {
   std::string name;
   const CLI::App* parser = nullptr;
+  std::optional<nlohmann::json> input_files;  // hashed once per run, however many documents
 };
 CurrentCommand& current_command() {
   static CurrentCommand command;
@@ -43,10 +44,12 @@ CurrentCommand& current_command() {
 }  // namespace
 
 void set_current_command(std::string command, const CLI::App* parser) {
-  current_command() = {std::move(command), parser};
+  current_command() = {std::move(command), parser, std::nullopt};
 }
 
 nlohmann::json input_files() {
+  auto& cached = current_command().input_files;
+  if (cached) return *cached;
   nlohmann::json files = nlohmann::json::array();
   const CLI::App* parser = current_command().parser;
   if (!parser) return files;
@@ -62,6 +65,7 @@ nlohmann::json input_files() {
       files.push_back(std::move(p));
     }
   }
+  cached = files;
   return files;
 }
 

@@ -3,7 +3,6 @@
 // observable, per release and per regime, residual and parameter trends against impact
 // features, measured-vs-predicted KS tests, the noise floor and whether the model is adequate
 // (docs/commands/compare.md).
-#include <fstream>
 #include <iostream>
 #include <memory>
 

@@ -158,10 +158,10 @@ void run_drop_command_on_rank(const DropOptions& o, const MpiSession& mpi) {
       dem::DropSpec spec = base;
       spec.h_drop_m = h;
       if (seed >= 0) {
-        spec.id = fmt::format("h{}-s{}", dem::format_value(h), seed);
+        spec.id = fmt::format("h{}-s{}", shortest_number(h), seed);
         spec.seed = seed;
       } else {
-        spec.id = fmt::format("h{}", dem::format_value(h));
+        spec.id = fmt::format("h{}", shortest_number(h));
       }
       bed = dem::ensure_bed(decks, dem::drop_bed_overrides(spec), o.cache, MPI_COMM_WORLD);
       if (done.count(spec.id)) continue;

@@ -1,7 +1,6 @@
 // `ricochet diagnose DATA --shape S [--model FILE] --json`: which effect of the catalog is the
 // model missing? Ranks every registered effect not in the model by its held-out error after
 // recalibration (docs/commands/diagnose.md).
-#include <fstream>
 #include <iostream>
 #include <memory>
 

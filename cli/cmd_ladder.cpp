@@ -2,7 +2,6 @@
 // each rung (base, + first effect, + second effect, ...) and show the error falling towards the
 // noise floor, in-sample and held-out, per observable (docs/commands/ladder.md). With --auto N
 // the rungs are chosen by rounds of `ricochet diagnose`.
-#include <fstream>
 #include <iostream>
 #include <memory>
 

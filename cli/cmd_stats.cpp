@@ -2,7 +2,6 @@
 // velocities of an impact set, laid out as paper Table 2. See docs/commands/stats.md.
 #include <array>
 #include <cmath>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -39,11 +38,6 @@ constexpr std::array<Column, 6> kColumns = {{
     {"win", "rad/s", "omega_in"},
     {"wout", "rad/s", "omega_out"},
 }};
-
-bool has_suffix(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
 
 void write_csv(const std::string& path, const std::string& source, const std::string& where,
                std::size_t n, const std::array<stats::Summary, 6>& s) {
@@ -130,7 +124,7 @@ void run(const StatsOptions& o) {
     summaries[k] = stats::summarize(set.feature(kColumns[k].name));
 
   if (!o.output.out.empty()) {
-    if (has_suffix(o.output.out, ".csv"))
+    if (o.output.out.ends_with(".csv"))
       write_csv(o.output.out, o.data, o.where, set.size(), summaries);
     else
       write_h5(o.output.out, o.data, o.where, set.size(), summaries);

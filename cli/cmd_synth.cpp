@@ -2,7 +2,6 @@
 // model, with incident states drawn like the lab's and lab-like measurement noise
 // (docs/commands/synth.md). The truth model is written only to the separate --truth file.
 #include <cstdlib>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <sstream>

@@ -7,7 +7,6 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -32,11 +31,6 @@ namespace fs = std::filesystem;
 
 constexpr std::array<const char*, 3> kUnits = {"m/s", "m/s", "rad/s"};
 constexpr std::array<const char*, 3> kLabels = {"V^x", "V^y", "omega"};
-
-bool has_suffix(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
 
 json per_component(const Vel3& v) {
   json j = json::object();
@@ -409,7 +403,7 @@ void run_fit(const FitOptions& o) {
   }
 
   if (!o.output.out.empty()) {
-    if (has_suffix(o.output.out, ".csv"))
+    if (o.output.out.ends_with(".csv"))
       write_fit_csv(o.output.out, o.data, main, o);
     else
       write_fit_h5(o.output.out, o.data, main, o);
@@ -527,7 +521,7 @@ void run_predict(const PredictOptions& o) {
   }
 
   if (!o.output.out.empty()) {
-    if (has_suffix(o.output.out, ".csv")) {
+    if (o.output.out.ends_with(".csv")) {
       CsvTable t;
       t.comment(
           fmt::format("ricochet transfer predict, paper Eq. 2, seed {}, A = ({}, {}, {}), "

@@ -79,7 +79,7 @@ std::string string_of(const toml::node& n, const std::string& file, const std::s
 std::string param_text(const toml::node& n, const std::string& file, const std::string& field) {
   if (n.is_string()) return *n.value<std::string>();
   if (n.is_integer()) return std::to_string(*n.value<std::int64_t>());
-  if (n.is_floating_point()) return format_value(*n.value<double>());
+  if (n.is_floating_point()) return shortest_number(*n.value<double>());
   throw InputError(file, line_of(n), field, "expected a number or a string");
 }
 
@@ -382,7 +382,7 @@ CampaignDesign parse_campaign_design(const std::string& text, const std::string&
         if (!std::isfinite(hi - lo)) throw InputError(path, line_of(v), field, "range too wide");
         const std::string name = key.substr(dot + 1);
         for (double x : {lo, hi})
-          check_param(decks, section, name, format_value(x), path, line_of(v));
+          check_param(decks, section, name, shortest_number(x), path, line_of(v));
         axes.emplace_back(section, name, lo, hi);
       }
       if (n == 0) throw InputError(path, line_of(*sample), "design.sample.n", "missing");
@@ -423,7 +423,7 @@ CampaignDesign parse_campaign_design(const std::string& text, const std::string&
             const auto& [base, vin] = incident[inc];
             ImpactSpec s;
             s.id = base;
-            if (alphas.size() > 1) s.id += fmt::format("-a{}", format_value(alpha));
+            if (alphas.size() > 1) s.id += fmt::format("-a{}", shortest_number(alpha));
             if (seed && seeds.size() > 1) s.id += fmt::format("-s{}", *seed);
             s.id += combo_tags[c];
             s.shape = shape;

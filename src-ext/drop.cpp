@@ -227,7 +227,7 @@ DropResult run_drop(const DropSpec& spec, const DropContext& ctx, MPI_Comm comm)
       {"common", decks.common},
       {"bed", bed.prefix},
       {"out", out},
-      {"h_drop_m", format_value(spec.h_drop_m)}};
+      {"h_drop_m", shortest_number(spec.h_drop_m)}};
   for (const auto& [k, v] : spec.block) vars.emplace_back(k, v);
   for (const auto& [k, v] : spec.drop) vars.emplace_back(k, v);
   if (spec.seed && !spec.drop.count("sphere_seed"))

@@ -16,7 +16,7 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string num(double v) {
-  return std::isfinite(v) ? format_value(v) : "nan";
+  return std::isfinite(v) ? shortest_number(v) : "nan";
 }
 
 std::string kd_cell(const std::optional<KatsuragiDurianFit>& f,

@@ -165,7 +165,7 @@ std::string ensure_template(const Shape& shape, const BedFiles& bed, const std::
   const SphereTemplate t = make_sphere_template(shape, length, options);
   fs::create_directories(dir);
   const std::string base =
-      (fs::path(dir) / fmt::format("{}_{}_L{}", shape.name, bed.mode, format_value(length)))
+      (fs::path(dir) / fmt::format("{}_{}_L{}", shape.name, bed.mode, shortest_number(length)))
           .string();
   if (!fs::exists(base + ".in")) {
     const std::string tmp = fmt::format("{}.tmp{}", base, static_cast<long>(::getpid()));
@@ -254,10 +254,10 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
       {"template_in", ctx.template_include},
       {"out", out},
       {"shape", shape.name},
-      {"vx_in_mps", format_value(spec.vin[kVx])},
-      {"vy_in_mps", format_value(spec.vin[kVy])},
-      {"w_in_radps", format_value(spec.vin[kW])},
-      {"alpha_in_deg", format_value(spec.alpha_in_rad * 180.0 / std::numbers::pi)}};
+      {"vx_in_mps", shortest_number(spec.vin[kVx])},
+      {"vy_in_mps", shortest_number(spec.vin[kVy])},
+      {"w_in_radps", shortest_number(spec.vin[kW])},
+      {"alpha_in_deg", shortest_number(spec.alpha_in_rad * 180.0 / std::numbers::pi)}};
   for (const auto& [k, v] : spec.params.block) vars.emplace_back(k, v);
   for (const auto& [k, v] : spec.params.run) vars.emplace_back(k, v);
   if (spec.seed && !spec.params.run.count("block_seed"))

@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 #include <algorithm>
-#include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
@@ -131,12 +130,6 @@ std::int64_t liggghts_seed(std::int64_t replica, std::int64_t offset) {
   return n;
 }
 
-std::string format_value(double v) {
-  std::array<char, 64> buf;
-  const auto r = std::to_chars(buf.data(), buf.data() + buf.size(), v);
-  return std::string(buf.data(), r.ptr);
-}
-
 void check_param(const Decks& decks, const std::string& section, const std::string& name,
                  const std::string& value, const std::string& file, std::size_t line) {
   const std::string field = section + "." + name;
@@ -213,7 +206,7 @@ std::vector<std::pair<std::string, std::string>> effective_bed(
     std::string value = it == bed.end() ? p.default_value : it->second;
     // Canonical numbers, so that 1e8 and 100000000 name the same bed.
     double v;
-    if (p.numeric && parse_double(value, v)) value = format_value(v);
+    if (p.numeric && parse_double(value, v)) value = shortest_number(v);
     out.emplace_back(p.name, value);
   }
   return out;

@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "common/csv.hpp"         // shortest_number, the one text of a double
 #include "common/provenance.hpp"  // fnv1a, the one hash of cache keys and deck digests
 
 namespace ricochet::dem {
@@ -84,8 +85,5 @@ std::string bed_key(const Decks& decks, const std::map<std::string, std::string>
 /// must be primes above 10000.
 std::int64_t liggghts_seed(std::int64_t replica, std::int64_t offset = 0);
 bool is_prime(std::int64_t n);
-
-/// Shortest text of a double that reads back to the same value.
-std::string format_value(double v);
 
 }  // namespace ricochet::dem

@@ -49,8 +49,6 @@ class CsvTable {
   }
   /// `v` as a cell: shortest_number(v); NaN and +-inf as an empty cell (the readers' "missing").
   static std::string num(double v);
-  /// The document so far.
-  const std::string& text() const { return text_; }
   /// Writes the document to `path` through write_text_file (nothing half-written is left).
   void write(const std::string& path, const std::string& option = "--out") const;
 

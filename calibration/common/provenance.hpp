@@ -1,5 +1,5 @@
 // Provenance of results: the one content hash of the project (FNV-1a 64) and the record of an
-// input file that every JSON document carries ("inputs", docs/commands/README.md).
+// input file that every JSON document carries ("input_files", docs/commands/README.md).
 #pragma once
 
 #include <cstdint>

@@ -4,7 +4,6 @@
 #include "impact/impact_set.hpp"
 
 #include <algorithm>
-#include <array>
 #include <charconv>
 #include <cmath>
 #include <limits>
@@ -568,12 +567,8 @@ std::vector<std::vector<std::size_t>> replicate_groups(const ImpactSet& set) {
     } else {
       // Shortest round-trip text: two states give one key exactly when they are equal.
       key = "state";
-      for (double v : {im.vin[0], im.vin[1], im.vin[2], im.alpha_in.value_or(NAN)}) {
-        char buf[32];
-        const auto end = std::to_chars(buf, buf + sizeof buf, v).ptr;
-        key += ' ';
-        key.append(buf, end);
-      }
+      for (double v : {im.vin[0], im.vin[1], im.vin[2], im.alpha_in.value_or(NAN)})
+        key += ' ' + shortest_number(v);
     }
     by_key[key].push_back(i);
   }
