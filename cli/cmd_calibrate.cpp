@@ -121,34 +121,6 @@ void print_text(const std::vector<fit::ReleaseFit>& fits, const nlohmann::json& 
   }
 }
 
-void write_csv(const std::string& path, const std::vector<fit::ReleaseFit>& fits) {
-  CsvTable t;
-  t.comment("ricochet calibrate: per-release optimum of paper Eq. 7 and near-optimal intervals");
-  std::vector<std::string> header = {"id", "error", "threshold", "alpha_rad"};
-  const fit::ReleaseFit* first = nullptr;
-  for (const auto& f : fits)
-    if (!f.id.empty()) first = &f;
-  if (first)
-    for (std::size_t i : first->calibrated)
-      for (const char* suffix : {"", "_lo", "_hi", "_status"})
-        header.push_back(first->names[i] + suffix);
-  t.row(header);
-  for (const auto& f : fits) {
-    if (f.id.empty()) continue;
-    std::vector<std::string> row = {f.id, CsvTable::num(f.error), CsvTable::num(f.threshold),
-                                    CsvTable::num(f.alpha_rad)};
-    for (std::size_t i : f.calibrated) {
-      const fit::ParameterInterval* iv = f.interval(f.names[i]);
-      row.push_back(CsvTable::num(f.params[i]));
-      row.push_back(iv ? CsvTable::num(iv->lo) : "");
-      row.push_back(iv ? CsvTable::num(iv->hi) : "");
-      row.push_back(iv ? fit::identifiability_name(iv->status) : "");
-    }
-    t.row(row);
-  }
-  t.write(path);
-}
-
 void run(const CalibrateOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   const bool h5 = !o.output.out.empty() && !o.output.out.ends_with(".csv");
@@ -199,7 +171,7 @@ void run(const CalibrateOptions& o) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const nlohmann::json summary = fit::summary_json(fits);
   if (store) store->write_summary(fits, pop.get(), seconds);
-  if (!o.output.out.empty() && !h5) write_csv(o.output.out, fits);
+  if (!o.output.out.empty() && !h5) fit::write_csv(o.output.out, fits);
   if (!o.figures.empty()) {
     std::filesystem::create_directories(o.figures);
     uq::figure_parameter_cdfs(fits, uq::paper_ranges(),

@@ -10,7 +10,6 @@
 
 #include "cli_common.hpp"
 #include "common/error.hpp"
-#include "common/h5.hpp"
 #include "diagnosis/figures.hpp"
 #include "diagnosis/inputs.hpp"
 #include "diagnosis_options.hpp"
@@ -18,70 +17,6 @@
 
 namespace ricochet::cli {
 namespace {
-
-// Per-release table: id, incident state, measured, held-out predicted, errors, floor.
-void write_out(const std::string& path, const diagnosis::Baseline& b, const ImpactSet& set,
-               const nlohmann::json& doc) {
-  const auto& a = b.base;
-  if (path.ends_with(".csv")) {
-    CsvTable t;
-    t.comment(
-        "ricochet compare: per release, held-out predictions (each release predicted by a "
-        "population fit that did not see it)");
-    std::vector<std::string> header = {"id", "heldout_error", "insample_error", "noise_floor"};
-    for (int k = 0; k < diagnosis::kObservables; ++k)
-      if (a.use[k]) {
-        const std::string unit = std::string("[") + diagnosis::kObservableUnits[k] + "]";
-        header.push_back(std::string("predicted_") + diagnosis::kObservableNames[k] + unit);
-        header.push_back(std::string("residual_") + diagnosis::kObservableNames[k] + unit);
-      }
-    t.row(header);
-    for (std::size_t i = 0; i < set.size(); ++i) {
-      std::vector<std::string> row = {set.impacts[i].id, CsvTable::num(a.heldout.per_release[i]),
-                                      CsvTable::num(a.insample.per_release[i]),
-                                      CsvTable::num(b.floor.per_release[i])};
-      for (int k = 0; k < diagnosis::kObservables; ++k)
-        if (a.use[k]) {
-          row.push_back(CsvTable::num(a.heldout_predictions[i].value[k]));
-          row.push_back(CsvTable::num(a.heldout.residual[i][k]));
-        }
-      t.row(row);
-    }
-    t.write(path);
-    return;
-  }
-  {
-    // Replace any old file, then store the compared set as /impacts (the file is itself an
-    // impact set for the other tools).
-    h5::File truncate(path, h5::File::Mode::kTruncate);
-  }
-  write_impact_set_h5(set, path, "impacts");
-  h5::File f(path, h5::File::Mode::kReadWrite);
-  std::vector<std::string> ids;
-  for (const auto& im : set.impacts) ids.push_back(im.id);
-  f.write_strings("/compare/releases/id", ids);
-  f.write("/compare/releases/heldout_error", a.heldout.per_release);
-  f.write("/compare/releases/insample_error", a.insample.per_release);
-  f.write("/compare/releases/noise_floor", b.floor.per_release);
-  for (int k = 0; k < diagnosis::kObservables; ++k) {
-    if (!a.use[k]) continue;
-    std::vector<double> pred, res;
-    for (std::size_t i = 0; i < set.size(); ++i) {
-      pred.push_back(a.heldout_predictions[i].value[k]);
-      res.push_back(a.heldout.residual[i][k]);
-    }
-    const std::string n = diagnosis::kObservableNames[k];
-    f.write("/compare/releases/predicted_" + n, pred);
-    f.write("/compare/releases/residual_" + n, res);
-    f.set_attr("/compare/releases/predicted_" + n, "unit", diagnosis::kObservableUnits[k]);
-  }
-  f.write("/compare/population/params", a.population.params);
-  f.write_strings("/compare/population/names", a.population.names);
-  f.set_attr("/compare", "json", doc.dump());
-  f.set_attr("/compare", "noise_floor", b.floor.value.mean);
-  f.set_attr("/compare", "heldout_error", a.heldout.error.mean);
-  f.flush();
-}
 
 void run(DiagnosisCliOptions& o) {
   if (!o.output.out.empty()) require_extension("--out", o.output.out, {".csv", ".h5", ".hdf5"});
@@ -101,7 +36,7 @@ void run(DiagnosisCliOptions& o) {
         diagnosis::render_all(diagnosis::compare_figures(b, in.set, in.shape.name), o.figures);
     doc["figures"] = figures;
   }
-  if (!o.output.out.empty()) write_out(o.output.out, b, in.set, doc);
+  if (!o.output.out.empty()) diagnosis::write_file(o.output.out, b, in.set, doc);
   if (o.output.json) {
     print_json(doc);
     return;

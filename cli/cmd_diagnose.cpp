@@ -8,7 +8,6 @@
 
 #include "cli_common.hpp"
 #include "common/error.hpp"
-#include "common/h5.hpp"
 #include "diagnosis/figures.hpp"
 #include "diagnosis/inputs.hpp"
 #include "diagnosis_options.hpp"
@@ -16,50 +15,6 @@
 
 namespace ricochet::cli {
 namespace {
-
-void write_out(const std::string& path, const diagnosis::Diagnosis& d, const nlohmann::json& doc) {
-  if (path.ends_with(".csv")) {
-    CsvTable t;
-    t.comment("ricochet diagnose: " + d.summary);
-    t.comment(fmt::format("noise floor {} ({}), base held-out error {}",
-                          d.baseline.floor.value.mean, d.baseline.floor.source,
-                          d.baseline.base.heldout.error.mean));
-    t.row({"rank", "effect", "heldout_error", "error_drop", "drop_se", "penalty", "supported",
-           "signature_r", "evidence"});
-    for (std::size_t i = 0; i < d.ranking.size(); ++i) {
-      const auto& c = d.ranking[i];
-      t.row({std::to_string(i + 1), c.effect, CsvTable::num(c.heldout_error),
-             CsvTable::num(c.error_drop), CsvTable::num(c.drop_se), CsvTable::num(c.penalty),
-             c.supported ? "1" : "0", CsvTable::num(c.signature_r), c.evidence});
-    }
-    t.write(path);
-    return;
-  }
-  h5::File f(path, h5::File::Mode::kTruncate);
-  std::vector<std::string> names, evidence;
-  std::vector<double> heldout, drop, se, supported;
-  for (const auto& c : d.ranking) {
-    names.push_back(c.effect);
-    evidence.push_back(c.evidence);
-    heldout.push_back(c.heldout_error);
-    drop.push_back(c.error_drop);
-    se.push_back(c.drop_se);
-    supported.push_back(c.supported ? 1.0 : 0.0);
-  }
-  f.write_strings("/diagnosis/ranking/effect", names);
-  f.write_strings("/diagnosis/ranking/evidence", evidence);
-  f.write("/diagnosis/ranking/heldout_error", heldout);
-  f.write("/diagnosis/ranking/error_drop", drop);
-  f.write("/diagnosis/ranking/drop_se", se);
-  f.write("/diagnosis/ranking/supported", supported);
-  f.write("/diagnosis/releases/base_heldout_error", d.baseline.base.heldout.per_release);
-  f.write("/diagnosis/releases/noise_floor", d.baseline.floor.per_release);
-  f.set_attr("/diagnosis", "verdict", d.verdict);
-  f.set_attr("/diagnosis", "noise_floor", d.baseline.floor.value.mean);
-  f.set_attr("/diagnosis", "base_error", d.baseline.base.heldout.error.mean);
-  f.set_attr("/diagnosis", "json", doc.dump());
-  f.flush();
-}
 
 void run(DiagnosisCliOptions& o) {
   if (!o.output.out.empty()) require_extension("--out", o.output.out, {".csv", ".h5", ".hdf5"});
@@ -80,7 +35,7 @@ void run(DiagnosisCliOptions& o) {
     figures = diagnosis::render_all(figs, o.figures);
     doc["figures"] = figures;
   }
-  if (!o.output.out.empty()) write_out(o.output.out, d, doc);
+  if (!o.output.out.empty()) diagnosis::write_file(o.output.out, d, doc);
   if (!o.write_model.empty()) {
     require_extension("--write-model", o.write_model, {".toml"});
     write_text_file(o.write_model, diagnosis::best_model(model, d).to_toml(), "--write-model");

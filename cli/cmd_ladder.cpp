@@ -9,7 +9,6 @@
 
 #include "cli_common.hpp"
 #include "common/error.hpp"
-#include "common/h5.hpp"
 #include "diagnosis/figures.hpp"
 #include "diagnosis/inputs.hpp"
 #include "diagnosis_options.hpp"
@@ -17,53 +16,6 @@
 
 namespace ricochet::cli {
 namespace {
-
-void write_out(const std::string& path, const diagnosis::Ladder& l, const nlohmann::json& doc) {
-  if (path.ends_with(".csv")) {
-    CsvTable t;
-    t.comment(
-        fmt::format("ricochet ladder; noise floor {} ({})", l.floor.value.mean, l.floor.source));
-    std::vector<std::string> header = {"rung",          "added",      "model",   "insample_error",
-                                       "heldout_error", "heldout_se", "adequate"};
-    const auto& use = l.rungs.front().assessment.use;
-    for (int k = 0; k < diagnosis::kObservables; ++k)
-      if (use[k]) header.push_back(std::string("heldout_") + diagnosis::kObservableNames[k]);
-    t.row(header);
-    for (std::size_t r = 0; r < l.rungs.size(); ++r) {
-      const auto& a = l.rungs[r].assessment;
-      std::string model;
-      for (const auto& e : l.rungs[r].effects) model += (model.empty() ? "" : "+") + e;
-      std::vector<std::string> row = {std::to_string(r),
-                                      l.rungs[r].added,
-                                      model,
-                                      CsvTable::num(a.insample.error.mean),
-                                      CsvTable::num(a.heldout.error.mean),
-                                      CsvTable::num(a.heldout.error.se),
-                                      l.rungs[r].adequacy.adequate ? "1" : "0"};
-      for (int k = 0; k < diagnosis::kObservables; ++k)
-        if (use[k]) row.push_back(CsvTable::num(a.heldout.term_mean[k]));
-      t.row(row);
-    }
-    t.write(path);
-    return;
-  }
-  h5::File f(path, h5::File::Mode::kTruncate);
-  std::vector<std::string> added;
-  std::vector<double> ins, ho, se;
-  for (const auto& r : l.rungs) {
-    added.push_back(r.added.empty() ? "(base)" : r.added);
-    ins.push_back(r.assessment.insample.error.mean);
-    ho.push_back(r.assessment.heldout.error.mean);
-    se.push_back(r.assessment.heldout.error.se);
-  }
-  f.write_strings("/ladder/added", added);
-  f.write("/ladder/insample_error", ins);
-  f.write("/ladder/heldout_error", ho);
-  f.write("/ladder/heldout_se", se);
-  f.set_attr("/ladder", "noise_floor", l.floor.value.mean);
-  f.set_attr("/ladder", "json", doc.dump());
-  f.flush();
-}
 
 void run(DiagnosisCliOptions& o, int auto_rounds) {
   if (!o.output.out.empty()) require_extension("--out", o.output.out, {".csv", ".h5", ".hdf5"});
@@ -99,7 +51,7 @@ void run(DiagnosisCliOptions& o, int auto_rounds) {
     figures = diagnosis::render_all(diagnosis::ladder_figures(l, in.shape.name), o.figures);
     doc["figures"] = figures;
   }
-  if (!o.output.out.empty()) write_out(o.output.out, l, doc);
+  if (!o.output.out.empty()) diagnosis::write_file(o.output.out, l, doc);
   if (!o.write_model.empty()) {
     require_extension("--write-model", o.write_model, {".toml"});
     write_text_file(o.write_model, diagnosis::ladder_model(model, l).to_toml(), "--write-model");

@@ -40,16 +40,6 @@ struct MonteCarloCliOptions {
   bool calibrate_ranges = false, resume = false, no_progress = false;
 };
 
-nlohmann::json moments(const uq::MonteCarloResult& mc) {
-  nlohmann::json mean, sd;
-  for (int k = 0; k < 3; ++k) {
-    const stats::Summary s = stats::summarize(mc.component(k));
-    mean[kComponentNames[k]] = s.mean;
-    sd[kComponentNames[k]] = s.std;
-  }
-  return {{"mean", mean}, {"std", sd}};
-}
-
 // Per calibrated parameter of a calibration file: a distribution fitted to its per-release
 // values (OpenTURNS, BIC), truncated to the model's bounds.
 std::vector<uq::ParameterInput> fitted_inputs(const std::string& path, const Model& model) {
@@ -159,7 +149,7 @@ void run(const MonteCarloCliOptions& o) {
   std::size_t failed = 0;
   for (int s : result.status) failed += s != 0;
   doc["failed_runs"] = failed;
-  doc["reflected"] = moments(result);
+  doc["reflected"] = uq::moments_json(result);
   if (measured) {
     const uq::CdfComparison c = uq::compare_cdfs(result, *measured);
     doc["ks"] = uq::components_json(c.ks);
@@ -199,27 +189,7 @@ void run(const MonteCarloCliOptions& o) {
                         {"seconds", fitr.seconds}};
     if (store) store->write_json("range_fit", doc["range_fit"]);
   }
-  if (!o.output.out.empty() && !h5) {
-    CsvTable t;
-    t.comment("ricochet montecarlo: one row per run");
-    std::vector<std::string> header(result.varied.begin(), result.varied.end());
-    for (const char* c : {"vin_x[m/s]", "vin_y[m/s]", "win[rad/s]", "alpha_in[rad]", "vout_x[m/s]",
-                          "vout_y[m/s]", "wout[rad/s]", "status"})
-      header.push_back(c);
-    t.row(header);
-    const std::size_t V = result.varied.size();
-    const auto num = CsvTable::num;
-    for (std::size_t i = 0; i < result.size(); ++i) {
-      std::vector<std::string> row;
-      for (std::size_t k = 0; k < V; ++k) row.push_back(num(result.inputs[i * V + k]));
-      for (double v : {result.vin[i][0], result.vin[i][1], result.vin[i][2], result.alpha_rad[i],
-                       result.vout[i][0], result.vout[i][1], result.vout[i][2]})
-        row.push_back(num(v));
-      row.push_back(fmt::format("{}", result.status[i]));
-      t.row(row);
-    }
-    t.write(o.output.out);
-  }
+  if (!o.output.out.empty() && !h5) uq::write_runs_csv(o.output.out, result);
   if (!o.figures.empty()) {
     std::filesystem::create_directories(o.figures);
     std::vector<std::pair<std::string, const uq::MonteCarloResult*>> extra;

@@ -5,8 +5,8 @@
 
 #include "cli_common.hpp"
 #include "common/error.hpp"
-#include "common/h5.hpp"
 #include "engine/engine.hpp"
+#include "engine/engine_io.hpp"
 #include "model_options.hpp"
 #include "shared_options.hpp"
 
@@ -21,18 +21,6 @@ struct SimulateOptions {
   bool trace = false;
 };
 
-void write_trace_csv(const Trace& tr, const std::string& path) {
-  CsvTable t;
-  t.row({"t[s]", "x[m]", "y[m]", "theta[rad]", "vx[m/s]", "vy[m/s]", "w[rad/s]", "fn[N]", "ft[N]",
-         "moment[N m]", "h[m]"});
-  for (std::size_t i = 0; i < tr.t.size(); ++i)
-    t.row({CsvTable::num(tr.t[i]), CsvTable::num(tr.x[i]), CsvTable::num(tr.y[i]),
-           CsvTable::num(tr.theta[i]), CsvTable::num(tr.vx[i]), CsvTable::num(tr.vy[i]),
-           CsvTable::num(tr.w[i]), CsvTable::num(tr.fn[i]), CsvTable::num(tr.ft[i]),
-           CsvTable::num(tr.moment[i]), CsvTable::num(tr.h[i])});
-  t.write(path);
-}
-
 void run(const SimulateOptions& o) {
   const CollisionCase c{parse_vin(o.vin), o.alpha_deg * M_PI / 180.0};
   const Model model = o.model.build_model();
@@ -42,38 +30,12 @@ void run(const SimulateOptions& o) {
   const bool want_trace = !o.output.out.empty();
   const CollisionResult r = simulate(model, shape, c, {}, engine, want_trace ? &trace : nullptr);
 
-  nlohmann::json j;
-  j["vout"] = {r.vout[0], r.vout[1], r.vout[2]};
-  j["contact_duration"] = r.contact_duration_s;
-  j["max_penetration"] = r.max_penetration_m;
-  j["contact_phases"] = r.contact_phases;
-  j["status"] = status_name(r.status);
-  j["alpha_out"] = r.alpha_out_rad;
-  for (std::size_t s = 0; s < kStageCount; ++s)
-    if (s != static_cast<std::size_t>(Stage::kCoefficient))
-      j["dissipated"][std::string(stage_name(static_cast<Stage>(s)))] = r.dissipated_J[s];
-  j["energy"] = {{"kinetic_in", r.kinetic_in_J},
-                 {"kinetic_out", r.kinetic_out_J},
-                 {"potential_change", r.potential_change_J}};
-  j["model"] = model.to_json();
-  j["shape"] = shape.name;
-  j["dt"] = engine.dt_s;
+  const nlohmann::json j = collision_json(r, model, shape, engine);
 
   if (want_trace) {
     const auto& out = o.output.out;
     require_extension("--out", out, {".csv", ".h5", ".hdf5"});
-    if (out.ends_with(".csv")) {
-      write_trace_csv(trace, out);
-    } else {
-      h5::File f(out, h5::File::Mode::kTruncate);
-      const std::vector<std::pair<const char*, const std::vector<double>*>> cols = {
-          {"t", &trace.t},   {"x", &trace.x},           {"y", &trace.y}, {"theta", &trace.theta},
-          {"vx", &trace.vx}, {"vy", &trace.vy},         {"w", &trace.w}, {"fn", &trace.fn},
-          {"ft", &trace.ft}, {"moment", &trace.moment}, {"h", &trace.h}};
-      for (const auto& [name, v] : cols) f.write(std::string("/trace/") + name, *v);
-      f.set_attr("/", "summary", j.dump());
-      f.set_attr("/", "model_toml", model.to_toml());
-    }
+    write_trace(out, trace, j, model);
   }
   if (o.output.json) {
     print_json(j);

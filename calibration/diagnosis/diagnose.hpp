@@ -229,4 +229,14 @@ nlohmann::json to_json(const Diagnosis& d);
 /// The `ricochet ladder --json` document (docs/commands/ladder.md).
 nlohmann::json to_json(const Ladder& l);
 
+/// Writes a result to `path` by its extension: .csv, a table (one row per release for a
+/// Baseline, per candidate for a Diagnosis, per rung for a Ladder); .h5/.hdf5, the arrays under
+/// /compare, /diagnosis or /ladder with `doc` (the --json document) as attribute "json" (a
+/// Baseline's file is also an impact set: `set` goes to /impacts). Layouts:
+/// docs/commands/{compare,diagnose,ladder}.md. The caller checks the extension.
+void write_file(const std::string& path, const Baseline& b, const ImpactSet& set,
+                const nlohmann::json& doc);
+void write_file(const std::string& path, const Diagnosis& d, const nlohmann::json& doc);
+void write_file(const std::string& path, const Ladder& l, const nlohmann::json& doc);
+
 }  // namespace ricochet::diagnosis

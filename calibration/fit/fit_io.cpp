@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <map>
 
+#include "common/csv.hpp"
 #include "common/error.hpp"
 #include "common/h5.hpp"
 #include "stats/stats.hpp"
@@ -439,6 +440,34 @@ std::vector<ReleaseFit> read_release_fits(const std::string& path, const std::st
     out.push_back(std::move(f));
   }
   return out;
+}
+
+void write_csv(const std::string& path, const std::vector<ReleaseFit>& fits) {
+  CsvTable t;
+  t.comment("ricochet calibrate: per-release optimum of paper Eq. 7 and near-optimal intervals");
+  std::vector<std::string> header = {"id", "error", "threshold", "alpha_rad"};
+  const ReleaseFit* first = nullptr;
+  for (const auto& f : fits)
+    if (!f.id.empty()) first = &f;
+  if (first)
+    for (std::size_t i : first->calibrated)
+      for (const char* suffix : {"", "_lo", "_hi", "_status"})
+        header.push_back(first->names[i] + suffix);
+  t.row(header);
+  for (const auto& f : fits) {
+    if (f.id.empty()) continue;
+    std::vector<std::string> row = {f.id, CsvTable::num(f.error), CsvTable::num(f.threshold),
+                                    CsvTable::num(f.alpha_rad)};
+    for (std::size_t i : f.calibrated) {
+      const ParameterInterval* iv = f.interval(f.names[i]);
+      row.push_back(CsvTable::num(f.params[i]));
+      row.push_back(iv ? CsvTable::num(iv->lo) : "");
+      row.push_back(iv ? CsvTable::num(iv->hi) : "");
+      row.push_back(iv ? identifiability_name(iv->status) : "");
+    }
+    t.row(row);
+  }
+  t.write(path);
 }
 
 }  // namespace ricochet::fit

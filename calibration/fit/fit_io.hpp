@@ -47,6 +47,10 @@ nlohmann::json to_json(const PopulationFit& fit);
 /// Every FitOptions field (the run's settings, seed included).
 nlohmann::json to_json(const FitOptions& options);
 
+/// One row per release: id, error, threshold, alpha_rad, then per calibrated parameter its value,
+/// NAME_lo, NAME_hi and NAME_status (identifiability class name). Releases with no id are skipped.
+void write_csv(const std::string& path, const std::vector<ReleaseFit>& fits);
+
 /// Incremental HDF5 writer of per-release results (layout in the file comment).
 class ReleaseFitStore {
  public:

@@ -3,8 +3,10 @@
 #include <cmath>
 #include <filesystem>
 
+#include "common/csv.hpp"
 #include "common/error.hpp"
 #include "common/h5.hpp"
+#include "stats/stats.hpp"
 
 namespace ricochet::uq {
 namespace {
@@ -224,6 +226,38 @@ void write_sobol_h5(const std::string& path, const SobolResult& r, const Model& 
     f.write(g + "/design_y", r.design_y, {r.evaluations, O});
   }
   f.flush();
+}
+
+nlohmann::json moments_json(const MonteCarloResult& mc) {
+  nlohmann::json mean, sd;
+  for (int k = 0; k < 3; ++k) {
+    const stats::Summary s = stats::summarize(mc.component(k));
+    mean[kComponentNames[k]] = s.mean;
+    sd[kComponentNames[k]] = s.std;
+  }
+  return {{"mean", mean}, {"std", sd}};
+}
+
+void write_runs_csv(const std::string& path, const MonteCarloResult& result) {
+  CsvTable t;
+  t.comment("ricochet montecarlo: one row per run");
+  std::vector<std::string> header(result.varied.begin(), result.varied.end());
+  for (const char* c : {"vin_x[m/s]", "vin_y[m/s]", "win[rad/s]", "alpha_in[rad]", "vout_x[m/s]",
+                        "vout_y[m/s]", "wout[rad/s]", "status"})
+    header.push_back(c);
+  t.row(header);
+  const std::size_t V = result.varied.size();
+  const auto num = CsvTable::num;
+  for (std::size_t i = 0; i < result.size(); ++i) {
+    std::vector<std::string> row;
+    for (std::size_t k = 0; k < V; ++k) row.push_back(num(result.inputs[i * V + k]));
+    for (double v : {result.vin[i][0], result.vin[i][1], result.vin[i][2], result.alpha_rad[i],
+                     result.vout[i][0], result.vout[i][1], result.vout[i][2]})
+      row.push_back(num(v));
+    row.push_back(std::to_string(result.status[i]));
+    t.row(row);
+  }
+  t.write(path);
 }
 
 }  // namespace ricochet::uq

@@ -38,6 +38,10 @@ nlohmann::json inputs_json(const std::vector<ParameterInput>& inputs);
 ///  ..., "total_order": ...}, "estimator", "base_size", "evaluations", "confidence", "variance",
 ///  "seconds"}.
 nlohmann::json to_json(const SobolResult& result);
+/// {"mean": {vx, vy, w}, "std": {vx, vy, w}} of the reflected velocities of a Monte Carlo.
+nlohmann::json moments_json(const MonteCarloResult& result);
+/// One row per run: the varied parameters, V_in, alpha_in [rad], V_out and the engine status.
+void write_runs_csv(const std::string& path, const MonteCarloResult& result);
 /// Settings of a Monte Carlo (runs, seed, dt, incident, orientation range, chunk).
 nlohmann::json to_json(const MonteCarloOptions& options, const std::string& incident_source);
 
