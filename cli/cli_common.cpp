@@ -13,9 +13,42 @@
 
 namespace ricochet::cli {
 
-void add_output_options(CLI::App* sub, OutputOptions& options) {
+namespace {
+struct CurrentCommand {
+  std::string name;
+  const CLI::App* parser = nullptr;
+  std::optional<nlohmann::json> input_files;  // hashed once per run, however many documents
+  std::string json_file;                      // --out FILE.json
+  bool json_stdout = false;                   // --json given with --out FILE.json
+};
+CurrentCommand& current_command() {
+  static CurrentCommand command;
+  return command;
+}
+}  // namespace
+
+void add_output_options(CLI::App* sub, OutputOptions& options, JsonOut json_out) {
+  // --json is declared first: CLI11 runs option callbacks in declaration order, so --out's
+  // function below sees whether --json was given.
   sub->add_flag("--json", options.json, "Print one machine-readable JSON document on stdout");
-  sub->add_option("--out", options.out, "Write results to FILE (.csv or .h5 by extension)");
+  options.accepts_json_file = json_out == JsonOut::kAccepted;
+  if (!options.accepts_json_file) {
+    sub->add_option("--out", options.out, "Write results to FILE (by extension)");
+    return;
+  }
+  sub->add_option_function<std::string>(
+         "--out",
+         [&options](const std::string& path) {
+           if (!path.ends_with(".json")) {
+             options.out = path;
+             return;
+           }
+           current_command().json_file = path;
+           current_command().json_stdout = options.json;
+           options.json = true;
+         },
+         "Write results to FILE (.csv, .h5 or .json by extension)")
+      ->type_name("FILE");
 }
 
 void check_range(CLI::App* sub, const std::string& name, double lo, double hi) {
@@ -31,20 +64,8 @@ void check_range(CLI::App* sub, const std::string& name, double lo, double hi) {
       "in " + range));
 }
 
-namespace {
-struct CurrentCommand {
-  std::string name;
-  const CLI::App* parser = nullptr;
-  std::optional<nlohmann::json> input_files;  // hashed once per run, however many documents
-};
-CurrentCommand& current_command() {
-  static CurrentCommand command;
-  return command;
-}
-}  // namespace
-
 void set_current_command(std::string command, const CLI::App* parser) {
-  current_command() = {std::move(command), parser, std::nullopt};
+  current_command() = {std::move(command), parser, std::nullopt, {}, false};
 }
 
 nlohmann::json input_files() {
@@ -78,7 +99,17 @@ nlohmann::json stamp_json(nlohmann::json doc) {
 }
 
 void print_json(const nlohmann::json& doc) {
-  std::cout << stamp_json(doc).dump(2) << std::endl;
+  nlohmann::json stamped = stamp_json(doc);
+  const CurrentCommand& c = current_command();
+  if (!c.json_file.empty()) {
+    if (stamped.is_object() && stamped.contains("out")) stamped["out"] = c.json_file;
+    write_text_file(c.json_file, stamped.dump(2) + "\n", "--out");
+    if (!c.json_stdout) {
+      std::cout << "wrote " << c.json_file << std::endl;
+      return;
+    }
+  }
+  std::cout << stamped.dump(2) << std::endl;
 }
 
 void require_extension(const std::string& option, const std::string& path,
@@ -91,6 +122,18 @@ void require_extension(const std::string& option, const std::string& path,
     list += std::string(list.empty() ? "" : ", ") + ext;
   }
   throw InputError(path, 0, option, "unsupported file extension; use one of " + list);
+}
+
+void require_out_extension(const OutputOptions& options,
+                           std::initializer_list<const char*> allowed) {
+  if (options.out.empty()) return;
+  std::string list;
+  for (const char* ext : allowed) {
+    if (options.out.ends_with(ext)) return;
+    list += std::string(list.empty() ? "" : ", ") + ext;
+  }
+  if (options.accepts_json_file) list += ", .json";
+  throw InputError(options.out, 0, "--out", "unsupported file extension; use one of " + list);
 }
 
 }  // namespace ricochet::cli

@@ -12,12 +12,21 @@ namespace ricochet::cli {
 /// Options every subcommand accepts.
 ///  --json       print one JSON document on stdout (keys documented in docs/commands/<cmd>.md)
 ///                and nothing else on stdout;
-///  --out FILE   write results to FILE: .csv or .h5/.hdf5 by extension.
+///  --out FILE   write results to FILE: .csv or .h5/.hdf5 by extension, or (where the command
+///                accepts it) .json: the --json document, written to FILE instead of stdout.
 ///  --figures DIR  (where a command draws) write SVG figures into DIR.
+/// With `--out FILE.json` the parser sets `json` and leaves `out` empty: the command builds its
+/// JSON document as for --json, and print_json writes it to FILE (and to stdout too when --json
+/// was also given).
 struct OutputOptions {
   bool json = false;
   std::string out;
+  bool accepts_json_file = true;  ///< set by add_output_options
 };
+
+/// Whether `--out FILE.json` is accepted: not where --out names the command's primary artifact
+/// (a report page, a campaign store, an impact set, a resumable drop table).
+enum class JsonOut { kAccepted, kRefused };
 
 /// Adds a range check to the already declared option `name` of `sub` (each value of a list
 /// option): a value outside [lo, hi] stops the parse with "NAME: value V is outside [LO, HI]"
@@ -26,7 +35,8 @@ struct OutputOptions {
 void check_range(CLI::App* sub, const std::string& name, double lo, double hi);
 
 /// Adds --json and --out to a subcommand.
-void add_output_options(CLI::App* sub, OutputOptions& options);
+void add_output_options(CLI::App* sub, OutputOptions& options,
+                        JsonOut json_out = JsonOut::kAccepted);
 /// The program's version (CMake's PROJECT_VERSION).
 inline constexpr const char* kVersion = RICOCHET_VERSION;
 
@@ -44,11 +54,17 @@ nlohmann::json input_files();
 /// unless it has them (an object; anything else is returned as is): every JSON document the
 /// program emits goes through it.
 nlohmann::json stamp_json(nlohmann::json doc);
-/// Prints stamp_json(doc) pretty on stdout (used when --json is given).
+/// Prints stamp_json(doc) pretty on stdout (used when --json is given). After `--out FILE.json`:
+/// writes it to FILE (whole, through a temporary file; "out" set to FILE) and prints it too only
+/// if --json was given, else prints "wrote FILE".
 void print_json(const nlohmann::json& doc);
 /// Throws an InputError naming the option when `out` has an extension other than the allowed.
 void require_extension(const std::string& option, const std::string& path,
                        std::initializer_list<const char*> allowed);
+/// require_extension for --out: the refusal lists `allowed` and, where the command accepts it,
+/// .json. An empty --out is accepted (the caller decides whether --out is required).
+void require_out_extension(const OutputOptions& options,
+                           std::initializer_list<const char*> allowed);
 
 // One registration function per subcommand, called in order by main.cpp (explicit registry).
 void add_stats_command(CLI::App& app);

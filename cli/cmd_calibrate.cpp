@@ -124,7 +124,7 @@ void print_text(const std::vector<fit::ReleaseFit>& fits, const nlohmann::json& 
 void run(const CalibrateOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   const bool h5 = !o.output.out.empty() && !o.output.out.ends_with(".csv");
-  if (!o.output.out.empty()) require_extension("--out", o.output.out, {".csv", ".h5", ".hdf5"});
+  require_out_extension(o.output, {".csv", ".h5", ".hdf5"});
   if (o.resume && !h5)
     throw InputError("<command line>", 0, "--resume", "needs --out FILE.h5 (the file to continue)");
   const Model given = o.model.build_model();

@@ -227,7 +227,7 @@ void run_impact_command_on_rank(const ImpactOptions& o, const MpiSession& mpi) {
   if (o.seed) spec.seed = static_cast<std::int64_t>(*o.seed);
   for (const auto& s : o.common.sets) dem::apply_set_option(decks, s, spec.params);
   if (!o.output.out.empty()) {
-    require_extension("--out", o.output.out, {".h5", ".hdf5", ".csv"});
+    require_out_extension(o.output, {".h5", ".hdf5", ".csv"});
     if (!o.output.out.ends_with(".csv"))
       for (const auto& e : dem::read_campaign_index(o.output.out))
         if (e.id == o.id)
@@ -426,7 +426,7 @@ void add_dem_command(CLI::App& app) {
       ->check(CLI::ExistingFile);
   c->add_option("--decks", camp->decks, "liggghts-inputs folder");
   c->add_flag("--retry-crashed", camp->retry, "Rerun impacts that were running when a run died");
-  add_output_options(c, camp->output);
+  add_output_options(c, camp->output, JsonOut::kRefused);
   c->callback([camp] { run_campaign_command(*camp); });
 
   add_dem_drop_command(*dem);  // cmd_dem_drop.cpp

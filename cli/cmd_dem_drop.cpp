@@ -415,7 +415,7 @@ void add_dem_drop_command(CLI::App& dem) {
   s->add_option("--stop-fraction", o->stop_fraction,
                 "End of the fitted penetration phase: speed below this x impact speed");
   s->add_option("--tolerance", o->tolerance, "Largest |exponent - 1/3| that passes");
-  add_output_options(s, o->output);
+  add_output_options(s, o->output, JsonOut::kRefused);
   check_range(s, "--heights", 1e-4, 10);
   check_range(s, "--seeds", 0, 1e6);
   check_range(s, "--mu", 0, 10);

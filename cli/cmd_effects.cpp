@@ -84,37 +84,24 @@ nlohmann::json catalog_json(const std::vector<const Effect*>& list) {
   return {{"effects", j}};
 }
 
-// --out: the listed effects' parameters, one row per parameter (.csv), or the --json document
-// (.json). Units are the declared SI units; an empty neutral has none.
-void write_catalog(const std::vector<const Effect*>& list, const std::string& path) {
-  require_extension("--out", path, {".csv", ".json"});
-  if (path.ends_with(".json")) {
-    write_text_file(path, stamp_json(catalog_json(list)).dump(2) + "\n", "--out");
-    return;
-  }
-  const auto number = [](double v) { return std::isnan(v) ? std::string() : fmt::format("{}", v); };
-  std::string text =
-      "effect,stage,generated,parameter,unit,lower,upper,nominal,neutral,"
-      "calibrated,description\n";
+// --out FILE.csv: the listed effects' parameters, one row per parameter. Units are the declared SI
+// units; an empty neutral has none. (--out FILE.json is the --json document: cli_common.hpp.)
+void write_catalog_csv(const std::vector<const Effect*>& list, const std::string& path) {
+  CsvTable t;
+  t.row({"effect", "stage", "generated", "parameter", "unit", "lower", "upper", "nominal",
+         "neutral", "calibrated", "description"});
+  const auto number = CsvTable::num;  // a missing bound or neutral (NaN) is an empty cell
   for (const Effect* e : list)
-    for (const auto& p : e->parameters()) {
-      const std::vector<std::string> row = {std::string(e->name()),
-                                            std::string(stage_name(e->stage())),
-                                            e->signature().generated ? "1" : "0",
-                                            std::string(p.name),
-                                            std::string(p.unit),
-                                            number(p.lower),
-                                            number(p.upper),
-                                            number(p.nominal),
-                                            number(p.neutral),
-                                            p.calibrated ? "1" : "0",
-                                            std::string(p.description)};
-      text += csv_row(row) + "\n";
-    }
-  write_text_file(path, text, "--out");
+    for (const auto& p : e->parameters())
+      t.row({std::string(e->name()), std::string(stage_name(e->stage())),
+             e->signature().generated ? "1" : "0", std::string(p.name), std::string(p.unit),
+             number(p.lower), number(p.upper), number(p.nominal), number(p.neutral),
+             p.calibrated ? "1" : "0", std::string(p.description)});
+  t.write(path);
 }
 
 void run(const EffectsOptions& o) {
+  require_out_extension(o.output, {".csv"});
   auto& registry = EffectRegistry::global();
   for (const auto& p : o.plugins) {
     try {
@@ -133,7 +120,7 @@ void run(const EffectsOptions& o) {
       throw InputError("<command line>", 0, "NAME", e.what());
     }
   }
-  if (!o.output.out.empty()) write_catalog(list, o.output.out);
+  if (!o.output.out.empty()) write_catalog_csv(list, o.output.out);
   if (o.output.json) {
     print_json(catalog_json(list));
     return;

@@ -18,7 +18,7 @@ namespace ricochet::cli {
 namespace {
 
 void run(DiagnosisCliOptions& o, int auto_rounds) {
-  if (!o.output.out.empty()) require_extension("--out", o.output.out, {".csv", ".h5", ".hdf5"});
+  require_out_extension(o.output, {".csv", ".h5", ".hdf5"});
   o.values.dt_s = o.model.dt_s;
   diagnosis::DiagnoseOptions opt = diagnosis::make_options(o.values);
   const std::vector<std::string> adds = o.model.add;

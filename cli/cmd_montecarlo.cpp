@@ -75,7 +75,7 @@ void run(const MonteCarloCliOptions& o) {
   if (!o.vin.empty() && !o.incident.empty())
     throw InputError("<command line>", 0, "--vin", "give either --vin or --incident, not both");
   const bool h5 = !o.output.out.empty() && !o.output.out.ends_with(".csv");
-  if (!o.output.out.empty()) require_extension("--out", o.output.out, {".csv", ".h5", ".hdf5"});
+  require_out_extension(o.output, {".csv", ".h5", ".hdf5"});
   if (o.resume && !h5)
     throw InputError("<command line>", 0, "--resume", "needs --out FILE.h5 (the file to continue)");
 

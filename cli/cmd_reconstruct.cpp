@@ -111,7 +111,7 @@ void draw(const kinematics::Track& tr, const kinematics::Reconstruction& r,
 }
 
 void run(const ReconstructCliOptions& o) {
-  if (!o.output.out.empty()) require_extension("--out", o.output.out, {".csv", ".h5", ".hdf5"});
+  require_out_extension(o.output, {".csv", ".h5", ".hdf5"});
   kinematics::Track track = kinematics::read_track_csv(o.track, o.pixel_size, o.y_down);
   if (o.sigma_position) {
     if (!(*o.sigma_position > 0))

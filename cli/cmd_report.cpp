@@ -94,7 +94,7 @@ void add_report_command(CLI::App& app) {
   add_diagnosis_options(
       sub, o->values,
       {.alpha = "Family-wise error rate of the candidate tests (Holm)", .intervals = true});
-  add_output_options(sub, o->output);
+  add_output_options(sub, o->output, JsonOut::kRefused);
   sub->get_option("--out")->required()->description("The HTML file to write");
   check_range(sub, "--rounds", 0, 20);
   sub->callback([o, sub] {

@@ -34,7 +34,7 @@ void run(const SimulateOptions& o) {
 
   if (want_trace) {
     const auto& out = o.output.out;
-    require_extension("--out", out, {".csv", ".h5", ".hdf5"});
+    require_out_extension(o.output, {".csv", ".h5", ".hdf5"});
     write_trace(out, trace, j, model);
   }
   if (o.output.json) {

@@ -72,7 +72,7 @@ void run(const SobolCliOptions& o) {
     throw InputError("<command line>", 0, "--n", "base size must be at least 16");
   if (!(o.sobol.confidence > 0 && o.sobol.confidence < 1))
     throw InputError("<command line>", 0, "--confidence", "must lie in (0, 1)");
-  if (!o.output.out.empty()) require_extension("--out", o.output.out, {".h5", ".hdf5"});
+  require_out_extension(o.output, {".h5", ".hdf5"});
   uq::SobolOptions so = o.sobol;
   try {
     so.estimator = uq::parse_estimator(o.estimator);

@@ -20,7 +20,7 @@ struct StatsOptions {
 };
 
 void run(const StatsOptions& o) {
-  if (!o.output.out.empty()) require_extension("--out", o.output.out, {".csv", ".h5", ".hdf5"});
+  require_out_extension(o.output, {".csv", ".h5", ".hdf5"});
   const ImpactSet all = read_impact_set(o.data);
   const ImpactSet set = filter_nonempty(all, o.where, o.data);
   if (set.empty()) throw InputError(o.data, 0, "id", "the impact set has no release");

@@ -175,7 +175,7 @@ void add_synth_command(CLI::App& app) {
   sub->add_option("--truth", o->truth,
                   "Also write the truth (model, options, true states) to this JSON file");
   add_threads_option(sub, o->synth.engine.threads);
-  add_output_options(sub, o->output);
+  add_output_options(sub, o->output, JsonOut::kRefused);
   sub->get_option("--out")->required();
   check_range(sub, "--n", 1, 1e7);
   sub->callback([o] { run(*o); });

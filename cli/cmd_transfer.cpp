@@ -54,7 +54,7 @@ std::string file_fragment(const std::string& where) {
 }
 
 void run_fit(const FitOptions& o) {
-  if (!o.output.out.empty()) require_extension("--out", o.output.out, {".csv", ".h5", ".hdf5"});
+  require_out_extension(o.output, {".csv", ".h5", ".hdf5"});
   if (o.replicates == 0)
     throw InputError("<command line>", 0, "--replicates", "must be at least 1");
   const ImpactSet all = read_impact_set(o.data);
@@ -155,7 +155,7 @@ struct PredictOptions {
 };
 
 void run_predict(const PredictOptions& o) {
-  if (!o.output.out.empty()) require_extension("--out", o.output.out, {".csv", ".h5", ".hdf5"});
+  require_out_extension(o.output, {".csv", ".h5", ".hdf5"});
   if (o.vin.empty() == o.incident.empty())
     throw InputError("<command line>", 0, "--vin",
                      "give exactly one of --vin VX,VY,W and --incident DATA");

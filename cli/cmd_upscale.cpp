@@ -137,7 +137,7 @@ void print_gap(const std::string& name, const nlohmann::json& v) {
 }
 
 void run(const UpscaleCliOptions& o) {
-  if (!o.output.out.empty()) require_extension("--out", o.output.out, {".h5", ".hdf5"});
+  require_out_extension(o.output, {".h5", ".hdf5"});
   const auto decks = dem::Decks::locate(o.decks);
   const Model model = o.model.build_model();
   const Shape shape = o.model.build_shape();

@@ -149,7 +149,7 @@ TEST_F(GoodExits, EffectsOutWritesTheCatalog) {
   EXPECT_EQ(lines, parameters + 1) << text.substr(0, 300);
   EXPECT_EQ(text.rfind("effect,stage,generated,parameter,unit,lower,upper,nominal,neutral,", 0),
             0u);
-  EXPECT_NE(text.find("\nnormal,normal,0,kn,N/m,100000,1000000000,10000000,,0,"), std::string::npos)
+  EXPECT_NE(text.find("\nnormal,normal,0,kn,N/m,1e+05,1e+09,1e+07,,0,"), std::string::npos)
       << text.substr(0, 600);
   EXPECT_EQ(nlohmann::json::parse(test::slurp(json))["effects"], doc["effects"]);
 }

@@ -41,7 +41,9 @@ void PrintTo(const OutCase& c, std::ostream* os) {
   *os << c.args;
 }
 
-const std::vector<std::string> kTable = {".csv", ".h5", ".hdf5"};
+const std::vector<std::string> kTable = {".csv", ".h5", ".hdf5", ".json"};
+// Where --out names the command's primary artifact, .json is refused.
+const std::vector<std::string> kImpactSet = {".csv", ".h5", ".hdf5"};
 
 // One case per subcommand with --out (dem template's --out is a prefix and dem bed has none:
 // docs/commands/README.md says so).
@@ -54,18 +56,19 @@ const std::vector<OutCase> kCases = {
     {"simulate --vin 2.9,-2.3,-65", kTable},
     {"calibrate " + kCyl + " --where \"vin_x>3.1\"", kTable},
     {"montecarlo --n 200 --seed 3", kTable},
-    {"sobol --n 32 --bootstrap 10", {".h5", ".hdf5"}},
-    {"synth --n 4 --seed 5", kTable},
+    {"sobol --n 32 --bootstrap 10", {".h5", ".hdf5", ".json"}},
+    {"synth --n 4 --seed 5", kImpactSet},
     {"compare " + kCyl + " --repeats 1", kTable},
     {"diagnose " + kCyl, kTable, false},
     {"ladder " + kCyl, kTable, false},
     {"report " + kCyl, {".html", ".htm"}, false},
-    {"dem impact", {".h5", ".hdf5", ".csv"}, false},
+    {"dem impact", {".h5", ".hdf5", ".csv", ".json"}, false},
     {"dem campaign " + quote(kSource + "/liggghts-inputs/campaigns/main-job.toml"),
      {".h5", ".hdf5"},
      false},
     {"dem drop", {".csv"}, false},
-    {"upscale " + quote(kSource + "/data/resolved/bed-probe-width-cdt.h5"), {".h5", ".hdf5"}},
+    {"upscale " + quote(kSource + "/data/resolved/bed-probe-width-cdt.h5"),
+     {".h5", ".hdf5", ".json"}},
     {"calibrate-grains " + quote(kSource + "/data/resolved/bed-calibration-cdt.h5") + " --lab " +
          kCyl,
      {".json"}},
@@ -219,6 +222,51 @@ TEST_F(Provenance, JsonListsTheInputFilesWithTheirContentHash) {
   ASSERT_EQ(two.status, 0) << two.err;
   const auto files = nlohmann::json::parse(two.out)["input_files"];
   ASSERT_EQ(files.size(), 2u) << files.dump();
+}
+
+// --- --out FILE.json: the --json document, in a file ---
+
+class JsonFile : public test::ProgramTest {};
+
+// `--out FILE.json` writes exactly the document `--json` prints (with "out" naming the file) and
+// says so on stdout; with --json as well it also prints it. Nothing else is written.
+TEST_F(JsonFile, OutJsonIsTheJsonDocumentInAFile) {
+  const std::string args = "transfer fit " + kCyl + " --seed 4 --replicates 20";
+  const test::RunResult printed = ricochet(args + " --json");
+  ASSERT_EQ(printed.status, 0) << printed.err;
+  auto expected = nlohmann::json::parse(printed.out);
+
+  const fs::path file = dir_ / "fit.json";
+  const test::RunResult quiet = ricochet(args + " --out " + quote(file.string()));
+  ASSERT_EQ(quiet.status, 0) << quiet.err;
+  EXPECT_EQ(quiet.out, "wrote " + file.string() + "\n");
+  auto written = nlohmann::json::parse(test::slurp(file));
+  EXPECT_EQ(written["out"], file.string());
+  ASSERT_TRUE(expected.contains("out"));
+  expected["out"] = file.string();
+  EXPECT_EQ(written, expected);
+
+  const fs::path both = dir_ / "both.json";
+  const test::RunResult loud = ricochet(args + " --json --out " + quote(both.string()));
+  ASSERT_EQ(loud.status, 0) << loud.err;
+  EXPECT_EQ(nlohmann::json::parse(loud.out), nlohmann::json::parse(test::slurp(both)));
+  std::size_t files = 0;  // the harness keeps the runs' stderr in dir_ as .txt
+  for (const auto& entry : fs::directory_iterator(dir_)) {
+    if (entry.path().extension() == ".txt") continue;
+    ++files;
+    EXPECT_EQ(entry.path().extension(), ".json") << "unexpected: " << entry.path();
+  }
+  EXPECT_EQ(files, 2u);
+}
+
+// Where --out names the command's artifact (the impact set of synth), .json is refused: the
+// command would otherwise finish without its artifact.
+TEST_F(JsonFile, RefusedWhereOutIsTheArtifact) {
+  const fs::path file = dir_ / "set.json";
+  const test::RunResult r = ricochet("synth --n 4 --seed 5 --out " + quote(file.string()));
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("use one of .csv, .h5, .hdf5"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(file));
 }
 
 // --- JSON keys against docs/commands/ ---
