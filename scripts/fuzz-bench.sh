@@ -12,7 +12,7 @@ shift $(($# < 2 ? $# : 2))
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 TARGETS=("$@")
 [ ${#TARGETS[@]} -gt 0 ] ||
-  TARGETS=(impact_csv impact_h5 model_toml shape_toml campaign_toml track_csv where)
+  TARGETS=(impact_csv impact_h5 impact_h5_schema model_toml shape_toml campaign_toml track_csv where)
 WORK=$(mktemp -d "${TMPDIR:-/tmp}/ricochet-fuzz-bench.XXXXXX")
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
