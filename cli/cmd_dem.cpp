@@ -202,6 +202,17 @@ void run_bed(const BedOptions& o) {
 
 // ------------------------------------------------------------------ impact
 
+// --vtk DIR and --vtk-every N of `dem impact` and `dem campaign` (docs/paraview.md).
+void add_vtk_options(CLI::App* sub, std::string& dir, long& every, const std::string& where = "") {
+  sub->add_option("--vtk", dir,
+                  "Write ParaView files of the grains and the block (grains_STEP.vtk, "
+                  "block_STEP.vtk) into DIR" +
+                      where);
+  sub->add_option("--vtk-every", every, "Steps between ParaView frames (with --vtk)")
+      ->capture_default_str();
+  check_range(sub, "--vtk-every", 1, 1e9);
+}
+
 struct ImpactOptions {
   CommonOptions common;
   OutputOptions output;
@@ -214,6 +225,8 @@ struct ImpactOptions {
   std::string work = "dem-work";
   double fps = dem::ExtractOptions{}.fps;
   std::string window;
+  std::string vtk;
+  long vtk_every = dem::kDefaultVtkEvery;
 };
 
 void run_impact_command_on_rank(const ImpactOptions& o, const MpiSession& mpi) {
@@ -241,6 +254,10 @@ void run_impact_command_on_rank(const ImpactOptions& o, const MpiSession& mpi) {
   ctx.decks = &decks;
   ctx.extract.fps = o.fps;
   ctx.extract.window = o.window;
+  if (!o.vtk.empty()) {
+    ctx.vtk_dir = o.vtk;
+    ctx.vtk_every = o.vtk_every;
+  }
   bool built = false;
   double bed_wall = 0;
   ctx.bed = dem::ensure_bed(decks, dem::bed_overrides(spec), o.common.cache, MPI_COMM_WORLD, &built,
@@ -314,6 +331,8 @@ struct CampaignOptions {
   std::string decks;
   bool retry = false;
   OutputOptions output;
+  std::string vtk;
+  long vtk_every = dem::kDefaultVtkEvery;
 };
 
 void run_campaign_command_on_rank(const CampaignOptions& o, const MpiSession& mpi) {
@@ -325,6 +344,10 @@ void run_campaign_command_on_rank(const CampaignOptions& o, const MpiSession& mp
   dem::CampaignOptions co;
   co.out = o.output.out;
   co.retry_crashed = o.retry;
+  if (!o.vtk.empty()) {
+    co.vtk_dir = o.vtk;
+    co.vtk_every = o.vtk_every;
+  }
   co.progress = !o.output.json;
   const auto s = dem::run_campaign(design, decks, co, MPI_COMM_WORLD);
   if (mpi.rank() != 0) return;
@@ -415,6 +438,7 @@ void add_dem_command(CLI::App& app) {
       "--window", imp->window,
       "Contact window: force (default, DEM contact force), ground (paper Fig. 8b) or auto "
       "(ballistic residuals)");
+  add_vtk_options(i, imp->vtk, imp->vtk_every);
   check_range(i, "--alpha-deg", -360, 360);
   check_range(i, "--fps", 0, 1e7);
   i->callback([imp] { run_impact_command(*imp); });
@@ -427,6 +451,7 @@ void add_dem_command(CLI::App& app) {
   c->add_option("--decks", camp->decks, "liggghts-inputs folder");
   c->add_flag("--retry-crashed", camp->retry, "Rerun impacts that were running when a run died");
   add_output_options(c, camp->output, JsonOut::kRefused);
+  add_vtk_options(c, camp->vtk, camp->vtk_every, " (one folder per impact: DIR/ID/)");
   c->callback([camp] { run_campaign_command(*camp); });
 
   add_dem_drop_command(*dem);  // cmd_dem_drop.cpp

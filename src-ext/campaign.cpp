@@ -120,6 +120,10 @@ CampaignSummary run_campaign(const CampaignDesign& design, const Decks& decks,
     ctx.bed = ensure_bed(decks, bed_overrides(spec), design.cache_dir, group);
     ctx.extract = design.extract;
     ctx.work_dir = (fs::path(design.work_dir) / spec.id).string();
+    if (options.vtk_every > 0) {
+      ctx.vtk_dir = (fs::path(options.vtk_dir) / spec.id).string();
+      ctx.vtk_every = options.vtk_every;
+    }
     const Shape shape = Shape::resolve(spec.shape);
     if (grank == 0)
       ctx.template_include = ensure_template(shape, ctx.bed, design.work_dir + "/templates");

@@ -17,6 +17,10 @@ struct CampaignOptions {
   std::string out;             ///< results (.h5); resumed when it exists
   bool retry_crashed = false;  ///< rerun impacts that were running when a previous run died
   bool progress = true;        ///< progress bar on a terminal (world rank 0)
+  /// ParaView output of every impact run by this call (docs/paraview.md): VTK frames every
+  /// vtk_every steps (0 = none) in vtk_dir/<impact id>/.
+  std::string vtk_dir;
+  long vtk_every = 0;
 };
 
 struct CampaignSummary {

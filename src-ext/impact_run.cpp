@@ -262,6 +262,13 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
   for (const auto& [k, v] : spec.params.run) vars.emplace_back(k, v);
   if (spec.seed && !spec.params.run.count("block_seed"))
     vars.emplace_back("block_seed", std::to_string(liggghts_seed(*spec.seed, 1)));
+  if (ctx.vtk_every > 0) {
+    const std::string vtk = fs::absolute(ctx.vtk_dir).string();
+    if (rank == 0) fs::create_directories(vtk);
+    MPI_Barrier(comm);
+    vars.emplace_back("vtk_dir", vtk);
+    vars.emplace_back("vtk_every", std::to_string(ctx.vtk_every));
+  }
 
   const auto start = std::chrono::steady_clock::now();
   const double cpu_start = process_cpu_s();

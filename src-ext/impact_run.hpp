@@ -65,12 +65,21 @@ struct ImpactResult {
 };
 
 /// Everything run_impact needs besides the spec.
+/// Default steps between ParaView frames (`--vtk-every`): about 5 ms of simulated time on the
+/// default bed (dt 22 us), ten frames through a cylinder's contact.
+inline constexpr long kDefaultVtkEvery = 250;
+
 struct ImpactContext {
   const Decks* decks = nullptr;
   BedFiles bed;
   std::string template_include;  ///< from ensure_template
   std::string work_dir;          ///< this impact's folder (log, screen, track)
   ExtractOptions extract;
+  /// ParaView output (docs/paraview.md): when vtk_every > 0, the deck dumps the grains and the
+  /// block's spheres every vtk_every steps into vtk_dir (created) as grains_<step>.vtk and
+  /// block_<step>.vtk.
+  std::string vtk_dir;
+  long vtk_every = 0;
   /// Called after every chunk with (simulated time, t_max) on every rank.
   std::function<void(double, double)> progress;
 };

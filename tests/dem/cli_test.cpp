@@ -12,6 +12,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
@@ -92,6 +94,52 @@ TEST(DemEndToEnd, SameImpactOnTwoMpiRanks) {
     const double lost = 1.0 - ke((*j)["v_direct"]["end"]) / ke((*j)["v_direct"]["start"]);
     EXPECT_NEAR(lost, (*j)["energy_dissipated_frac"].get<double>(), 0.01) << (*j)["ranks"];
   }
+}
+
+// --vtk DIR: ParaView's file series of the grains and of the block's spheres, one file each per
+// --vtk-every steps, legacy VTK with the points of every grain (and every sphere) and the fields
+// ParaView colours by (v, radius, id, type).
+TEST(DemEndToEnd, VtkFramesForParaView) {
+  const fs::path work = temp_dir("vtk");
+  const fs::path vtk = work / "paraview";
+  const auto [rc, out] = shell(std::string(RICOCHET_BIN) + " dem impact --json --cache " +
+                               RICOCHET_TEST_CACHE + " --work " + work.string() + set_args() +
+                               " --id vtk --vtk " + vtk.string() + " --vtk-every 300");
+  ASSERT_EQ(rc, 0) << out;
+  const auto j = nlohmann::json::parse(out);
+  ASSERT_EQ(j["status"], "rebound") << j["message"];
+  std::map<long, int> frames;  // step -> 1 grains file, 2 block file, 3 both
+  for (const auto& entry : fs::directory_iterator(vtk)) {
+    const std::string name = entry.path().filename().string();
+    // LIGGGHTS also writes the simulation box of each frame (NAME_boundingBox_STEP.vtk).
+    if (name.find("_boundingBox_") != std::string::npos) continue;
+    const bool grains = name.starts_with("grains_"), block = name.starts_with("block_");
+    ASSERT_TRUE((grains || block) && name.ends_with(".vtk")) << "unexpected file " << name;
+    const long step = std::stol(name.substr(name.find('_') + 1));
+    frames[step] |= grains ? 1 : 2;
+  }
+  ASSERT_GE(frames.size(), 5u);
+  long previous = -1;
+  for (const auto& [step, kinds] : frames) {
+    EXPECT_EQ(kinds, 3) << "step " << step << " lacks a grains or a block file";
+    if (previous >= 0) EXPECT_EQ(step - previous, 300) << "frames are not every 300 steps";
+    previous = step;
+  }
+  const auto count_points = [](const fs::path& file, std::string& text) {
+    std::ifstream in(file);
+    text.assign(std::istreambuf_iterator<char>(in), {});
+    const auto at = text.find("\nPOINTS ");
+    return at == std::string::npos ? -1L : std::stol(text.substr(at + 8));
+  };
+  std::string text;
+  const long first = frames.begin()->first;
+  EXPECT_EQ(count_points(vtk / ("grains_" + std::to_string(first) + ".vtk"), text),
+            j["grains"].get<long>());
+  EXPECT_EQ(text.rfind("# vtk DataFile", 0), 0u) << text.substr(0, 80);
+  for (const char* field : {"\nid 1 ", "\ntype 1 ", "\nv 3 ", "\nradius 1 "})
+    EXPECT_NE(text.find(field), std::string::npos) << "no field" << field;
+  EXPECT_EQ(count_points(vtk / ("block_" + std::to_string(first) + ".vtk"), text),
+            j["block_spheres"].get<long>());
 }
 
 // An error on the ranks of an MPI job ends the job with the CLI's status and a message naming the
