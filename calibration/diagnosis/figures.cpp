@@ -256,12 +256,12 @@ std::vector<NamedFigure> diagnose_figures(const Diagnosis& d, const std::string&
   Figure f;
   f.title = title + ": held-out error with each candidate effect added";
   f.columns = 1;
-  f.width_px = 900;
+  f.width_px = 1100;
   f.height_px = 420;
   Panel p;
   p.xlabel = "0 = base model; 1, 2, ... = candidates in ranking order";
   p.ylabel = "held-out error (mean +- 1 SE)";
-  p.key = "top right";
+  p.key = "outside right top";  // beside the plot: it covered the last candidates
   Series base;
   base.title = "base model";
   base.style = "errorbars";
@@ -290,10 +290,15 @@ std::vector<NamedFigure> diagnose_figures(const Diagnosis& d, const std::string&
     s.yhi.push_back(c.heldout_error + c.heldout_se);
   }
   const double xmax = static_cast<double>(d.ranking.size()) + 0.5;
-  p.series = {base, sup, uns,
-              line("noise floor", {-0.5, xmax}, {b.floor.value.mean, b.floor.value.mean}, "black"),
-              line("adequacy threshold", {-0.5, xmax}, {b.adequacy.threshold, b.adequacy.threshold},
-                   "gray")};
+  // A class with no candidate is left out of the legend: "supported (no data)" read as a
+  // supported candidate whose data were missing.
+  p.series = {base};
+  for (const Series* s : {&sup, &uns})
+    if (!s->x.empty()) p.series.push_back(*s);
+  p.series.push_back(
+      line("noise floor", {-0.5, xmax}, {b.floor.value.mean, b.floor.value.mean}, "black"));
+  p.series.push_back(line("adequacy threshold", {-0.5, xmax},
+                          {b.adequacy.threshold, b.adequacy.threshold}, "gray"));
   p.title = names;
   p.xmin = -0.5;
   p.xmax = xmax;
@@ -312,12 +317,12 @@ std::vector<NamedFigure> ladder_figures(const Ladder& l, const std::string& titl
   f.title = title + ": the model ladder";
   f.columns = 2;
   f.width_px = 1200;
-  f.height_px = 420;
+  f.height_px = 560;
   Panel p1;
   p1.title = "error falling towards the noise floor";
   p1.xlabel = "rung (0 = base; each adds one effect)";
   p1.ylabel = "mean error";
-  p1.key = "top right";
+  p1.key = "outside bottom center horizontal";  // under the plot, never over a rung
   Series ins, ho;
   ins.title = "in-sample";
   ins.style = "linespoints";
@@ -355,7 +360,7 @@ std::vector<NamedFigure> ladder_figures(const Ladder& l, const std::string& titl
   p2.title = "held-out error per observable";
   p2.xlabel = "rung";
   p2.ylabel = "mean error term";
-  p2.key = "top right";
+  p2.key = "outside bottom center horizontal";
   p2.logy = true;
   if (!l.rungs.empty()) {
     const auto& use = l.rungs.front().assessment.use;

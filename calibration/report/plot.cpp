@@ -175,13 +175,15 @@ std::string key_clause(const std::string& key) {
   if (key.empty()) return "set key default\n";
   std::istringstream words(key);
   std::string w;
-  static const char* const kAllowed[] = {"left",    "right", "center", "top",   "bottom", "inside",
-                                         "outside", "off",   "box",    "nobox", "opaque"};
+  static const char* const kAllowed[] = {"left",   "right",  "center",  "top",
+                                         "bottom", "inside", "outside", "off",
+                                         "box",    "nobox",  "opaque",  "horizontal"};
   while (words >> w)
     if (std::none_of(std::begin(kAllowed), std::end(kAllowed),
                      [&](const char* a) { return w == a; }))
-      throw std::invalid_argument("plot: unknown key position word '" + w +
-                                  "' (use left, right, center, top, bottom, inside, outside, off)");
+      throw std::invalid_argument(
+          "plot: unknown key position word '" + w +
+          "' (use left, right, center, top, bottom, inside, outside, horizontal, off)");
   return key == "off" ? "unset key\n" : "set key default\nset key " + key + "\n";
 }
 

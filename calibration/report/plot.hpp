@@ -29,7 +29,8 @@ struct Panel {
   /// Optional fixed ranges; NaN = automatic.
   double xmin = 0.0 / 0.0, xmax = 0.0 / 0.0, ymin = 0.0 / 0.0, ymax = 0.0 / 0.0;
   /// Legend position: empty = gnuplot default (top right), else words among left, right,
-  /// center, top, bottom, inside, outside, box, nobox, opaque; "off" hides the legend.
+  /// center, top, bottom, inside, outside, horizontal, box, nobox, opaque; "off" hides the
+  /// legend.
   std::string key;
 };
 
