@@ -59,6 +59,53 @@ std::string conclusion_of(const ReportSection& s) {
   return c;
 }
 
+// What fails, what was found, how far the error fell: one sentence.
+std::string headline_of(const ReportSection& s) {
+  const Diagnosis& d = s.diagnosis;
+  const Baseline& b = d.baseline;
+  const Assessment& a = b.base;
+  int worst = -1;
+  double worst_ratio = 0;
+  for (int k = 0; k < kObservables; ++k)
+    if (a.use[k] && b.floor.term_mean[k] > 0) {
+      const double r = a.heldout.term_mean[k] / b.floor.term_mean[k];
+      if (worst < 0 || r > worst_ratio) worst = k, worst_ratio = r;
+    }
+  std::string fails =
+      b.adequacy.adequate
+          ? fmt::format("The model is adequate: its held-out error is {} x the noise floor",
+                        f2(b.adequacy.ratio))
+          : fmt::format("The model misses the data by {} x the noise floor", f2(b.adequacy.ratio));
+  if (!b.adequacy.adequate && worst >= 0)
+    fails += fmt::format(", worst on {} ({} x its own floor)", kObservableLabels[worst],
+                         f2(worst_ratio));
+  std::string found;
+  const Candidate* best = nullptr;
+  for (const auto& c : d.ranking)
+    if (c.supported) {
+      best = &c;
+      break;
+    }
+  if (best)
+    found = "the diagnosis finds " + best->effect + " missing";
+  else if (d.verdict == "scatter")
+    found = "the diagnosis finds no missing effect: the rest is scatter between releases";
+  else if (b.adequacy.adequate)
+    found = "no effect is needed";
+  else
+    found = "no candidate effect passes the family-wise test";
+  std::string fell = "no effect was added";
+  if (s.ladder.rungs.size() > 1) {
+    const auto& last = s.ladder.rungs.back();
+    std::string added;
+    for (std::size_t r = 1; r < s.ladder.rungs.size(); ++r)
+      added += (added.empty() ? "" : " and ") + s.ladder.rungs[r].added;
+    fell = fmt::format("adding {} takes the held-out error from {} to {} x the floor", added,
+                       f2(s.ladder.rungs.front().adequacy.ratio), f2(last.adequacy.ratio));
+  }
+  return fmt::format("{}; {}; {}.", fails, found, fell);
+}
+
 void data_section(report::HtmlPage& page, const ReportSection& s) {
   const ImpactSet& set = s.input.set;
   page.paragraph(fmt::format("{}: {} releases of shape {} from {}.", s.input.label, set.size(),
@@ -165,7 +212,6 @@ void ladder_section(report::HtmlPage& page, const ReportSection& s) {
   page.table({"rung", "added", "in-sample", "held-out", "SE", "x floor", "adequate"}, rows,
              "Model ladder chosen by rounds of diagnosis; noise floor " + g4(l.floor.value.mean));
   if (!l.stop_reason.empty()) page.labelled("Stopped", l.stop_reason);
-  for (const auto& f : ladder_figures(l, s.input.label)) page.figure(f.figure, f.caption);
 }
 
 }  // namespace
@@ -180,6 +226,7 @@ std::vector<ReportSection> analyse(const std::vector<ReportInput>& inputs, const
     opt.assess.folds = std::min<std::size_t>(opt.assess.folds, in.set.size());
     s.diagnosis = diagnose(model, in.shape, in.set, opt);
     s.ladder = auto_ladder(model, in.shape, in.set, o.rounds, opt, &s.diagnosis);
+    s.headline = headline_of(s);
     s.conclusion = conclusion_of(s);
     out.push_back(std::move(s));
   }
@@ -196,7 +243,7 @@ std::size_t write_report(const std::vector<ReportSection>& sections, const Model
       "embedded in this file.");
   page.heading(2, "Conclusions", "conclusions");
   std::vector<std::string> items;
-  for (const auto& s : sections) items.push_back(s.conclusion);
+  for (const auto& s : sections) items.push_back(s.input.label + ": " + s.headline);
   page.list(items);
 
   page.heading(2, "Model", "model");
@@ -236,17 +283,26 @@ std::size_t write_report(const std::vector<ReportSection>& sections, const Model
   for (std::size_t i = 0; i < sections.size(); ++i) {
     const auto& s = sections[i];
     const std::string id = fmt::format("set{}", i + 1);
+    // The verdict, then the ladder falling toward the floor; the numbers behind both are one
+    // click away.
     page.heading(2, s.input.label, id);
-    page.heading(3, "Data");
-    data_section(page, s);
-    page.heading(3, "Comparison");
-    compare_section(page, s);
-    page.heading(3, "Diagnosis");
-    diagnosis_section(page, s);
-    page.heading(3, "Model ladder");
-    ladder_section(page, s);
-    page.heading(3, "Conclusion");
+    page.verdict(s.headline);
+    for (const auto& f : ladder_figures(s.ladder, s.input.label)) page.figure(f.figure, f.caption);
+    page.begin_details("Conclusion in numbers");
     page.paragraph(s.conclusion);
+    page.end_details();
+    page.begin_details("Data");
+    data_section(page, s);
+    page.end_details();
+    page.begin_details("Comparison: population fit, noise floor, errors, trends");
+    compare_section(page, s);
+    page.end_details();
+    page.begin_details("Diagnosis: every candidate effect");
+    diagnosis_section(page, s);
+    page.end_details();
+    page.begin_details("Model ladder in numbers");
+    ladder_section(page, s);
+    page.end_details();
   }
   page.write(path);
   return page.figures();
@@ -268,6 +324,7 @@ nlohmann::json to_json(const std::vector<ReportSection>& sections) {
                                                    : nlohmann::json(d.ranking.front().effect)},
                         {"best_supported", !d.ranking.empty() && d.ranking.front().supported},
                         {"ladder", to_json(s.ladder)["rungs"]},
+                        {"headline", s.headline},
                         {"conclusion", s.conclusion},
                         {"seconds", d.seconds}};
     out.push_back(j);

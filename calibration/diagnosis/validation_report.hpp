@@ -34,7 +34,10 @@ struct ReportSection {
   ReportInput input;
   Diagnosis diagnosis;  ///< round 0 (contains the comparison)
   Ladder ladder;        ///< automatic ladder (rung 0 = the base model)
-  std::string conclusion;
+  /// One sentence: what fails (and on which observable), what the diagnosis found, how far the
+  /// ladder brought the error. The section and the page's conclusions open with it.
+  std::string headline;
+  std::string conclusion;  ///< the long form, with every number
 };
 
 /// Runs compare, diagnose and the automatic ladder on every input.

@@ -92,8 +92,23 @@ void HtmlPage::heading(int level, const std::string& text, const std::string& id
   body_ += ">" + html_escape(text) + "</h" + std::to_string(level) + ">\n";
 }
 
+void HtmlPage::begin_details(const std::string& summary) {
+  body_ += "<details><summary>" + html_escape(summary) + "</summary>\n";
+  ++open_details_;
+}
+
+void HtmlPage::end_details() {
+  if (open_details_ == 0) throw std::logic_error("HtmlPage::end_details without begin_details");
+  body_ += "</details>\n";
+  --open_details_;
+}
+
 void HtmlPage::paragraph(const std::string& text) {
   body_ += "<p>" + html_escape(text) + "</p>\n";
+}
+
+void HtmlPage::verdict(const std::string& text) {
+  body_ += "<p class=\"verdict\">" + html_escape(text) + "</p>\n";
 }
 
 void HtmlPage::labelled(const std::string& label, const std::string& text) {
@@ -188,6 +203,9 @@ std::string HtmlPage::html() const {
       "figure{margin:1.5em 0}img.fig{max-width:100%;height:auto;border:1px solid #ddd}\n"
       "figcaption{font-size:0.9em;color:#444}pre{background:#f6f6f6;padding:0.6em;"
       "overflow-x:auto}\n"
+      "details{margin:1em 0;border-left:3px solid #ccc;padding-left:0.8em}"
+      "summary{cursor:pointer;color:#1f4e8c;font-weight:bold}\n"
+      "p.verdict{font-size:1.1em;background:#f3f6fa;padding:0.6em;border-left:4px solid #1f4e8c}\n"
       "</style>\n</head>\n<body>\n<h1>" +
       html_escape(title_) + "</h1>\n";
   if (!toc_.empty()) {
@@ -197,6 +215,7 @@ std::string HtmlPage::html() const {
     out += "</ol></nav>\n";
   }
   out += body_;
+  for (int i = 0; i < open_details_; ++i) out += "</details>\n";  // a block left open
   out += "</body>\n</html>\n";
   return out;
 }

@@ -25,6 +25,8 @@ class HtmlPage {
   /// <h1>..<h4>; `id` (optional) makes it a link target of the table of contents (h2 only).
   void heading(int level, const std::string& text, const std::string& id = "");
   void paragraph(const std::string& text);
+  /// The one sentence a section opens with, set apart (class "verdict").
+  void verdict(const std::string& text);
   /// A paragraph with a bold lead-in, e.g. ("Verdict", "missing physics").
   void labelled(const std::string& label, const std::string& text);
   void list(const std::vector<std::string>& items);
@@ -32,6 +34,10 @@ class HtmlPage {
   void table(const std::vector<std::string>& header,
              const std::vector<std::vector<std::string>>& rows, const std::string& caption = "");
   void preformatted(const std::string& text);
+  /// Opens a collapsible block (<details>, closed until the reader clicks `summary`); everything
+  /// added until end_details() goes into it. Blocks may nest.
+  void begin_details(const std::string& summary);
+  void end_details();
   /// Embeds an SVG file (e.g. written by render_svg) as a figure with a caption. Throws
   /// std::runtime_error naming the file if it cannot be read or is not an SVG.
   void figure_file(const std::string& svg_path, const std::string& caption);
@@ -50,6 +56,7 @@ class HtmlPage {
   std::vector<std::pair<std::string, std::string>> toc_;  // (id, text)
   std::string body_;
   std::size_t figures_ = 0;
+  int open_details_ = 0;
 };
 
 }  // namespace ricochet::report

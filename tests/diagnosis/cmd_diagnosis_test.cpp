@@ -266,9 +266,16 @@ TEST_F(CmdDiagnosis, ReportRendersInHeadlessChromiumWithEveryFigureShown) {
   EXPECT_FALSE(doc["sets"][0]["conclusion"].get<std::string>().empty());
 
   const std::string page = slurp(html);
-  for (const char* section : {"Conclusions", "Model", "Method", "Data", "Comparison", "Diagnosis",
-                              "Model ladder", "Conclusion"})
+  for (const char* section : {"Conclusions", "Model", "Method"})
     EXPECT_NE(page.find(std::string(">") + section + "</h"), std::string::npos) << section;
+  // Each set opens with its one-sentence headline; the numbers are in collapsible blocks.
+  const std::string headline = doc["sets"][0]["headline"];
+  EXPECT_NE(page.find("<p class=\"verdict\">"), std::string::npos);
+  EXPECT_EQ(headline.find("The model "), 0u) << headline;
+  EXPECT_NE(headline.find("x the noise floor"), std::string::npos) << headline;
+  for (const char* block :
+       {"Conclusion in numbers", "Data", "Comparison", "Diagnosis", "Model ladder in numbers"})
+    EXPECT_NE(page.find(std::string("<details><summary>") + block), std::string::npos) << block;
 
   const std::string dom = render_in_chromium(html, dir_);
   std::smatch m;
