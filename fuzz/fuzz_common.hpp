@@ -2,9 +2,12 @@
 // bit-exact comparison of impact sets for the round-trip checks.
 #pragma once
 
+#include <unistd.h>
+
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <optional>
 #include <string>
 
@@ -50,6 +53,19 @@ inline bool same_set(const ImpactSet& a, const ImpactSet& b) {
       if (!same(x.extra[k], y.extra[k])) return false;
   }
   return true;
+}
+
+/// The HDF5 targets' two temporary files (the reader opens files by name, like every command):
+/// the input and the round trip, one pair per process, in $RICOCHET_FUZZ_TMPDIR (the bench gives
+/// each run its own folder and removes it, so that inputs a crash interrupts are not left
+/// behind), else /dev/shm, else the temporary folder.
+inline std::string temp_h5_name(const std::string& target, const char* tag) {
+  namespace fs = std::filesystem;
+  const char* env = std::getenv("RICOCHET_FUZZ_TMPDIR");
+  const fs::path dir = env && *env                    ? fs::path(env)
+                       : fs::is_directory("/dev/shm") ? fs::path("/dev/shm")
+                                                      : fs::temp_directory_path();
+  return (dir / (target + "-" + std::to_string(::getpid()) + "-" + tag + ".h5")).string();
 }
 
 }  // namespace ricochet::fuzz

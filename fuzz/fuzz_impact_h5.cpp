@@ -28,23 +28,12 @@ namespace {
   ricochet::fuzz::fail("fuzz_impact_h5", what, detail);
 }
 
-// $RICOCHET_FUZZ_TMPDIR (the bench gives each run its own folder and removes it, so that inputs
-// a crash interrupts are not left behind), else /dev/shm, else the temporary folder.
-std::string temp_name(const char* tag) {
-  namespace fs = std::filesystem;
-  const char* env = std::getenv("RICOCHET_FUZZ_TMPDIR");
-  const fs::path dir = env && *env                    ? fs::path(env)
-                       : fs::is_directory("/dev/shm") ? fs::path("/dev/shm")
-                                                      : fs::temp_directory_path();
-  return (dir / ("ricochet-fuzz-" + std::to_string(::getpid()) + "-" + tag + ".h5")).string();
-}
-
 const std::string& input_path() {
-  static const std::string p = temp_name("in");
+  static const std::string p = ricochet::fuzz::temp_h5_name("ricochet-fuzz", "in");
   return p;
 }
 const std::string& roundtrip_path() {
-  static const std::string p = temp_name("rt");
+  static const std::string p = ricochet::fuzz::temp_h5_name("ricochet-fuzz", "rt");
   return p;
 }
 

@@ -39,21 +39,12 @@ namespace {
   ricochet::fuzz::fail("fuzz_impact_h5_schema", what, detail);
 }
 
-std::string temp_name(const char* tag) {
-  namespace fs = std::filesystem;
-  const char* env = std::getenv("RICOCHET_FUZZ_TMPDIR");
-  const fs::path dir = env && *env                    ? fs::path(env)
-                       : fs::is_directory("/dev/shm") ? fs::path("/dev/shm")
-                                                      : fs::temp_directory_path();
-  return (dir / ("ricochet-fuzz-schema-" + std::to_string(::getpid()) + "-" + tag + ".h5"))
-      .string();
-}
 const std::string& input_path() {
-  static const std::string p = temp_name("in");
+  static const std::string p = ricochet::fuzz::temp_h5_name("ricochet-fuzz-schema", "in");
   return p;
 }
 const std::string& roundtrip_path() {
-  static const std::string p = temp_name("rt");
+  static const std::string p = ricochet::fuzz::temp_h5_name("ricochet-fuzz-schema", "rt");
   return p;
 }
 void remove_temporaries() {
