@@ -43,6 +43,7 @@ TEST_F(ShippedData, StatsReadsEveryResolvedCampaign) {
                                                {"lab-cylinders-cdt.h5", 84},
                                                {"lab-cylinders-cdt-ground.h5", 84},
                                                {"lab-cylinders-default-ground.h5", 28},
+                                               {"lab-cylinders-default-tuned-ground.h5", 28},
                                                {"lab-triangles-blind-cdt.h5", 28},
                                                {"lab-cylinders-long-deep.h5", 28},
                                                {"lab-cylinders-long-replicas.h5", 84},
