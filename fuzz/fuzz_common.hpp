@@ -68,4 +68,16 @@ inline std::string temp_h5_name(const std::string& target, const char* tag) {
   return (dir / (target + "-" + std::to_string(::getpid()) + "-" + tag + ".h5")).string();
 }
 
+/// The pair of temporary files of one HDF5 target (the input as written, and its round trip),
+/// named once per process; remove() deletes both (after every input and at exit).
+struct TempH5Files {
+  explicit TempH5Files(const std::string& target)
+      : input(temp_h5_name(target, "in")), roundtrip(temp_h5_name(target, "rt")) {}
+  void remove() const {
+    std::remove(input.c_str());
+    std::remove(roundtrip.c_str());
+  }
+  std::string input, roundtrip;
+};
+
 }  // namespace ricochet::fuzz

@@ -28,18 +28,12 @@ namespace {
   ricochet::fuzz::fail("fuzz_impact_h5", what, detail);
 }
 
-const std::string& input_path() {
-  static const std::string p = ricochet::fuzz::temp_h5_name("ricochet-fuzz", "in");
-  return p;
+const ricochet::fuzz::TempH5Files& temps() {
+  static const ricochet::fuzz::TempH5Files files("ricochet-fuzz");
+  return files;
 }
-const std::string& roundtrip_path() {
-  static const std::string p = ricochet::fuzz::temp_h5_name("ricochet-fuzz", "rt");
-  return p;
-}
-
 void remove_temporaries() {
-  std::remove(input_path().c_str());
-  std::remove(roundtrip_path().c_str());
+  temps().remove();
 }
 
 }  // namespace
@@ -50,7 +44,7 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 }
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  const std::string& path = input_path();
+  const std::string& path = temps().input;
   {
     std::FILE* f = std::fopen(path.c_str(), "wb");
     if (!f) fail("cannot write the temporary file", path);
@@ -73,7 +67,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     ~RemoveAtEnd() { remove_temporaries(); }
   } remove_at_end;
   try {
-    const std::string& rt = roundtrip_path();
+    const std::string& rt = temps().roundtrip;
     std::remove(rt.c_str());
     ricochet::write_impact_set_h5(set, rt);
     const ricochet::ImpactSet back = ricochet::read_impact_set_h5(rt);

@@ -39,17 +39,12 @@ namespace {
   ricochet::fuzz::fail("fuzz_impact_h5_schema", what, detail);
 }
 
-const std::string& input_path() {
-  static const std::string p = ricochet::fuzz::temp_h5_name("ricochet-fuzz-schema", "in");
-  return p;
-}
-const std::string& roundtrip_path() {
-  static const std::string p = ricochet::fuzz::temp_h5_name("ricochet-fuzz-schema", "rt");
-  return p;
+const ricochet::fuzz::TempH5Files& temps() {
+  static const ricochet::fuzz::TempH5Files files("ricochet-fuzz-schema");
+  return files;
 }
 void remove_temporaries() {
-  std::remove(input_path().c_str());
-  std::remove(roundtrip_path().c_str());
+  temps().remove();
 }
 
 // Column names: the schema's (docs/impact-sets.md), extra columns, and invalid or reserved ones.
@@ -237,7 +232,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     ~RemoveAtEnd() { remove_temporaries(); }
   } remove_at_end;
   FuzzedDataProvider in(data, size);
-  const std::string& path = input_path();
+  const std::string& path = temps().input;
   try {
     if (!write_described_file(path, in)) return 0;
   } catch (const std::exception&) {
@@ -253,7 +248,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     fail("unexpected exception:", e.what());
   }
   try {
-    const std::string& rt = roundtrip_path();
+    const std::string& rt = temps().roundtrip;
     ricochet::write_impact_set_h5(set, rt);
     const ricochet::ImpactSet back = ricochet::read_impact_set_h5(rt);
     if (!ricochet::fuzz::same_set(set, back)) fail("round trip changed the set");
