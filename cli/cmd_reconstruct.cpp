@@ -92,22 +92,22 @@ void draw(const kinematics::Track& tr, const kinematics::Reconstruction& r,
       p.series.push_back(s);
     };
     curve("incoming fit", tr.t.front(), r.contact_start_s, r.contact_start_s, r.position_in[c],
-          r.vin[c], r.gravity_before_mps2, "#d7191c");
+          r.vin[c], r.gravity_before_mps2, report::colour::kVermillion);
     curve("outgoing fit", r.contact_end_s, tr.t.back(), r.contact_end_s, r.position_out[c],
-          r.vout[c], r.gravity_after_mps2, "#2c7bb6");
+          r.vout[c], r.gravity_after_mps2, report::colour::kBlue);
     double lo = *std::min_element(data[c]->begin(), data[c]->end());
     double hi = *std::max_element(data[c]->begin(), data[c]->end());
     for (double t : {r.contact_start_s, r.contact_end_s}) {
       report::Series w;
       w.title = t == r.contact_start_s ? "contact window" : "";
-      w.color = "#888888";
+      w.color = report::colour::kGrey;
       w.x = {t, t};
       w.y = {lo, hi};
       p.series.push_back(w);
     }
     fig.panels.push_back(p);
   }
-  report::render_svg(fig, path);
+  report::render(fig, path);
 }
 
 void run(const ReconstructCliOptions& o) {

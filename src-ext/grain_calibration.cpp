@@ -361,9 +361,10 @@ std::vector<std::string> write_grain_calibration_figures(const GrainCalibrationR
   using report::Series;
   std::vector<std::string> files;
   const std::size_t d = r.parameters.size();
-  // Colour-blind-safe palette (Okabe and Ito 2008).
-  const char* palette[] = {"#0072B2", "#E69F00", "#009E73", "#CC79A7",
-                           "#56B4E9", "#D55E00", "#F0E442", "#000000"};
+  namespace colour = report::colour;
+  const char* palette[] = {colour::kBlue,          colour::kOrange,  colour::kBluishGreen,
+                           colour::kReddishPurple, colour::kSkyBlue, colour::kVermillion,
+                           colour::kGrey,          colour::kBlack};
 
   Figure sobol;
   sobol.title =
@@ -397,7 +398,7 @@ std::vector<std::string> write_grain_calibration_figures(const GrainCalibrationR
     sobol.panels.push_back(p);
   }
   files.push_back(dir + "/grains_sobol.svg");
-  report::render_svg(sobol, files.back());
+  report::render(sobol, files.back());
 
   Figure loo;
   loo.title =
@@ -416,12 +417,12 @@ std::vector<std::string> write_grain_calibration_figures(const GrainCalibrationR
       hi = std::max({hi, q.mean[c], q.loo[c]});
     }
     p.series.push_back(s);
-    p.series.push_back(Series{"1:1", {lo, hi}, {lo, hi}, "lines", {}, {}, "#000000", 7});
+    p.series.push_back(Series{"1:1", {lo, hi}, {lo, hi}, "lines", {}, {}, colour::kBlack, 7});
     p.key = "top left";
     loo.panels.push_back(p);
   }
   files.push_back(dir + "/grains_loo.svg");
-  report::render_svg(loo, files.back());
+  report::render(loo, files.back());
 
   Figure abacus;
   abacus.title =
@@ -437,8 +438,8 @@ std::vector<std::string> write_grain_calibration_figures(const GrainCalibrationR
       p.ylabel = kLabel[c];
       p.key = "off";
       Series m{"surrogate", r.grid[k], r.curve_mean[k][c], "lines", {}, {}, palette[0], 7};
-      Series lo{"-2 sd", r.grid[k], {}, "lines", {}, {}, "#56B4E9", 7};
-      Series hi{"+2 sd", r.grid[k], {}, "lines", {}, {}, "#56B4E9", 7};
+      Series lo{"-2 sd", r.grid[k], {}, "lines", {}, {}, colour::kSkyBlue, 7};
+      Series hi{"+2 sd", r.grid[k], {}, "lines", {}, {}, colour::kSkyBlue, 7};
       for (std::size_t i = 0; i < r.grid[k].size(); ++i) {
         lo.y.push_back(r.curve_mean[k][c][i] - 2 * r.curve_sd[k][c][i]);
         hi.y.push_back(r.curve_mean[k][c][i] + 2 * r.curve_sd[k][c][i]);
@@ -450,7 +451,7 @@ std::vector<std::string> write_grain_calibration_figures(const GrainCalibrationR
                 "lines",
                 {},
                 {},
-                "#D55E00",
+                colour::kVermillion,
                 7};
       Series t2{"",
                 {a, b},
@@ -458,14 +459,14 @@ std::vector<std::string> write_grain_calibration_figures(const GrainCalibrationR
                 "lines",
                 {},
                 {},
-                "#D55E00",
+                colour::kVermillion,
                 7};
-      Series at{"calibrated", {r.best[k]}, {r.best_mean[c]}, "points", {}, {}, "#000000", 5};
+      Series at{"calibrated", {r.best[k]}, {r.best_mean[c]}, "points", {}, {}, colour::kBlack, 5};
       p.series = {lo, hi, m, t1, t2, at};
       abacus.panels.push_back(p);
     }
   files.push_back(dir + "/grains_abacus.svg");
-  report::render_svg(abacus, files.back());
+  report::render(abacus, files.back());
   return files;
 }
 

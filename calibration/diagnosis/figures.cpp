@@ -11,6 +11,7 @@ namespace {
 using report::Figure;
 using report::Panel;
 using report::Series;
+namespace colour = report::colour;
 
 // Physical scale of an observable in figures (penetration in mm, duration in ms).
 double plot_scale(int k) {
@@ -90,8 +91,8 @@ std::vector<NamedFigure> compare_figures(const Baseline& b, const ImpactSet& set
       p.xlabel = fmt::format("predicted [{}]", plot_unit(k));
       p.ylabel = fmt::format("measured [{}]", plot_unit(k));
       p.key = "top left";
-      p.series.push_back(points("releases", x, y, "#1f77b4"));
-      if (std::isfinite(lo)) p.series.push_back(line("1:1", {lo, hi}, {lo, hi}, "gray"));
+      p.series.push_back(points("releases", x, y, colour::kBlue));
+      if (std::isfinite(lo)) p.series.push_back(line("1:1", {lo, hi}, {lo, hi}, colour::kGrey));
       f.panels.push_back(p);
     }
     out.push_back({"measured-vs-predicted",
@@ -145,10 +146,10 @@ std::vector<NamedFigure> compare_figures(const Baseline& b, const ImpactSet& set
       p.xlabel = feat.label;
       p.ylabel = fmt::format("residual [{}]", plot_unit(k));
       p.key = "off";
-      p.series.push_back(
-          points("releases", feat.values, y, t && t->significant ? "#d62728" : "#1f77b4"));
+      p.series.push_back(points("releases", feat.values, y,
+                                t && t->significant ? colour::kVermillion : colour::kBlue));
       auto [lo, hi] = range_of(feat.values);
-      if (std::isfinite(lo)) p.series.push_back(line("zero", {lo, hi}, {0.0, 0.0}, "gray"));
+      if (std::isfinite(lo)) p.series.push_back(line("zero", {lo, hi}, {0.0, 0.0}, colour::kGrey));
       f.panels.push_back(p);
     }
     out.push_back({std::string("residuals-") + kObservableNames[k],
@@ -182,9 +183,9 @@ std::vector<NamedFigure> compare_figures(const Baseline& b, const ImpactSet& set
         p.xlabel = feat.label;
         p.ylabel = name;
         p.key = "off";
-        p.series.push_back(
-            points("identified", xi, yi, t && t->significant ? "#d62728" : "#1f77b4"));
-        p.series.push_back(points("not identified", xn, yn, "#999999", 6));
+        p.series.push_back(points("identified", xi, yi,
+                                  t && t->significant ? colour::kVermillion : colour::kBlue));
+        p.series.push_back(points("not identified", xn, yn, colour::kGrey, 6));
         f.panels.push_back(p);
       }
       out.push_back({"parameter-" + name,
@@ -214,8 +215,8 @@ std::vector<NamedFigure> compare_figures(const Baseline& b, const ImpactSet& set
       e.push_back(a.heldout.per_release[i]);
       fl.push_back(b.floor.per_release[i]);
     }
-    p1.series.push_back(points("held-out error", x, e, "#d62728"));
-    p1.series.push_back(points("noise floor", x, fl, "#2ca02c", 6));
+    p1.series.push_back(points("held-out error", x, e, colour::kVermillion));
+    p1.series.push_back(points("noise floor", x, fl, colour::kBluishGreen, 6));
     Panel p2;
     p2.title = "per regime (mean +- 1 SE)";
     p2.xlabel = "regime (1 = slowest)";
@@ -224,10 +225,10 @@ std::vector<NamedFigure> compare_figures(const Baseline& b, const ImpactSet& set
     Series s;
     s.title = "held-out error";
     s.style = "errorbars";
-    s.color = "#d62728";
+    s.color = colour::kVermillion;
     Series sf = s;
     sf.title = "noise floor";
-    sf.color = "#2ca02c";
+    sf.color = colour::kBluishGreen;
     for (std::size_t r = 0; r < b.regimes.size(); ++r) {
       const auto& g = b.regimes[r];
       s.x.push_back(static_cast<double>(r + 1));
@@ -265,7 +266,7 @@ std::vector<NamedFigure> diagnose_figures(const Diagnosis& d, const std::string&
   Series base;
   base.title = "base model";
   base.style = "errorbars";
-  base.color = "#1f77b4";
+  base.color = colour::kBlue;
   const auto& b = d.baseline;
   base.x = {0.0};
   base.y = {b.base.heldout.error.mean};
@@ -273,9 +274,9 @@ std::vector<NamedFigure> diagnose_figures(const Diagnosis& d, const std::string&
   base.yhi = {b.base.heldout.error.mean + b.base.heldout.error.se};
   Series sup = base, uns = base;
   sup.title = "supported";
-  sup.color = "#2ca02c";
+  sup.color = colour::kBluishGreen;
   uns.title = "not supported";
-  uns.color = "#d62728";
+  uns.color = colour::kVermillion;
   sup.x.clear(), sup.y.clear(), sup.ylo.clear(), sup.yhi.clear();
   uns.x.clear(), uns.y.clear(), uns.ylo.clear(), uns.yhi.clear();
   std::string names;
@@ -296,9 +297,9 @@ std::vector<NamedFigure> diagnose_figures(const Diagnosis& d, const std::string&
   for (const Series* s : {&sup, &uns})
     if (!s->x.empty()) p.series.push_back(*s);
   p.series.push_back(
-      line("noise floor", {-0.5, xmax}, {b.floor.value.mean, b.floor.value.mean}, "black"));
+      line("noise floor", {-0.5, xmax}, {b.floor.value.mean, b.floor.value.mean}, colour::kBlack));
   p.series.push_back(line("adequacy threshold", {-0.5, xmax},
-                          {b.adequacy.threshold, b.adequacy.threshold}, "gray"));
+                          {b.adequacy.threshold, b.adequacy.threshold}, colour::kGrey));
   p.title = names;
   p.xmin = -0.5;
   p.xmax = xmax;
@@ -326,10 +327,10 @@ std::vector<NamedFigure> ladder_figures(const Ladder& l, const std::string& titl
   Series ins, ho;
   ins.title = "in-sample";
   ins.style = "linespoints";
-  ins.color = "#1f77b4";
+  ins.color = colour::kBlue;
   ho.title = "held-out (+- 1 SE)";
   ho.style = "errorbars";
-  ho.color = "#d62728";
+  ho.color = colour::kVermillion;
   Series hol = ho;
   hol.title = "held-out";
   hol.style = "lines";
@@ -351,7 +352,7 @@ std::vector<NamedFigure> ladder_figures(const Ladder& l, const std::string& titl
   const double xmax = static_cast<double>(l.rungs.size()) - 0.5;
   p1.series = {
       ins, ho, hol,
-      line("noise floor", {-0.5, xmax}, {l.floor.value.mean, l.floor.value.mean}, "black")};
+      line("noise floor", {-0.5, xmax}, {l.floor.value.mean, l.floor.value.mean}, colour::kBlack)};
   p1.xmin = -0.5;
   p1.xmax = xmax;
   p1.ymin = 0;
@@ -364,7 +365,8 @@ std::vector<NamedFigure> ladder_figures(const Ladder& l, const std::string& titl
   p2.logy = true;
   if (!l.rungs.empty()) {
     const auto& use = l.rungs.front().assessment.use;
-    const char* colors[kObservables] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b"};
+    const char* colors[kObservables] = {colour::kBlue, colour::kOrange, colour::kBluishGreen,
+                                        colour::kReddishPurple, colour::kBlack};
     for (int k = 0; k < kObservables; ++k) {
       if (!use[k]) continue;
       Series s;
@@ -396,7 +398,7 @@ std::vector<std::string> render_all(const std::vector<NamedFigure>& figures,
   std::vector<std::string> paths;
   for (const auto& f : figures) {
     const std::string path = (std::filesystem::path(dir) / (f.stem + ".svg")).string();
-    report::render_svg(f.figure, path);
+    report::render(f.figure, path);
     paths.push_back(path);
   }
   return paths;

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -143,24 +144,44 @@ void HtmlPage::preformatted(const std::string& text) {
   body_ += "<pre>" + html_escape(text) + "</pre>\n";
 }
 
-void HtmlPage::figure_file(const std::string& svg_path, const std::string& caption) {
-  std::ifstream in(svg_path, std::ios::binary);
-  if (!in) throw std::runtime_error("report: cannot read the figure " + svg_path);
+namespace {
+
+/// Big-endian 32-bit integer at `at` of a PNG header.
+std::uint32_t be32(const std::string& b, std::size_t at) {
+  std::uint32_t v = 0;
+  for (std::size_t i = 0; i < 4; ++i) v = (v << 8) | static_cast<unsigned char>(b[at + i]);
+  return v;
+}
+
+}  // namespace
+
+void HtmlPage::figure_file(const std::string& path, const std::string& caption) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("report: cannot read the figure " + path);
   std::ostringstream ss;
   ss << in.rdbuf();
-  const std::string svg = ss.str();
-  if (svg.find("<svg") == std::string::npos)
-    throw std::runtime_error("report: " + svg_path + " is not an SVG file");
-  // Size from the viewBox, so that the image has its intended aspect and a non-zero size.
-  std::string size;
-  std::smatch m;
-  static const std::regex view_box(
-      R"re(viewBox="\s*[-0-9.]+\s+[-0-9.]+\s+([0-9.]+)\s+([0-9.]+)")re");
-  if (std::regex_search(svg, m, view_box))
-    size = " width=\"" + m[1].str() + "\" height=\"" + m[2].str() + "\"";
+  const std::string bytes = ss.str();
+  // Intended size: the SVG's viewBox or the PNG's IHDR chunk (PNG spec, section 11.2.2), so
+  // that the image keeps its aspect and never collapses to zero size.
+  std::string size, mime;
+  static const std::string kPng = "\x89PNG\r\n\x1a\n";
+  if (bytes.rfind(kPng, 0) == 0 && bytes.size() >= 24 && bytes.compare(12, 4, "IHDR") == 0) {
+    mime = "image/png";
+    size = " width=\"" + std::to_string(be32(bytes, 16)) + "\" height=\"" +
+           std::to_string(be32(bytes, 20)) + "\"";
+  } else if (bytes.find("<svg") != std::string::npos) {
+    mime = "image/svg+xml";
+    std::smatch m;
+    static const std::regex view_box(
+        R"re(viewBox="\s*[-0-9.]+\s+[-0-9.]+\s+([0-9.]+)\s+([0-9.]+)")re");
+    if (std::regex_search(bytes, m, view_box))
+      size = " width=\"" + m[1].str() + "\" height=\"" + m[2].str() + "\"";
+  } else {
+    throw std::runtime_error("report: " + path + " is neither an SVG nor a PNG file");
+  }
   ++figures_;
   body_ += "<figure id=\"figure-" + std::to_string(figures_) + "\"><img class=\"fig\" alt=\"" +
-           html_escape(caption) + "\"" + size + " src=\"data:image/svg+xml;base64," + base64(svg) +
+           html_escape(caption) + "\"" + size + " src=\"data:" + mime + ";base64," + base64(bytes) +
            "\"><figcaption>Figure " + std::to_string(figures_) + ". " + html_escape(caption) +
            "</figcaption></figure>\n";
 }
@@ -175,8 +196,15 @@ void HtmlPage::figure(const Figure& fig, const std::string& caption) {
                              std::strerror(errno));
   const fs::path dir = buf.data();
   try {
-    const std::string path = (dir / "figure.svg").string();
-    render_svg(fig, path);
+    // Grids of many panels are mostly axes, ticks and grid lines, pictures of grains mostly
+    // discs: as SVG they made the page 7 MB; as PNG they are a few times smaller and read the
+    // same on a screen.
+    std::size_t points = 0;
+    for (const auto& p : fig.panels)
+      for (const auto& sr : p.series) points += sr.x.size();
+    const bool raster = fig.panels.size() > kMaxVectorPanels || points > kMaxVectorPoints;
+    const std::string path = (dir / (raster ? "figure.png" : "figure.svg")).string();
+    render(fig, path);
     figure_file(path, caption);
   } catch (...) {
     std::error_code ec;

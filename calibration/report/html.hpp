@@ -1,5 +1,5 @@
 // Self-contained HTML pages (the validation report of `ricochet report`): text, tables and
-// figures in one file that opens in a browser with no network. Figures are gnuplot SVGs
+// figures in one file that opens in a browser with no network. Figures are gnuplot SVGs or PNGs
 // (report/plot.hpp) embedded as base64 data URIs, so that the element ids of different gnuplot
 // SVGs cannot collide; styles are inline; nothing is loaded from elsewhere.
 #pragma once
@@ -38,11 +38,13 @@ class HtmlPage {
   /// added until end_details() goes into it. Blocks may nest.
   void begin_details(const std::string& summary);
   void end_details();
-  /// Embeds an SVG file (e.g. written by render_svg) as a figure with a caption. Throws
+  /// Embeds an SVG or PNG file (e.g. written by render) as a figure with a caption. Throws
   /// std::runtime_error naming the file if it cannot be read or is not an SVG.
   void figure_file(const std::string& svg_path, const std::string& caption);
-  /// Renders `figure` with gnuplot into a temporary file and embeds it.
+  /// Renders `figure` with gnuplot into a temporary file and embeds it: as SVG, or as PNG when it
+  /// has more than kMaxVectorPanels panels or kMaxVectorPoints points (the page's size).
   void figure(const Figure& figure, const std::string& caption);
+  static constexpr std::size_t kMaxVectorPanels = 4, kMaxVectorPoints = 3000;
 
   /// Number of figures embedded so far.
   std::size_t figures() const { return figures_; }

@@ -81,8 +81,8 @@ std::string number(double v) {
 }
 
 bool is_known_style(const std::string& style) {
-  static const char* const kStyles[] = {"lines", "points",    "linespoints",
-                                        "steps", "errorbars", "filledcurves"};
+  static const char* const kStyles[] = {"lines",     "points",       "linespoints", "steps",
+                                        "errorbars", "filledcurves", "circles"};
   return std::any_of(std::begin(kStyles), std::end(kStyles),
                      [&](const char* s) { return style == s; });
 }
@@ -93,7 +93,7 @@ void check_series(const Panel& panel, std::size_t p, const Series& s, std::size_
   if (!is_known_style(s.style))
     throw std::invalid_argument(where + "unknown style '" + s.style +
                                 "' (known: lines, points, linespoints, steps, errorbars, "
-                                "filledcurves)");
+                                "filledcurves, circles)");
   const bool band = s.style == "errorbars" || s.style == "filledcurves";
   if (s.style != "filledcurves" && s.x.size() != s.y.size())
     throw std::invalid_argument(where + "x and y have different lengths (" +
@@ -102,6 +102,11 @@ void check_series(const Panel& panel, std::size_t p, const Series& s, std::size_
   if (band && (s.ylo.size() != s.x.size() || s.yhi.size() != s.x.size()))
     throw std::invalid_argument(where + "style '" + s.style +
                                 "' needs ylo and yhi of the length of x");
+  if (s.style == "circles" &&
+      (s.radius.size() != s.x.size() || (s.color.empty() && s.value.size() != s.x.size())))
+    throw std::invalid_argument(where +
+                                "style 'circles' needs radius (and value, unless a colour is "
+                                "set) of the length of x");
   for (char c : s.color)
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '#' || c == '-' || c == '_'))
       throw std::invalid_argument(where + "colour '" + s.color +
@@ -127,6 +132,10 @@ std::size_t write_series(const Series& s, const Panel& panel, const fs::path& fi
     if (s.style == "errorbars" || s.style == "filledcurves") {
       row.push_back(s.ylo[i]);
       row.push_back(s.yhi[i]);
+    }
+    if (s.style == "circles") {
+      row.push_back(s.radius[i]);
+      if (s.color.empty()) row.push_back(s.value[i]);
     }
     bool ok = drawable(row[0], panel.logx);
     for (std::size_t c = 1; c < row.size(); ++c) ok = ok && drawable(row[c], panel.logy);
@@ -154,6 +163,9 @@ std::string style_clause(const Series& s) {
     clause = "with yerrorbars pt " + std::to_string(s.point_type);
   else if (s.style == "filledcurves")
     clause = "with filledcurves fs transparent solid 0.3 noborder";
+  else if (s.style == "circles")
+    return "with circles fs solid 1.0 noborder lc " +
+           (s.color.empty() ? std::string("palette") : "rgb " + quote(s.color));
   else
     clause = "with " + s.style;
   if (!s.color.empty()) clause += " lc rgb " + quote(s.color);
@@ -163,6 +175,7 @@ std::string style_clause(const Series& s) {
 std::string using_clause(const Series& s) {
   if (s.style == "errorbars") return "using 1:2:3:4";
   if (s.style == "filledcurves") return "using 1:2:3";
+  if (s.style == "circles") return s.color.empty() ? "using 1:2:3:4" : "using 1:2:3";
   return "using 1:2";
 }
 
@@ -242,7 +255,11 @@ void run_gnuplot(const fs::path& script, const fs::path& log, const fs::path& cw
 
 }  // namespace
 
-void render_svg(const Figure& figure, const std::string& svg_path) {
+void render(const Figure& figure, const std::string& path) {
+  const std::string ext = fs::path(path).extension().string();
+  if (ext != ".svg" && ext != ".png")
+    throw std::invalid_argument("plot: cannot write '" + path +
+                                "': the figure formats are .svg and .png");
   if (figure.panels.empty())
     throw std::invalid_argument("plot: figure '" + figure.title + "' has no panel");
   if (figure.columns < 1 || figure.width_px < 1 || figure.height_px < 1)
@@ -257,10 +274,18 @@ void render_svg(const Figure& figure, const std::string& svg_path) {
   const std::size_t rows = (figure.panels.size() + columns - 1) / columns;
 
   std::ostringstream script;
-  script << "set terminal svg size " << figure.width_px << "," << figure.height_px << " dynamic "
-         << (figure.enhanced_text ? "enhanced" : "noenhanced")
-         << " font 'sans,11' background rgb 'white'\n";
-  script << "set output 'figure.svg'\n";
+  const std::string produced_name = "figure" + ext;
+  if (ext == ".svg")
+    script << "set terminal svg size " << figure.width_px << "," << figure.height_px << " dynamic "
+           << (figure.enhanced_text ? "enhanced" : "noenhanced")
+           << " font 'sans,11' background rgb 'white'\n";
+  else
+    script << "set terminal pngcairo size " << figure.width_px << "," << figure.height_px << " "
+           << (figure.enhanced_text ? "enhanced" : "noenhanced")
+           << " font 'sans,10' background rgb 'white'\n";
+  script << "set output " << quote(produced_name) << "\n";
+  // The project's one style: the Okabe-Ito colour sequence for automatic colours.
+  script << "set colorsequence podo\n";
   script << "set datafile missing 'NaN'\n";
   script << "set multiplot layout " << rows << "," << columns;
   if (!figure.title.empty()) script << " title " << quote(figure.title);
@@ -269,6 +294,7 @@ void render_svg(const Figure& figure, const std::string& svg_path) {
   for (std::size_t p = 0; p < figure.panels.size(); ++p) {
     const Panel& panel = figure.panels[p];
     script << "reset\n";
+    script << "set colorsequence podo\n";
     script << "set title " << quote(panel.title) << "\n";
     script << "set xlabel " << quote(panel.xlabel) << "\n";
     script << "set ylabel " << quote(panel.ylabel) << "\n";
@@ -302,6 +328,14 @@ void render_svg(const Figure& figure, const std::string& svg_path) {
     }
     range(script, "x", xmin, xmax);
     range(script, "y", ymin, ymax);
+    if (panel.equal_aspect) script << "set size ratio -1\n";
+    // viridis (van der Walt and Smith 2015), sampled at 5 stops: colour-blind-safe and
+    // readable in grey.
+    script << "set palette defined (0 '#440154', 1 '#3b528b', 2 '#21918c', 3 '#5ec962', "
+              "4 '#fde725')\n";
+    range(script, "cb", panel.cbmin, panel.cbmax);
+    if (!panel.cblabel.empty()) script << "set cblabel " << quote(panel.cblabel) << "\n";
+    if (!panel.colorbox) script << "unset colorbox\n";
     // gnuplot cannot draw axes from legend entries alone (it asserts): a panel without any
     // drawable point gets an invisible placeholder curve, so it still renders its frame, its
     // title and the "(no data)" entries in its place of the grid.
@@ -322,15 +356,15 @@ void render_svg(const Figure& figure, const std::string& svg_path) {
   }
   run_gnuplot(script_path, dir.path() / "gnuplot.log", dir.path());
 
-  const fs::path produced = dir.path() / "figure.svg";
+  const fs::path produced = dir.path() / produced_name;
   std::error_code ec;
   if (!fs::exists(produced) || fs::file_size(produced, ec) == 0)
-    throw std::runtime_error("plot: gnuplot produced no SVG output:\n" +
+    throw std::runtime_error("plot: gnuplot produced no " + ext.substr(1) + " output:\n" +
                              read_file(dir.path() / "gnuplot.log"));
-  const fs::path dest(svg_path);
+  const fs::path dest(path);
   if (dest.has_parent_path()) fs::create_directories(dest.parent_path());
   fs::copy_file(produced, dest, fs::copy_options::overwrite_existing, ec);
-  if (ec) throw std::runtime_error("plot: cannot write " + svg_path + ": " + ec.message());
+  if (ec) throw std::runtime_error("plot: cannot write " + path + ": " + ec.message());
 }
 
 Panel ecdf_panel(const std::string& title, const std::string& xlabel,

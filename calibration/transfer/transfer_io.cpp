@@ -271,15 +271,15 @@ void write_cdf_figure(const std::string& path, const std::string& title,
                                            {{name + "_in (measured)", component(*row.in, c)},
                                             {name + "_out (measured)", component(*row.out, c)},
                                             {name + "_out (Eq. 2)", component(*row.predicted, c)}});
-      p.series[0].color = "#888888";
-      p.series[1].color = "black";
-      p.series[2].color = "#1a9641";
+      p.series[0].color = report::colour::kGrey;
+      p.series[1].color = report::colour::kBlack;
+      p.series[2].color = report::colour::kBluishGreen;
       p.key = "top left box opaque";
       fig.panels.push_back(std::move(p));
     }
   fig.width_px = 1350;
   fig.height_px = rows.size() <= 1 ? 420 : static_cast<int>(380 * rows.size() + 40);
-  report::render_svg(fig, path);
+  report::render(fig, path);
 }
 
 json to_json(const PredictReport& r) {

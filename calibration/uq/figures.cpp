@@ -12,6 +12,7 @@ namespace {
 using report::Figure;
 using report::Panel;
 using report::Series;
+namespace colour = report::colour;
 
 std::vector<std::string> calibrated_names(const std::vector<fit::ReleaseFit>& fits) {
   std::vector<std::string> names;
@@ -78,13 +79,13 @@ void figure_parameter_cdfs(const std::vector<fit::ReleaseFit>& fits,
       p.series.push_back(cdf_series("uniform [" + std::to_string(r->second.first).substr(0, 4) +
                                         ", " + std::to_string(r->second.second).substr(0, 4) + "]",
                                     Distribution::uniform(r->second.first, r->second.second), lo,
-                                    hi, "black"));
+                                    hi, colour::kBlack));
     }
     try {
       const Distribution d = Distribution::fitted(values, blo, bhi);
       // The full description (family and parameters) is in the JSON and HDF5 outputs; the
       // legend stays short.
-      p.series.push_back(cdf_series("fitted (best family by BIC)", d, lo, hi, "#888888"));
+      p.series.push_back(cdf_series("fitted (best family by BIC)", d, lo, hi, colour::kGrey));
     } catch (const std::exception&) {
       // Fewer than 3 distinct values: nothing to fit.
     }
@@ -95,7 +96,7 @@ void figure_parameter_cdfs(const std::vector<fit::ReleaseFit>& fits,
   fig.columns = columns_for(fig.panels.size());
   fig.width_px = 450 * fig.columns;
   fig.height_px = 420;
-  report::render_svg(fig, svg_path);
+  report::render(fig, svg_path);
 }
 
 void figure_intervals(const std::vector<fit::ReleaseFit>& fits, const std::string& svg_path) {
@@ -141,7 +142,7 @@ void figure_intervals(const std::vector<fit::ReleaseFit>& fits, const std::strin
   fig.columns = columns_for(fig.panels.size());
   fig.width_px = 450 * fig.columns;
   fig.height_px = 420;
-  report::render_svg(fig, svg_path);
+  report::render(fig, svg_path);
 }
 
 void figure_fit_quality(const std::vector<fit::ReleaseFit>& fits, const std::string& svg_path) {
@@ -163,7 +164,7 @@ void figure_fit_quality(const std::vector<fit::ReleaseFit>& fits, const std::str
     line.title = "1:1";
     line.x = {lo, hi};
     line.y = {lo, hi};
-    line.color = "black";
+    line.color = colour::kBlack;
     Panel p;
     p.title = labels[k];
     p.xlabel = std::string("measured ") + labels[k];
@@ -172,7 +173,7 @@ void figure_fit_quality(const std::vector<fit::ReleaseFit>& fits, const std::str
     p.key = "top left";
     fig.panels.push_back(std::move(p));
   }
-  report::render_svg(fig, svg_path);
+  report::render(fig, svg_path);
 }
 
 void figure_reflected_cdfs(
@@ -198,7 +199,7 @@ void figure_reflected_cdfs(
   }
   fig.width_px = 1350;
   fig.height_px = 420;
-  report::render_svg(fig, svg_path);
+  report::render(fig, svg_path);
 }
 
 void figure_sobol(const SobolResult& r, const std::string& svg_path) {
@@ -268,7 +269,7 @@ void figure_sobol(const SobolResult& r, const std::string& svg_path) {
   fig.columns = static_cast<int>(r.outputs.size());
   fig.width_px = 450 * fig.columns;
   fig.height_px = 800;
-  report::render_svg(fig, svg_path);
+  report::render(fig, svg_path);
 }
 
 }  // namespace ricochet::uq

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -78,7 +79,7 @@ TEST_F(Plot, GridOfPanelsWithTheExpectedNumberOfSeries) {
   c.key = "top left box opaque";  // gnuplot then draws the legend's groups a second time
   f.panels = {a, b, c};
   const fs::path out = dir_ / "sub" / "grid.svg";  // parent created on demand
-  report::render_svg(f, out.string());
+  report::render(f, out.string());
   const std::string svg = slurp(out);
   ASSERT_NE(svg.find("<svg"), std::string::npos);
   EXPECT_EQ(series_count(svg), 6);
@@ -93,7 +94,7 @@ TEST_F(Plot, TitlesWithQuotesAndUnderscoresArePrintedLiterally) {
   p.series = {line("don't", 4, 1)};
   f.panels = {p};
   const fs::path out = dir_ / "quotes.svg";
-  report::render_svg(f, out.string());
+  report::render(f, out.string());
   const std::string svg = slurp(out);
   EXPECT_EQ(series_count(svg), 1);
   // gnuplot escapes XML itself; the characters arrive unchanged (no enhanced-text markup).
@@ -121,7 +122,7 @@ TEST_F(Plot, NanBreaksLinesAndEmptySeriesKeepTheirLegend) {
   blank.series = {empty};
   f.panels = {p, blank};
   const fs::path out = dir_ / "nan.svg";
-  report::render_svg(f, out.string());
+  report::render(f, out.string());
   const std::string svg = slurp(out);
   // broken, nothing, all nan; the blank panel: an invisible placeholder (gnuplot needs one
   // drawable curve per panel) and nothing.
@@ -138,7 +139,7 @@ TEST_F(Plot, LogAxesDropNonPositivePoints) {
   p.series = {s};
   f.panels = {p};
   const fs::path out = dir_ / "log.svg";
-  report::render_svg(f, out.string());
+  report::render(f, out.string());
   EXPECT_EQ(series_count(slurp(out)), 1);
 }
 
@@ -153,7 +154,7 @@ TEST_F(Plot, EcdfPanelIsAStaircaseFromZeroToOne) {
   Figure f;
   f.panels = {p};
   const fs::path out = dir_ / "ecdf.svg";
-  report::render_svg(f, out.string());
+  report::render(f, out.string());
   EXPECT_EQ(series_count(slurp(out)), 2);
 }
 
@@ -165,7 +166,7 @@ TEST_F(Plot, MissingGnuplotIsAClearError) {
   f.panels = {p};
   const fs::path out = dir_ / "missing.svg";
   try {
-    report::render_svg(f, out.string());
+    report::render(f, out.string());
     ADD_FAILURE() << "expected an error";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("gnuplot-nox"), std::string::npos) << e.what();
@@ -181,7 +182,7 @@ TEST_F(Plot, FailingGnuplotIsAClearErrorAndLeavesNoFile) {
   f.panels = {p};
   const fs::path out = dir_ / "failed.svg";
   try {
-    report::render_svg(f, out.string());
+    report::render(f, out.string());
     ADD_FAILURE() << "expected an error";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("gnuplot failed (exit status 1)"), std::string::npos)
@@ -192,23 +193,76 @@ TEST_F(Plot, FailingGnuplotIsAClearErrorAndLeavesNoFile) {
 
 TEST_F(Plot, InconsistentFiguresAreRefusedBeforeCallingGnuplot) {
   Figure f;
-  EXPECT_THROW(report::render_svg(f, (dir_ / "x.svg").string()), std::invalid_argument);
+  EXPECT_THROW(report::render(f, (dir_ / "x.svg").string()), std::invalid_argument);
   Panel p;
   Series s = line("a", 3, 1);
   s.y.pop_back();
   p.series = {s};
   f.panels = {p};
-  EXPECT_THROW(report::render_svg(f, (dir_ / "x.svg").string()), std::invalid_argument);
+  EXPECT_THROW(report::render(f, (dir_ / "x.svg").string()), std::invalid_argument);
   f.panels[0].series = {line("a", 3, 1)};
   f.panels[0].series[0].style = "bars";
-  EXPECT_THROW(report::render_svg(f, (dir_ / "x.svg").string()), std::invalid_argument);
+  EXPECT_THROW(report::render(f, (dir_ / "x.svg").string()), std::invalid_argument);
   f.panels[0].series[0].style = "lines";
   f.panels[0].series[0].color = "red' ; system 'touch pwned";
-  EXPECT_THROW(report::render_svg(f, (dir_ / "x.svg").string()), std::invalid_argument);
+  EXPECT_THROW(report::render(f, (dir_ / "x.svg").string()), std::invalid_argument);
   f.panels[0].series[0].color = "";
   f.panels[0].key = "top; system";
-  EXPECT_THROW(report::render_svg(f, (dir_ / "x.svg").string()), std::invalid_argument);
+  EXPECT_THROW(report::render(f, (dir_ / "x.svg").string()), std::invalid_argument);
   EXPECT_FALSE(fs::exists(dir_ / "x.svg"));
+}
+
+// The one figure style: automatic colours follow the Okabe-Ito sequence (colour-blind-safe), so
+// the second series of a panel is orange, not gnuplot's default green.
+TEST_F(Plot, AutomaticColoursAreOkabeIto) {
+  Figure f;
+  Panel p;
+  p.series = {line("first", 5, 1), line("second", 5, 2)};
+  f.panels = {p};
+  const fs::path out = dir_ / "colours.svg";
+  report::render(f, out.string());
+  const std::string svg = slurp(out);
+  EXPECT_NE(svg.find("rgb(230, 159,   0)"), std::string::npos) << "no Okabe-Ito orange";
+  EXPECT_EQ(svg.find("rgb(  0, 158, 115)"), std::string::npos)
+      << "gnuplot's default second colour is used";
+}
+
+// The .png extension gives a PNG of the figure's size (its IHDR chunk), and discs coloured by a
+// value (the impact picture's style) render; other extensions and discs without radii are
+// refused before gnuplot runs.
+TEST_F(Plot, PngOfTheRequestedSizeAndDiscsColouredByValue) {
+  Figure f;
+  f.width_px = 640;
+  f.height_px = 360;
+  Panel p;
+  Series discs;
+  discs.style = "circles";
+  discs.x = {0, 1, 2};
+  discs.y = {0, 1, 0};
+  discs.radius = {0.2, 0.3, 0.4};
+  discs.value = {0.0, 1.0, 2.0};
+  p.series = {discs};
+  p.equal_aspect = true;
+  p.cblabel = "speed [m/s]";
+  p.cbmin = 0;
+  p.cbmax = 2;
+  f.panels = {p};
+  const fs::path png = dir_ / "discs.png";
+  report::render(f, png.string());
+  const std::string bytes = slurp(png);
+  ASSERT_GE(bytes.size(), 24u);
+  EXPECT_EQ(bytes.substr(0, 8), std::string("\x89PNG\r\n\x1a\n"));
+  const auto be32 = [&](std::size_t at) {
+    std::uint32_t v = 0;
+    for (std::size_t i = 0; i < 4; ++i) v = (v << 8) | static_cast<unsigned char>(bytes[at + i]);
+    return v;
+  };
+  EXPECT_EQ(be32(16), 640u);
+  EXPECT_EQ(be32(20), 360u);
+  EXPECT_THROW(report::render(f, (dir_ / "discs.pdf").string()), std::invalid_argument);
+  f.panels[0].series[0].radius.pop_back();
+  EXPECT_THROW(report::render(f, (dir_ / "bad.png").string()), std::invalid_argument);
+  EXPECT_FALSE(fs::exists(dir_ / "bad.png"));
 }
 
 }  // namespace
