@@ -258,6 +258,9 @@ void run_impact_command_on_rank(const ImpactOptions& o, const MpiSession& mpi) {
     ctx.vtk_dir = o.vtk;
     ctx.vtk_every = o.vtk_every;
   }
+  // A campaign file gets the impact's picture (/dem/snapshot).
+  if (!o.output.out.empty() && !o.output.out.ends_with(".csv"))
+    ctx.picture_dir = (std::filesystem::path(o.work) / (o.id + "-picture-frames")).string();
   bool built = false;
   double bed_wall = 0;
   ctx.bed = dem::ensure_bed(decks, dem::bed_overrides(spec), o.common.cache, MPI_COMM_WORLD, &built,
@@ -333,6 +336,7 @@ struct CampaignOptions {
   OutputOptions output;
   std::string vtk;
   long vtk_every = dem::kDefaultVtkEvery;
+  bool no_picture = false;
 };
 
 void run_campaign_command_on_rank(const CampaignOptions& o, const MpiSession& mpi) {
@@ -348,6 +352,7 @@ void run_campaign_command_on_rank(const CampaignOptions& o, const MpiSession& mp
     co.vtk_dir = o.vtk;
     co.vtk_every = o.vtk_every;
   }
+  co.picture = !o.no_picture;
   co.progress = !o.output.json;
   const auto s = dem::run_campaign(design, decks, co, MPI_COMM_WORLD);
   if (mpi.rank() != 0) return;
@@ -452,6 +457,9 @@ void add_dem_command(CLI::App& app) {
   c->add_flag("--retry-crashed", camp->retry, "Rerun impacts that were running when a run died");
   add_output_options(c, camp->output, JsonOut::kRefused);
   add_vtk_options(c, camp->vtk, camp->vtk_every, " (one folder per impact: DIR/ID/)");
+  c->add_flag("--no-picture", camp->no_picture,
+              "Do not store the picture of the first impact (/dem/snapshot; drawn by report and "
+              "upscale --figures)");
   c->callback([camp] { run_campaign_command(*camp); });
 
   add_dem_drop_command(*dem);  // cmd_dem_drop.cpp

@@ -47,6 +47,16 @@ CampaignSummary run_campaign(const CampaignDesign& design, const Decks& decks,
     throw InputError(design.source, 0, "campaign.ranks_per_impact",
                      fmt::format("{} ranks per impact but only {} MPI ranks", k, wsize));
   const int groups = wsize / k;
+  // LIGGGHTS's custom/vtk dump initialises VTK's MPI controller with a collective on
+  // MPI_COMM_WORLD: with several instances running different impacts it waits forever.
+  if (options.vtk_every > 0 && groups > 1)
+    throw InputError(
+        "<command line>", 0, "--vtk",
+        fmt::format("VTK frames need every MPI rank in one LIGGGHTS instance (LIGGGHTS's "
+                    "VTK dump synchronises all ranks): set [campaign] "
+                    "ranks_per_impact = {} or run with one rank, or use "
+                    "`ricochet dem impact --vtk` for one impact",
+                    wsize));
   const int color = wrank < groups * k ? wrank / k : MPI_UNDEFINED;
   MPI_Comm group = MPI_COMM_NULL;
   MPI_Comm_split(world, color, wrank, &group);
@@ -124,6 +134,9 @@ CampaignSummary run_campaign(const CampaignDesign& design, const Decks& decks,
       ctx.vtk_dir = (fs::path(options.vtk_dir) / spec.id).string();
       ctx.vtk_every = options.vtk_every;
     }
+    // The campaign's picture (report, upscale --figures): its first impact.
+    if (options.picture && pending[n] == 0)
+      ctx.picture_dir = (fs::path(ctx.work_dir) / "picture-frames").string();
     const Shape shape = Shape::resolve(spec.shape);
     if (grank == 0)
       ctx.template_include = ensure_template(shape, ctx.bed, design.work_dir + "/templates");

@@ -21,6 +21,10 @@ struct CampaignOptions {
   /// vtk_every steps (0 = none) in vtk_dir/<impact id>/.
   std::string vtk_dir;
   long vtk_every = 0;
+  /// Store the picture of the design's first impact (/dem/snapshot, impact/impact_snapshot.hpp):
+  /// VTK frames every kDefaultVtkEvery steps during that impact (about 20 s on the default bed),
+  /// removed once cut, unless vtk_every asked for them.
+  bool picture = true;
 };
 
 struct CampaignSummary {

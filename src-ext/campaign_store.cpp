@@ -284,6 +284,7 @@ void append_result(const std::string& path, const ImpactResult& r, const ImpactS
     f.remove("/dem/running/" + r.id);
     f.flush();
   }
+  if (r.snapshot) write_snapshot(path, *r.snapshot);
   rewrite_impact_set(path, read_campaign_index(path), design_name);
 }
 }  // namespace ricochet::dem

@@ -21,7 +21,8 @@ struct CampaignEntry {
 const std::vector<std::string>& campaign_value_names();
 
 /// Appends one finished impact to the campaign file `path` (under an flock on PATH.lock): its
-/// track, its index row, then rewrites /impacts (the impact-set schema) from the index.
+/// track, its index row, its picture (/dem/snapshot) when it has one, then rewrites /impacts (the
+/// impact-set schema) from the index.
 /// `params_json` records the spec. Used by run_campaign and by `ricochet dem impact --out`.
 void append_result(const std::string& path, const ImpactResult& result, const ImpactSpec& spec,
                    const std::string& design_name);

@@ -1,5 +1,7 @@
 #include "impact_run.hpp"
 
+#include "frames.hpp"
+
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -9,6 +11,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <limits>
 #include <numbers>
 #include <sstream>
@@ -269,6 +272,13 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
     vars.emplace_back("vtk_dir", vtk);
     vars.emplace_back("vtk_every", std::to_string(ctx.vtk_every));
   }
+  if (!ctx.picture_dir.empty()) {
+    const std::string pic = fs::absolute(ctx.picture_dir).string();
+    if (rank == 0) fs::create_directories(pic);
+    MPI_Barrier(comm);
+    vars.emplace_back("pic_dir", pic);
+    vars.emplace_back("pic_every", std::to_string(kDefaultVtkEvery));
+  }
 
   const auto start = std::chrono::steady_clock::now();
   const double cpu_start = process_cpu_s();
@@ -340,6 +350,17 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
   r.cpu_s = process_cpu_s() - cpu_start;
   MPI_Allreduce(MPI_IN_PLACE, &r.cpu_s, 1, MPI_DOUBLE, MPI_SUM, comm);
   if (rank != 0) return r;
+  if (!ctx.picture_dir.empty()) {
+    // A picture that cannot be cut (no frame in contact) never fails the impact itself.
+    try {
+      r.snapshot = snapshot_from_frames(ctx.picture_dir, spec.id, r.dt_s);
+    } catch (const std::exception& e) {
+      std::cerr << "ricochet: warning: no impact picture for " << spec.id << ": " << e.what()
+                << "\n";
+    }
+    std::error_code ec;
+    fs::remove_all(ctx.picture_dir, ec);
+  }
 
   // ---- Extraction (rank 0 of the instance reads the deck's track file)
   try {

@@ -14,6 +14,7 @@
 #include "bed.hpp"
 #include "engine/shape.hpp"
 #include "impact/impact_set.hpp"
+#include "impact/impact_snapshot.hpp"
 #include "impact_spec.hpp"
 #include "kinematics/reconstruct.hpp"
 #include "params.hpp"
@@ -62,6 +63,8 @@ struct ImpactResult {
   double cpu_s = 0;  ///< CPU time of the LIGGGHTS run, summed over the instance's ranks
   double rayleigh_fraction = 0, hertz_fraction = 0;  ///< from fix check/timestep/gran
   std::string work_dir;
+  /// The impact picture, when ImpactContext::snapshot asked for it (stored by append_result).
+  std::optional<ImpactSnapshot> snapshot;
 };
 
 /// Everything run_impact needs besides the spec.
@@ -80,6 +83,9 @@ struct ImpactContext {
   /// block_<step>.vtk.
   std::string vtk_dir;
   long vtk_every = 0;
+  /// When not empty: the deck also dumps text frames every kDefaultVtkEvery steps into this
+  /// folder (created), cut into the impact picture (ImpactResult::snapshot), then removed.
+  std::string picture_dir;
   /// Called after every chunk with (simulated time, t_max) on every rank.
   std::function<void(double, double)> progress;
 };

@@ -10,6 +10,8 @@
 
 #include "campaign.hpp"
 #include "common/error.hpp"
+#include "impact/impact_snapshot.hpp"
+#include "report/impact_picture.hpp"
 #include "report/plot.hpp"
 
 namespace ricochet::dem {
@@ -197,7 +199,7 @@ std::vector<std::string> write_upscale_figures(const UpscaleResult& r, const std
       }
     }
     const std::string path = (fs::path(dir) / "upscale_parameters.svg").string();
-    report::render_svg(fig, path);
+    report::render(fig, path);
     written.push_back(path);
   }
 
@@ -241,7 +243,7 @@ std::vector<std::string> write_upscale_figures(const UpscaleResult& r, const std
     std::replace(file.begin(), file.end(), '.', '_');
     file.replace(file.size() - 4, 4, ".svg");
     const std::string path = (fs::path(dir) / file).string();
-    report::render_svg(fig, path);
+    report::render(fig, path);
     written.push_back(path);
   }
 
@@ -260,7 +262,7 @@ std::vector<std::string> write_upscale_figures(const UpscaleResult& r, const std
                               {"lab (" + std::to_string(measured.size()) + ")", measured}}));
     }
     const std::string path = (fs::path(dir) / "upscale_vs_lab.svg").string();
-    report::render_svg(fig, path);
+    report::render(fig, path);
     written.push_back(path);
   }
   if (!r.lab_fits.empty()) {
@@ -277,7 +279,13 @@ std::vector<std::string> write_upscale_figures(const UpscaleResult& r, const std
            {"lab, per release (" + std::to_string(measured.size()) + ")", measured}}));
     }
     const std::string path = (fs::path(dir) / "upscale_parameters_vs_lab.svg").string();
-    report::render_svg(fig, path);
+    report::render(fig, path);
+    written.push_back(path);
+  }
+  // The campaign's picture (/dem/snapshot), when it has one.
+  if (const auto snap = read_snapshot(r.source)) {
+    const std::string path = (fs::path(dir) / "impact_picture.png").string();
+    report::render(report::impact_picture(*snap, fs::path(r.source).stem().string()), path);
     written.push_back(path);
   }
   return written;

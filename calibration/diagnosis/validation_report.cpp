@@ -5,7 +5,9 @@
 #include <filesystem>
 
 #include "diagnosis/figures.hpp"
+#include "impact/impact_snapshot.hpp"
 #include "report/html.hpp"
+#include "report/impact_picture.hpp"
 #include "stats/stats.hpp"
 
 namespace ricochet::diagnosis {
@@ -288,6 +290,12 @@ std::size_t write_report(const std::vector<ReportSection>& sections, const Model
     page.heading(2, s.input.label, id);
     page.verdict(s.headline);
     for (const auto& f : ladder_figures(s.ladder, s.input.label)) page.figure(f.figure, f.caption);
+    // A resolved campaign shows what the numbers are about: its first impact, through the contact.
+    if (const auto snap = read_snapshot(s.input.data))
+      page.figure(report::impact_picture(*snap, s.input.label),
+                  "One impact of this campaign (LIGGGHTS), side view through the block's "
+                  "mid-plane at frames through the contact: grains coloured by speed, the block's "
+                  "spheres in grey. The crater, the bulge and the grains the block pushes.");
     page.begin_details("Conclusion in numbers");
     page.paragraph(s.conclusion);
     page.end_details();
