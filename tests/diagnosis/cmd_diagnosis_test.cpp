@@ -7,6 +7,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <regex>
+#include <sstream>
 #include <string>
 
 #include "common/h5.hpp"
@@ -217,15 +218,21 @@ TEST_F(CmdDiagnosis, ErrorsNameTheOption) {
 }
 
 // Runs headless Chromium on `html` with a script that counts the images that decoded with a
-// non-zero size and writes the result into the DOM, then returns the dumped DOM.
+// non-zero size, draws each on a canvas to measure the share of its pixels that are not
+// background (white or transparent), and writes both into the DOM; returns the dumped DOM.
 std::string render_in_chromium(const fs::path& html, const fs::path& dir) {
   std::string page = slurp(html);
   const std::string probe =
-      "<script>window.addEventListener('load',function(){var imgs=document.images,ok=0;"
-      "for(var i=0;i<imgs.length;i++){var r=imgs[i].getBoundingClientRect();"
-      "if(imgs[i].complete&&imgs[i].naturalWidth>0&&r.width>0&&r.height>0)ok++;}"
+      "<script>window.addEventListener('load',function(){var imgs=document.images,ok=0,ink=[];"
+      "for(var i=0;i<imgs.length;i++){var im=imgs[i],r=im.getBoundingClientRect();"
+      "if(im.complete&&im.naturalWidth>0&&r.width>0&&r.height>0)ok++;"
+      "var c=document.createElement('canvas');c.width=im.naturalWidth;c.height=im.naturalHeight;"
+      "var g=c.getContext('2d');g.drawImage(im,0,0);var px=g.getImageData(0,0,c.width,c.height)"
+      ".data,n=0;for(var k=0;k<px.length;k+=4)if(px[k+3]>0&&(px[k]<235||px[k+1]<235||"
+      "px[k+2]<235))n++;ink.push((n/(c.width*c.height)).toFixed(4));}"
       "var d=document.createElement('div');d.id='figure-check';"
       "d.setAttribute('data-total',imgs.length);d.setAttribute('data-shown',ok);"
+      "d.setAttribute('data-ink',ink.join(' '));"
       "document.body.appendChild(d);});</script></body>";
   const auto k = page.rfind("</body>");
   EXPECT_NE(k, std::string::npos);
@@ -284,6 +291,30 @@ TEST_F(CmdDiagnosis, ReportRendersInHeadlessChromiumWithEveryFigureShown) {
       << dom.substr(0, 500);
   EXPECT_EQ(std::stoi(m[1]), figures);
   EXPECT_EQ(std::stoi(m[2]), figures) << "some figures did not render";
+  // Every figure has drawn content: more than 1 % of its pixels are not background (an empty
+  // gnuplot frame with axes and titles alone is about 2-4 %; a plotted figure 5-30 %).
+  ASSERT_TRUE(std::regex_search(dom, m, std::regex("data-ink=\"([0-9. ]*)\"")));
+  std::istringstream ink(m[1].str());
+  double share = 0;
+  int measured = 0;
+  while (ink >> share) {
+    ++measured;
+    EXPECT_GT(share, 0.01) << "figure " << measured << " is blank";
+  }
+  EXPECT_EQ(measured, figures);
+  // A screenshot of the page's top for people (kept under the build folder, a CI artefact).
+  const fs::path shots = fs::path(RICOCHET_BINARY_DIR) / "report-screenshots";
+  fs::create_directories(shots);
+  const fs::path png = shots / "report-top.png";
+  fs::remove(png);
+  const std::string cmd =
+      "/usr/bin/chromium --headless --no-sandbox --disable-gpu --no-first-run --user-data-dir=" +
+      quote((dir_ / "chromium-shot").string()) +
+      " --window-size=1300,2400 --screenshot=" + quote(png.string()) + " " +
+      quote("file://" + html.string()) + " >/dev/null 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  ASSERT_TRUE(fs::exists(png));
+  EXPECT_GT(fs::file_size(png), 20000u) << "the screenshot is (nearly) blank";
 }
 
 }  // namespace
