@@ -28,6 +28,8 @@ TEST_F(ShippedData, StatsReadsEveryResolvedCampaign) {
                                                {"bed-calibration-long.h5", 60},
                                                {"bed-calibration-refine.h5", 48},
                                                {"bed-calibration-cdt.h5", 80},
+                                               {"bed-calibration-default.h5", 20},
+                                               {"lab-cylinders-default-calibrated-ground.h5", 28},
                                                {"bed-probe-depth.h5", 6},
                                                {"bed-probe-rolling.h5", 8},
                                                {"bed-probe-rolling-model.h5", 6},
