@@ -200,6 +200,13 @@ std::string key_clause(const std::string& key) {
   return key == "off" ? "unset key\n" : "set key default\nset key " + key + "\n";
 }
 
+bool uses_colour_map(const Figure& f) {
+  for (const auto& p : f.panels)
+    for (const auto& s : p.series)
+      if (s.style == "circles" && s.color.empty()) return true;
+  return false;
+}
+
 /// The gnuplot program: RICOCHET_GNUPLOT when set (tests use it to simulate a missing or failing
 /// gnuplot), else `gnuplot` from PATH.
 std::string gnuplot_program() {
@@ -279,8 +286,10 @@ void render(const Figure& figure, const std::string& path) {
     script << "set terminal svg size " << figure.width_px << "," << figure.height_px << " dynamic "
            << (figure.enhanced_text ? "enhanced" : "noenhanced")
            << " font 'sans,11' background rgb 'white'\n";
-  else
-    script << "set terminal pngcairo size " << figure.width_px << "," << figure.height_px << " "
+  else  // libgd's png: an indexed palette, a third of pngcairo's bytes for plots (report size);
+        // true colour when the colour map needs more than its 256 entries.
+    script << "set terminal png " << (uses_colour_map(figure) ? "truecolor " : "") << "size "
+           << figure.width_px << "," << figure.height_px << " "
            << (figure.enhanced_text ? "enhanced" : "noenhanced")
            << " font 'sans,10' background rgb 'white'\n";
   script << "set output " << quote(produced_name) << "\n";

@@ -71,7 +71,8 @@ struct Figure {
 };
 
 /// Renders `figure` with gnuplot (gnuplot-nox) to `path`, whose extension chooses the format:
-/// .svg (vector, gnuplot's svg terminal) or .png (raster, pngcairo, at width_px x height_px).
+/// .svg (vector, gnuplot's svg terminal) or .png (raster, gnuplot's libgd png terminal with an
+/// indexed palette, at width_px x height_px).
 /// Throws std::runtime_error with gnuplot's message when gnuplot is missing or fails. Data go
 /// through a temporary file, never through the command line; the file is written only when
 /// gnuplot succeeded (parent directories are created). The environment variable
