@@ -81,4 +81,11 @@ fi
 "$R" diagnose "$CYL" --shape cylinder --figures "$OUT/figures/diagnosis-cylinders" \
   --out "$OUT/diagnose-cylinders.h5"
 "$R" report "${REPORT_DATA[@]}" "${REPORT_LABELS[@]}" --rounds 2 --out "$OUT/report.html"
+# The page is read in a browser and mailed around: issue 13 keeps it under 3 MB.
+REPORT_BYTES=$(stat -c %s "$OUT/report.html")
+echo "report.html: $REPORT_BYTES bytes (limit 3000000)"
+if [ "$REPORT_BYTES" -gt 3000000 ]; then
+  echo "main job: results/report.html is $REPORT_BYTES bytes, over the 3 MB limit" >&2
+  exit 1
+fi
 echo "== Results in $OUT"
