@@ -71,7 +71,7 @@ void draw(const kinematics::Track& tr, const kinematics::Reconstruction& r,
     p.title = std::string(names[c]) + "(t)";
     p.xlabel = "t [s]";
     p.ylabel = std::string(names[c]) + " [" + units[c] + "]";
-    p.key = "bottom left";
+    p.key = "";  // the default: under the plot, never over data
     report::Series pts;
     pts.title = "tracked";
     pts.style = "points";

@@ -379,7 +379,7 @@ std::vector<std::string> write_grain_calibration_figures(const GrainCalibrationR
     p.xmax = static_cast<double>(d) + 0.5;
     p.ymin = -0.05;
     p.ymax = 1.05;
-    p.key = "top left";
+    p.key = "";  // the default: under the plot, never over data
     for (std::size_t k = 0; k < d; ++k) {
       const double x = static_cast<double>(k + 1);
       Series f{r.parameters[k],    {x - 0.12},         {r.first[c][k]}, "errorbars",
@@ -418,7 +418,7 @@ std::vector<std::string> write_grain_calibration_figures(const GrainCalibrationR
     }
     p.series.push_back(s);
     p.series.push_back(Series{"1:1", {lo, hi}, {lo, hi}, "lines", {}, {}, colour::kBlack, 7});
-    p.key = "top left";
+    p.key = "";  // the default: under the plot, never over data
     loo.panels.push_back(p);
   }
   files.push_back(dir + "/grains_loo.svg");

@@ -90,7 +90,7 @@ std::vector<NamedFigure> compare_figures(const Baseline& b, const ImpactSet& set
       p.title = kObservableLabels[k];
       p.xlabel = fmt::format("predicted [{}]", plot_unit(k));
       p.ylabel = fmt::format("measured [{}]", plot_unit(k));
-      p.key = "top left";
+      p.key = "";  // the default: under the plot, never over data
       p.series.push_back(points("releases", x, y, colour::kBlue));
       if (std::isfinite(lo)) p.series.push_back(line("1:1", {lo, hi}, {lo, hi}, colour::kGrey));
       f.panels.push_back(p);
@@ -208,7 +208,7 @@ std::vector<NamedFigure> compare_figures(const Baseline& b, const ImpactSet& set
     p1.title = "per release (sorted by |V_in|)";
     p1.xlabel = "|V_in| [m/s]";
     p1.ylabel = "error (Eq. 7 and contact terms)";
-    p1.key = "top left";
+    p1.key = "";  // the default: under the plot, never over data
     std::vector<double> x, e, fl;
     for (std::size_t i = 0; i < n; ++i) {
       x.push_back(std::hypot(set.impacts[i].vin[0], set.impacts[i].vin[1]));
@@ -221,7 +221,7 @@ std::vector<NamedFigure> compare_figures(const Baseline& b, const ImpactSet& set
     p2.title = "per regime (mean +- 1 SE)";
     p2.xlabel = "regime (1 = slowest)";
     p2.ylabel = "mean error";
-    p2.key = "top left";
+    p2.key = "";  // the default: under the plot, never over data
     Series s;
     s.title = "held-out error";
     s.style = "errorbars";

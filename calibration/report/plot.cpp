@@ -184,20 +184,29 @@ void range(std::ostream& script, const char* axis, double lo, double hi) {
          << (std::isnan(hi) ? "*" : number(hi)) << "]\n";
 }
 
+// No legend covers data: every legend is outside the plot area (under it by default), or off.
 std::string key_clause(const std::string& key) {
-  if (key.empty()) return "set key default\n";
+  if (key.empty()) return "set key default\nset key outside bottom center horizontal\n";
   std::istringstream words(key);
   std::string w;
-  static const char* const kAllowed[] = {"left",   "right",  "center",  "top",
-                                         "bottom", "inside", "outside", "off",
-                                         "box",    "nobox",  "opaque",  "horizontal"};
-  while (words >> w)
+  bool outside = false;
+  static const char* const kAllowed[] = {"left",   "right",      "center",  "top",
+                                         "bottom", "outside",    "off",     "box",
+                                         "nobox",  "horizontal", "vertical"};
+  while (words >> w) {
     if (std::none_of(std::begin(kAllowed), std::end(kAllowed),
                      [&](const char* a) { return w == a; }))
-      throw std::invalid_argument(
-          "plot: unknown key position word '" + w +
-          "' (use left, right, center, top, bottom, inside, outside, horizontal, off)");
-  return key == "off" ? "unset key\n" : "set key default\nset key " + key + "\n";
+      throw std::invalid_argument("plot: unknown key position word '" + w +
+                                  "' (use outside with left, right, center, top, bottom, "
+                                  "horizontal, vertical, box; or off)");
+    outside = outside || w == "outside";
+  }
+  if (key == "off") return "unset key\n";
+  if (!outside)
+    throw std::invalid_argument("plot: legend '" + key +
+                                "' would sit inside the plot, over the data: use 'outside ...', "
+                                "'off', or the default (empty: under the plot)");
+  return "set key default\nset key " + key + "\n";
 }
 
 bool uses_colour_map(const Figure& f) {
@@ -384,7 +393,7 @@ Panel ecdf_panel(const std::string& title, const std::string& xlabel,
   panel.ylabel = "cumulative probability";
   panel.ymin = 0;
   panel.ymax = 1;
-  panel.key = "bottom right";
+  panel.key = "";
   for (const auto& [name, values] : samples) {
     std::vector<double> finite;
     std::copy_if(values.begin(), values.end(), std::back_inserter(finite),

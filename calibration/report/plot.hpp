@@ -47,9 +47,9 @@ struct Panel {
   bool logx = false, logy = false;
   /// Optional fixed ranges; NaN = automatic.
   double xmin = 0.0 / 0.0, xmax = 0.0 / 0.0, ymin = 0.0 / 0.0, ymax = 0.0 / 0.0;
-  /// Legend position: empty = gnuplot default (top right), else words among left, right,
-  /// center, top, bottom, inside, outside, horizontal, box, nobox, opaque; "off" hides the
-  /// legend.
+  /// Legend position. No legend covers data: empty = under the plot (outside bottom center
+  /// horizontal); otherwise words among outside (required), left, right, center, top, bottom,
+  /// horizontal, vertical, box, nobox; "off" hides the legend.
   std::string key;
   /// One unit of x as long as one unit of y on the page (pictures of space, e.g. a bed section).
   bool equal_aspect = false;
@@ -82,7 +82,7 @@ struct Figure {
 void render(const Figure& figure, const std::string& path);
 
 /// Convenience: a panel of ECDFs (one "steps" series per sample, F = i/n as stats::ecdf, non-finite
-/// values dropped), y from 0 to 1, legend bottom right.
+/// values dropped), y from 0 to 1, legend under the plot.
 Panel ecdf_panel(const std::string& title, const std::string& xlabel,
                  const std::vector<std::pair<std::string, std::vector<double>>>& samples);
 

@@ -274,7 +274,7 @@ void write_cdf_figure(const std::string& path, const std::string& title,
       p.series[0].color = report::colour::kGrey;
       p.series[1].color = report::colour::kBlack;
       p.series[2].color = report::colour::kBluishGreen;
-      p.key = "top left box opaque";
+      p.key = "";  // the default: under the plot, never over data
       fig.panels.push_back(std::move(p));
     }
   fig.width_px = 1350;

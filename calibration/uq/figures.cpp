@@ -135,7 +135,7 @@ void figure_intervals(const std::vector<fit::ReleaseFit>& fits, const std::strin
       p.ymin = blo;
       p.ymax = bhi;
     }
-    p.key = "top left";
+    p.key = "";  // the default: under the plot, never over data
     fig.panels.push_back(std::move(p));
   }
   if (fig.panels.empty()) return;
@@ -170,7 +170,7 @@ void figure_fit_quality(const std::vector<fit::ReleaseFit>& fits, const std::str
     p.xlabel = std::string("measured ") + labels[k];
     p.ylabel = std::string("simulated ") + labels[k];
     p.series = {s, line};
-    p.key = "top left";
+    p.key = "";  // the default: under the plot, never over data
     fig.panels.push_back(std::move(p));
   }
   report::render(fig, svg_path);
@@ -237,7 +237,7 @@ void figure_sobol(const SobolResult& r, const std::string& svg_path) {
     p.xmax = static_cast<double>(d) + 0.5;
     p.ymin = -0.2;
     p.ymax = 1.2;
-    p.key = "top left";
+    p.key = "";  // the default: under the plot, never over data
     fig.panels.push_back(std::move(p));
   }
   for (std::size_t o = 0; o < r.outputs.size(); ++o) {
@@ -263,7 +263,7 @@ void figure_sobol(const SobolResult& r, const std::string& svg_path) {
     p.series = {s2};
     p.xmin = 0.5;
     p.xmax = k + 0.5;
-    p.key = "top left";
+    p.key = "";  // the default: under the plot, never over data
     fig.panels.push_back(std::move(p));
   }
   fig.columns = static_cast<int>(r.outputs.size());

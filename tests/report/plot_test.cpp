@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <regex>
 #include <set>
 #include <sstream>
 
@@ -76,7 +77,7 @@ TEST_F(Plot, GridOfPanelsWithTheExpectedNumberOfSeries) {
   c.series[2].style = "errorbars";
   c.series[2].ylo = {0, 1, 2, 3, 4};
   c.series[2].yhi = {1, 2, 3, 4, 5};
-  c.key = "top left box opaque";  // gnuplot then draws the legend's groups a second time
+  c.key = "outside right top box";
   f.panels = {a, b, c};
   const fs::path out = dir_ / "sub" / "grid.svg";  // parent created on demand
   report::render(f, out.string());
@@ -263,6 +264,53 @@ TEST_F(Plot, PngOfTheRequestedSizeAndDiscsColouredByValue) {
   f.panels[0].series[0].radius.pop_back();
   EXPECT_THROW(report::render(f, (dir_ / "bad.png").string()), std::invalid_argument);
   EXPECT_FALSE(fs::exists(dir_ / "bad.png"));
+}
+
+// No legend covers data: every legend is placed outside the plot's border, even when the points
+// fill the whole plot area; a legend inside the plot is refused.
+TEST_F(Plot, LegendsLieOutsideThePlotArea) {
+  Figure f;
+  Panel p;
+  Series cloud;
+  cloud.title = "cloud";
+  cloud.style = "points";
+  for (int i = 0; i <= 20; ++i)
+    for (int j = 0; j <= 20; ++j) {
+      cloud.x.push_back(i);
+      cloud.y.push_back(j);
+    }
+  p.series = {cloud, line("diagonal", 21, 1)};
+  f.panels = {p};
+  for (const std::string key : {"", "outside right top"}) {
+    f.panels[0].key = key;
+    const fs::path out = dir_ / "legend.svg";
+    report::render(f, out.string());
+    const std::string svg = slurp(out);
+    // The plot's border: gnuplot's closed rectangle 'M x0,y0 L x0,y1 L x1,y1 L x1,y0 L x0,y0 Z'.
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(
+        svg, m,
+        std::regex(
+            R"re(d='M([0-9.]+),([0-9.]+) L[0-9.]+,([0-9.]+) L([0-9.]+),[0-9.]+ L[0-9.]+,[0-9.]+ L[0-9.]+,[0-9.]+ Z)re")));
+    const double x0 = std::stod(m[1]), y0 = std::stod(m[2]), y1 = std::stod(m[3]),
+                 x1 = std::stod(m[4]);
+    // Each legend entry: the translate() of the group holding its <text>TITLE</text>.
+    for (const char* title : {"cloud", "diagonal"}) {
+      ASSERT_TRUE(std::regex_search(
+          svg, m,
+          std::regex(std::string(R"re(translate\(([0-9.]+),([0-9.]+)\)[^>]*>\s*<text>)re") + title +
+                     "</text>")))
+          << title;
+      const double x = std::stod(m[1]), y = std::stod(m[2]);
+      const bool inside = x > std::min(x0, x1) && x < std::max(x0, x1) && y > std::min(y0, y1) &&
+                          y < std::max(y0, y1);
+      EXPECT_FALSE(inside) << "legend '" << title << "' at (" << x << ", " << y
+                           << ") inside the plot [" << x0 << ", " << x1 << "] x [" << y0 << ", "
+                           << y1 << "] with key '" << key << "'";
+    }
+  }
+  f.panels[0].key = "top left";
+  EXPECT_THROW(report::render(f, (dir_ / "inside.svg").string()), std::invalid_argument);
 }
 
 }  // namespace
