@@ -265,20 +265,16 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
   for (const auto& [k, v] : spec.params.run) vars.emplace_back(k, v);
   if (spec.seed && !spec.params.run.count("block_seed"))
     vars.emplace_back("block_seed", std::to_string(liggghts_seed(*spec.seed, 1)));
-  if (ctx.vtk_every > 0) {
-    const std::string vtk = fs::absolute(ctx.vtk_dir).string();
-    if (rank == 0) fs::create_directories(vtk);
+  // The deck's dump folders (ParaView frames, picture frames): created before any rank opens them.
+  const auto dump_into = [&](const std::string& dir, const char* prefix, long every) {
+    const std::string abs = fs::absolute(dir).string();
+    if (rank == 0) fs::create_directories(abs);
     MPI_Barrier(comm);
-    vars.emplace_back("vtk_dir", vtk);
-    vars.emplace_back("vtk_every", std::to_string(ctx.vtk_every));
-  }
-  if (!ctx.picture_dir.empty()) {
-    const std::string pic = fs::absolute(ctx.picture_dir).string();
-    if (rank == 0) fs::create_directories(pic);
-    MPI_Barrier(comm);
-    vars.emplace_back("pic_dir", pic);
-    vars.emplace_back("pic_every", std::to_string(kDefaultVtkEvery));
-  }
+    vars.emplace_back(std::string(prefix) + "_dir", abs);
+    vars.emplace_back(std::string(prefix) + "_every", std::to_string(every));
+  };
+  if (ctx.vtk_every > 0) dump_into(ctx.vtk_dir, "vtk", ctx.vtk_every);
+  if (!ctx.picture_dir.empty()) dump_into(ctx.picture_dir, "pic", kDefaultVtkEvery);
 
   const auto start = std::chrono::steady_clock::now();
   const double cpu_start = process_cpu_s();

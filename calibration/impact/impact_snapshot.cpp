@@ -12,12 +12,32 @@ namespace {
 
 constexpr const char* kGroup = "/dem/snapshot";
 
-void check_lengths(const SnapshotFrame& f) {
-  const auto n = f.grain_x_m.size(), m = f.block_x_m.size();
-  if (f.grain_z_m.size() != n || f.grain_speed_mps.size() != n || f.grain_radius_m.size() != n ||
-      f.block_z_m.size() != m || f.block_radius_m.size() != m)
-    throw std::invalid_argument(
-        fmt::format("snapshot: frame of step {} has columns of different lengths", f.step));
+/// Row-major n x w table of w equally long columns; throws std::invalid_argument (naming the
+/// frame's step) when their lengths differ.
+std::vector<double> table_rows(const std::vector<const std::vector<double>*>& columns, long step) {
+  const std::size_t n = columns.front()->size();
+  for (const auto* c : columns)
+    if (c->size() != n)
+      throw std::invalid_argument(
+          fmt::format("snapshot: frame of step {} has columns of different lengths", step));
+  std::vector<double> rows;
+  rows.reserve(n * columns.size());
+  for (std::size_t i = 0; i < n; ++i)
+    for (const auto* c : columns) rows.push_back((*c)[i]);
+  return rows;
+}
+
+/// Reads the n x columns.size() table `dset` into the columns; throws std::runtime_error naming
+/// the file and the dataset when its shape differs.
+void read_table(const h5::File& file, const std::string& dset,
+                const std::vector<std::vector<double>*>& columns) {
+  std::vector<std::size_t> dims;
+  const auto rows = file.read_doubles(dset, &dims);
+  const std::size_t w = columns.size();
+  if (dims.size() != 2 || dims[1] != w)
+    throw std::runtime_error(fmt::format("{}: {} is not an n x {} table", file.path(), dset, w));
+  for (std::size_t i = 0; i < dims[0]; ++i)
+    for (std::size_t c = 0; c < w; ++c) columns[c]->push_back(rows[w * i + c]);
 }
 
 bool is_hdf5(const std::string& path) {
@@ -30,7 +50,12 @@ bool is_hdf5(const std::string& path) {
 }  // namespace
 
 void write_snapshot(const std::string& path, const ImpactSnapshot& s) {
-  for (const auto& f : s.frames) check_lengths(f);
+  // Every table is built (and its columns checked) before the file is touched.
+  std::vector<std::pair<std::vector<double>, std::vector<double>>> tables;
+  for (const auto& f : s.frames)
+    tables.emplace_back(
+        table_rows({&f.grain_x_m, &f.grain_z_m, &f.grain_speed_mps, &f.grain_radius_m}, f.step),
+        table_rows({&f.block_x_m, &f.block_z_m, &f.block_radius_m}, f.step));
   h5::File file(path, h5::File::Mode::kReadWrite);
   file.remove(kGroup);
   file.create_group(kGroup);
@@ -44,14 +69,8 @@ void write_snapshot(const std::string& path, const ImpactSnapshot& s) {
     file.set_attr(g, "step", static_cast<double>(f.step));
     file.set_attr(g, "t_s", f.t_s);
     file.set_attr(g, "max_penetration", f.max_penetration ? 1.0 : 0.0);
-    std::vector<double> grains, block;
-    for (std::size_t i = 0; i < f.grain_x_m.size(); ++i)
-      grains.insert(grains.end(),
-                    {f.grain_x_m[i], f.grain_z_m[i], f.grain_speed_mps[i], f.grain_radius_m[i]});
-    for (std::size_t i = 0; i < f.block_x_m.size(); ++i)
-      block.insert(block.end(), {f.block_x_m[i], f.block_z_m[i], f.block_radius_m[i]});
-    file.write(g + "/grains", grains, {f.grain_x_m.size(), 4});
-    file.write(g + "/block", block, {f.block_x_m.size(), 3});
+    file.write(g + "/grains", tables[k].first, {f.grain_x_m.size(), 4});
+    file.write(g + "/block", tables[k].second, {f.block_x_m.size(), 3});
   }
   file.flush();
 }
@@ -71,24 +90,9 @@ std::optional<ImpactSnapshot> read_snapshot(const std::string& path) {
     f.step = static_cast<long>(file.attr_double(g, "step"));
     f.t_s = file.attr_double(g, "t_s");
     f.max_penetration = file.attr_double(g, "max_penetration") != 0;
-    std::vector<std::size_t> dims;
-    const auto grains = file.read_doubles(g + "/grains", &dims);
-    if (dims.size() != 2 || dims[1] != 4)
-      throw std::runtime_error(path + ": " + g + "/grains is not an n x 4 table");
-    for (std::size_t i = 0; i < dims[0]; ++i) {
-      f.grain_x_m.push_back(grains[4 * i]);
-      f.grain_z_m.push_back(grains[4 * i + 1]);
-      f.grain_speed_mps.push_back(grains[4 * i + 2]);
-      f.grain_radius_m.push_back(grains[4 * i + 3]);
-    }
-    const auto block = file.read_doubles(g + "/block", &dims);
-    if (dims.size() != 2 || dims[1] != 3)
-      throw std::runtime_error(path + ": " + g + "/block is not an m x 3 table");
-    for (std::size_t i = 0; i < dims[0]; ++i) {
-      f.block_x_m.push_back(block[3 * i]);
-      f.block_z_m.push_back(block[3 * i + 1]);
-      f.block_radius_m.push_back(block[3 * i + 2]);
-    }
+    read_table(file, g + "/grains",
+               {&f.grain_x_m, &f.grain_z_m, &f.grain_speed_mps, &f.grain_radius_m});
+    read_table(file, g + "/block", {&f.block_x_m, &f.block_z_m, &f.block_radius_m});
     s.frames.push_back(std::move(f));
   }
   return s;

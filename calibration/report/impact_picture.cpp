@@ -62,7 +62,7 @@ Figure impact_picture(const ImpactSnapshot& snap, const std::string& title) {
     Series b;
     b.title = "block";
     b.style = "circles";
-    b.color = "#bbbbbb";
+    b.color = colour::kLightGrey;
     b.x = mm(f.block_x_m), b.y = mm(f.block_z_m), b.radius = mm(f.block_radius_m);
     p.series = {b, g};
     fig.panels.push_back(std::move(p));

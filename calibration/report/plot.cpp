@@ -302,7 +302,8 @@ void render(const Figure& figure, const std::string& path) {
            << (figure.enhanced_text ? "enhanced" : "noenhanced")
            << " font 'sans,10' background rgb 'white'\n";
   script << "set output " << quote(produced_name) << "\n";
-  // The project's one style: the Okabe-Ito colour sequence for automatic colours.
+  // The project's one style: the Okabe-Ito colour sequence for automatic colours (it holds
+  // across every panel: `reset` leaves line types alone).
   script << "set colorsequence podo\n";
   script << "set datafile missing 'NaN'\n";
   script << "set multiplot layout " << rows << "," << columns;
@@ -312,7 +313,6 @@ void render(const Figure& figure, const std::string& path) {
   for (std::size_t p = 0; p < figure.panels.size(); ++p) {
     const Panel& panel = figure.panels[p];
     script << "reset\n";
-    script << "set colorsequence podo\n";
     script << "set title " << quote(panel.title) << "\n";
     script << "set xlabel " << quote(panel.xlabel) << "\n";
     script << "set ylabel " << quote(panel.ylabel) << "\n";

@@ -22,6 +22,7 @@ inline constexpr const char* kBlue = "#0072b2";
 inline constexpr const char* kVermillion = "#d55e00";
 inline constexpr const char* kReddishPurple = "#cc79a7";
 inline constexpr const char* kGrey = "#888888";
+inline constexpr const char* kLightGrey = "#bbbbbb";  ///< solids behind data (a block's outline)
 }  // namespace colour
 
 /// One curve or point cloud. Points with a NaN or infinite coordinate (or a non-positive one on
