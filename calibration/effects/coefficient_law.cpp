@@ -6,6 +6,17 @@
 #include <cstdio>
 #include <stdexcept>
 
+// glibc's libmvec has vector pow and atan2 (x86-64 vector ABI, <= 4 ulp; pow(x, 0) = 1 exactly,
+// so the neutral law stays bit for bit the paper's); <math.h> declares them only under
+// -ffast-math. Declaring them lets the lane loops of the power and incidence-angle laws
+// vectorise: scalar pow calls were a fifth of the lab-triangle diagnosis (issue 13).
+extern "C" {
+#pragma omp declare simd notinbranch
+double pow(double, double) noexcept;
+#pragma omp declare simd notinbranch
+double atan2(double, double) noexcept;
+}
+
 namespace ricochet::effects {
 namespace {
 
@@ -166,7 +177,7 @@ void run(const ContactBatch& cb, const double* __restrict a, double* __restrict 
     } else if constexpr (V == Var::kPenetration) {
       x = cb.h[i];
     } else {  // incidence angle at contact onset (the state is 0 until the first contact step)
-      const double theta = std::atan2(-cb.vy[i], std::fabs(cb.vx[i]));
+      const double theta = ::atan2(-cb.vy[i], std::fabs(cb.vx[i]));
       const double kept = held[i] != 0.0 ? held[i] : theta;
       held[i] = active[i] > 0.0 ? kept : 0.0;
       x = held[i];
@@ -192,7 +203,7 @@ void run(const ContactBatch& cb, const double* __restrict a, double* __restrict 
       if constexpr (F == Form::kLinear)
         f = clamp_factor(1.0 + a[i] * x);
       else
-        f = clamp_factor(std::pow((x > x_min ? x : x_min) / x_ref, a[i]));
+        f = clamp_factor(::pow((x > x_min ? x : x_min) / x_ref, a[i]));
       factor[i] *= f;
       if constexpr (K == Elastic::kSame) elastic[i] *= f;
     }

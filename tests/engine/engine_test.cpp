@@ -171,18 +171,26 @@ TEST(Engine, BatchEqualsSingleBitForBit) {
       p[m.index("muR")] = 0.3 * u(rng);
       params.insert(params.end(), p.begin(), p.end());
     }
-    EngineOptions one, many;
+    EngineOptions one, many, wide;
     one.threads = 1;
     one.lanes = 1;
     many.threads = 2;
     many.lanes = 16;
+    // 150 cases in one block of 256 lanes: the queue empties at once and the batch narrows
+    // (compacts) its lanes as collisions end.
+    wide.threads = 1;
+    wide.lanes = 256;
     const auto a = simulate_batch(m, shape, cases, params, one);
     const auto b = simulate_batch(m, shape, cases, params, many);
+    const auto w = simulate_batch(m, shape, cases, params, wide);
     for (std::size_t k = 0; k < cases.size(); ++k) {
       const std::span<const double> row(params.data() + k * m.parameter_count(),
                                         m.parameter_count());
       const auto c = simulate(m, shape, cases[k], row);
       EXPECT_EQ(a[k].vout, b[k].vout) << k;
+      EXPECT_EQ(a[k].vout, w[k].vout) << k;
+      EXPECT_EQ(a[k].max_penetration_m, w[k].max_penetration_m) << k;
+      EXPECT_EQ(a[k].dissipated_J, w[k].dissipated_J) << k;
       EXPECT_EQ(a[k].vout, c.vout) << k;
       EXPECT_EQ(a[k].contact_duration_s, c.contact_duration_s) << k;
     }
