@@ -3,9 +3,11 @@
 // parameters, with identifiability, abacus figures and the gap to the lab. See
 // docs/commands/upscale.md.
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +32,10 @@ struct UpscaleCliOptions {
   ModelOptions model;
   std::vector<std::string> by;
   std::string where, lab, figures, decks;
+  /// --lab-noise: the lab's measurement noise on V_out (m/s, m/s, rad/s), added to the resolved
+  /// values before the KS test (stats::ks_with_measurement_noise); empty = not done.
+  std::vector<double> lab_noise;
+  std::size_t lab_noise_draws = 400;
   /// --seed, --starts and --threads write into fit: their defaults are the fit module's.
   fit::FitOptions fit = dem::UpscaleOptions{}.fit;
   bool no_intervals = !fit::FitOptions{}.intervals;
@@ -112,18 +118,36 @@ void write_h5(const std::string& path, const dem::UpscaleResult& r, const Model&
 }
 
 // Mean and sample standard deviation of the resolved and the lab values, their difference in
-// lab standard deviations and the two-sample KS test.
-nlohmann::json gap_json(const std::vector<double>& dem_v, const std::vector<double>& lab_v) {
+// lab standard deviations and the two-sample KS test; with a lab noise (sigma, draws, seed), the
+// same KS with that noise added to the resolved values.
+struct LabNoise {
+  double sigma;
+  std::size_t draws;
+  std::uint64_t seed;
+};
+nlohmann::json gap_json(const std::vector<double>& dem_v, const std::vector<double>& lab_v,
+                        const std::optional<LabNoise>& noise = std::nullopt) {
   const stats::Summary a = stats::summarize(dem_v), b = stats::summarize(lab_v);
   const auto ks = stats::ks_two_sample(dem_v, lab_v);
-  return {{"dem_mean", a.mean},
-          {"dem_std", a.std},
-          {"lab_mean", b.mean},
-          {"lab_std", b.std},
-          {"difference", a.mean - b.mean},
-          {"difference_in_lab_std", (a.mean - b.mean) / b.std},
-          {"ks_statistic", ks.statistic},
-          {"ks_p_value", ks.p_value}};
+  nlohmann::json j = {{"dem_mean", a.mean},
+                      {"dem_std", a.std},
+                      {"lab_mean", b.mean},
+                      {"lab_std", b.std},
+                      {"difference", a.mean - b.mean},
+                      {"difference_in_lab_std", (a.mean - b.mean) / b.std},
+                      {"ks_statistic", ks.statistic},
+                      {"ks_p_value", ks.p_value}};
+  if (noise) {
+    const auto n = stats::ks_with_measurement_noise(dem_v, lab_v, noise->sigma, noise->draws,
+                                                    noise->seed);
+    j["ks_with_lab_noise"] = {{"sigma", n.sigma},
+                              {"draws", n.draws},
+                              {"seed", noise->seed},
+                              {"median_p", n.median_p},
+                              {"p10", n.p10},
+                              {"share_p_above_0.05", n.share_p_above_005}};
+  }
+  return j;
 }
 
 void print_gap(const std::string& name, const nlohmann::json& v) {
@@ -134,6 +158,14 @@ void print_gap(const std::string& name, const nlohmann::json& v) {
       v["lab_std"].get<double>(), v["difference"].get<double>(),
       v["difference_in_lab_std"].get<double>(), v["ks_statistic"].get<double>(),
       v["ks_p_value"].get<double>());
+  if (v.contains("ks_with_lab_noise")) {
+    const auto& n = v["ks_with_lab_noise"];
+    std::cout << fmt::format(
+        "    with the lab's noise (sd {:g}) added to the resolved values, {} draws: KS p median "
+        "{:.2g}, 10th percentile {:.2g}, p > 0.05 in {:.0f} % of draws\n",
+        n["sigma"].get<double>(), n["draws"].get<std::size_t>(), n["median_p"].get<double>(),
+        n["p10"].get<double>(), 100.0 * n["share_p_above_0.05"].get<double>());
+  }
 }
 
 void run(const UpscaleCliOptions& o) {
@@ -148,6 +180,8 @@ void run(const UpscaleCliOptions& o) {
   u.fit.engine.dt_s = o.model.engine_options().dt_s;
   if (u.fit.starts < 1) throw InputError("<command line>", 0, "--starts", "must be at least 1");
   u.fit.intervals = !o.no_intervals;
+  if (!o.lab_noise.empty() && o.lab.empty())
+    throw InputError("<command line>", 0, "--lab-noise", "needs --lab (the lab set it models)");
   std::unique_ptr<ImpactSet> lab;
   if (!o.lab.empty())
     lab = std::make_unique<ImpactSet>(fit::select_shape(read_impact_set(o.lab), shape));
@@ -163,8 +197,12 @@ void run(const UpscaleCliOptions& o) {
   if (lab) {
     // The gap to the lab, in numbers: V_out, then each parameter calibrated on both sides.
     nlohmann::json gap;
-    for (const char* name : {"vout_x", "vout_y", "wout"})
-      gap[name] = gap_json(r.set.feature(name), lab->feature(name));
+    const char* names[] = {"vout_x", "vout_y", "wout"};
+    for (std::size_t k = 0; k < 3; ++k) {
+      std::optional<LabNoise> noise;
+      if (!o.lab_noise.empty()) noise = LabNoise{o.lab_noise[k], o.lab_noise_draws, o.fit.seed};
+      gap[names[k]] = gap_json(r.set.feature(names[k]), lab->feature(names[k]), noise);
+    }
     j["gap_to_lab"] = gap;
     nlohmann::json params;
     if (!r.impacts.empty())
@@ -234,6 +272,16 @@ void add_upscale_command(CLI::App& app) {
   add_where_option(sub, o->where, "the campaign's impacts");
   sub->add_option("--lab", o->lab,
                   "Lab impact set to compare V_out with (e.g. data/lab/cylinders.csv)");
+  sub->add_option("--lab-noise", o->lab_noise,
+                  "SX,SY,SW: the lab's measurement noise on V_out [m/s, m/s, rad/s], added to "
+                  "the resolved values before the KS test against --lab (e.g. 0.1,0.1,8.3 for the "
+                  "lab cylinders: docs/commands/upscale.md)")
+      ->expected(3)
+      ->delimiter(',');
+  check_range(sub, "--lab-noise", 0, 1e3);
+  sub->add_option("--lab-noise-draws", o->lab_noise_draws, "Noise draws of --lab-noise")
+      ->capture_default_str();
+  check_range(sub, "--lab-noise-draws", 1, 1e6);
   add_figures_option(sub, o->figures);
   sub->add_option("--decks", o->decks, "liggghts-inputs folder (for the parameters' defaults)");
   add_seed_option(sub, o->fit.seed, "the calibration start design");

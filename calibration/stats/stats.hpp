@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -34,6 +35,25 @@ struct KsResult {
   double p_value = 1;
 };
 KsResult ks_two_sample(std::span<const double> a, std::span<const double> b);
+
+/// The two-sample KS test of exact model values against measurements that carry a measurement
+/// noise the model values do not (e.g. resolved V_out against the lab's, read from video):
+/// each of `draws` draws adds independent Gaussian noise of standard deviation `sigma` (the
+/// measured quantity's unit) to the model values and runs ks_two_sample against `measured`.
+/// The noise comes from std::mt19937_64(seed) by Box-Muller, so a seed gives the same result on
+/// every machine. sigma = 0 gives ks_two_sample's p for every draw. It says whether noise of
+/// that size can account for a narrower model spread, not that the model has the measurements'
+/// scatter. Throws std::invalid_argument for sigma < 0 or not finite, draws = 0, an empty sample.
+struct NoisyKsResult {
+  double sigma = 0;
+  std::size_t draws = 0;
+  double median_p = 1;   ///< median p-value over the draws
+  double p10 = 1;        ///< 10th percentile of the p-values
+  double share_p_above_005 = 1;  ///< share of draws with p > 0.05
+};
+NoisyKsResult ks_with_measurement_noise(std::span<const double> model,
+                                        std::span<const double> measured, double sigma,
+                                        std::size_t draws, std::uint64_t seed);
 
 /// Pearson correlation coefficient of paired samples (NaN pairs skipped) and its two-sided
 /// p-value for H0: no correlation (t-test with n - 2 degrees of freedom, OpenTURNS

@@ -18,6 +18,8 @@ namespace {
 using test::quote;
 
 const std::string kCyl = quote(std::string(RICOCHET_SOURCE_DIR) + "/data/lab/cylinders.csv");
+const std::string kCampaign =
+    quote(std::string(RICOCHET_SOURCE_DIR) + "/data/resolved/lab-cylinders-default-calibrated-ground.h5");
 
 struct BadCase {
   std::string args;  // after `ricochet`
@@ -68,6 +70,10 @@ const std::vector<BadCase> kCases = {
     {"dem bed --bogus", "--bogus"},
     {"dem campaign no-such-design.toml", "no-such-design.toml"},
     {"upscale no-such-campaign.h5", "no-such-campaign.h5"},
+    {"upscale " + kCampaign + " --lab " + kCyl + " --lab-noise 0.1,-1,8",
+     "--lab-noise: value -1 is outside [0, 1000]"},
+    {"upscale " + kCampaign + " --lab " + kCyl + " --lab-noise 0.1,0.1", "--lab-noise"},
+    {"upscale " + kCampaign + " --lab-noise 0.1,0.1,8", "--lab-noise"},
     {"calibrate-grains no-such-campaign.h5 --lab " + kCyl, "no-such-campaign.h5"},
     {"calibrate-grains " + kCyl, "--lab"},
 };

@@ -154,6 +154,48 @@ TEST(KolmogorovSmirnov, SkipsNanAndRefusesEmptySamples) {
   EXPECT_THROW(stats::ks_two_sample(std::vector<double>{}, b), std::invalid_argument);
 }
 
+// Normal quantiles at (i + 0.5) / n: a sample with no sampling noise of its own.
+std::vector<double> normal_quantiles(int n, double sd) {
+  std::vector<double> v;
+  for (int i = 0; i < n; ++i) v.push_back(sd * OT::DistFunc::qNormal((i + 0.5) / n));
+  return v;
+}
+
+TEST(KolmogorovSmirnovWithNoise, NoiseOfTheRightSizeReconcilesANarrowModel) {
+  // Exact model values N(0, 1); measurements N(0, 1 + 3^2): noise of sd 3 on the model makes the
+  // two distributions equal, no noise leaves the model too narrow, four times that noise makes
+  // it too wide. 200 values each, 200 draws.
+  const auto model = normal_quantiles(200, 1.0);
+  const auto measured = normal_quantiles(200, std::sqrt(10.0));
+  const double plain = stats::ks_two_sample(model, measured).p_value;
+  ASSERT_LT(plain, 0.01);
+  const auto none = stats::ks_with_measurement_noise(model, measured, 0.0, 50, 1);
+  EXPECT_EQ(none.median_p, plain);
+  EXPECT_EQ(none.p10, plain);
+  const auto right = stats::ks_with_measurement_noise(model, measured, 3.0, 200, 1);
+  EXPECT_GT(right.median_p, 0.3);
+  EXPECT_GT(right.share_p_above_005, 0.85);
+  EXPECT_LE(right.p10, right.median_p);
+  EXPECT_EQ(right.draws, 200u);
+  const auto wide = stats::ks_with_measurement_noise(model, measured, 12.0, 200, 1);
+  EXPECT_LT(wide.median_p, 0.05);
+  // Reproducible from its seed, and the seed matters.
+  const auto again = stats::ks_with_measurement_noise(model, measured, 3.0, 200, 1);
+  EXPECT_EQ(again.median_p, right.median_p);
+  EXPECT_EQ(again.share_p_above_005, right.share_p_above_005);
+  const auto other = stats::ks_with_measurement_noise(model, measured, 3.0, 200, 2);
+  EXPECT_NE(other.median_p, right.median_p);
+}
+
+TEST(KolmogorovSmirnovWithNoise, RefusesBadArguments) {
+  const std::vector<double> a = {1, 2, 3}, b = {1, 2, 4};
+  EXPECT_THROW(stats::ks_with_measurement_noise(a, b, -0.1, 10, 1), std::invalid_argument);
+  EXPECT_THROW(stats::ks_with_measurement_noise(a, b, kNaN, 10, 1), std::invalid_argument);
+  EXPECT_THROW(stats::ks_with_measurement_noise(a, b, 0.1, 0, 1), std::invalid_argument);
+  EXPECT_THROW(stats::ks_with_measurement_noise(std::vector<double>{}, b, 0.1, 10, 1),
+               std::invalid_argument);
+}
+
 TEST(Pearson, FourPairsMatchStudentWithTwoDegreesOfFreedom) {
   // n = 4: t = r sqrt(2 / (1 - r^2)) has 2 degrees of freedom, whose CDF is closed-form:
   // P(|T| > |t|) = 1 - |t| / sqrt(2 + t^2) = 1 - |r|.
