@@ -30,6 +30,7 @@ TEST_F(ShippedData, StatsReadsEveryResolvedCampaign) {
                                                {"bed-calibration-cdt.h5", 80},
                                                {"bed-calibration-default.h5", 20},
                                                {"lab-cylinders-default-calibrated-ground.h5", 28},
+                                               {"lab-triangles-blind-default-calibrated.h5", 26},
                                                {"bed-probe-depth.h5", 6},
                                                {"bed-probe-rolling.h5", 8},
                                                {"bed-probe-rolling-model.h5", 6},
