@@ -4,7 +4,8 @@
 # 1. Cost of the impact deck in microseconds per grain and step, on 1 and 2 MPI ranks, on the
 #    default quasi-2-D bed (0.6 x 0.10 x 0.10 m, grains of 3-5 mm radius, about 16,000 grains),
 #    against LIGGGHTS alone on the same settled bed (benchmarks/bench_dem_plain.in).
-# 2. Campaign scaling: 4 impacts on the small test bed with 1 rank, then with 2 ranks (2 LIGGGHTS
+# 2. Where the impact deck's extra cost goes: both runs profiled with perf, by category.
+# 3. Campaign scaling: 4 impacts on the small test bed with 1 rank, then with 2 ranks (2 LIGGGHTS
 #    instances side by side); efficiency = T(1) / (2 T(2)).
 # The bed is cached in OUT_DIR/dem-cache (built once, about 3 min on 2 ranks). The machine's other
 # load shows in the figures: run it on an idle machine.
@@ -24,7 +25,8 @@ T_IMPACT=${DEM_BENCH_T:-0.04}
 # until the calibrated bed replaced them), pinned so that the ratios stay comparable across runs.
 BED_SET=(--set bed.Lx_m=0.6 --set bed.Ly_m=0.10 --set bed.r2_m=0.004 --set bed.r3_m=0.005
          --set bed.E_grain_Pa=2e8 --set bed.e_gg=0.7 --set bed.mu_gg=0.8 --set bed.mur_gg=0.5
-         --set bed.mu_pour=0.1 --set bed.rolling_model=epsd2 --set block.mu_gb=0.5)
+         --set bed.mu_pour=0.1 --set bed.rolling_model=epsd2)
+BLOCK_SET=(--set block.mu_gb=0.5)  # `dem bed` takes bed.* only
 echo "-- bench bed, set H (cached in $CACHE)"
 $MPI -np 2 "$R" dem bed --cache "$CACHE" "${BED_SET[@]}" --json > "$OUT/dem-bed.json"
 PREFIX=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['prefix'])" "$OUT/dem-bed.json")
@@ -49,7 +51,7 @@ PY
 impact() {  # ranks -> json file
   local np=$1
   $MPI -np "$np" "$R" dem impact --json --cache "$CACHE" --work "$WORK" --id "bench-$np" \
-      "${BED_SET[@]}" --set run.t_max_s="$T_IMPACT" > "$WORK/impact-$np.json"
+      "${BED_SET[@]}" "${BLOCK_SET[@]}" --set run.t_max_s="$T_IMPACT" > "$WORK/impact-$np.json"
   echo "$WORK/impact-$np.json"
 }
 
@@ -78,6 +80,69 @@ json.dump({"plain_wall_cpu_us_per_grain_step": [p1, p2],
            "grains": i1["grains"], "block_spheres": i1["block_spheres"], "steps": i1["steps"]},
           open(sys.argv[5], "w"), indent=2)
 PY
+
+echo "== Resolved model: where the impact deck's extra cost goes (perf, one rank, same bed and steps)"
+# Issue 13, item 3: the impact deck against LIGGGHTS alone, profiled with perf (sampling, self
+# time per symbol); each symbol is put in one category by its name, and a category's cost is its
+# share of the samples times the run's CPU per grain and step (part 1). Skipped without perf.
+if command -v perf > /dev/null && perf record -q -o /dev/null true 2> /dev/null; then
+  perf record -q -F 999 -o "$WORK/plain.perf" -- $MPI -np 1 liggghts \
+      -in "$ROOT/benchmarks/bench_dem_plain.in" -var bed "$PREFIX" \
+      -var common "$ROOT/liggghts-inputs/common" -var steps "$STEPS" \
+      -log "$WORK/plain-perf.log" -screen none > /dev/null 2>&1
+  perf record -q -F 999 -o "$WORK/impact.perf" -- $MPI -np 1 "$R" dem impact --cache "$CACHE" \
+      --work "$WORK" --id bench-perf "${BED_SET[@]}" "${BLOCK_SET[@]}" \
+      --set run.t_max_s="$T_IMPACT" --json > "$WORK/impact-perf.json" 2> /dev/null
+  for k in plain impact; do
+    perf report -q -i "$WORK/$k.perf" --no-children --sort dso,symbol --stdio 2> /dev/null \
+      > "$WORK/$k.perf.txt"
+  done
+  python3 - "$WORK/plain.perf.txt" "$WORK/impact.perf.txt" "$OUT/dem.json" "$OUT/dem-profile.json" <<'PY'
+import json, re, sys
+# First match wins: LIGGGHTS 3.8 class and function names.
+CATEGORIES = [
+    ("block insertion (the template's volume weights, once per impact)", r"FixTemplateMultisphere|FixTemplateMultiplespheres"),
+    ("multisphere body (forces, torques, integration of the block)", r"[Mm]ultisphere"),
+    ("neighbour lists (rebuilds, exclusion of the block's own pairs)", r"Neigh|NPair|NBin|NStencil|bin_atoms|coord2bin"),
+    ("walls (fix wall/gran)", r"FixWall|Walls::|TriMesh|FixMesh"),
+    ("grain contacts (pair gran: normal, tangential, rolling)", r"PairGran|PairStyles|ContactModel|Granular"),
+    ("integration of the grains (nve/sphere, gravity)", r"FixNVE|FixGravity"),
+    ("computes, variables and stop checks (fix print, thermo, reduce, check/timestep)", r"Compute|Variable|Input::|Thermo|FixPrint|FixCheck|FixAve"),
+    ("communication (MPI, ghosts)", r"Comm|MPI|mca_|opal_|ompi_|pmix|ucp_|btl"),
+    ("memory, kernel and libc", r"\[kernel|kallsyms|memcpy|memset|malloc|free|_int_|__libc|memmove|libc"),
+]
+def load(path):
+    shares = {}
+    for line in open(path):
+        m = re.match(r"\s*([0-9.]+)%\s+(\S+)\s+\[[.k]\]\s+(.*)", line)
+        if not m:
+            continue
+        pct, dso, sym = float(m.group(1)), m.group(2), m.group(3).strip()
+        cat = next((c for c, rx in CATEGORIES if re.search(rx, sym) or re.search(rx, dso)), "other")
+        shares[cat] = shares.get(cat, 0.0) + pct / 100.0
+    return shares
+plain, impact = load(sys.argv[1]), load(sys.argv[2])
+dem = json.load(open(sys.argv[3]))
+cpu_plain = dem["plain_wall_cpu_us_per_grain_step"][0][1]
+cpu_impact = dem["impact_wall_cpu_us_per_grain_step"][0][1]
+print(f"CPU per grain and step, one rank: plain {cpu_plain:.3f} us, impact deck {cpu_impact:.3f} us "
+      f"(ratio {cpu_impact / cpu_plain:.2f}); by category (us per grain and step, share of samples):")
+rows = []
+for cat in [c for c, _ in CATEGORIES] + ["other"]:
+    a, b = plain.get(cat, 0.0) * cpu_plain, impact.get(cat, 0.0) * cpu_impact
+    rows.append({"category": cat, "plain_us": a, "impact_us": b, "extra_us": b - a})
+rows.sort(key=lambda r: -r["extra_us"])
+for r in rows:
+    print(f"  {r['category']}: plain {r['plain_us']:.3f}, impact {r['impact_us']:.3f}, "
+          f"extra {r['extra_us']:+.3f} ({r['extra_us'] / (cpu_impact - cpu_plain):+.0%} of the difference)"
+          if cpu_impact > cpu_plain else
+          f"  {r['category']}: plain {r['plain_us']:.3f}, impact {r['impact_us']:.3f}")
+json.dump({"cpu_us_per_grain_step": {"plain": cpu_plain, "impact": cpu_impact}, "categories": rows},
+          open(sys.argv[4], "w"), indent=2)
+PY
+else
+  echo "perf not available or not permitted (kernel.perf_event_paranoid): profile skipped"
+fi
 
 echo "== Resolved model: campaign scaling, 4 impacts on the small test bed, 1 vs 2 ranks"
 DESIGN="$WORK/scaling.toml"
