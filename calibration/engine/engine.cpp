@@ -141,8 +141,8 @@ class LaneBatch {
         }
       }
       // Once the queue is empty, lanes only finish: without compaction the last, longest
-      // collisions of a batch are integrated at the full width, mostly idle lanes (a third of
-      // the work of a 31-release triangle set at 64 lanes). Traces read lane 0: never moved.
+      // collisions of a batch are integrated at the full width, mostly idle lanes (compaction
+      // took 13 % off the lab-triangle diagnosis's CPU). Traces read lane 0: never moved.
       if (next_ >= cases_.size() && !trace_ && busy + kVector <= W_) compact(busy);
     }
   }
