@@ -138,14 +138,11 @@ nlohmann::json gap_json(const std::vector<double>& dem_v, const std::vector<doub
                       {"ks_statistic", ks.statistic},
                       {"ks_p_value", ks.p_value}};
   if (noise) {
-    const auto n = stats::ks_with_measurement_noise(dem_v, lab_v, noise->sigma, noise->draws,
-                                                    noise->seed);
-    j["ks_with_lab_noise"] = {{"sigma", n.sigma},
-                              {"draws", n.draws},
-                              {"seed", noise->seed},
-                              {"median_p", n.median_p},
-                              {"p10", n.p10},
-                              {"share_p_above_0.05", n.share_p_above_005}};
+    const auto n =
+        stats::ks_with_measurement_noise(dem_v, lab_v, noise->sigma, noise->draws, noise->seed);
+    j["ks_with_lab_noise"] = {{"sigma", n.sigma},    {"draws", n.draws},
+                              {"seed", noise->seed}, {"median_p", n.median_p},
+                              {"p10", n.p10},        {"share_p_above_0.05", n.share_p_above_005}};
   }
   return j;
 }

@@ -47,8 +47,8 @@ KsResult ks_two_sample(std::span<const double> a, std::span<const double> b);
 struct NoisyKsResult {
   double sigma = 0;
   std::size_t draws = 0;
-  double median_p = 1;   ///< median p-value over the draws
-  double p10 = 1;        ///< 10th percentile of the p-values
+  double median_p = 1;           ///< median p-value over the draws
+  double p10 = 1;                ///< 10th percentile of the p-values
   double share_p_above_005 = 1;  ///< share of draws with p > 0.05
 };
 NoisyKsResult ks_with_measurement_noise(std::span<const double> model,

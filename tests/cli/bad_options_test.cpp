@@ -18,8 +18,8 @@ namespace {
 using test::quote;
 
 const std::string kCyl = quote(std::string(RICOCHET_SOURCE_DIR) + "/data/lab/cylinders.csv");
-const std::string kCampaign =
-    quote(std::string(RICOCHET_SOURCE_DIR) + "/data/resolved/lab-cylinders-default-calibrated-ground.h5");
+const std::string kCampaign = quote(std::string(RICOCHET_SOURCE_DIR) +
+                                    "/data/resolved/lab-cylinders-default-calibrated-ground.h5");
 
 struct BadCase {
   std::string args;  // after `ricochet`
