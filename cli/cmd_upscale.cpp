@@ -21,7 +21,7 @@
 #include "model_options.hpp"
 #include "params.hpp"
 #include "shared_options.hpp"
-#include "stats/stats.hpp"
+#include "stats/lab_gap.hpp"
 #include "upscale.hpp"
 
 namespace ricochet::cli {
@@ -117,54 +117,6 @@ void write_h5(const std::string& path, const dem::UpscaleResult& r, const Model&
   }
 }
 
-// Mean and sample standard deviation of the resolved and the lab values, their difference in
-// lab standard deviations and the two-sample KS test; with a lab noise (sigma, draws, seed), the
-// same KS with that noise added to the resolved values.
-struct LabNoise {
-  double sigma;
-  std::size_t draws;
-  std::uint64_t seed;
-};
-nlohmann::json gap_json(const std::vector<double>& dem_v, const std::vector<double>& lab_v,
-                        const std::optional<LabNoise>& noise = std::nullopt) {
-  const stats::Summary a = stats::summarize(dem_v), b = stats::summarize(lab_v);
-  const auto ks = stats::ks_two_sample(dem_v, lab_v);
-  nlohmann::json j = {{"dem_mean", a.mean},
-                      {"dem_std", a.std},
-                      {"lab_mean", b.mean},
-                      {"lab_std", b.std},
-                      {"difference", a.mean - b.mean},
-                      {"difference_in_lab_std", (a.mean - b.mean) / b.std},
-                      {"ks_statistic", ks.statistic},
-                      {"ks_p_value", ks.p_value}};
-  if (noise) {
-    const auto n =
-        stats::ks_with_measurement_noise(dem_v, lab_v, noise->sigma, noise->draws, noise->seed);
-    j["ks_with_lab_noise"] = {{"sigma", n.sigma},    {"draws", n.draws},
-                              {"seed", noise->seed}, {"median_p", n.median_p},
-                              {"p10", n.p10},        {"share_p_above_0.05", n.share_p_above_005}};
-  }
-  return j;
-}
-
-void print_gap(const std::string& name, const nlohmann::json& v) {
-  std::cout << fmt::format(
-      "  {}: resolved {:.3f} +- {:.3f}, lab {:.3f} +- {:.3f}, gap {:+.3f} ({:+.1f} lab std), "
-      "KS D = {:.2f}, p = {:.2g}\n",
-      name, v["dem_mean"].get<double>(), v["dem_std"].get<double>(), v["lab_mean"].get<double>(),
-      v["lab_std"].get<double>(), v["difference"].get<double>(),
-      v["difference_in_lab_std"].get<double>(), v["ks_statistic"].get<double>(),
-      v["ks_p_value"].get<double>());
-  if (v.contains("ks_with_lab_noise")) {
-    const auto& n = v["ks_with_lab_noise"];
-    std::cout << fmt::format(
-        "    with the lab's noise (sd {:g}) added to the resolved values, {} draws: KS p median "
-        "{:.2g}, 10th percentile {:.2g}, p > 0.05 in {:.0f} % of draws\n",
-        n["sigma"].get<double>(), n["draws"].get<std::size_t>(), n["median_p"].get<double>(),
-        n["p10"].get<double>(), 100.0 * n["share_p_above_0.05"].get<double>());
-  }
-}
-
 void run(const UpscaleCliOptions& o) {
   require_out_extension(o.output, {".h5", ".hdf5"});
   const auto decks = dem::Decks::locate(o.decks);
@@ -191,23 +143,30 @@ void run(const UpscaleCliOptions& o) {
 
   nlohmann::json j = result_json(r);
   j["figures"] = figures;
+  std::string lab_text, params_text;
   if (lab) {
-    // The gap to the lab, in numbers: V_out, then each parameter calibrated on both sides.
+    // The gap to the lab, in numbers: V_out (and the exit slip of a disc), the lab's own
+    // checks, then each parameter calibrated on both sides.
+    stats::LabGapOptions g;
+    if (!o.lab_noise.empty()) g.noise_sigma = Vel3{o.lab_noise[0], o.lab_noise[1], o.lab_noise[2]};
+    g.noise_draws = o.lab_noise_draws;
+    g.seed = o.fit.seed;
+    if (shape.is_disc()) g.disc_radius_m = shape.rounding_radius_m;
+    const stats::LabGap lab_gap = stats::lab_gap(r.set, *lab, g);
     nlohmann::json gap;
-    const char* names[] = {"vout_x", "vout_y", "wout"};
-    for (std::size_t k = 0; k < 3; ++k) {
-      std::optional<LabNoise> noise;
-      if (!o.lab_noise.empty()) noise = LabNoise{o.lab_noise[k], o.lab_noise_draws, o.fit.seed};
-      gap[names[k]] = gap_json(r.set.feature(names[k]), lab->feature(names[k]), noise);
-    }
+    for (const auto& c : lab_gap.components) gap[c.name] = stats::to_json(c);
     j["gap_to_lab"] = gap;
+    j["lab_checks"] = stats::checks_json(lab_gap);
+    lab_text = stats::to_text(lab_gap);
     nlohmann::json params;
     if (!r.impacts.empty())
       for (std::size_t c : r.impacts.front().fit.calibrated) {
         std::vector<double> dem_v, lab_v;
         for (const auto& im : r.impacts) dem_v.push_back(im.fit.params[c]);
         for (const auto& f : r.lab_fits) lab_v.push_back(f.params[c]);
-        params[r.impacts.front().fit.names[c]] = gap_json(dem_v, lab_v);
+        const auto pg = stats::component_gap(r.impacts.front().fit.names[c], dem_v, lab_v);
+        params[pg.name] = stats::to_json(pg);
+        params_text += stats::to_text(pg);
       }
     j["parameters_vs_lab"] = params;
   }
@@ -243,10 +202,10 @@ void run(const UpscaleCliOptions& o) {
     std::cout << fmt::format("  (Eq. 7 = {:.2g})\n", u2.fit.error);
   }
   if (j.contains("gap_to_lab")) {
-    for (const auto& [k, v] : j["gap_to_lab"].items()) print_gap(k, v);
+    std::cout << lab_text;
     std::cout << "  equivalent parameters, resolved per impact against lab per release (one "
-                 "engine):\n";
-    for (const auto& [k, v] : j["parameters_vs_lab"].items()) print_gap(k, v);
+                 "engine):\n"
+              << params_text;
   }
   for (const auto& f : figures) std::cout << "  figure: " << f << "\n";
 }
