@@ -16,12 +16,14 @@
 #include "impact/impact_set.hpp"
 #include "params.hpp"
 #include "shared_options.hpp"
+#include "stats/lab_gap.hpp"
 
 namespace ricochet::cli {
 namespace {
 
 struct Options {
   std::string campaign, lab, shape = "cylinder", figures, decks;
+  bool without_gross_errors = false;
   /// --where, --parameters and --seed write into the library's options (and show its defaults).
   dem::GrainCalibrationOptions calibration;
   OutputOptions output;
@@ -31,12 +33,15 @@ void run(const Options& o) {
   if (!o.output.out.empty()) require_extension("--out", o.output.out, {".json"});
   const auto decks = dem::Decks::locate(o.decks);
   const Shape shape = Shape::resolve(o.shape);
-  const ImpactSet lab = fit::select_shape(read_impact_set(o.lab), shape);
+  std::vector<std::string> dropped;
+  ImpactSet lab = fit::select_shape(read_impact_set(o.lab), shape);
+  if (o.without_gross_errors) lab = stats::without_gross_errors(lab, &dropped);
   const auto r = dem::calibrate_grains(o.campaign, decks, lab, o.calibration);
   std::vector<std::string> figures;
   if (!o.figures.empty()) figures = dem::write_grain_calibration_figures(r, o.figures);
   nlohmann::json j = nlohmann::json::parse(dem::grain_calibration_json(r));
   j["target"] = o.lab;
+  j["target_without"] = dropped;
   j["figures"] = figures;
   if (!o.output.out.empty()) write_text_file(o.output.out, stamp_json(j).dump(1), "--out");
   if (o.output.json) {
@@ -47,6 +52,12 @@ void run(const Options& o) {
       "calibrate-grains {}: {} design points ({} impacts did not rebound), {} parameters, {:.1f} "
       "s\n",
       r.source, r.points.size(), r.failed, r.parameters.size(), r.seconds);
+  if (o.without_gross_errors) {
+    std::string ids;
+    for (const auto& id : dropped) ids += (ids.empty() ? "" : ", ") + id;
+    std::cout << fmt::format("  target: {} without its gross errors ({})\n", o.lab,
+                             ids.empty() ? "none" : ids);
+  }
   const char* names[3] = {"V_out^x", "V_out^y", "omega_out"};
   for (int c = 0; c < 3; ++c) {
     std::cout << fmt::format(
@@ -85,6 +96,9 @@ void add_calibrate_grains_command(CLI::App& app) {
       ->required()
       ->check(CLI::ExistingFile);
   sub->add_option("--shape", o->shape, "Shape of the target's impacts to use (cylinder, triangle)");
+  sub->add_flag("--without-gross-errors", o->without_gross_errors,
+                "Leave out the --lab releases that the gross-error rule flags (|modified z| > 3.5 "
+                "on any velocity; stats/lab_gap.hpp): the target is the rest's mean and sd");
   sub->add_option("--parameters", o->calibration.parameters,
                   "Surrogate inputs, e.g. bed.mu_gg block.mur_gb (default: those that vary)");
   // Not applied to --lab (as upscale): the filter may name the campaign's own columns.

@@ -52,21 +52,42 @@ ComponentGap component_gap(const std::string& name, std::span<const double> mode
   return g;
 }
 
+GrossErrors gross_errors_of(const ImpactSet& set) {
+  std::vector<std::vector<double>> columns;
+  std::vector<std::string> names;
+  for (const auto& list : {kIn, kOut})
+    for (const char* c : list) {
+      columns.push_back(set.feature(c));
+      names.emplace_back(c);
+    }
+  return flag_gross_errors(columns, names);
+}
+
+ImpactSet without_gross_errors(const ImpactSet& set, std::vector<std::string>* dropped) {
+  const GrossErrors g = gross_errors_of(set);
+  ImpactSet out = set;
+  out.impacts.clear();
+  std::string ids;
+  for (std::size_t i = 0; i < set.size(); ++i) {
+    if (!g.flagged[i]) {
+      out.impacts.push_back(set.impacts[i]);
+      continue;
+    }
+    ids += (ids.empty() ? "" : ", ") + set.impacts[i].id + " (" + g.why[i] + ")";
+    if (dropped) dropped->push_back(set.impacts[i].id);
+  }
+  if (!ids.empty()) out.comments.push_back("without its gross errors (|modified z| > 3.5): " + ids);
+  return out;
+}
+
 LabGap lab_gap(const ImpactSet& model, const ImpactSet& measured, const LabGapOptions& o) {
   if (model.empty() || measured.empty())
     throw std::invalid_argument("lab_gap: the model or the measured set is empty");
   LabGap gap;
   std::vector<std::vector<double>> columns;
-  std::vector<std::string> names;
-  for (std::size_t k = 0; k < 3; ++k) {
-    columns.push_back(measured.feature(kIn[k]));
-    names.emplace_back(kIn[k]);
-  }
-  for (std::size_t k = 0; k < 3; ++k) {
-    columns.push_back(measured.feature(kOut[k]));
-    names.emplace_back(kOut[k]);
-  }
-  gap.measured_gross_errors = flag_gross_errors(columns, names);
+  for (const char* c : kIn) columns.push_back(measured.feature(c));
+  for (const char* c : kOut) columns.push_back(measured.feature(c));
+  gap.measured_gross_errors = gross_errors_of(measured);
   std::vector<bool> core;
   for (std::size_t i = 0; i < measured.size(); ++i) {
     core.push_back(!gap.measured_gross_errors.flagged[i]);

@@ -48,6 +48,13 @@ ComponentGap component_gap(const std::string& name, std::span<const double> mode
                            std::span<const double> measured, const std::vector<bool>& core = {},
                            const std::optional<NoiseModel>& noise = std::nullopt);
 
+/// The gross-error rule (robust.hpp) on an impact set's six velocities: vin_x, vin_y, win,
+/// vout_x, vout_y, wout. Reads the set alone.
+GrossErrors gross_errors_of(const ImpactSet& set);
+/// `set` without the releases gross_errors_of() flags; their ids go to `dropped` if given. The
+/// comments gain a line naming them.
+ImpactSet without_gross_errors(const ImpactSet& set, std::vector<std::string>* dropped = nullptr);
+
 struct LabGapOptions {
   /// Measurement noise of (V_out^x [m/s], V_out^y [m/s], omega_out [rad/s]); absent = no
   /// noise test.
