@@ -39,6 +39,7 @@ TEST_F(ShippedData, StatsReadsEveryResolvedCampaign) {
                                                {"bed-probe-width-cdt.h5", 4},
                                                {"bed-probe-block-cdt.h5", 6},
                                                {"bed-probe-default-ground.h5", 5},
+                                               {"bed-probe-exit-slip.h5", 12},
                                                {"default-bed.h5", 2},
                                                {"bed-probe-stiffness.h5", 23},
                                                {"convergence.h5", 27},
