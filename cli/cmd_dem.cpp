@@ -266,23 +266,13 @@ void run_impact_command_on_rank(const ImpactOptions& o, const MpiSession& mpi) {
   ctx.bed = dem::ensure_bed(decks, dem::bed_overrides(spec), o.common.cache, MPI_COMM_WORLD, &built,
                             &bed_wall);
   const Shape shape = Shape::resolve(spec.shape);
-  if (mpi.rank() == 0)
-    ctx.template_include = dem::ensure_template(shape, ctx.bed, o.work + "/templates");
-  MPI_Barrier(MPI_COMM_WORLD);
-  if (mpi.rank() != 0)
-    ctx.template_include = dem::ensure_template(shape, ctx.bed, o.work + "/templates");
+  ctx.template_include =
+      dem::ensure_template(shape, ctx.bed, o.work + "/templates", MPI_COMM_WORLD);
   ctx.work_dir = (fs::path(o.work) / spec.id).string();
-  std::unique_ptr<Progress> bar;
-  if (mpi.rank() == 0) bar = std::make_unique<Progress>("dem " + spec.id, 1000, !o.output.json);
-  std::size_t shown = 0;
-  ctx.progress = [&](double t, double t_max) {
-    if (!bar) return;
-    const auto now = static_cast<std::size_t>(std::clamp(1000.0 * t / t_max, 0.0, 1000.0));
-    if (now > shown) bar->advance(now - shown);
-    shown = std::max(shown, now);
-  };
+  dem::ImpactProgress bar(spec.id, mpi.rank() == 0 && !o.output.json);
+  ctx.progress = bar.callback();
   const auto r = dem::run_impact(spec, ctx, MPI_COMM_WORLD);
-  if (bar) bar->finish();
+  bar.finish();
   if (mpi.rank() != 0) return;
   if (!o.output.out.empty()) {
     const std::string& out = o.output.out;

@@ -138,20 +138,9 @@ CampaignSummary run_campaign(const CampaignDesign& design, const Decks& decks,
     if (options.picture && pending[n] == 0)
       ctx.picture_dir = (fs::path(ctx.work_dir) / "picture-frames").string();
     const Shape shape = Shape::resolve(spec.shape);
-    if (grank == 0)
-      ctx.template_include = ensure_template(shape, ctx.bed, design.work_dir + "/templates");
-    MPI_Barrier(group);
-    if (grank != 0)
-      ctx.template_include = ensure_template(shape, ctx.bed, design.work_dir + "/templates");
-    std::unique_ptr<Progress> bar;
-    if (wrank == 0) bar = std::make_unique<Progress>("dem " + spec.id, 1000, options.progress);
-    std::size_t shown = 0;
-    ctx.progress = [&](double t, double t_max) {
-      if (!bar) return;
-      const auto now = static_cast<std::size_t>(std::clamp(1000.0 * t / t_max, 0.0, 1000.0));
-      if (now > shown) bar->advance(now - shown);
-      shown = std::max(shown, now);
-    };
+    ctx.template_include = ensure_template(shape, ctx.bed, design.work_dir + "/templates", group);
+    ImpactProgress bar(spec.id, wrank == 0 && options.progress);
+    ctx.progress = bar.callback();
     if (grank == 0) mark_running(options.out, spec.id, ctx.work_dir);
     ImpactResult r;
     try {
@@ -162,7 +151,7 @@ CampaignSummary run_campaign(const CampaignDesign& design, const Decks& decks,
       r.message = e.what();
       r.work_dir = ctx.work_dir;
     }
-    if (bar) bar->finish();
+    bar.finish();
     ++summary.ran;
     if (grank == 0) {
       append_result(options.out, r, spec, design.name);

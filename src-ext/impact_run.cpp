@@ -180,6 +180,36 @@ std::string ensure_template(const Shape& shape, const BedFiles& bed, const std::
   return base + ".in";
 }
 
+std::string ensure_template(const Shape& shape, const BedFiles& bed, const std::string& dir,
+                            MPI_Comm comm) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  std::string include;
+  if (rank == 0) include = ensure_template(shape, bed, dir);
+  MPI_Barrier(comm);
+  if (rank != 0) include = ensure_template(shape, bed, dir);
+  return include;
+}
+
+ImpactProgress::ImpactProgress(const std::string& id, bool shown) {
+  if (shown) bar_ = std::make_unique<Progress>("dem " + id, 1000, true);
+}
+
+ImpactProgress::~ImpactProgress() = default;
+
+std::function<void(double, double)> ImpactProgress::callback() {
+  return [this](double t, double t_max) {
+    if (!bar_) return;
+    const auto now = static_cast<std::size_t>(std::clamp(1000.0 * t / t_max, 0.0, 1000.0));
+    if (now > shown_) bar_->advance(now - shown_);
+    shown_ = std::max(shown_, now);
+  };
+}
+
+void ImpactProgress::finish() {
+  if (bar_) bar_->finish();
+}
+
 std::string validate_setup(const ImpactSpec& spec, const Shape& shape, const Decks& decks,
                            const BedFiles& bed) {
   if (!(spec.vin[kVy] < 0))

@@ -7,11 +7,13 @@
 
 #include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "bed.hpp"
+#include "common/progress.hpp"
 #include "engine/shape.hpp"
 #include "impact/impact_set.hpp"
 #include "impact/impact_snapshot.hpp"
@@ -94,6 +96,27 @@ struct ImpactContext {
 /// block's length) in `dir`; returns the LIGGGHTS include file. Deterministic content, written to
 /// a temporary name and renamed, so concurrent callers are safe.
 std::string ensure_template(const Shape& shape, const BedFiles& bed, const std::string& dir);
+/// The same on every rank of `comm` (collective): rank 0 writes the template first, the others
+/// find it after a barrier.
+std::string ensure_template(const Shape& shape, const BedFiles& bed, const std::string& dir,
+                            MPI_Comm comm);
+
+/// A progress bar over one impact's simulated time, drawn where `shown` (one rank, and not under
+/// --json): callback() is ImpactContext::progress. `dem impact` and `dem campaign` share it.
+class ImpactProgress {
+ public:
+  ImpactProgress(const std::string& id, bool shown);
+  ~ImpactProgress();
+  ImpactProgress(const ImpactProgress&) = delete;
+  ImpactProgress& operator=(const ImpactProgress&) = delete;
+  /// The callback; valid while this object lives.
+  std::function<void(double, double)> callback();
+  void finish();
+
+ private:
+  std::unique_ptr<Progress> bar_;
+  std::size_t shown_ = 0;
+};
 
 /// Checks what would make LIGGGHTS stop with an error or give a meaningless impact (incident
 /// vy >= 0, insertion outside the box, contact too close to an end wall). Returns an empty
