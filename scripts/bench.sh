@@ -60,3 +60,38 @@ for k, v in b.items():
         print(f"{k}: {v:.2f} s = {v / ref:.2f} x the reference's 50,000 collisions ({ref:.2f} s)")
 PY
 fi
+
+if section startup; then
+  echo "== Whole process: a 50,000-run cylinder Monte Carlo with --compare (issue 13: >= 12x the"
+  echo "   reference's 50,000 collisions), beside the engine's steady state and the start-up floor"
+  python3 - "$BUILD" "$ROOT" <<'PY'
+import json, statistics, subprocess, sys, time
+build, root = sys.argv[1], sys.argv[2]
+exe = f"{build}/cli/ricochet"
+def wall(cmd, runs=5):
+    ts = []
+    for _ in range(runs):
+        t0 = time.perf_counter()
+        subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        ts.append(time.perf_counter() - t0)
+    return statistics.median(ts)
+# The reference and the engine's steady state, measured in this run (Google Benchmark).
+out = subprocess.run([f"{build}/benchmarks/bench_engine", "--benchmark_format=json",
+                      "--benchmark_filter=BM_PlainScalarBaseline|BM_EngineBatch/2"],
+                     check=True, capture_output=True, text=True).stdout
+runs = {b["name"]: b for b in json.loads(out)["benchmarks"]}
+ref_rate = runs["BM_PlainScalarBaseline/real_time"]["collisions_per_s"]
+steady = runs["BM_EngineBatch/2/real_time"]["collisions_per_s"]
+ref50k = 50000 / ref_rate
+version = wall([exe, "--version"], 10)
+mc = wall([exe, "montecarlo", "--n", "50000", "--compare", f"{root}/data/lab/cylinders.csv",
+           "--seed", "1", "--json"])
+print(f"reference: {ref_rate:,.0f} collisions/s on one core, 50,000 in {ref50k:.3f} s")
+print(f"engine steady state (2 threads): {steady:,.0f} collisions/s = 50,000 in {50000/steady:.3f} s "
+      f"= {ref50k * steady / 50000:.1f}x the reference")
+print(f"ricochet --version (the process floor: loading the shared libraries, OpenTURNS above all): "
+      f"{version * 1e3:.0f} ms")
+print(f"montecarlo --n 50000 --compare, whole process: {mc:.3f} s = {ref50k / mc:.1f}x the reference "
+      f"(target 12x: {ref50k / 12:.3f} s)")
+PY
+fi

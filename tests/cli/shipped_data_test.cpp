@@ -29,6 +29,7 @@ TEST_F(ShippedData, StatsReadsEveryResolvedCampaign) {
                                                {"bed-calibration-refine.h5", 48},
                                                {"bed-calibration-cdt.h5", 80},
                                                {"bed-calibration-default.h5", 20},
+                                               {"bed-calibration-rolling-gb.h5", 20},
                                                {"lab-cylinders-default-calibrated-ground.h5", 28},
                                                {"lab-triangles-blind-default-calibrated.h5", 26},
                                                {"lab-cylinders-default-replica-beds.h5", 28},
