@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
+#include <list>
 #include <memory>
 
 #include <fmt/format.h>
@@ -23,6 +24,7 @@ namespace {
 struct ReportCliOptions {
   std::vector<std::string> data;
   std::vector<std::string> labels;
+  std::vector<std::string> against;
   std::string where;
   ModelOptions model;
   diagnosis::OptionValues values;
@@ -47,6 +49,10 @@ void run(ReportCliOptions& o) {
                      "give one label per DATA file (" + std::to_string(o.data.size()) + ")");
   const Model model = o.model.build_model();
 
+  // --against: the measured sets each input of the same shape is compared with.
+  std::vector<std::pair<std::string, ImpactSet>> labs;
+  for (const auto& path : o.against) labs.emplace_back(path, read_impact_set(path));
+  std::list<ImpactSet> lab_subsets;  // one per (lab, shape) used: stable addresses for inputs
   std::vector<diagnosis::ReportInput> inputs;
   for (std::size_t f = 0; f < o.data.size(); ++f) {
     const ImpactSet all = filter_nonempty(read_impact_set(o.data[f]), o.where, o.data[f]);
@@ -61,6 +67,14 @@ void run(ReportCliOptions& o) {
       const std::string stem = std::filesystem::path(o.data[f]).stem().string();
       in.label = (o.labels.empty() ? stem : o.labels[f]) +
                  (shapes.size() > 1 || o.labels.empty() ? " (" + in.shape.name + ")" : "");
+      for (const auto& [path, lab] : labs) {
+        if (std::filesystem::equivalent(path, o.data[f])) continue;  // the lab itself
+        ImpactSet same = lab.with_shape(in.shape.name);
+        if (same.empty()) continue;
+        in.lab = &lab_subsets.emplace_back(std::move(same));
+        in.lab_data = path;
+        break;
+      }
       inputs.push_back(std::move(in));
     }
   }
@@ -86,6 +100,10 @@ void add_report_command(CLI::App& app) {
   sub->add_option("DATA", o->data, "Impact sets (.csv, .h5): lab data, LIGGGHTS campaigns, ...")
       ->required();
   sub->add_option("--label", o->labels, "A label per DATA file, in order (repeatable)");
+  sub->add_option("--against", o->against,
+                  "Measured set (e.g. data/lab/cylinders.csv) each DATA set of its shape is "
+                  "compared with: means, KS, robust, without the lab's gross errors (repeatable)")
+      ->check(CLI::ExistingFile);
   add_where_option(sub, o->where, "the releases of each DATA");
   add_model_options(sub, o->model);
   sub->add_option("--rounds", o->rounds, "Effects the automatic ladder may add")

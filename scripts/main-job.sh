@@ -80,7 +80,8 @@ if [ $QUICK -eq 0 ]; then
 fi
 "$R" diagnose "$CYL" --shape cylinder --figures "$OUT/figures/diagnosis-cylinders" \
   --out "$OUT/diagnose-cylinders.h5"
-"$R" report "${REPORT_DATA[@]}" "${REPORT_LABELS[@]}" --rounds 2 --out "$OUT/report.html"
+"$R" report "${REPORT_DATA[@]}" "${REPORT_LABELS[@]}" --against "$CYL" --against "$TRI" \
+  --rounds 2 --out "$OUT/report.html"
 # The page is read in a browser and mailed around: issue 13 keeps it under 3 MB.
 REPORT_BYTES=$(stat -c %s "$OUT/report.html")
 echo "report.html: $REPORT_BYTES bytes (limit 3000000)"

@@ -313,6 +313,38 @@ std::vector<NamedFigure> diagnose_figures(const Diagnosis& d, const std::string&
            f}};
 }
 
+NamedFigure lab_gap_figure(const ImpactSet& set, const ImpactSet& lab, const stats::LabGap& gap,
+                           double disc_radius_m, const std::string& title) {
+  std::vector<double> slip_set, slip_lab;
+  for (const auto& im : set.impacts) slip_set.push_back(im.vout[kVx] + im.vout[kW] * disc_radius_m);
+  for (const auto& im : lab.impacts) slip_lab.push_back(im.vout[kVx] + im.vout[kW] * disc_radius_m);
+  const std::vector<std::pair<const char*, const char*>> quantities = {
+      {"vout_x", "V_out^x [m/s]"},
+      {"vout_y", "V_out^y [m/s]"},
+      {"wout", "omega_out [rad/s]"},
+      {"slip_out", "exit slip V_out^x + omega_out R [m/s]"}};
+  Figure f;
+  f.title = title + " against the lab";
+  f.columns = 2;
+  f.width_px = 1200;
+  f.height_px = 900;
+  for (const auto& [name, label] : quantities) {
+    const bool slip = std::string(name) == "slip_out";
+    if (slip && !std::isfinite(disc_radius_m)) continue;
+    std::vector<double> a = slip ? slip_set : set.feature(name);
+    std::vector<double> b = slip ? slip_lab : lab.feature(name);
+    std::vector<double> core;
+    for (std::size_t i = 0; i < b.size(); ++i)
+      if (!gap.measured_gross_errors.flagged[i]) core.push_back(b[i]);
+    std::vector<std::pair<std::string, std::vector<double>>> samples = {
+        {fmt::format("this set ({})", a.size()), a}, {fmt::format("lab ({})", b.size()), b}};
+    if (core.size() < b.size())
+      samples.push_back({fmt::format("lab without gross errors ({})", core.size()), core});
+    f.panels.push_back(report::ecdf_panel(label, label, samples));
+  }
+  return {"against-lab", "Cumulative distributions of the set's rebounds and the lab's.", f};
+}
+
 std::vector<NamedFigure> ladder_figures(const Ladder& l, const std::string& title) {
   Figure f;
   f.title = title + ": the model ladder";

@@ -8,6 +8,7 @@
 
 #include "diagnosis/diagnose.hpp"
 #include "report/plot.hpp"
+#include "stats/lab_gap.hpp"
 
 namespace ricochet::diagnosis {
 
@@ -24,6 +25,10 @@ struct NamedFigure {
 /// filled, others open); error per release and per regime against the noise floor.
 std::vector<NamedFigure> compare_figures(const Baseline& b, const ImpactSet& set,
                                          const std::string& title);
+/// A set against the lab (stats::lab_gap): ECDFs of V_out^x, V_out^y, omega_out (and the exit
+/// slip of a disc) of the set, of every lab release, and of the lab without its gross errors.
+NamedFigure lab_gap_figure(const ImpactSet& set, const ImpactSet& lab, const stats::LabGap& gap,
+                           double disc_radius_m, const std::string& title);
 /// diagnose: held-out error of the base model and of every candidate (+- 1 SE), noise floor and
 /// adequacy threshold.
 std::vector<NamedFigure> diagnose_figures(const Diagnosis& d, const std::string& title);

@@ -108,6 +108,80 @@ std::string headline_of(const ReportSection& s) {
   return fmt::format("{}; {}; {}.", fails, found, fell);
 }
 
+// One sentence: the set against the lab, on every release and without the lab's gross errors.
+std::string lab_sentence_of(const stats::LabGap& g, const std::string& lab_data, std::size_t n) {
+  std::string all, core, ks_all, ks_core;
+  std::size_t n_core = n;
+  for (std::size_t k = 0; k < 3; ++k) {
+    const auto& c = g.components[k];
+    const double gap = (c.model.mean - c.measured.mean) / c.measured.std;
+    all += fmt::format("{}{} {:+.2f}", k ? ", " : "", c.name, gap);
+    ks_all += fmt::format("{}{}", k ? ", " : "", g3(c.ks.p_value));
+    if (c.measured_core && c.ks_core) {
+      n_core = c.measured_core->n;
+      core += fmt::format("{}{:+.2f}", k ? ", " : "",
+                          (c.model.mean - c.measured_core->mean) / c.measured_core->std);
+      ks_core += fmt::format("{}{}", k ? ", " : "", g3(c.ks_core->p_value));
+    }
+  }
+  std::string out =
+      fmt::format("Against the lab ({}, {} releases): mean gaps in lab sd {}; two-sample KS p {}",
+                  lab_data, n, all, ks_all);
+  if (!core.empty())
+    out +=
+        fmt::format(". Against its {} releases without gross errors: gaps in their sd {}; KS p {}",
+                    n_core, core, ks_core);
+  if (g.components.size() > 3) {
+    const auto& slip = g.components[3];
+    out += fmt::format(
+        ". Exit slip {:+.2f} m/s (lab {:+.2f}{})", slip.model.mean, slip.measured.mean,
+        slip.measured_core
+            ? fmt::format(", without its gross errors {:+.2f}", slip.measured_core->mean)
+            : std::string());
+  }
+  return out + ".";
+}
+
+void lab_section(report::HtmlPage& page, const ReportSection& s) {
+  const stats::LabGap& g = *s.lab_gap;
+  std::vector<std::vector<std::string>> rows;
+  for (const auto& c : g.components) {
+    rows.push_back(
+        {c.name, g4(c.model.mean) + " +- " + g3(c.model.std),
+         g4(c.measured.mean) + " +- " + g3(c.measured.std),
+         f2((c.model.mean - c.measured.mean) / c.measured.std), g3(c.ks.p_value),
+         g4(c.model_robust.median) + " / " + g4(c.measured_robust.median),
+         c.measured_core ? g4(c.measured_core->mean) + " +- " + g3(c.measured_core->std) : "-",
+         c.ks_core ? g3(c.ks_core->p_value) : "-"});
+  }
+  page.table({"quantity", "this set", "lab", "gap [lab sd]", "KS p", "medians (set / lab)",
+              "lab without gross errors", "KS p"},
+             rows, "The set against the lab (SI units)");
+  std::vector<std::string> flagged;
+  for (std::size_t i = 0, n = 0; i < g.measured_gross_errors.flagged.size(); ++i)
+    if (g.measured_gross_errors.flagged[i])
+      flagged.push_back(g.flagged_ids[n++] + ": " + g.measured_gross_errors.why[i]);
+  if (!flagged.empty()) {
+    page.paragraph(
+        "The lab's gross errors (modified z-score above 3.5 on a velocity, Iglewicz and "
+        "Hoaglin 1993; the rule reads the lab alone):");
+    page.list(flagged);
+  }
+  std::vector<std::string> response;
+  for (std::size_t k = 0; k < 3; ++k) {
+    const auto& r = g.response[k];
+    response.push_back(fmt::format(
+        "{} on {}: slope {} in this set, {} +- {} in the lab (reliability {}; equal-slope test "
+        "p {}, Holm over three {})",
+        kComponentNames[k], kComponentNames[k], f2(r.slope_model), f2(r.slope_measured),
+        f2(r.se_measured), f2(r.reliability), g3(r.p_value), g3(g.response_p_holm[k])));
+  }
+  page.paragraph(
+      "Does the lab's V_out follow its measured V_in as this set's does? A reliability "
+      "near 0 says the lab's V_in scatter is reading noise (docs/commands/upscale.md).");
+  page.list(response);
+}
+
 void data_section(report::HtmlPage& page, const ReportSection& s) {
   const ImpactSet& set = s.input.set;
   page.paragraph(fmt::format("{}: {} releases of shape {} from {}.", s.input.label, set.size(),
@@ -230,6 +304,12 @@ std::vector<ReportSection> analyse(const std::vector<ReportInput>& inputs, const
     s.ladder = auto_ladder(model, in.shape, in.set, o.rounds, opt, &s.diagnosis);
     s.headline = headline_of(s);
     s.conclusion = conclusion_of(s);
+    if (in.lab) {
+      stats::LabGapOptions g;
+      if (in.shape.is_disc()) g.disc_radius_m = in.shape.rounding_radius_m;
+      s.lab_gap = stats::lab_gap(in.set, *in.lab, g);
+      s.lab_sentence = lab_sentence_of(*s.lab_gap, in.lab_data, in.lab->size());
+    }
     out.push_back(std::move(s));
   }
   return out;
@@ -296,9 +376,22 @@ std::size_t write_report(const std::vector<ReportSection>& sections, const Model
                   "One impact of this campaign (LIGGGHTS), side view through the block's "
                   "mid-plane at frames through the contact: grains coloured by speed, the block's "
                   "spheres in grey. The crater, the bulge and the grains the block pushes.");
+    if (s.lab_gap) {
+      page.paragraph(s.lab_sentence);
+      const double radius =
+          s.input.shape.is_disc() ? s.input.shape.rounding_radius_m : std::nan("");
+      const NamedFigure f =
+          lab_gap_figure(s.input.set, *s.input.lab, *s.lab_gap, radius, s.input.label);
+      page.figure(f.figure, f.caption);
+    }
     page.begin_details("Conclusion in numbers");
     page.paragraph(s.conclusion);
     page.end_details();
+    if (s.lab_gap) {
+      page.begin_details("Against the lab in numbers");
+      lab_section(page, s);
+      page.end_details();
+    }
     page.begin_details("Data");
     data_section(page, s);
     page.end_details();
@@ -335,6 +428,14 @@ nlohmann::json to_json(const std::vector<ReportSection>& sections) {
                         {"headline", s.headline},
                         {"conclusion", s.conclusion},
                         {"seconds", d.seconds}};
+    if (s.lab_gap) {
+      nlohmann::json c;
+      for (const auto& g : s.lab_gap->components) c[g.name] = stats::to_json(g);
+      j["against_lab"] = {{"data", s.input.lab_data},
+                          {"sentence", s.lab_sentence},
+                          {"components", c},
+                          {"checks", stats::checks_json(*s.lab_gap)}};
+    }
     out.push_back(j);
   }
   return out;

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,7 @@
 #include "effects/model.hpp"
 #include "engine/shape.hpp"
 #include "impact/impact_set.hpp"
+#include "stats/lab_gap.hpp"
 
 namespace ricochet::diagnosis {
 
@@ -21,6 +23,10 @@ struct ReportInput {
   std::string label;
   ImpactSet set;
   Shape shape;
+  /// A measured set of the same shape to compare this one with (`report --against`): a resolved
+  /// campaign against the lab. Not owned; empty lab_data = none.
+  const ImpactSet* lab = nullptr;
+  std::string lab_data;
 };
 
 struct ReportOptions {
@@ -38,6 +44,9 @@ struct ReportSection {
   /// ladder brought the error. The section and the page's conclusions open with it.
   std::string headline;
   std::string conclusion;  ///< the long form, with every number
+  /// The set against ReportInput::lab (stats/lab_gap.hpp), and its one-sentence summary.
+  std::optional<stats::LabGap> lab_gap;
+  std::string lab_sentence;
 };
 
 /// Runs compare, diagnose and the automatic ladder on every input.

@@ -256,6 +256,39 @@ std::string render_in_chromium(const fs::path& html, const fs::path& dir) {
   return out;
 }
 
+// `report --against LAB`: a set of LAB's shape is compared with it (means, KS, the lab's gross
+// errors, the exit slip of a disc); LAB itself, given as DATA too, is not compared with itself.
+TEST_F(CmdDiagnosis, ReportComparesEachSetWithTheLabOfItsShape) {
+  const std::string data = make_set("a");
+  const std::string lab = kLab + "cylinders.csv";
+  const fs::path html = dir_ / "against.html";
+  const RunResult r =
+      ricochet("report " + quote(data) + " " + quote(lab) + " --against " + quote(lab) +
+               " --against " + quote(kLab + "triangles.csv") +
+               " --rounds 0 --folds 3 --no-intervals --json --out " + quote(html.string()));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto doc = nlohmann::json::parse(r.out);
+  ASSERT_EQ(doc["sets"].size(), 2u);
+  const auto& synth = doc["sets"][0];
+  ASSERT_TRUE(synth.contains("against_lab")) << synth.dump();
+  const auto& a = synth["against_lab"];
+  EXPECT_EQ(a["data"], lab);
+  for (const char* c : {"vout_x", "vout_y", "wout", "slip_out"})
+    EXPECT_TRUE(a["components"].contains(c)) << c;
+  // The six releases the gross-error rule flags on the lab alone (tests/stats/robust_test.cpp).
+  std::vector<std::string> ids;
+  for (const auto& g : a["checks"]["lab_gross_errors"]) ids.push_back(g["id"]);
+  EXPECT_EQ(ids, (std::vector<std::string>{"C07", "C08", "C12", "C13", "C15", "C24"}));
+  // The lab's own statistics, as stats reports them (paper Table 2: 3.06 +- 0.28 m/s).
+  EXPECT_NEAR(a["components"]["vout_x"]["lab_mean"].get<double>(), 3.055, 0.001);
+  EXPECT_EQ(a["components"]["vout_x"]["lab_core"]["n"], 22);
+  EXPECT_EQ(a["sentence"].get<std::string>().find("Against the lab ("), 0u);
+  EXPECT_FALSE(doc["sets"][1].contains("against_lab")) << "the lab compared with itself";
+  const std::string page = slurp(html);
+  EXPECT_NE(page.find("<details><summary>Against the lab in numbers"), std::string::npos);
+  EXPECT_NE(page.find(a["sentence"].get<std::string>().substr(0, 40)), std::string::npos);
+}
+
 TEST_F(CmdDiagnosis, ReportRendersInHeadlessChromiumWithEveryFigureShown) {
   if (!fs::exists("/usr/bin/chromium"))
     GTEST_SKIP() << "no /usr/bin/chromium: the report is not rendered (apt install chromium)";
