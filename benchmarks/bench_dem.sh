@@ -26,7 +26,7 @@ T_IMPACT=${DEM_BENCH_T:-0.04}
 BED_SET=(--set bed.Lx_m=0.6 --set bed.Ly_m=0.10 --set bed.r2_m=0.004 --set bed.r3_m=0.005
          --set bed.E_grain_Pa=2e8 --set bed.e_gg=0.7 --set bed.mu_gg=0.8 --set bed.mur_gg=0.5
          --set bed.mu_pour=0.1 --set bed.rolling_model=epsd2)
-BLOCK_SET=(--set block.mu_gb=0.5)  # `dem bed` takes bed.* only
+BLOCK_SET=(--set block.mu_gb=0.5 --set block.mur_gb=0.1)  # `dem bed` takes bed.* only
 echo "-- bench bed, set H (cached in $CACHE)"
 $MPI -np 2 "$R" dem bed --cache "$CACHE" "${BED_SET[@]}" --json > "$OUT/dem-bed.json"
 PREFIX=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['prefix'])" "$OUT/dem-bed.json")

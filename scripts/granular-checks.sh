@@ -26,7 +26,7 @@ cd "$OUT"
 BED=(--set bed.mode=box --set bed.Lx_m=0.2 --set bed.Ly_m=0.2 --set bed.H_m=0.12
      --set bed.r1_m=0.003 --set bed.r2_m=0.0035 --set bed.r3_m=0.004 --set bed.headroom_m=0.15
      --set bed.E_grain_Pa=2e8 --set bed.e_gg=0.7 --set bed.mu_gg=0.8 --set bed.mur_gg=0.5
-     --set bed.mu_pour=0.1 --set bed.rolling_model=epsd2 --set block.mu_gb=0.5)
+     --set bed.mu_pour=0.1 --set bed.rolling_model=epsd2 --set block.mu_gb=0.5 --set block.mur_gb=0.1)
 echo "== sphere drops, seeds $SEEDS ($(date +%H:%M:%S))"
 "$R" dem drop --decks "$ROOT/liggghts-inputs" "${BED[@]}" --heights 0.05,0.1,0.2,0.5,1.0 \
   ${SEEDS:+--seeds "$SEEDS"} --out "$OUT/sphere-drop.csv" --json > "$OUT/sphere-drop.json"

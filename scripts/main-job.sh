@@ -46,17 +46,19 @@ if [ $HAVE_DEM -eq 1 ]; then
   "$R" upscale "$OUT/dem/main-job.h5" --lab "$CYL" --figures "$OUT/figures/upscale" \
     --out "$OUT/upscale-main-job.h5"
   echo "== The calibrated resolved bed against the lab (shipped campaigns, data/resolved; issue 11)"
-  # Hours of LIGGGHTS, shipped as data: the fourth grain calibration's surrogate (the decks'
-  # converged default bed, reconstructed like the lab; docs/resolved-calibration.md) and the real
-  # campaign on its optimum at the lab's cylinder states, and the third calibration's blind
-  # triangle states, each read here in seconds (the earlier calibrations' files are beside them).
-  "$R" calibrate-grains "$ROOT/data/resolved/bed-calibration-default.h5" --lab "$CYL" --seed 4 \
-    --figures "$OUT/figures/calibrate-grains"
+  # Hours of LIGGGHTS, shipped as data: the fifth grain calibration's surrogate (the decks'
+  # converged default bed, reconstructed like the lab, aimed at the lab without its gross errors;
+  # docs/resolved-calibration.md) and the real campaign on its optimum at the lab's cylinder
+  # states, and the blind triangle states, each read here in seconds (the earlier calibrations'
+  # files are beside them).
+  "$R" calibrate-grains "$ROOT/data/resolved/bed-calibration-rolling-gb.h5" --lab "$CYL" \
+    --without-gross-errors --seed 4 --figures "$OUT/figures/calibrate-grains"
   # The lab cylinder states reconstructed like the lab (the geometric contact window of paper
   # Fig. 8b): the fair comparison with the lab's V_out (docs/resolved-calibration.md).
-  "$R" upscale "$ROOT/data/resolved/lab-cylinders-default-calibrated-ground.h5" --lab "$CYL" \
+  "$R" upscale "$ROOT/data/resolved/lab-cylinders-rolling-gb-ground.h5" --lab "$CYL" \
     --figures "$OUT/figures/resolved-lab-cylinders"
-  "$R" upscale "$ROOT/data/resolved/lab-triangles-blind-cdt.h5" --shape triangle --lab "$TRI" \
+  "$R" upscale "$ROOT/data/resolved/lab-triangles-blind-default-calibrated.h5" --shape triangle \
+    --lab "$TRI" \
     --figures "$OUT/figures/resolved-lab-triangles-blind"
 else
   echo "== Resolved model skipped: this ricochet has no LIGGGHTS (docs/building.md)"
@@ -70,7 +72,7 @@ if [ $QUICK -eq 0 ]; then REPORT_DATA+=("$TRI"); REPORT_LABELS+=(--label "lab tr
 if [ $HAVE_DEM -eq 1 ]; then
   REPORT_DATA+=("$OUT/dem/main-job.h5"); REPORT_LABELS+=(--label "LIGGGHTS campaign (small bed)")
 fi
-REPORT_DATA+=("$ROOT/data/resolved/lab-cylinders-default-calibrated-ground.h5")
+REPORT_DATA+=("$ROOT/data/resolved/lab-cylinders-rolling-gb-ground.h5")
 REPORT_LABELS+=(--label "LIGGGHTS, calibrated default bed, lab cylinder states, geometric contact window (paper Fig. 8b)")
 if [ $QUICK -eq 0 ]; then
   for c in "$OUT"/resolved/speeds.h5 "$OUT"/resolved/lab-cylinders.h5; do

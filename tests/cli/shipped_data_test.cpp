@@ -31,6 +31,7 @@ TEST_F(ShippedData, StatsReadsEveryResolvedCampaign) {
                                                {"bed-calibration-default.h5", 20},
                                                {"bed-calibration-rolling-gb.h5", 20},
                                                {"lab-cylinders-default-calibrated-ground.h5", 28},
+                                               {"lab-cylinders-rolling-gb-ground.h5", 28},
                                                {"lab-triangles-blind-default-calibrated.h5", 26},
                                                {"lab-cylinders-default-replica-beds.h5", 28},
                                                {"bed-probe-depth.h5", 6},

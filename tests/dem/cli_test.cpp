@@ -216,7 +216,7 @@ TEST(DemCampaign, KilledCampaignResumesWithoutLosingFinishedImpacts) {
                         << "\"\n[bed]\nLx_m = 0.6\nLy_m = 0.06\nH_m = 0.06\nr1_m = 0.004\n"
                            "r2_m = 0.005\nr3_m = 0.006\nE_grain_Pa = 2e8\ne_gg = 0.7\nmu_gg = 0.8\n"
                            "mur_gg = 0.5\nmu_pour = 0.1\nrolling_model = \"epsd2\"\n"
-                           "[block]\nmu_gb = 0.5\n"
+                           "[block]\nmu_gb = 0.5\nmur_gb = 0.1\n"
                            "[[impact]]\nid = \"first\"\nvin = [2.9, -2.3, -65.0]\n"
                            "[[impact]]\nid = \"second\"\nvin = [3.1, -2.2, -60.0]\n";
   const std::string out = (work / "campaign.h5").string();

@@ -22,6 +22,6 @@ inline const std::vector<std::string> kTestBed = {
     "bed.Lx_m=0.6",   "bed.Ly_m=0.06",  "bed.H_m=0.06",       "bed.r1_m=0.004",
     "bed.r2_m=0.005", "bed.r3_m=0.006", "bed.E_grain_Pa=2e8", "bed.e_gg=0.7",
     "bed.mu_gg=0.8",  "bed.mur_gg=0.5", "bed.mu_pour=0.1",    "bed.rolling_model=epsd2",
-    "block.mu_gb=0.5"};
+    "block.mu_gb=0.5",  "block.mur_gb=0.1"};
 
 }  // namespace ricochet::dem::test

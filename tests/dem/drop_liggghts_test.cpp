@@ -34,7 +34,7 @@ const DropResult& the_drop() {
                 {"r3_m", "0.006"},  {"headroom_m", "0.1"},     {"E_grain_Pa", "2e8"},
                 {"e_gg", "0.7"},    {"mu_gg", "0.8"},          {"mur_gg", "0.5"},
                 {"mu_pour", "0.1"}, {"rolling_model", "epsd2"}};
-    spec.block = {{"mu_gb", "0.5"}};
+    spec.block = {{"mu_gb", "0.5"}, {"mur_gb", "0.1"}};
     spec.drop = {{"D_sphere_m", "0.04"}, {"t_max_s", "0.4"}};
     DropContext ctx;
     ctx.decks = &test::decks();
