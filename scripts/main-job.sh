@@ -57,7 +57,7 @@ if [ $HAVE_DEM -eq 1 ]; then
   # Fig. 8b): the fair comparison with the lab's V_out (docs/resolved-calibration.md).
   "$R" upscale "$ROOT/data/resolved/lab-cylinders-rolling-gb-ground.h5" --lab "$CYL" \
     --figures "$OUT/figures/resolved-lab-cylinders"
-  "$R" upscale "$ROOT/data/resolved/lab-triangles-blind-default-calibrated.h5" --shape triangle \
+  "$R" upscale "$ROOT/data/resolved/lab-triangles-blind-rolling-gb.h5" --shape triangle \
     --lab "$TRI" \
     --figures "$OUT/figures/resolved-lab-triangles-blind"
 else
@@ -74,6 +74,11 @@ if [ $HAVE_DEM -eq 1 ]; then
 fi
 REPORT_DATA+=("$ROOT/data/resolved/lab-cylinders-rolling-gb-ground.h5")
 REPORT_LABELS+=(--label "LIGGGHTS, calibrated default bed, lab cylinder states, geometric contact window (paper Fig. 8b)")
+if [ $QUICK -eq 0 ]; then
+  # The blind prediction of the lab triangles on the same bed (nothing re-tuned), against the lab.
+  REPORT_DATA+=("$ROOT/data/resolved/lab-triangles-blind-rolling-gb.h5")
+  REPORT_LABELS+=(--label "LIGGGHTS, calibrated default bed, lab triangle states, blind")
+fi
 if [ $QUICK -eq 0 ]; then
   for c in "$OUT"/resolved/speeds.h5 "$OUT"/resolved/lab-cylinders.h5; do
     [ -f "$c" ] || continue

@@ -33,6 +33,7 @@ TEST_F(ShippedData, StatsReadsEveryResolvedCampaign) {
                                                {"lab-cylinders-default-calibrated-ground.h5", 28},
                                                {"lab-cylinders-rolling-gb-ground.h5", 28},
                                                {"lab-triangles-blind-default-calibrated.h5", 26},
+                                               {"lab-triangles-blind-rolling-gb.h5", 28},
                                                {"lab-cylinders-default-replica-beds.h5", 28},
                                                {"bed-probe-depth.h5", 6},
                                                {"bed-probe-rolling.h5", 8},
