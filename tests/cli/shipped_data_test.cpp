@@ -60,6 +60,7 @@ TEST_F(ShippedData, StatsReadsEveryResolvedCampaign) {
                                                {"lab-triangles-blind-long.h5", 30},
                                                {"speeds.h5", 17},
                                                {"speeds-cdt.h5", 19},
+                                               {"speeds-rolling-gb.h5", 23},
                                                {"speeds-long.h5", 27}};
   const fs::path dir = fs::path(RICOCHET_SOURCE_DIR) / "data/resolved";
   std::set<std::string> seen;
