@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cstdint>
 #include <cstdlib>
@@ -155,6 +156,41 @@ std::uint32_t be32(const std::string& b, std::size_t at) {
 
 }  // namespace
 
+std::string compact_svg(std::string_view svg) {
+  std::string out(svg);
+  for (bool changed = true; changed;) {  // a group that held only empty groups is empty next pass
+    changed = false;
+    std::string next;
+    next.reserve(out.size());
+    std::size_t i = 0;
+    while (i < out.size()) {
+      const std::size_t open = out.find("<g", i);
+      if (open == std::string::npos) {
+        next.append(out, i, std::string::npos);
+        break;
+      }
+      const char after = open + 2 < out.size() ? out[open + 2] : '\0';
+      const std::size_t close = out.find('>', open);
+      if ((after == '>' || std::isspace(static_cast<unsigned char>(after))) &&
+          close != std::string::npos && out[close - 1] != '/') {
+        std::size_t k = close + 1;
+        while (k < out.size() && std::isspace(static_cast<unsigned char>(out[k]))) ++k;
+        if (out.compare(k, 4, "</g>") == 0) {
+          next.append(out, i, open - i);
+          i = k + 4;
+          if (i < out.size() && out[i] == '\n') ++i;
+          changed = true;
+          continue;
+        }
+      }
+      next.append(out, i, open + 2 - i);
+      i = open + 2;
+    }
+    out.swap(next);
+  }
+  return out;
+}
+
 void HtmlPage::figure_file(const std::string& path, const std::string& caption) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error("report: cannot read the figure " + path);
@@ -179,11 +215,12 @@ void HtmlPage::figure_file(const std::string& path, const std::string& caption) 
   } else {
     throw std::runtime_error("report: " + path + " is neither an SVG nor a PNG file");
   }
+  const std::string embedded = mime == "image/svg+xml" ? compact_svg(bytes) : bytes;
   ++figures_;
   body_ += "<figure id=\"figure-" + std::to_string(figures_) + "\"><img class=\"fig\" alt=\"" +
-           html_escape(caption) + "\"" + size + " src=\"data:" + mime + ";base64," + base64(bytes) +
-           "\"><figcaption>Figure " + std::to_string(figures_) + ". " + html_escape(caption) +
-           "</figcaption></figure>\n";
+           html_escape(caption) + "\"" + size + " src=\"data:" + mime + ";base64," +
+           base64(embedded) + "\"><figcaption>Figure " + std::to_string(figures_) + ". " +
+           html_escape(caption) + "</figcaption></figure>\n";
 }
 
 void HtmlPage::figure(const Figure& fig, const std::string& caption) {

@@ -17,6 +17,11 @@ std::string html_escape(std::string_view text);
 /// Standard base64 (RFC 4648, with padding).
 std::string base64(std::string_view bytes);
 
+/// The SVG without its empty groups (<g ...> with only whitespace before </g>, nested ones too),
+/// which draw nothing: gnuplot's SVG terminal opens one for every pen change, drawn or not, and
+/// they are about a quarter of a figure's bytes. Everything else is kept byte for byte.
+std::string compact_svg(std::string_view svg);
+
 /// An HTML page built piece by piece. All text arguments are plain text (escaped here).
 class HtmlPage {
  public:

@@ -336,6 +336,19 @@ TEST(Html, EscapeAndBase64) {
   EXPECT_EQ(report::base64("foobar"), "Zm9vYmFy");
 }
 
+TEST(Html, CompactSvgDropsOnlyEmptyGroups) {
+  const std::string svg =
+      "<svg>\n<g fill=\"none\" color=\"black\">\n</g>\n<g id=\"a\"><g "
+      "stroke=\"gray\">\t\n</g></g>\n"
+      "<g class=\"x\">\n\t<path d='M0,0 L1,1'/></g>\n<g/>\n<gradient id=\"q\"></gradient>\n"
+      "<text> 3.2</text>\n</svg>";
+  EXPECT_EQ(report::compact_svg(svg),
+            "<svg>\n<g class=\"x\">\n\t<path d='M0,0 L1,1'/></g>\n<g/>\n"
+            "<gradient id=\"q\"></gradient>\n<text> 3.2</text>\n</svg>");
+  EXPECT_EQ(report::compact_svg(""), "");
+  EXPECT_EQ(report::compact_svg("<g>"), "<g>");  // unterminated: kept as it is
+}
+
 TEST(Html, PageEmbedsFiguresAndEscapesText) {
   report::HtmlPage page("Title <1>");
   page.heading(2, "Section & more", "s1");
