@@ -58,8 +58,7 @@ if [ $HAVE_DEM -eq 1 ]; then
   "$R" upscale "$ROOT/data/resolved/lab-cylinders-rolling-gb-ground.h5" --lab "$CYL" \
     --figures "$OUT/figures/resolved-lab-cylinders"
   "$R" upscale "$ROOT/data/resolved/lab-triangles-blind-rolling-gb.h5" --shape triangle \
-    --lab "$TRI" \
-    --figures "$OUT/figures/resolved-lab-triangles-blind"
+    --lab "$TRI" --figures "$OUT/figures/resolved-lab-triangles-blind"
 else
   echo "== Resolved model skipped: this ricochet has no LIGGGHTS (docs/building.md)"
 fi
@@ -78,8 +77,6 @@ if [ $QUICK -eq 0 ]; then
   # The blind prediction of the lab triangles on the same bed (nothing re-tuned), against the lab.
   REPORT_DATA+=("$ROOT/data/resolved/lab-triangles-blind-rolling-gb.h5")
   REPORT_LABELS+=(--label "LIGGGHTS, calibrated default bed, lab triangle states, blind")
-fi
-if [ $QUICK -eq 0 ]; then
   for c in "$OUT"/resolved/speeds.h5 "$OUT"/resolved/lab-cylinders.h5; do
     [ -f "$c" ] || continue
     REPORT_DATA+=("$c"); REPORT_LABELS+=(--label "LIGGGHTS campaign $(basename "$c" .h5)")

@@ -372,14 +372,29 @@ TEST(Design, ShippedCampaignDesigns) {
   const auto tri3 = read_campaign_design((dir / "lab-triangles-blind-cdt.toml").string(), decks());
   for (std::size_t k = 0; k < tri.impacts.size(); ++k)
     EXPECT_EQ(tri3.impacts[k].alpha_in_rad, tri.impacts[k].alpha_in_rad) << tri.impacts[k].id;
+  // The fifth calibration (the decks' default bed): the real check at the lab's 28 states, the
+  // blind triangles and the loop's speeds set on that one bed (built once, then cached), the
+  // triangles with the orientations of the fourth bed's blind run, release by release.
+  const auto cal5 =
+      read_campaign_design((dir / "lab-cylinders-rolling-gb-ground.toml").string(), decks());
+  ASSERT_EQ(cal5.impacts.size(), 28u);
+  expect_loop_set("lab-triangles-blind-rolling-gb.toml", 31, cal5);
+  expect_loop_set("speeds-rolling-gb.toml", 27, cal5);
+  const auto tri4 =
+      read_campaign_design((dir / "lab-triangles-blind-default-calibrated.toml").string(), decks());
+  const auto tri5 =
+      read_campaign_design((dir / "lab-triangles-blind-rolling-gb.toml").string(), decks());
+  ASSERT_EQ(tri4.impacts.size(), tri5.impacts.size());
+  for (std::size_t k = 0; k < tri4.impacts.size(); ++k)
+    EXPECT_EQ(tri5.impacts[k].alpha_in_rad, tri4.impacts[k].alpha_in_rad) << tri4.impacts[k].id;
   const auto resolution =
       read_campaign_design((dir / "bed-probe-resolution-cdt.toml").string(), decks());
   ASSERT_EQ(resolution.impacts.size(), 8u);  // {1, 0.75} x grains {0.06, 0.10} m deep x 2
   EXPECT_EQ(bed_key(decks(), bed_overrides(resolution.impacts[0])),
             bed_key(decks(), bed_overrides(cal3.impacts[0])));  // the base is the checked bed
-  EXPECT_EQ(read_campaign_design((dir / "bed-probe-width-cdt.toml").string(), decks())
-                .impacts.size(),
-            4u);  // 2 widths x 2 positions
+  EXPECT_EQ(
+      read_campaign_design((dir / "bed-probe-width-cdt.toml").string(), decks()).impacts.size(),
+      4u);  // 2 widths x 2 positions
 }
 
 void expect_error(const std::string& text, std::size_t line, const std::string& field) {

@@ -337,14 +337,24 @@ TEST(Html, EscapeAndBase64) {
 }
 
 TEST(Html, CompactSvgDropsOnlyEmptyGroups) {
+  // An empty group, an empty group nested in one that becomes empty, a drawn group, a
+  // self-closing group, an element whose name starts with "g", text.
   const std::string svg =
-      "<svg>\n<g fill=\"none\" color=\"black\">\n</g>\n<g id=\"a\"><g "
-      "stroke=\"gray\">\t\n</g></g>\n"
-      "<g class=\"x\">\n\t<path d='M0,0 L1,1'/></g>\n<g/>\n<gradient id=\"q\"></gradient>\n"
-      "<text> 3.2</text>\n</svg>";
+      "<svg>\n"
+      "<g fill=\"none\" color=\"black\">\n</g>\n"
+      "<g id=\"a\"><g stroke=\"gray\">\t\n</g></g>\n"
+      "<g class=\"x\">\n\t<path d='M0,0 L1,1'/></g>\n"
+      "<g/>\n"
+      "<gradient id=\"q\"></gradient>\n"
+      "<text> 3.2</text>\n"
+      "</svg>";
   EXPECT_EQ(report::compact_svg(svg),
-            "<svg>\n<g class=\"x\">\n\t<path d='M0,0 L1,1'/></g>\n<g/>\n"
-            "<gradient id=\"q\"></gradient>\n<text> 3.2</text>\n</svg>");
+            "<svg>\n"
+            "<g class=\"x\">\n\t<path d='M0,0 L1,1'/></g>\n"
+            "<g/>\n"
+            "<gradient id=\"q\"></gradient>\n"
+            "<text> 3.2</text>\n"
+            "</svg>");
   EXPECT_EQ(report::compact_svg(""), "");
   EXPECT_EQ(report::compact_svg("<g>"), "<g>");  // unterminated: kept as it is
 }
