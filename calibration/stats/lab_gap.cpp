@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -25,7 +26,50 @@ std::vector<double> exit_slip(const ImpactSet& set, double radius_m) {
   return s;
 }
 
+// The pairs of paired_residuals(), in PairedResiduals order.
+constexpr std::array<std::array<std::size_t, 2>, 3> kPairs = {{{0, 1}, {0, 2}, {1, 2}}};
+
 }  // namespace
+
+std::optional<PairedResiduals> paired_residuals(const ImpactSet& model, const ImpactSet& measured) {
+  std::map<std::string, std::size_t> release;
+  for (std::size_t i = 0; i < measured.size(); ++i) release[measured.impacts[i].id] = i;
+  std::vector<Vel3> sum(measured.size(), Vel3{0, 0, 0});
+  std::vector<std::size_t> count(measured.size(), 0);
+  for (const auto& im : model.impacts) {
+    auto it = release.find(im.id);
+    if (it == release.end()) it = release.find(im.id.substr(0, im.id.find('-')));
+    if (it == release.end()) continue;
+    for (std::size_t k = 0; k < 3; ++k) sum[it->second][k] += im.vout[k];
+    ++count[it->second];
+  }
+  std::array<std::vector<double>, 3> res, lab, mod;
+  for (std::size_t i = 0; i < measured.size(); ++i)
+    if (count[i] > 0)
+      for (std::size_t k = 0; k < 3; ++k) {
+        lab[k].push_back(measured.impacts[i].vout[k]);
+        mod[k].push_back(sum[i][k] / static_cast<double>(count[i]));
+        res[k].push_back(lab[k].back() - mod[k].back());
+      }
+  PairedResiduals p;
+  p.n = res[0].size();
+  if (p.n < 5) return std::nullopt;
+  std::array<double, 3> pv{};
+  for (std::size_t k = 0; k < 3; ++k) p.sd[k] = summarize(res[k]).std;
+  for (std::size_t q = 0; q < 3; ++q) {
+    p.r[q] = pearson(res[kPairs[q][0]], res[kPairs[q][1]]);
+    p.r_measured[q] = pearson(lab[kPairs[q][0]], lab[kPairs[q][1]]).r;
+    p.r_model[q] = pearson(mod[kPairs[q][0]], mod[kPairs[q][1]]).r;
+    // Fisher (1915): atanh(r) ~ N(atanh(rho), 1 / (n - 3)); 1.959964 = the normal's 97.5 %.
+    const double z = std::atanh(std::clamp(p.r[q].r, -0.999999, 0.999999));
+    const double h = 1.959964 / std::sqrt(static_cast<double>(p.n) - 3.0);
+    p.r_ci95[q] = {std::tanh(z - h), std::tanh(z + h)};
+    pv[q] = p.r[q].p_value;
+  }
+  const std::vector<double> adjusted = holm_adjust(pv);
+  for (std::size_t q = 0; q < 3; ++q) p.p_holm[q] = adjusted[q];
+  return p;
+}
 
 ComponentGap component_gap(const std::string& name, std::span<const double> model,
                            std::span<const double> measured, const std::vector<bool>& core,
@@ -113,6 +157,7 @@ LabGap lab_gap(const ImpactSet& model, const ImpactSet& measured, const LabGapOp
   }
   const std::vector<double> adjusted = holm_adjust(p);
   for (std::size_t k = 0; k < 3; ++k) gap.response_p_holm[k] = adjusted[k];
+  gap.residuals = paired_residuals(model, measured);
   return gap;
 }
 
@@ -163,7 +208,17 @@ nlohmann::json checks_json(const LabGap& gap) {
         {"n_lab", r.n_measured},         {"t", r.t},
         {"p_value", r.p_value},          {"p_holm", gap.response_p_holm[k]}};
   }
-  return {{"lab_gross_errors", flagged}, {"lab_response", response}};
+  nlohmann::json j = {{"lab_gross_errors", flagged}, {"lab_response", response}};
+  if (const auto& p = gap.residuals) {
+    nlohmann::json sd, corr;
+    for (std::size_t k = 0; k < 3; ++k) sd[kOut[k]] = p->sd[k];
+    for (std::size_t q = 0; q < 3; ++q)
+      corr[std::string(kOut[kPairs[q][0]]) + ":" + kOut[kPairs[q][1]]] = {
+          {"r", p->r[q].r},         {"ci95", p->r_ci95[q]},      {"p_value", p->r[q].p_value},
+          {"p_holm", p->p_holm[q]}, {"r_lab", p->r_measured[q]}, {"r_model", p->r_model[q]}};
+    j["lab_residuals"] = {{"n", p->n}, {"sd", sd}, {"correlations", corr}};
+  }
+  return j;
 }
 
 std::string to_text(const ComponentGap& g) {
@@ -210,6 +265,17 @@ std::string to_text(const LabGap& gap) {
         "3: {:.2g})\n",
         kOut[k], kIn[k], r.slope_model, r.se_model, r.slope_measured, r.se_measured, kIn[k],
         r.reliability, r.t, r.p_value, gap.response_p_holm[k]);
+  }
+  if (const auto& p = gap.residuals) {
+    s += fmt::format(
+        "  lab minus resolved at the same {} releases: sd {:.3f} m/s, {:.3f} m/s, {:.2f} rad/s\n",
+        p->n, p->sd[0], p->sd[1], p->sd[2]);
+    for (std::size_t q = 0; q < 3; ++q)
+      s += fmt::format(
+          "    correlation of the {} and {} residuals: r {:+.2f} (95 % [{:+.2f}, {:+.2f}]), p "
+          "{:.2g} (Holm over 3: {:.2g}); of the lab's values {:+.2f}, of the resolved {:+.2f}\n",
+          kOut[kPairs[q][0]], kOut[kPairs[q][1]], p->r[q].r, p->r_ci95[q][0], p->r_ci95[q][1],
+          p->r[q].p_value, p->p_holm[q], p->r_measured[q], p->r_model[q]);
   }
   return s;
 }

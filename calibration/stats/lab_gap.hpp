@@ -66,6 +66,30 @@ struct LabGapOptions {
   double disc_radius_m = std::numeric_limits<double>::quiet_NaN();
 };
 
+/// Measured-minus-model residuals of V_out at the same releases. A model impact belongs to a
+/// measured release when its id is the release's id, or the release's id followed by '-' (as
+/// campaigns name their impacts, "C01-x_impact_frac0.26"); the model impacts of one release are
+/// averaged. Whatever moves the measurements away from the model from release to release leaves
+/// its mark in how the three residuals co-vary: a source that moves V_out^x and V_out^y together
+/// (a denser or looser bed) correlates them positively, a local tilt of the surface (which
+/// rotates V_out) negatively, independent reading noise not at all
+/// (docs/resolved-calibration.md, "What the lab's residuals say").
+struct PairedResiduals {
+  std::size_t n = 0;           ///< releases matched
+  std::array<double, 3> sd{};  ///< sample sd of each residual [m/s, m/s, rad/s]
+  /// Pairs (vout_x, vout_y), (vout_x, wout), (vout_y, wout): Pearson r and its two-sided p.
+  std::array<Correlation, 3> r{};
+  /// Fisher-z 95 % interval of each r (Fisher 1915: atanh r is normal with sd 1/sqrt(n - 3)).
+  std::array<std::array<double, 2>, 3> r_ci95{};
+  std::array<double, 3> p_holm{};  ///< Holm over the three pairs
+  /// The same pairs' r over the matched releases, of the measured values alone and of the
+  /// model's alone: the residuals' correlation mixes both (the model's includes its response to
+  /// the reading noise of the measured V_in it was run at).
+  std::array<double, 3> r_measured{}, r_model{};
+};
+/// Absent when fewer than 5 releases are matched.
+std::optional<PairedResiduals> paired_residuals(const ImpactSet& model, const ImpactSet& measured);
+
 struct LabGap {
   /// vout_x, vout_y, wout, then slip_out [m/s] for a disc.
   std::vector<ComponentGap> components;
@@ -76,6 +100,7 @@ struct LabGap {
   /// the gross-error rule keeps, with Holm-adjusted p-values over the three components.
   std::array<ResponseCheck, 3> response{};
   std::array<double, 3> response_p_holm{};
+  std::optional<PairedResiduals> residuals;  ///< absent when the sets share too few releases
 };
 
 /// Compares `model` with `measured` (both impact sets of one shape). Throws std::invalid_argument
@@ -89,7 +114,10 @@ LabGap lab_gap(const ImpactSet& model, const ImpactSet& measured, const LabGapOp
 /// share_p_above_0.05} with a noise model. ("dem" is the model side: the keys predate this file.)
 nlohmann::json to_json(const ComponentGap& gap);
 /// JSON of the set-level checks: lab_gross_errors [{id, why}], lab_response {vx, vy, w: {r_model,
-/// r_lab, n_model, n_lab, z, p_value, p_holm}}.
+/// r_lab, n_model, n_lab, z, p_value, p_holm}}, lab_residuals {n, sd {vout_x, vout_y, wout},
+/// correlations {vout_x:vout_y, vout_x:wout, vout_y:wout: {r, ci95, p_value, p_holm, r_lab,
+/// r_model}}} when the
+/// sets share releases.
 nlohmann::json checks_json(const LabGap& gap);
 /// Readable lines: one per quantity, then the checks.
 std::string to_text(const LabGap& gap);
