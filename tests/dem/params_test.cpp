@@ -395,6 +395,53 @@ TEST(Design, ShippedCampaignDesigns) {
   EXPECT_EQ(
       read_campaign_design((dir / "bed-probe-width-cdt.toml").string(), decks()).impacts.size(),
       4u);  // 2 widths x 2 positions
+  // Packing from release to release: the fifth check's 28 states, grains and block, each
+  // release on one of 7 beds whose pouring friction steps 0.18-0.38 (release k on level k mod 7);
+  // everything else as the fifth check (its bed is level 3 but for the seed).
+  const auto packing =
+      read_campaign_design((dir / "lab-cylinders-packing-scatter.toml").string(), decks());
+  ASSERT_EQ(packing.impacts.size(), 28u);
+  std::set<std::string> packing_beds;
+  for (std::size_t k = 0; k < 28; ++k) {
+    const auto& s = packing.impacts[k];
+    packing_beds.insert(bed_key(decks(), bed_overrides(s)));
+    EXPECT_EQ(s.id, cal5.impacts[k].id.substr(0, s.id.size()));
+    EXPECT_EQ(s.vin, cal5.impacts[k].vin) << s.id;
+    EXPECT_NEAR(std::stod(s.params.bed.at("mu_pour")), 0.18 + 0.2 / 6 * static_cast<double>(k % 7),
+                1e-3)
+        << s.id;
+    EXPECT_EQ(s.params.block, cal5.impacts[k].params.block) << s.id;
+    for (const char* b : {"E_grain_Pa", "mur_gg"})
+      EXPECT_EQ(std::stod(s.params.bed.at(b)), std::stod(cal5.impacts[k].params.bed.at(b))) << b;
+  }
+  EXPECT_EQ(packing_beds.size(), 7u);
+  // The triangles' grain-size check: six of the fifth bed's blind releases, release by release
+  // (state, orientation to 1e-12 rad, position, grain law, block), on grains 0.75x.
+  const auto fine =
+      read_campaign_design((dir / "lab-triangles-fine-grains.toml").string(), decks());
+  auto default_param = [](const std::string& name) {
+    for (const auto& p : decks().bed_params)
+      if (p.name == name) return p.default_value;
+    ADD_FAILURE() << "no bed parameter " << name;
+    return std::string("nan");
+  };
+  ASSERT_EQ(fine.impacts.size(), 6u);
+  for (std::size_t k = 0; k < fine.impacts.size(); ++k) {
+    const auto& s = fine.impacts[k];
+    EXPECT_EQ(s.id, fmt::format("T{:02d}", 2 + 4 * k));
+    const auto& base = tri5.impacts[1 + 4 * k];
+    EXPECT_EQ(base.id, s.id);
+    EXPECT_EQ(s.vin, base.vin) << s.id;
+    EXPECT_NEAR(s.alpha_in_rad, base.alpha_in_rad, 1e-12) << s.id;
+    EXPECT_EQ(s.params.block, base.params.block) << s.id;
+    EXPECT_EQ(s.params.run, base.params.run) << s.id;
+    auto bed = s.params.bed;
+    for (const char* r : {"r1_m", "r2_m", "r3_m"}) {
+      EXPECT_NEAR(std::stod(bed.at(r)), 0.75 * std::stod(default_param(r)), 1e-12) << r;
+      bed.erase(r);
+    }
+    EXPECT_EQ(bed, base.params.bed) << s.id;
+  }
 }
 
 void expect_error(const std::string& text, std::size_t line, const std::string& field) {
