@@ -35,6 +35,7 @@ TEST_F(ShippedData, StatsReadsEveryResolvedCampaign) {
                                                {"lab-triangles-blind-default-calibrated.h5", 26},
                                                {"lab-triangles-blind-rolling-gb.h5", 28},
                                                {"lab-cylinders-default-replica-beds.h5", 28},
+                                               {"lab-cylinders-packing-scatter.h5", 28},
                                                {"bed-probe-depth.h5", 6},
                                                {"bed-probe-rolling.h5", 8},
                                                {"bed-probe-rolling-model.h5", 6},

@@ -172,6 +172,34 @@ TEST(LabGap, ResidualsTellATiltFromAPackingScatter) {
   EXPECT_LE(noise_covered, 199);
 }
 
+// Issue 11, item 1, on the shipped resolved sets (docs/resolved-calibration.md, "Packing from
+// release to release"): what the docs claim of them, recomputed from the files.
+TEST(LabGap, ShippedResolvedCylindersAgainstTheLab) {
+  const std::string dir = std::string(RICOCHET_SOURCE_DIR) + "/data/";
+  const ImpactSet lab = read_impact_set(dir + "lab/cylinders.csv");
+  const auto packing =
+      stats::lab_gap(read_impact_set(dir + "resolved/lab-cylinders-packing-scatter.h5"), lab, {});
+  const auto one_bed =
+      stats::lab_gap(read_impact_set(dir + "resolved/lab-cylinders-rolling-gb-ground.h5"), lab, {});
+  for (std::size_t k = 0; k < 3; ++k) {
+    // Seven packings: every mean within 0.5 lab sd of all 28 releases, every KS p above 0.05.
+    const auto& g = packing.components[k];
+    EXPECT_LT(std::abs(g.model.mean - g.measured.mean), 0.5 * g.measured.std) << g.name;
+    EXPECT_GT(g.ks.p_value, 0.05) << g.name;
+  }
+  // ... narrowly on V_out^y, whose spread stays about half the lab's, as on one packing, where
+  // V_out^y fails KS.
+  EXPECT_LT(packing.components[kVy].ks.p_value, 0.1);
+  EXPECT_LT(packing.components[kVy].model.std, 0.6 * packing.components[kVy].measured.std);
+  EXPECT_LT(one_bed.components[kVy].ks.p_value, 0.05);
+  // The lab-minus-resolved residuals of V_out^x and V_out^y co-vary positively (against a
+  // surface tilt), and so do the lab's own values.
+  ASSERT_TRUE(one_bed.residuals.has_value());
+  EXPECT_EQ(one_bed.residuals->n, 28u);
+  EXPECT_GT(one_bed.residuals->r_ci95[0][0], 0.0);
+  EXPECT_GT(one_bed.residuals->r_measured[0], 0.3);
+}
+
 TEST(LabGap, NoCoreWithoutGrossErrors) {
   const std::vector<double> a = {1, 2, 3, 4}, b = {1.5, 2.5, 3.5, 4.5};
   const auto g = stats::component_gap("x", a, b);
