@@ -37,8 +37,11 @@ std::optional<PairedResiduals> paired_residuals(const ImpactSet& model, const Im
   std::vector<Vel3> sum(measured.size(), Vel3{0, 0, 0});
   std::vector<std::size_t> count(measured.size(), 0);
   for (const auto& im : model.impacts) {
+    // The id itself, else the longest prefix that ends before a '-'.
     auto it = release.find(im.id);
-    if (it == release.end()) it = release.find(im.id.substr(0, im.id.find('-')));
+    for (auto dash = im.id.rfind('-'); it == release.end() && dash != std::string::npos && dash > 0;
+         dash = im.id.rfind('-', dash - 1))
+      it = release.find(im.id.substr(0, dash));
     if (it == release.end()) continue;
     for (std::size_t k = 0; k < 3; ++k) sum[it->second][k] += im.vout[k];
     ++count[it->second];

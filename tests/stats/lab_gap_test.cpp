@@ -200,6 +200,34 @@ TEST(LabGap, ShippedResolvedCylindersAgainstTheLab) {
   EXPECT_GT(one_bed.residuals->r_measured[0], 0.3);
 }
 
+TEST(LabGap, ResidualsMatchReleasesWhoseIdsHoldADash) {
+  // Release "A-3" is matched by "A-3" and "A-3-p01" (averaged), never by "A-30-p01".
+  ImpactSet model, measured;
+  for (int i = 0; i < 6; ++i) {
+    Impact l;
+    l.id = "A-" + std::to_string(i);
+    l.vout = {3.0 + 0.1 * i, 0.8 + 0.01 * i * i, -40.0 + i};
+    measured.impacts.push_back(l);
+    Impact m = l;
+    m.vout[kVx] -= 0.2;  // residual +0.2 on V_out^x, 0 elsewhere
+    model.impacts.push_back(m);
+  }
+  Impact extra = model.impacts[3];
+  extra.id = "A-3-p01";
+  extra.vout[kVx] += 0.4;  // the two replicas of A-3 average to the measured value
+  model.impacts.push_back(extra);
+  Impact stranger = extra;
+  stranger.id = "A-30-p01";
+  stranger.vout[kVx] = 100.0;
+  model.impacts.push_back(stranger);
+  const auto p = stats::paired_residuals(model, measured);
+  ASSERT_TRUE(p.has_value());
+  EXPECT_EQ(p->n, 6u);
+  // Residuals 0.2 x 5 and 0 for A-3: sd of {0.2, 0.2, 0.2, 0, 0.2, 0.2} = 0.2 / sqrt(6).
+  EXPECT_NEAR(p->sd[kVx], 0.2 / std::sqrt(6.0), 1e-12);
+  EXPECT_NEAR(p->sd[kVy], 0.0, 1e-12);
+}
+
 TEST(LabGap, NoCoreWithoutGrossErrors) {
   const std::vector<double> a = {1, 2, 3, 4}, b = {1.5, 2.5, 3.5, 4.5};
   const auto g = stats::component_gap("x", a, b);
