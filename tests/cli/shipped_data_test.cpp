@@ -34,6 +34,7 @@ TEST_F(ShippedData, StatsReadsEveryResolvedCampaign) {
                                                {"lab-cylinders-rolling-gb-ground.h5", 28},
                                                {"lab-triangles-blind-default-calibrated.h5", 26},
                                                {"lab-triangles-blind-rolling-gb.h5", 28},
+                                               {"lab-triangles-fine-grains.h5", 6},
                                                {"lab-cylinders-default-replica-beds.h5", 28},
                                                {"lab-cylinders-packing-scatter.h5", 28},
                                                {"bed-probe-depth.h5", 6},
