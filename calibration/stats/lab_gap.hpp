@@ -1,12 +1,13 @@
 // The gap between a model's impacts (a resolved campaign, a synthetic set) and a measured set
 // (the lab), component by component: means and standard deviations, the two-sample KS test, the
 // same with the measurement's noise added to the model values, robust centres and scales, and
-// the KS test against the measured set without its gross errors. Plus two set-level checks that
-// say what the measured scatter is: the gross-error rule on the measurements alone, and whether
-// the measurements respond to their own measured inputs as the model does.
+// the KS test against the measured set without its gross errors. Plus three set-level checks that
+// say what the measured scatter is: the gross-error rule on the measurements alone, whether the
+// measurements respond to their own measured inputs as the model does, and how the
+// measured-minus-model residuals at the same releases co-vary.
 //
-// docs/resolved-calibration.md ("The lab's gross errors and the exit slip") explains why each
-// part is there; docs/commands/upscale.md lists the JSON keys.
+// docs/resolved-calibration.md ("The lab's gross errors and the exit slip", "Packing from release
+// to release") explains why each part is there; docs/commands/upscale.md lists the JSON keys.
 #pragma once
 
 #include <array>
