@@ -117,8 +117,7 @@ nlohmann::json to_json(const ComponentGap& gap);
 /// JSON of the set-level checks: lab_gross_errors [{id, why}], lab_response {vx, vy, w: {r_model,
 /// r_lab, n_model, n_lab, z, p_value, p_holm}}, lab_residuals {n, sd {vout_x, vout_y, wout},
 /// correlations {vout_x:vout_y, vout_x:wout, vout_y:wout: {r, ci95, p_value, p_holm, r_lab,
-/// r_model}}} when the
-/// sets share releases.
+/// r_model}}} when the sets share releases.
 nlohmann::json checks_json(const LabGap& gap);
 /// Readable lines: one per quantity, then the checks.
 std::string to_text(const LabGap& gap);

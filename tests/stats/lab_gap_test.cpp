@@ -18,28 +18,32 @@ namespace {
 struct Sets {
   ImpactSet model, measured;
 };
+// The lab cylinders' mean incident and reflected states and the response of V_out to V_in,
+// component by component (the resolved cylinders' slopes, roughly): the linear model both
+// generators of this file run.
+constexpr Vel3 kMeanIn = {2.9, -2.3, -65.0}, kMeanOut = {3.0, 0.85, -40.0};
+constexpr Vel3 kSlope = {0.85, -0.3, 0.6};
+double linear_response(int k, double vin) {
+  return kMeanOut[k] + kSlope[k] * (vin - kMeanIn[k]);
+}
 Sets make_sets(std::uint64_t seed, bool measured_responds, int gross) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> n(0.0, 1.0);
-  const Vel3 mean_in = {2.9, -2.3, -65.0}, noise_in = {0.21, 0.19, 5.9};
-  const Vel3 noise_out = {0.12, 0.15, 3.0};
-  // Response of V_out to V_in, component by component (resolved cylinders' slopes, roughly).
-  const Vel3 slope = {0.85, -0.3, 0.6}, mean_out = {3.0, 0.85, -40.0};
+  const Vel3 noise_in = {0.21, 0.19, 5.9}, noise_out = {0.12, 0.15, 3.0};
   Sets s;
   for (int i = 0; i < 28; ++i) {
     Impact m, l;
     m.id = l.id = "R" + std::to_string(i);
     m.shape = l.shape = "cylinder";
-    Vel3 true_in = mean_in;
+    Vel3 true_in = kMeanIn;
     // A set that responds: its incident states really differ, by the measured spread.
     if (measured_responds)
       for (int k = 0; k < 3; ++k) true_in[k] += noise_in[k] * n(rng);
     for (int k = 0; k < 3; ++k) {
       l.vin[k] = measured_responds ? true_in[k] : true_in[k] + noise_in[k] * n(rng);
-      const double response = mean_out[k] + slope[k] * (true_in[k] - mean_in[k]);
-      l.vout[k] = response + noise_out[k] * n(rng);
+      l.vout[k] = linear_response(k, true_in[k]) + noise_out[k] * n(rng);
       m.vin[k] = l.vin[k];
-      m.vout[k] = mean_out[k] + slope[k] * (m.vin[k] - mean_in[k]);
+      m.vout[k] = linear_response(k, m.vin[k]);
     }
     if (i < gross) l.vout[kW] -= 35.0;
     s.model.impacts.push_back(m);
@@ -101,7 +105,6 @@ TEST(LabGap, GrossErrorsComeFromTheMeasurementsAndFormTheCore) {
 ImpactSet with_source(const ImpactSet& model, const std::string& source, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> n(0.0, 1.0);
-  const Vel3 mean_in = {2.9, -2.3, -65.0}, slope = {0.85, -0.3, 0.6}, mean_out = {3.0, 0.85, -40.0};
   ImpactSet measured;
   for (std::size_t i = 0; i + 1 < model.size(); i += 2) {
     Impact l = model.impacts[i];
@@ -112,8 +115,7 @@ ImpactSet with_source(const ImpactSet& model, const std::string& source, std::ui
       const double t = 0.052 * n(rng), c = std::cos(t), sn = std::sin(t);
       const double in_x = c * l.vin[kVx] + sn * l.vin[kVy],
                    in_y = -sn * l.vin[kVx] + c * l.vin[kVy];
-      const double out_x = mean_out[kVx] + slope[kVx] * (in_x - mean_in[kVx]);
-      const double out_y = mean_out[kVy] + slope[kVy] * (in_y - mean_in[kVy]);
+      const double out_x = linear_response(kVx, in_x), out_y = linear_response(kVy, in_y);
       l.vout[kVx] = c * out_x - sn * out_y;
       l.vout[kVy] = sn * out_x + c * out_y;
     } else if (source == "packing") {
