@@ -164,11 +164,27 @@ class Effect {
 /// overlap so the loop vectorises (OpenMP SIMD; needs -fopenmp-simd, which the build sets).
 #define RICOCHET_SIMD _Pragma("omp simd")
 
-/// Helpers for branch-free effect code.
-inline double clamp_abs(double x, double limit) {
-  // Ternaries rather than std::fmin/fmax: those are library calls that block vectorisation.
-  const double lo = x < -limit ? -limit : x;
+/// Helpers for branch-free effect code. T is double or a GCC vector of doubles (the engine's
+/// fused kernel, engine/paper_kernel.hpp): the same expression serves both, ternaries rather
+/// than std::fmin/fmax, which are library calls that block vectorisation.
+template <class T>
+inline T clamp_abs(T x, T limit) {
+  const T lo = x < -limit ? -limit : x;
   return lo > limit ? limit : lo;
+}
+/// std::max and std::min's exact semantics ((a < b) ? b : a and (b < a) ? b : a) for T.
+template <class T>
+inline T lane_max(T a, T b) {
+  return a < b ? b : a;
+}
+template <class T>
+inline T lane_min(T a, T b) {
+  return b < a ? b : a;
+}
+/// A lane value of T filled with `v` (v itself for double).
+template <class T>
+inline T lane_fill(double v) {
+  return T{} + v;
 }
 
 }  // namespace ricochet

@@ -1,8 +1,7 @@
 // `normal`: the paper's hysteretic normal force (Garcia et al. 2020, Eq. 3; Banton et al. 2009;
 // the "Avalanche" law of Rockable). The printed Eq. 3 lost the h of the unloading branch; the
 // form below is the one whose cycle returns exactly e_n^2 of the stored energy (Eq. 4).
-#include <algorithm>
-
+#include "effects/normal.hpp"
 #include "effects/builtin.hpp"
 
 namespace ricochet::effects {
@@ -60,14 +59,7 @@ class Normal final : public Effect {
     const double* __restrict active = c.active;
     RICOCHET_SIMD
     for (std::size_t i = 0; i < c.n; ++i) {
-      const double loading = fs[i] + kn[i] * kf[i] * dh[i];
-      // Direct unloading to the e_n^2-scaled elastic curve; min() equals the paper's direct
-      // assignment (fn never lies below that curve before unloading) and keeps the law
-      // dissipative when coefficient effects change the factors during the contact.
-      const double en2_eff = std::min(en2[i] * enf[i], 1.0);
-      const double unloading = std::min(fs[i], en2_eff * kn[i] * ef[i] * h[i]);
-      const double f = std::max(dh[i] >= 0.0 ? loading : unloading, 0.0);
-      fs[i] = active[i] > 0.0 ? f : 0.0;
+      fs[i] = NormalLaw::force(fs[i], kn[i], en2[i], dh[i], h[i], active[i], kf[i], ef[i], enf[i]);
       fn[i] += fs[i];
     }
   }

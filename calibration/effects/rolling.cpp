@@ -1,6 +1,7 @@
 // `rolling`: incremental rolling-resistance moment capped by mu_R * l * fn (Garcia et al. 2020,
 // Eq. 6). l is the distance from the contact point to the axis through the centre of mass
 // (paper section 4.1), supplied by the engine as ContactBatch::lever.
+#include "effects/rolling.hpp"
 #include "effects/builtin.hpp"
 
 namespace ricochet::effects {
@@ -25,9 +26,7 @@ class Rolling final : public Effect {
     return "Garcia et al. (2020) JGR Earth Surf. 125, Eq. 6; Richefeu & Villard (2016)";
   }
   Stage stage() const override { return Stage::kRolling; }
-  Signature signature() const override {
-    return {"the paper's rolling resistance (Eq. 6)", {}};
-  }
+  Signature signature() const override { return {"the paper's rolling resistance (Eq. 6)", {}}; }
   std::span<const ParameterSpec> parameters() const override { return kParams; }
   std::span<const StateSpec> state() const override { return kState; }
 
@@ -44,9 +43,7 @@ class Rolling final : public Effect {
     const double dt = c.dt;
     RICOCHET_SIMD
     for (std::size_t i = 0; i < c.n; ++i) {
-      const double trial = ms[i] - kr[i] * w[i] * dt;
-      const double m = clamp_abs(trial, muR[i] * rf[i] * lever[i] * fn[i]);
-      ms[i] = active[i] > 0.0 ? m : 0.0;
+      ms[i] = RollingLaw::moment(ms[i], kr[i], muR[i], w[i], lever[i], fn[i], active[i], rf[i], dt);
       moment[i] += ms[i];
     }
   }

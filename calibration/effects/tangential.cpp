@@ -1,6 +1,7 @@
 // `tangential`: incremental tangential spring capped by Coulomb friction (Garcia et al. 2020,
 // Eq. 5). mu "includes friction and other dissipation mechanisms acting in the tangential
 // direction" (paper section 4.1).
+#include "effects/tangential.hpp"
 #include "effects/builtin.hpp"
 
 namespace ricochet::effects {
@@ -25,9 +26,7 @@ class Tangential final : public Effect {
     return "Garcia et al. (2020) JGR Earth Surf. 125, Eq. 5; Richefeu & Villard (2016)";
   }
   Stage stage() const override { return Stage::kTangential; }
-  Signature signature() const override {
-    return {"the paper's tangential friction (Eq. 5)", {}};
-  }
+  Signature signature() const override { return {"the paper's tangential friction (Eq. 5)", {}}; }
   std::span<const ParameterSpec> parameters() const override { return kParams; }
   std::span<const StateSpec> state() const override { return kState; }
 
@@ -43,9 +42,7 @@ class Tangential final : public Effect {
     const double dt = c.dt;
     RICOCHET_SIMD
     for (std::size_t i = 0; i < c.n; ++i) {
-      const double trial = fs[i] - kt[i] * vt[i] * dt;
-      const double f = clamp_abs(trial, mu[i] * muf[i] * fn[i]);
-      fs[i] = active[i] > 0.0 ? f : 0.0;
+      fs[i] = TangentialLaw::force(fs[i], kt[i], mu[i], vt[i], fn[i], active[i], muf[i], dt);
       ft[i] += fs[i];
     }
   }
