@@ -6,15 +6,8 @@
 #include <cmath>
 #include <stdexcept>
 
-// glibc's libmvec has vector cos and sin (x86-64 vector ABI, <= 4 ulp); <math.h> declares them
-// only under -ffast-math, which we do not use. Declaring them here lets the orientation loop in
-// step() vectorise: scalar libm calls were a quarter of a triangle collision's time.
-extern "C" {
-#pragma omp declare simd notinbranch
-double cos(double) noexcept;
-#pragma omp declare simd notinbranch
-double sin(double) noexcept;
-}
+#include "engine/paper_kernel.hpp"
+#include "engine/vector_math.hpp"
 
 namespace ricochet {
 
@@ -84,7 +77,7 @@ class LaneBatch {
     for (double** a :
          {&x_,    &y_,      &th_,   &vx_,      &vy_,   &w_,     &ax_,      &ay_,  &aw_,  &vxh_,
           &vyh_,  &wh_,     &fx_,   &fy_,      &tq_,   &t_,     &t_first_, &had_, &any_, &prev_,
-          &maxh_, &phases_, &cand_, &pending_, &y_in_, &ke_in_, &cth_,     &sth_})
+          &maxh_, &phases_, &cand_, &pending_, &y_in_, &ke_in_, &cth_,     &sth_, &live_})
       take(*a);
     for (auto& a : work_) take(a);
     slot_.resize(V_);
@@ -119,6 +112,7 @@ class LaneBatch {
     r_ = shape.rounding_radius_m;
     inv_m_ = 1.0 / shape.mass_kg;
     inv_i_ = 1.0 / shape.inertia_kgm2;
+    if constexpr (kFlat) set_up_fused();
   }
 
   void run() {
@@ -129,7 +123,10 @@ class LaneBatch {
     }
     if (trace_) record();
     while (busy > 0) {
-      step();
+      if (fused_)
+        for (std::size_t i0 = 0; i0 < W_; i0 += kVector) fused_(paper_, i0);
+      else
+        step();
       if (trace_) record();
       for (std::size_t i = 0; i < W_; ++i) {
         if (case_of_[i] < 0) continue;
@@ -151,12 +148,12 @@ class LaneBatch {
   // Lanes come in whole vectors (8 doubles = AVX-512), idle ones padding: every lane then takes
   // the vectorised path, whose cos/sin (libmvec) may differ in the last bit from the scalar
   // remainder loop's, so a collision's result does not depend on its lane or the batch size.
-  static constexpr std::size_t kVector = 8;
+  static constexpr std::size_t kVector = detail::kChunk;
   static std::size_t padded(std::size_t lanes) {
     return (std::max<std::size_t>(1, lanes) + kVector - 1) / kVector * kVector;
   }
 
-  static constexpr std::size_t kLaneArrays = 28;
+  static constexpr std::size_t kLaneArrays = 29;
   static constexpr std::size_t kStages = kStageCount;
   static constexpr std::size_t kSlotArrays = 21;
   static constexpr std::size_t kFactorArrays = 5;
@@ -167,17 +164,97 @@ class LaneBatch {
     double *pfn, *pft, *pmom, *pfxb, *pfyb;  // forces of the previous step (work accounting)
   };
 
+  // Models that hold the paper's law (normal, tangential, rolling), on flat ground, without a
+  // trace and within the kernel's fixed sizes run in the fused kernel (engine/paper_kernel.hpp);
+  // anything else steps here.
+  void set_up_fused() {
+    using detail::FusedEffect;
+    if (trace_ || V_ > detail::kFusedMaxVertices ||
+        layout_.effects.size() > detail::kFusedMaxEffects)
+      return;
+    detail::PaperLanes& a = paper_;
+    a = {x_, y_,       th_,  vx_,   vy_,     w_,       ax_,   ay_,   aw_,
+         t_, t_first_, had_, prev_, phases_, pending_, cand_, maxh_, live_};
+    a.work_normal = work_[static_cast<int>(Stage::kNormal)];
+    a.work_tangential = work_[static_cast<int>(Stage::kTangential)];
+    a.work_rolling = work_[static_cast<int>(Stage::kRolling)];
+    a.work_body = work_[static_cast<int>(Stage::kBody)];
+    int found[3] = {0, 0, 0};
+    for (std::size_t e = 0; e < layout_.effects.size(); ++e) {
+      const Effect& eff = *layout_.effects[e];
+      FusedEffect& f = a.effects[e];
+      f.effect = &eff;
+      f.kind = eff.name() == "normal"       ? FusedEffect::kNormal
+               : eff.name() == "tangential" ? FusedEffect::kTangential
+               : eff.name() == "rolling"    ? FusedEffect::kRolling
+                                            : FusedEffect::kOther;
+      f.nparams = static_cast<int>(eparams_[e].size());
+      f.nstate = static_cast<int>(layout_.state_count[e]);
+      if (f.nparams > detail::kFusedMaxEffectArrays || f.nstate > detail::kFusedMaxEffectArrays)
+        return;
+      for (int k = 0; k < f.nparams; ++k) f.params[k] = eparams_[e][k];
+      for (std::size_t s = 0; s < V_; ++s)
+        for (int k = 0; k < f.nstate; ++k) f.state[s][k] = estate_[e * V_ + s][k];
+      if (f.kind == FusedEffect::kOther) continue;
+      ++found[f.kind];
+      const double* p0 = eparams_[e][0];
+      const double* p1 = eparams_[e][1];
+      if (f.kind == FusedEffect::kNormal) a.kn = p0, a.en2 = p1;
+      if (f.kind == FusedEffect::kTangential) a.kt = p0, a.mu = p1;
+      if (f.kind == FusedEffect::kRolling) a.kr = p0, a.muR = p1;
+      for (std::size_t s = 0; s < V_; ++s) {
+        double* state = estate_[e * V_ + s][0];
+        (f.kind == FusedEffect::kNormal       ? a.slot[s].fn
+         : f.kind == FusedEffect::kTangential ? a.slot[s].ft
+                                              : a.slot[s].moment) = state;
+      }
+    }
+    if (found[0] != 1 || found[1] != 1 || found[2] != 1) return;
+    a.neffects = static_cast<int>(layout_.effects.size());
+    a.has_coefficient = has_coefficient_;
+    a.has_body = has_body_;
+    for (std::size_t s = 0; s < V_; ++s) {
+      const Slot& sl = slot_[s];
+      a.slot[s].h_prev = sl.h_prev, a.slot[s].pfn = sl.pfn, a.slot[s].pft = sl.pft;
+      a.slot[s].pmom = sl.pmom, a.slot[s].pfxb = sl.pfxb, a.slot[s].pfyb = sl.pfyb;
+      a.vbx[s] = shape_.vertices[s][0];
+      a.vby[s] = shape_.vertices[s][1];
+    }
+    a.r = r_, a.dt = dt_, a.g = g_, a.inv_m = inv_m_, a.inv_i = inv_i_;
+    a.max_time = opt_.max_time_s;
+    a.mass = shape_.mass_kg, a.length = shape_.length_m;
+    fused_ = pick_kernel(a.neffects > 3, V_);
+  }
+
+  // The kernel instance for this block's shape (its vertex count) and model.
+  using Kernel = void (*)(const detail::PaperLanes&, std::size_t);
+  static Kernel pick_kernel(bool others, std::size_t vertices) {
+    if constexpr (kDisc) {
+      return others ? detail::paper_steps<true, 1, true> : detail::paper_steps<true, 1, false>;
+    } else {
+      static constexpr Kernel kLean[] = {
+          nullptr, detail::paper_steps<false, 1, false>, detail::paper_steps<false, 2, false>,
+          detail::paper_steps<false, 3, false>, detail::paper_steps<false, 4, false>};
+      static constexpr Kernel kFull[] = {
+          nullptr, detail::paper_steps<false, 1, true>, detail::paper_steps<false, 2, true>,
+          detail::paper_steps<false, 3, true>, detail::paper_steps<false, 4, true>};
+      return others ? kFull[vertices] : kLean[vertices];
+    }
+  }
+
   void load(std::size_t i) {
     if (next_ >= cases_.size()) {
       case_of_[i] = -1;
       // An idle lane far above the ground: it never touches and costs nothing to integrate.
       y_[i] = 1e9;
+      live_[i] = 0.0;
       vx_[i] = vy_[i] = w_[i] = ax_[i] = ay_[i] = aw_[i] = 0.0;
       cand_[i] = 0.0;
       return;
     }
     const std::size_t k = next_++;
     case_of_[i] = static_cast<long>(k);
+    live_[i] = 1.0;
     const CollisionCase& c = cases_[k];
     double ground = 0, nx = 0, ny = 1;
     if (!kFlat) opt_.ground.surface(0.0, ground, nx, ny);
@@ -583,7 +660,9 @@ class LaneBatch {
 
   double *x_, *y_, *th_, *vx_, *vy_, *w_, *ax_, *ay_, *aw_, *vxh_, *vyh_, *wh_;
   double *fx_, *fy_, *tq_, *t_, *t_first_, *had_, *any_, *prev_, *maxh_, *phases_;
-  double *cand_, *pending_, *y_in_, *ke_in_, *cth_, *sth_;
+  double *cand_, *pending_, *y_in_, *ke_in_, *cth_, *sth_, *live_;
+  detail::PaperLanes paper_{};
+  Kernel fused_ = nullptr;
   std::array<double*, kStageCount> work_{};
   std::vector<Slot> slot_;
   double *kf_, *ef_, *enf_, *muf_, *murf_;

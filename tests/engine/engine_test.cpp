@@ -197,6 +197,58 @@ TEST(Engine, BatchEqualsSingleBitForBit) {
   }
 }
 
+// The fused kernel (engine/paper_kernel.hpp) runs every batch whose model holds the paper's law on
+// flat ground; a collision with a trace takes the generic path. Both must give the same bits, for
+// the paper's law and for every kind of effect the kernel calls through apply(): each stage
+// (coefficient, normal, body), a per-contact state, two effects at once. Parameters away from
+// their neutral values, so that every effect acts; both shapes.
+TEST(Engine, FusedKernelIsTheGenericPathBitForBit) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const std::vector<std::vector<std::string>> extras = {{},
+                                                        {"rate_restitution"},
+                                                        {"inertial_drag"},
+                                                        {"ploughing"},
+                                                        {"depth_friction"},
+                                                        {"hertz_stiffness"},
+                                                        {"kn_spin_power"},
+                                                        {"en2_approach_speed_linear"},
+                                                        {"mu_slip_speed_linear"},
+                                                        {"muR_penetration_power", "inertial_drag"}};
+  for (const Shape& shape : {Shape::cylinder(), Shape::triangle()}) {
+    for (const auto& names : extras) {
+      Model m = Model::paper();
+      for (const auto& n : names) m = m.with_effect(n);
+      for (std::size_t i = 0; i < m.parameter_count(); ++i) {
+        const ParameterSpec& p = m.spec(i);
+        const bool own = p.name != "kn" && p.name != "kt" && p.name != "kr" && p.name != "en2" &&
+                         p.name != "mu" && p.name != "muR";
+        // Candidates a third of the way from nominal to their upper bound.
+        if (own) m.set(p.name, p.nominal + (p.upper - p.nominal) / 3);
+      }
+      std::vector<CollisionCase> cases;
+      for (int k = 0; k < 24; ++k)
+        cases.push_back(
+            {{0.5 + 4.0 * u(rng), -0.5 - 3.0 * u(rng), -90.0 + 140.0 * u(rng)}, 2.1 * u(rng)});
+      EngineOptions options;
+      options.max_time_s = 0.1;
+      const auto fused = simulate_batch(m, shape, cases, {}, options);
+      for (std::size_t k = 0; k < cases.size(); ++k) {
+        Trace trace;  // a trace forces the generic path
+        const auto generic = simulate(m, shape, cases[k], {}, options, &trace);
+        const std::string what = shape.name + " + " + (names.empty() ? "paper" : names[0]);
+        EXPECT_EQ(fused[k].vout, generic.vout) << what << " case " << k;
+        EXPECT_EQ(fused[k].dissipated_J, generic.dissipated_J) << what << " case " << k;
+        EXPECT_EQ(fused[k].max_penetration_m, generic.max_penetration_m) << what;
+        EXPECT_EQ(fused[k].contact_duration_s, generic.contact_duration_s) << what;
+        EXPECT_EQ(fused[k].contact_phases, generic.contact_phases) << what;
+        EXPECT_EQ(fused[k].status, generic.status) << what;
+        EXPECT_EQ(fused[k].alpha_out_rad, generic.alpha_out_rad) << what;
+      }
+    }
+  }
+}
+
 TEST(Engine, RejectsBadInput) {
   const Model m = Model::paper();
   std::vector<double> p = m.values();
