@@ -173,8 +173,9 @@ class LaneBatch {
         layout_.effects.size() > detail::kFusedMaxEffects)
       return;
     detail::PaperLanes& a = paper_;
-    a = {x_, y_,       th_,  vx_,   vy_,     w_,       ax_,   ay_,   aw_,
-         t_, t_first_, had_, prev_, phases_, pending_, cand_, maxh_, live_};
+    a.x = x_, a.y = y_, a.th = th_, a.vx = vx_, a.vy = vy_, a.w = w_, a.ax = ax_, a.ay = ay_;
+    a.aw = aw_, a.t = t_, a.t_first = t_first_, a.had = had_, a.prev = prev_, a.phases = phases_;
+    a.pending = pending_, a.cand = cand_, a.maxh = maxh_, a.live = live_;
     a.work_normal = work_[static_cast<int>(Stage::kNormal)];
     a.work_tangential = work_[static_cast<int>(Stage::kTangential)];
     a.work_rolling = work_[static_cast<int>(Stage::kRolling)];
