@@ -63,6 +63,8 @@ void BM_EngineBatch(benchmark::State& state) {
       static_cast<double>(cases.size()) * state.iterations(), benchmark::Counter::kIsRate);
   state.counters["dV_vs_ref_mps"] = dv;
   state.counters["dW_vs_ref_radps"] = dw;
+  // Steps integrated per collision at this state: the work unit of the flop count (bench.sh).
+  state.counters["steps_per_collision"] = std::round(results[0].end_time_s / options.dt_s);
 }
 BENCHMARK(BM_EngineBatch)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
@@ -79,6 +81,26 @@ void BM_EngineTriangleBatch(benchmark::State& state) {
       static_cast<double>(cases.size()) * state.iterations(), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_EngineTriangleBatch)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The core clock, from a chain of dependent scalar additions (latency 3 cycles on AMD Zen 3-4
+// and Intel cores since Skylake): the denominator of "fraction of peak" in bench.sh, since
+// this VM exposes no cycle counters.
+void BM_ClockEstimate(benchmark::State& state) {
+#if defined(__x86_64__)
+  constexpr long kAdds = 100'000'000;
+  double x = 1.0;
+  for (auto _ : state) {
+    long n = kAdds;  // the whole loop in assembly: x stays in its register
+    __asm__ volatile("1: vaddsd %0, %0, %0\n\tdec %1\n\tjnz 1b" : "+x"(x), "+r"(n));
+  }
+  benchmark::DoNotOptimize(x);
+  state.counters["clock_GHz"] =
+      benchmark::Counter(3.0 * kAdds * state.iterations() * 1e-9, benchmark::Counter::kIsRate);
+#else
+  state.SkipWithError("x86-64 only");
+#endif
+}
+BENCHMARK(BM_ClockEstimate)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 

@@ -33,6 +33,40 @@ for name in ("BM_EngineBatch/1/real_time", "BM_EngineBatch/2/real_time"):
 tri = runs["BM_EngineTriangleBatch/real_time"]["collisions_per_s"]
 print(f"BM_EngineTriangleBatch: {tri:,.0f} triangle collisions/s on 2 threads (issue 13 target 60,000)")
 PY
+  # Distance from the machine's limit: floating-point operations per collision, counted in the
+  # fused kernel's inner loop as compiled (objdump), against the peak at the measured clock.
+  python3 - "$OUT/engine.json" "$BUILD/benchmarks/bench_engine" <<'PY'
+import json, re, subprocess, sys
+runs = {b["run_name"]: b for b in json.load(open(sys.argv[1]))["benchmarks"]
+        if b.get("aggregate_name") == "median"}
+sym = "_ZN8ricochet6detail11paper_stepsILb1ELi1ELb0EEEvRKNS0_10PaperLanesEm"  # disc, paper's law
+asm = subprocess.run(["objdump", "-d", "--no-show-raw-insn", f"--disassemble={sym}", sys.argv[2]],
+                     check=True, capture_output=True, text=True).stdout
+lines = [l for l in asm.splitlines() if re.match(r"\s+[0-9a-f]+:", l)]
+addr = [int(l.split(":")[0], 16) for l in lines]
+# The step loop: the one backward jump of the function, to the loop's first instruction.
+jump = next(i for i, l in enumerate(lines) if re.search(r"\sj\w+\s+([0-9a-f]+) <", l)
+            and int(re.search(r"\sj\w+\s+([0-9a-f]+) <", l).group(1), 16) < addr[i])
+start = addr.index(int(re.search(r"\sj\w+\s+([0-9a-f]+) <", lines[jump]).group(1), 16))
+body = lines[start:jump + 1]
+width = {"zmm": 8, "ymm": 4, "xmm": 2}
+flops = 0
+for l in body:
+    m = re.search(r"\sv(add|sub|mul|div|max|min|sqrt)pd\s.*?%(zmm|ymm|xmm)", l)
+    if m: flops += width[m.group(2)]
+lanes = max(width[r] for r in ("zmm", "ymm", "xmm") if any(f"%{r}" in l for l in body))
+per_step = flops / lanes
+steps = runs["BM_EngineBatch/1/real_time"]["steps_per_collision"]
+ghz = runs["BM_ClockEstimate/real_time"]["clock_GHz"]
+for name, cores in (("BM_EngineBatch/1/real_time", 1), ("BM_EngineBatch/2/real_time", 2)):
+    rate = runs[name]["collisions_per_s"]
+    gflops = rate * steps * per_step * 1e-9
+    peak = 16 * ghz * cores  # 2 x 256-bit FMA units per core (AMD Zen 4): 16 flop/cycle
+    print(f"{name}: {per_step:.0f} flop per collision and step ({len(body)} instructions per "
+          f"{lanes} lanes, no FMA: -ffp-contract=off) x {steps:.0f} steps = {per_step * steps:,.0f} "
+          f"flop per collision; {gflops:.1f} GFLOP/s = {100 * gflops / peak:.0f} % of the "
+          f"{peak:.0f} GFLOP/s peak of {cores} core(s) at {ghz:.2f} GHz")
+PY
 fi
 
 if section fit; then
@@ -94,9 +128,15 @@ mc = wall([exe, "montecarlo", "--n", "50000", "--compare", f"{root}/data/lab/cyl
 print(f"reference: {ref_rate:,.0f} collisions/s on one core, 50,000 in {ref50k:.3f} s")
 print(f"engine steady state (2 threads): {steady:,.0f} collisions/s = 50,000 in {50000/steady:.3f} s "
       f"= {ref50k * steady / 50000:.1f}x the reference")
-print(f"ricochet --version (the process floor: loading the shared libraries, OpenTURNS above all): "
-      f"{version * 1e3:.0f} ms")
+plain = wall([f"{build}/benchmarks/startup_floor_plain"], 10)
+ot = wall([f"{build}/benchmarks/startup_floor_openturns"], 10)
+print(f"process floors: an empty program {plain * 1e3:.0f} ms; one that only loads OpenTURNS "
+      f"{ot * 1e3:.0f} ms; ricochet --version (OpenTURNS, LIGGGHTS, MPI, VTK, HDF5: 128 shared "
+      f"libraries) {version * 1e3:.0f} ms")
 print(f"montecarlo --n 50000 --compare, whole process: {mc:.3f} s = {ref50k / mc:.1f}x the reference "
       f"(target 12x: {ref50k / 12:.3f} s)")
+print(f"  of which start-up {version:.3f} s and the engine's steady state {50000 / steady:.3f} s; "
+      f"loading OpenTURNS alone, which samples and tests the Monte Carlo, takes "
+      f"{ot / (ref50k / 12):.1f}x the 12x budget")
 PY
 fi
