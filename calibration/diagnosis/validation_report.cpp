@@ -22,6 +22,11 @@ std::string g3(double v) {
 std::string f2(double v) {
   return std::isfinite(v) ? fmt::format("{:.2f}", v) : "-";
 }
+// A ratio to the noise floor: two decimals near 1, whole numbers from 100 on ("2092 x", not
+// "2091.69 x": the decimals of so large a ratio mean nothing).
+std::string ratio(double v) {
+  return std::isfinite(v) && v >= 100 ? fmt::format("{:.0f}", v) : f2(v);
+}
 
 std::string effects_text(const std::vector<std::string>& e) {
   std::string s;
@@ -76,11 +81,24 @@ std::string headline_of(const ReportSection& s) {
   std::string fails =
       b.adequacy.adequate
           ? fmt::format("The model is adequate: its held-out error is {} x the noise floor",
-                        f2(b.adequacy.ratio))
-          : fmt::format("The model misses the data by {} x the noise floor", f2(b.adequacy.ratio));
+                        ratio(b.adequacy.ratio))
+          : fmt::format("The model misses the data by {} x the noise floor",
+                        ratio(b.adequacy.ratio));
+  // A floor far below the error (data with tiny declared uncertainties, such as a simulation's
+  // reconstruction errors) makes the ratio huge and says little: give the numbers behind it and
+  // the model-free yardstick, how much releases with similar incident states differ.
+  if (b.adequacy.ratio >= 20)
+    fails += fmt::format(
+        " (held-out error {} against a floor of {} from {}; releases with similar "
+        "incident states differ by {})",
+        g3(a.heldout.error.mean), g3(b.floor.value.mean),
+        b.floor.source == "replicates" ? "replicate releases"
+        : b.floor.source == "declared" ? "the set's declared uncertainties"
+                                       : "the lab's uncertainties (paper Table 1)",
+        g3(b.floor.nearest_neighbour));
   if (!b.adequacy.adequate && worst >= 0)
     fails += fmt::format(", worst on {} ({} x its own floor)", kObservableLabels[worst],
-                         f2(worst_ratio));
+                         ratio(worst_ratio));
   std::string found;
   const Candidate* best = nullptr;
   for (const auto& c : d.ranking)
@@ -103,7 +121,7 @@ std::string headline_of(const ReportSection& s) {
     for (std::size_t r = 1; r < s.ladder.rungs.size(); ++r)
       added += (added.empty() ? "" : " and ") + s.ladder.rungs[r].added;
     fell = fmt::format("adding {} takes the held-out error from {} to {} x the floor", added,
-                       f2(s.ladder.rungs.front().adequacy.ratio), f2(last.adequacy.ratio));
+                       ratio(s.ladder.rungs.front().adequacy.ratio), ratio(last.adequacy.ratio));
   }
   return fmt::format("{}; {}; {}.", fails, found, fell);
 }

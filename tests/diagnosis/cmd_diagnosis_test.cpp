@@ -255,6 +255,36 @@ TEST_F(CmdDiagnosis, ReportComparesEachSetWithTheLabOfItsShape) {
   EXPECT_NE(page.find(a["sentence"].get<std::string>().substr(0, 40)), std::string::npos);
 }
 
+// A set whose declared uncertainties are tiny (a LIGGGHTS campaign: the reconstruction's
+// standard errors) misses its floor by thousands: the headline gives that ratio without
+// meaningless decimals and the numbers behind it, with the model-free yardstick (how much
+// releases with similar incident states differ). A lab set near its floor keeps two decimals.
+TEST_F(CmdDiagnosis, ReportHeadlineGivesTheNumbersBehindAHugeRatio) {
+  const std::string resolved =
+      std::string(RICOCHET_SOURCE_DIR) + "/data/resolved/lab-triangles-blind-rolling-gb.h5";
+  const RunResult r = ricochet("report " + quote(resolved) + " " + quote(kLab + "cylinders.csv") +
+                               " --rounds 0 --folds 3 --orientations 2 --no-intervals --json "
+                               "--out " +
+                               quote((dir_ / "huge.html").string()));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto doc = nlohmann::json::parse(r.out);
+  ASSERT_EQ(doc["sets"].size(), 2u);
+  const std::string huge = doc["sets"][0]["headline"];
+  const std::string lab = doc["sets"][1]["headline"];
+  EXPECT_TRUE(std::regex_search(huge, std::regex("misses the data by [0-9]{3,} x the noise floor "
+                                                 "\\(held-out error [0-9.]+ against a floor of")))
+      << huge;
+  EXPECT_NE(huge.find("from the set's declared uncertainties; releases with similar incident "
+                      "states differ by"),
+            std::string::npos)
+      << huge;
+  EXPECT_FALSE(std::regex_search(huge, std::regex("[0-9]{3,}\\.[0-9]+ x"))) << huge;
+  EXPECT_TRUE(std::regex_search(lab, std::regex("misses the data by [0-9]\\.[0-9]{2} x the noise "
+                                                "floor, worst on")))
+      << lab;
+  EXPECT_EQ(lab.find("held-out error"), std::string::npos) << lab;
+}
+
 TEST_F(CmdDiagnosis, ReportRendersInHeadlessChromiumWithEveryFigureShown) {
   if (chromium_missing())
     GTEST_SKIP() << "no /usr/bin/chromium: the report is not rendered (apt install chromium)";
