@@ -75,9 +75,9 @@ class LaneBatch {
       p += L_;
     };
     for (double** a :
-         {&x_,    &y_,      &th_,   &vx_,      &vy_,   &w_,     &ax_,      &ay_,  &aw_,  &vxh_,
-          &vyh_,  &wh_,     &fx_,   &fy_,      &tq_,   &t_,     &t_first_, &had_, &any_, &prev_,
-          &maxh_, &phases_, &cand_, &pending_, &y_in_, &ke_in_, &cth_,     &sth_, &live_})
+         {&x_,    &y_,      &th_,   &vx_,      &vy_,   &w_,     &ax_,      &ay_,  &aw_,   &vxh_,
+          &vyh_,  &wh_,     &fx_,   &fy_,      &tq_,   &t_,     &t_first_, &had_, &any_,  &prev_,
+          &maxh_, &phases_, &cand_, &pending_, &y_in_, &ke_in_, &cth_,     &sth_, &live_, &fly_at_})
       take(*a);
     for (auto& a : work_) take(a);
     slot_.resize(V_);
@@ -135,6 +135,8 @@ class LaneBatch {
             load(i);
             if (case_of_[i] < 0) --busy;
           }
+        } else if (kFlightSkip && prev_[i] == 0.0 && pending_[i] == 0.0 && t_[i] >= fly_at_[i]) {
+          fly(i);
         }
       }
       // Once the queue is empty, lanes only finish: without compaction the last, longest
@@ -153,7 +155,7 @@ class LaneBatch {
     return (std::max<std::size_t>(1, lanes) + kVector - 1) / kVector * kVector;
   }
 
-  static constexpr std::size_t kLaneArrays = 29;
+  static constexpr std::size_t kLaneArrays = 30;
   static constexpr std::size_t kStages = kStageCount;
   static constexpr std::size_t kSlotArrays = 21;
   static constexpr std::size_t kFactorArrays = 5;
@@ -175,7 +177,7 @@ class LaneBatch {
     detail::PaperLanes& a = paper_;
     a.x = x_, a.y = y_, a.th = th_, a.vx = vx_, a.vy = vy_, a.w = w_, a.ax = ax_, a.ay = ay_;
     a.aw = aw_, a.t = t_, a.t_first = t_first_, a.had = had_, a.prev = prev_, a.phases = phases_;
-    a.pending = pending_, a.cand = cand_, a.maxh = maxh_, a.live = live_;
+    a.pending = pending_, a.cand = cand_, a.maxh = maxh_, a.live = live_, a.fly_at = fly_at_;
     a.work_normal = work_[static_cast<int>(Stage::kNormal)];
     a.work_tangential = work_[static_cast<int>(Stage::kTangential)];
     a.work_rolling = work_[static_cast<int>(Stage::kRolling)];
@@ -222,6 +224,7 @@ class LaneBatch {
       a.vby[s] = shape_.vertices[s][1];
     }
     a.r = r_, a.dt = dt_, a.g = g_, a.inv_m = inv_m_, a.inv_i = inv_i_;
+    a.stop_in_flight = kFlightSkip && opt_.skip_flights;
     a.max_time = opt_.max_time_s;
     a.mass = shape_.mass_kg, a.length = shape_.length_m;
     fused_ = pick_kernel(a.neffects > 3, V_);
@@ -269,7 +272,7 @@ class LaneBatch {
     ay_[i] = -g_;
     aw_[i] = 0.0;
     t_[i] = t_first_[i] = had_[i] = any_[i] = prev_[i] = maxh_[i] = phases_[i] = 0.0;
-    cand_[i] = pending_[i] = 0.0;
+    cand_[i] = pending_[i] = fly_at_[i] = 0.0;
     for (auto& w : work_) w[i] = 0.0;
     y_in_[i] = y_[i];
     ke_in_[i] = kinetic(i);
@@ -561,6 +564,46 @@ class LaneBatch {
     }
   }
 
+  // A polygon on flat ground out of contact and not leaving (a hop between contact phases, or
+  // the fall before the first contact) flies ballistically: stepping through those flights was
+  // a third of a lab triangle's steps. fly() jumps it by whole steps while no vertex can reach
+  // the ground, then lets it step on until fly_at_.
+  static constexpr bool kFlightSkip = !kDisc && kFlat;
+
+  // Conservative advancement (as in continuous collision detection). Out of contact the forces
+  // are zero, so each vertex's height is p(tau) = y + vy tau - g tau^2 / 2 + R sin(theta + w tau
+  // + phi), whose second derivative is at least -(g + R w^2): p(tau) >= p0 + p0' tau - (g +
+  // R w^2) tau^2 / 2, and no vertex touches before the first root of that bound. The lane jumps
+  // by the whole steps before it, with the exact ballistic solution, which is what velocity
+  // Verlet computes for constant acceleration: the step grid and the result stay those of
+  // stepping, up to rounding. Repeated while a jump saves at least kMinJump steps; the next check
+  // is kRecheck steps later (fly_at_).
+  void fly(std::size_t i) {
+    constexpr long kMinJump = 8, kRecheck = 32;
+    const double dt = dt_;
+    for (int round = 0; round < 16; ++round) {
+      const double c = std::cos(th_[i]), s = std::sin(th_[i]), w = w_[i];
+      double tau = INFINITY;
+      for (const auto& v : shape_.vertices) {
+        const double height = y_[i] + s * v[0] + c * v[1] - r_;  // clearance of this vertex
+        const double rate = vy_[i] + w * (c * v[0] - s * v[1]);
+        const double curve = g_ + w * w * std::hypot(v[0], v[1]);
+        tau = std::min(
+            tau, (rate + std::sqrt(rate * rate + 2.0 * curve * std::max(height, 0.0))) / curve);
+      }
+      const long left = static_cast<long>((opt_.max_time_s - t_[i]) / dt) - 1;
+      const long n = std::min(static_cast<long>(tau / dt) - 1, left);
+      if (n < kMinJump) break;
+      const double jump = static_cast<double>(n) * dt;
+      x_[i] += vx_[i] * jump;
+      y_[i] += vy_[i] * jump - 0.5 * g_ * jump * jump;
+      th_[i] += w * jump;
+      vy_[i] -= g_ * jump;
+      t_[i] += jump;
+    }
+    fly_at_[i] = t_[i] + kRecheck * dt;
+  }
+
   // Lowest clearance of the block above the ground after a ballistic flight of tau seconds.
   double clearance_after(std::size_t i, double tau) const {
     const double xc = x_[i] + vx_[i] * tau;
@@ -661,7 +704,7 @@ class LaneBatch {
 
   double *x_, *y_, *th_, *vx_, *vy_, *w_, *ax_, *ay_, *aw_, *vxh_, *vyh_, *wh_;
   double *fx_, *fy_, *tq_, *t_, *t_first_, *had_, *any_, *prev_, *maxh_, *phases_;
-  double *cand_, *pending_, *y_in_, *ke_in_, *cth_, *sth_, *live_;
+  double *cand_, *pending_, *y_in_, *ke_in_, *cth_, *sth_, *live_, *fly_at_;
   detail::PaperLanes paper_{};
   Kernel fused_ = nullptr;
   std::array<double*, kStageCount> work_{};

@@ -36,8 +36,13 @@ struct EngineOptions {
   double gravity_mps2 = 9.81;  ///< gravitational acceleration [m/s^2]
   double initial_gap_m = 0.0;  ///< lowest point above the ground at t = 0 [m]
   Ground ground;               ///< flat y = 0 by default
-  std::size_t lanes = 64;      ///< collisions integrated together (SoA width)
-  int threads = 0;             ///< OpenMP threads for batches, 0 = default
+  /// Flights of a polygon on flat ground between contact phases (and before its first contact)
+  /// are jumped ballistically, by whole steps, while no vertex can reach the ground: the result
+  /// is stepping's up to rounding (1e-9 m/s over 6,000 random triangle collisions, test
+  /// Engine.FlightSkipIsSteppingUpToRounding). false steps through them.
+  bool skip_flights = true;
+  std::size_t lanes = 64;  ///< collisions integrated together (SoA width)
+  int threads = 0;         ///< OpenMP threads for batches, 0 = default
 };
 
 /// The engine settings of the bulk runs on lab-scale collisions (calibration, Monte Carlo, Sobol,

@@ -59,7 +59,7 @@ struct FusedEffect {
 /// constants of one batch.
 struct PaperLanes {
   double *x, *y, *th, *vx, *vy, *w, *ax, *ay, *aw, *t, *t_first, *had, *prev, *phases, *pending,
-      *cand, *maxh, *live;
+      *cand, *maxh, *live, *fly_at;
   double *work_normal, *work_tangential, *work_rolling, *work_body;  // work by each stage [J]
   const double *kn, *en2, *kt, *mu, *kr, *muR;
   struct Slot {
@@ -68,6 +68,10 @@ struct PaperLanes {
   } slot[kFusedMaxVertices];
   double vbx[kFusedMaxVertices], vby[kFusedMaxVertices];  // vertices in the body frame [m]
   double r, dt, g, inv_m, inv_i, max_time, mass, length;
+  // Return to the driver when a lane flies (no contact, not leaving, pending == 0) and its
+  // next flight check is due (t >= fly_at): the engine advances it ballistically
+  // (LaneBatch::fly).
+  bool stop_in_flight = false;
   // The model's effects in order (kOther ones are called through apply()).
   FusedEffect effects[kFusedMaxEffects];
   int neffects = 0;
@@ -139,6 +143,7 @@ void paper_steps(const PaperLanes& a, std::size_t i0) {
   T cand = ld(a.cand), maxh = ld(a.maxh);
   T wn = ld(a.work_normal), wt = ld(a.work_tangential), wr = ld(a.work_rolling);
   T wb = kOthers ? ld(a.work_body) : zero;
+  const T fly_at = a.stop_in_flight ? ld(a.fly_at) : zero;
   const T live = ld(a.live), kn = ld(a.kn), en2 = ld(a.en2), kt = ld(a.kt), mu = ld(a.mu),
           kr = ld(a.kr), muR = ld(a.muR);
   T h_prev[NV], pfn[NV], pft[NV], pmom[NV], pfxb[NV], pfyb[NV], fsn[NV], fst[NV], fsm[NV];
@@ -311,7 +316,9 @@ void paper_steps(const PaperLanes& a, std::size_t i0) {
     prev = any;
     const T leaving = vy > 0.0 ? one : zero;
     cand = had * (1.0 - any) * leaving * (1.0 - pending);
-    const auto stop = (live > 0.0) & ((cand > 0.0) | (t >= max_time));
+    auto stop = (live > 0.0) & ((cand > 0.0) | (t >= max_time));
+    if constexpr (!kDisc)
+      if (a.stop_in_flight) stop |= (live > 0.0) & (any == 0.0) & (pending == 0.0) & (t >= fly_at);
     long stopped = 0;
     for (std::size_t k = 0; k < kChunk; ++k) stopped |= stop[k];
     if (stopped) break;

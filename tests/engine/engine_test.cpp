@@ -249,6 +249,43 @@ TEST(Engine, FusedKernelIsTheGenericPathBitForBit) {
   }
 }
 
+// A triangle hopping between contact phases flies ballistically; the engine jumps those flights
+// by whole steps (EngineOptions::skip_flights). Jumping must give stepping's result up to
+// rounding, on both paths (fused kernel, generic with a trace), and must happen (some results
+// differ in their last bits).
+TEST(Engine, FlightSkipIsSteppingUpToRounding) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const Model m = Model::paper();
+  std::vector<CollisionCase> cases;
+  for (int k = 0; k < 400; ++k)
+    cases.push_back(
+        {{0.5 + 4.0 * u(rng), -0.5 - 3.0 * u(rng), -100.0 + 150.0 * u(rng)}, 2.1 * u(rng)});
+  EngineOptions jump, step;
+  jump.max_time_s = step.max_time_s = 0.1;
+  step.skip_flights = false;
+  const auto a = simulate_batch(m, Shape::triangle(), cases, {}, jump);
+  const auto b = simulate_batch(m, Shape::triangle(), cases, {}, step);
+  int multi = 0, differ = 0;
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    EXPECT_EQ(a[k].status, b[k].status) << k;
+    EXPECT_EQ(a[k].contact_phases, b[k].contact_phases) << k;
+    for (int c = 0; c < 2; ++c) EXPECT_NEAR(a[k].vout[c], b[k].vout[c], 1e-7) << k;
+    EXPECT_NEAR(a[k].vout[kW], b[k].vout[kW], 1e-6) << k;
+    EXPECT_NEAR(a[k].contact_duration_s, b[k].contact_duration_s, 1e-9) << k;
+    EXPECT_NEAR(a[k].max_penetration_m, b[k].max_penetration_m, 1e-10) << k;
+    multi += a[k].contact_phases > 1;
+    differ += a[k].vout != b[k].vout;
+  }
+  EXPECT_GT(multi, 40) << "too few hops to test the jump";
+  EXPECT_GT(differ, 0) << "no flight was jumped";
+  // The generic path (a trace) jumps the same flights.
+  for (std::size_t k = 0; k < 40; ++k) {
+    Trace trace;
+    EXPECT_EQ(simulate(m, Shape::triangle(), cases[k], {}, jump, &trace).vout, a[k].vout) << k;
+  }
+}
+
 TEST(Engine, RejectsBadInput) {
   const Model m = Model::paper();
   std::vector<double> p = m.values();
