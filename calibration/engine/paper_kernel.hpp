@@ -6,8 +6,8 @@
 // Why: the generic engine streams some ninety lane arrays through memory per step, one loop per
 // stage and effect (the price of composing effects at run time), about 80 cycles per collision
 // and step on this machine. Here one chunk of kChunk lanes runs step after step in registers
-// until one of its collisions needs the driver (final separation, a predicted re-contact, the
-// time limit). The paper's three effects are inlined (their per-lane equations,
+// until one of its collisions needs the driver (a separation, a flight to jump, the time
+// limit). The paper's three effects are inlined (their per-lane equations,
 // effects/normal.hpp, tangential.hpp, rolling.hpp); any other effect of the model (a candidate,
 // a plugin) is called through its own apply() on the chunk, in the model's order, with the
 // contact's inputs, factors and forces in small chunk arrays.
@@ -115,9 +115,10 @@ struct ChunkArrays {
 };
 
 /// Steps the kChunk lanes from lane i0 until a live lane reaches final-separation candidacy
-/// (cand > 0) or the time limit, exactly as LaneBatch::step() would, then stores the state
-/// back. kDisc: one vertex at the centre (the paper's cylinder); else NV polygon vertices.
-/// kOthers: the model has effects besides the paper's three.
+/// (cand > 0), the time limit, or (a.stop_in_flight) a flight due for a jump, exactly as
+/// LaneBatch::step() would, then stores the state back. kDisc: one vertex at the centre (the
+/// paper's cylinder); else NV polygon vertices. kOthers: the model has effects besides the paper's
+/// three.
 template <bool kDisc, int NV, bool kOthers>
 void paper_steps(const PaperLanes& a, std::size_t i0) {
   using T = Lanes;
