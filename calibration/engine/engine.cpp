@@ -341,15 +341,7 @@ class LaneBatch {
       tq[i] = 0.0;
       any[i] = 0.0;
     }
-    if (!kDisc) {
-      double* __restrict c = cth_;
-      double* __restrict s = sth_;
-      RICOCHET_SIMD
-      for (std::size_t i = 0; i < n; ++i) {
-        c[i] = ::cos(th[i]);
-        s[i] = ::sin(th[i]);
-      }
-    }
+    if (!kDisc) detail::cos_sin_lanes(th, cth_, sth_, n);
     for (std::size_t s = 0; s < V_; ++s) slot_step(s);
     double* __restrict t = t_;
     double* __restrict t_first = t_first_;

@@ -20,11 +20,6 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
-#if defined(__AVX512F__)
-#include <immintrin.h>
-extern "C" __m512d _ZGVeN8v_cos(__m512d);  // libmvec (x86-64 vector function ABI)
-extern "C" __m512d _ZGVeN8v_sin(__m512d);
-#endif
 
 #include "effects/effect.hpp"
 #include "effects/normal.hpp"
@@ -84,26 +79,13 @@ inline Lanes lanes_sqrt(Lanes v) {
   return out;
 }
 
-/// cos and sin of each lane: libmvec's AVX-512 variants, the very functions the generic path's
-/// vectorised loop calls (an 8-lane loop is unrolled before it is vectorised and would fall
-/// back to scalar sincos, half of a triangle collision's time); elsewhere the same loop as the
-/// generic path.
+/// cos and sin of each lane, through the engine's one vector loop (vector_math.hpp).
 inline void lanes_cos_sin(Lanes th, Lanes& c, Lanes& s) {
-#if defined(__AVX512F__)
-  static_assert(sizeof(Lanes) == sizeof(__m512d));
-  c = reinterpret_cast<Lanes>(_ZGVeN8v_cos(reinterpret_cast<__m512d>(th)));
-  s = reinterpret_cast<Lanes>(_ZGVeN8v_sin(reinterpret_cast<__m512d>(th)));
-#else
   alignas(64) double cb[kChunk], sb[kChunk], tb[kChunk];
   std::memcpy(tb, &th, sizeof tb);
-#pragma omp simd
-  for (std::size_t k = 0; k < kChunk; ++k) {
-    cb[k] = ::cos(tb[k]);
-    sb[k] = ::sin(tb[k]);
-  }
+  cos_sin_lanes(tb, cb, sb, kChunk);
   std::memcpy(&c, cb, sizeof c);
   std::memcpy(&s, sb, sizeof s);
-#endif
 }
 
 /// The contact's inputs, factors and forces of one chunk, for effects called through apply().
