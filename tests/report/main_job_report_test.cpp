@@ -11,6 +11,7 @@
 #include <regex>
 #include <string>
 
+#include "report/html.hpp"
 #include "support/chromium.hpp"
 #include "support/program_test.hpp"
 
@@ -39,20 +40,7 @@ TEST(MainJobReport, TheLegendCheckCatchesAKeyInsideThePlot) {
         test::quote("set terminal svg size 640,480; set output '" + svg.string() + "'; set key " +
                     key + "; plot x title 'line', x**2 title 'square'");
     ASSERT_EQ(std::system(cmd.c_str()), 0);
-    const std::string bytes = test::slurp(svg);
-    static const char* kAlphabet =
-        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string b64;
-    for (std::size_t i = 0; i < bytes.size(); i += 3) {
-      unsigned v = static_cast<unsigned char>(bytes[i]) << 16;
-      if (i + 1 < bytes.size()) v |= static_cast<unsigned char>(bytes[i + 1]) << 8;
-      if (i + 2 < bytes.size()) v |= static_cast<unsigned char>(bytes[i + 2]);
-      const std::size_t left = bytes.size() - i;
-      b64 += kAlphabet[(v >> 18) & 63];
-      b64 += kAlphabet[(v >> 12) & 63];
-      b64 += left > 1 ? kAlphabet[(v >> 6) & 63] : '=';
-      b64 += left > 2 ? kAlphabet[v & 63] : '=';
-    }
+    const std::string b64 = report::base64(test::slurp(svg));  // as the report embeds it
     const fs::path html = dir / "page.html";
     std::ofstream(html) << "<html><body><img src=\"data:image/svg+xml;base64," << b64
                         << "\"></body></html>";
