@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "engine/lane_step.hpp"
 #include "engine/paper_kernel.hpp"
 #include "engine/vector_math.hpp"
 
@@ -310,7 +311,7 @@ class LaneBatch {
   // the compiler vectorise: stores through one array cannot move the others.
   void step() {
     const std::size_t n = W_;
-    const double dt = dt_, half_dt = 0.5 * dt_, half_dt2 = 0.5 * dt_ * dt_;
+    const double dt = dt_;
     const double inv_m = inv_m_, inv_i = inv_i_, g = g_;
     double* __restrict x = x_;
     double* __restrict y = y_;
@@ -330,12 +331,8 @@ class LaneBatch {
     double* __restrict any = any_;
     RICOCHET_SIMD
     for (std::size_t i = 0; i < n; ++i) {
-      x[i] += vx[i] * dt + ax[i] * half_dt2;
-      y[i] += vy[i] * dt + ay[i] * half_dt2;
-      th[i] += w[i] * dt + aw[i] * half_dt2;
-      vxh[i] = vx[i] + ax[i] * half_dt;
-      vyh[i] = vy[i] + ay[i] * half_dt;
-      wh[i] = w[i] + aw[i] * half_dt;
+      detail::verlet_first_half(x[i], y[i], th[i], vx[i], vy[i], w[i], ax[i], ay[i], aw[i], dt,
+                                vxh[i], vyh[i], wh[i]);
       fx[i] = 0.0;
       fy[i] = 0.0;
       tq[i] = 0.0;
@@ -351,24 +348,11 @@ class LaneBatch {
     double* __restrict pending = pending_;
     double* __restrict cand = cand_;
     RICOCHET_SIMD
-    for (std::size_t i = 0; i < n; ++i) {
-      ax[i] = fx[i] * inv_m;
-      ay[i] = fy[i] * inv_m - g;
-      aw[i] = tq[i] * inv_i;
-      vx[i] = vxh[i] + ax[i] * half_dt;
-      vy[i] = vyh[i] + ay[i] * half_dt;
-      w[i] = wh[i] + aw[i] * half_dt;
-      t[i] += dt;
-      // Contact bookkeeping, branch-free.
-      const double onset = any[i] * (1.0 - prev[i]);
-      t_first[i] = had[i] == 0.0 && any[i] > 0.0 ? t[i] - dt : t_first[i];
-      phases[i] += onset;
-      had[i] = std::max(had[i], any[i]);
-      pending[i] = any[i] > 0.0 ? 0.0 : pending[i];
-      prev[i] = any[i];
-      const double leaving = kFlat ? (vy[i] > 0.0 ? 1.0 : 0.0) : 1.0;
-      cand[i] = had[i] * (1.0 - any[i]) * leaving * (1.0 - pending[i]);
-    }
+    for (std::size_t i = 0; i < n; ++i)
+      detail::verlet_second_half<kFlat>(fx[i], fy[i], tq[i], any[i], vxh[i], vyh[i], wh[i], inv_m,
+                                        inv_i, g, dt, ax[i], ay[i], aw[i], vx[i], vy[i], w[i], t[i],
+                                        t_first[i], phases[i], had[i], pending[i], prev[i],
+                                        cand[i]);
   }
 
   void slot_step(std::size_t s) {
@@ -415,26 +399,21 @@ class LaneBatch {
         py = y[i] + sn[i] * vbx + c[i] * vby;
       }
       if (!kFlat) opt_.ground.surface(px, ground, nx, ny);
-      const double dist = (py - ground) * ny - r;
-      const double h = std::max(-dist, 0.0);
-      const double arm = r - 0.5 * h;  // vertex to contact point, along -n
-      const double rcx = px - nx * arm - x[i];
-      const double rcy = py - ny * arm - y[i];
-      const double vcx = vxh[i] - wh[i] * rcy;
-      const double vcy = vyh[i] + wh[i] * rcx;
-      active[i] = h > 0.0 ? 1.0 : 0.0;
-      hh[i] = h;
-      dh[i] = h - h_prev[i];
-      h_prev[i] = h;
+      const auto k = detail::vertex_contact < kDisc &&
+                     kFlat > (px, py, x[i], y[i], vxh[i], vyh[i], wh[i], nx, ny, ground, r);
+      active[i] = k.active;
+      hh[i] = k.h;
+      dh[i] = k.h - h_prev[i];
+      h_prev[i] = k.h;
       if (!(kDisc && kFlat)) {  // a disc on flat ground: contact point straight below
-        rcx_a[i] = rcx;
-        rcy_a[i] = rcy;
+        rcx_a[i] = k.rcx;
+        rcy_a[i] = k.rcy;
         nx_a[i] = nx;
         ny_a[i] = ny;
       }
-      lever[i] = kDisc && kFlat ? arm : std::sqrt(rcx * rcx + rcy * rcy);
-      vn[i] = vcx * nx + vcy * ny;
-      vt[i] = vcx * ny - vcy * nx;
+      lever[i] = k.lever;
+      vn[i] = k.vn;
+      vt[i] = k.vt;
       fn[i] = 0.0;
       ft[i] = 0.0;
       mom[i] = 0.0;
@@ -505,54 +484,23 @@ class LaneBatch {
     double* __restrict pmom = sl.pmom;
     double* __restrict pfxb = sl.pfxb;
     double* __restrict pfyb = sl.pfyb;
-    const double half_dt = 0.5 * dt_;
-    // Each stage writes only its own outputs (effect.hpp), so stage work needs no snapshots.
-    // Work over the step: trapezoidal rule on the force times the contact point's displacement
-    // (v at the half step times dt), consistent with velocity Verlet's energy update to second
-    // order. The disc on flat ground (the paper's cylinder) has n = (0, 1), t = (1, 0) and the
-    // contact point at (0, -l): fewer arrays to stream in the hottest loop.
-    if (kDisc && kFlat) {
-      RICOCHET_SIMD
-      for (std::size_t i = 0; i < n; ++i) {
-        fx[i] += ft[i];
-        fy[i] += fn[i];
-        tq[i] += lever[i] * ft[i] + mom[i];
-        wn[i] += (pfn[i] + fn[i]) * vn[i] * half_dt;
-        wt[i] += (pft[i] + ft[i]) * vt[i] * half_dt;
-        wr[i] += (pmom[i] + mom[i]) * wh[i] * half_dt;
-        pfn[i] = fn[i];
-        pft[i] = ft[i];
-        pmom[i] = mom[i];
-        any[i] = std::max(any[i], active[i]);
-        maxh[i] = std::max(maxh[i], hh[i]);
-      }
-    } else {
-      RICOCHET_SIMD
-      for (std::size_t i = 0; i < n; ++i) {
-        const double fcx = fn[i] * nx_a[i] + ft[i] * ny_a[i];
-        const double fcy = fn[i] * ny_a[i] - ft[i] * nx_a[i];
-        fx[i] += fcx;
-        fy[i] += fcy;
-        tq[i] += rcx_a[i] * fcy - rcy_a[i] * fcx + mom[i];
-        wn[i] += (pfn[i] + fn[i]) * vn[i] * half_dt;
-        wt[i] += (pft[i] + ft[i]) * vt[i] * half_dt;
-        wr[i] += (pmom[i] + mom[i]) * wh[i] * half_dt;
-        pfn[i] = fn[i];
-        pft[i] = ft[i];
-        pmom[i] = mom[i];
-        any[i] = std::max(any[i], active[i]);
-        maxh[i] = std::max(maxh[i], hh[i]);
-      }
+    // The disc on flat ground (the paper's cylinder) streams fewer arrays in the hottest loop:
+    // n = (0, 1) and the contact point straight below (lane_step.hpp, add_contact).
+    constexpr bool kDiscFlat = kDisc && kFlat;
+    RICOCHET_SIMD
+    for (std::size_t i = 0; i < n; ++i) {
+      const detail::VertexContact<double> k{
+          hh[i],    kDiscFlat ? 0.0 : rcx_a[i], kDiscFlat ? 0.0 : rcy_a[i], lever[i], vn[i], vt[i],
+          active[i]};
+      detail::add_contact<kDiscFlat>(fn[i], ft[i], mom[i], k, kDiscFlat ? 0.0 : nx_a[i],
+                                     kDiscFlat ? 1.0 : ny_a[i], wh[i], dt_, fx[i], fy[i], tq[i],
+                                     wn[i], wt[i], wr[i], pfn[i], pft[i], pmom[i], any[i], maxh[i]);
     }
     if (has_body_) {  // only models with a body-stage effect (ploughing) have body forces
       RICOCHET_SIMD
-      for (std::size_t i = 0; i < n; ++i) {
-        fx[i] += fxb[i];
-        fy[i] += fyb[i];
-        wb[i] += ((pfxb[i] + fxb[i]) * vxh[i] + (pfyb[i] + fyb[i]) * vyh[i]) * half_dt;
-        pfxb[i] = fxb[i];
-        pfyb[i] = fyb[i];
-      }
+      for (std::size_t i = 0; i < n; ++i)
+        detail::add_body(fxb[i], fyb[i], vxh[i], vyh[i], dt_, fx[i], fy[i], wb[i], pfxb[i],
+                         pfyb[i]);
     }
   }
 

@@ -12,8 +12,9 @@
 // a plugin) is called through its own apply() on the chunk, in the model's order, with the
 // contact's inputs, factors and forces in small chunk arrays.
 //
-// Same arithmetic: every expression is the generic path's (LaneBatch::step and slot_step in
-// engine.cpp), so results are bit for bit those of the generic path (test
+// Same arithmetic: the integrator and a vertex's contact are the per-lane functions of
+// engine/lane_step.hpp, which the generic path (LaneBatch::step and slot_step in engine.cpp)
+// calls too, so results are bit for bit those of the generic path (test
 // Engine.FusedKernelIsTheGenericPathBitForBit).
 #pragma once
 
@@ -25,16 +26,13 @@
 #include "effects/normal.hpp"
 #include "effects/rolling.hpp"
 #include "effects/tangential.hpp"
+#include "engine/lane_step.hpp"
 #include "engine/vector_math.hpp"
 
 namespace ricochet::detail {
 
-/// Lanes per chunk: one AVX-512 register of doubles (GCC lowers it to narrower vectors on
-/// machines without AVX-512).
-inline constexpr std::size_t kChunk = 8;
 /// Most vertices the fused kernel takes; blocks with more use the generic path.
 inline constexpr int kFusedMaxVertices = 4;
-using Lanes = double __attribute__((vector_size(kChunk * sizeof(double))));
 
 /// Most effects in a model, and most parameters or state variables of one effect, that the
 /// fused kernel takes; larger models use the generic path.
@@ -72,12 +70,6 @@ struct PaperLanes {
   int neffects = 0;
   bool has_coefficient = false, has_body = false;
 };
-
-inline Lanes lanes_sqrt(Lanes v) {
-  Lanes out;
-  for (std::size_t k = 0; k < kChunk; ++k) out[k] = std::sqrt(v[k]);
-  return out;
-}
 
 /// cos and sin of each lane, through the engine's one vector loop (vector_math.hpp).
 inline void lanes_cos_sin(Lanes th, Lanes& c, Lanes& s) {
@@ -164,17 +156,13 @@ void paper_steps(const PaperLanes& a, std::size_t i0) {
     for (int k = 0; k < e.nstate; ++k) q[k] = e.state[s][k] + i0;
     e.effect->apply(cb, p, q);
   };
-  const double dt = a.dt, half_dt = 0.5 * dt, half_dt2 = 0.5 * dt * dt;
+  const double dt = a.dt;
   const double r = a.r, g = a.g, inv_m = a.inv_m, inv_i = a.inv_i, max_time = a.max_time;
   // Flat ground y = 0: the generic path's constants, so that the compiler folds the same terms.
   const double nx = 0.0, ny = 1.0, ground = 0.0;
   for (;;) {
-    x += vx * dt + ax * half_dt2;
-    y += vy * dt + ay * half_dt2;
-    th += w * dt + aw * half_dt2;
-    const T vxh = vx + ax * half_dt;
-    const T vyh = vy + ay * half_dt;
-    const T wh = w + aw * half_dt;
+    T vxh, vyh, wh;
+    verlet_first_half(x, y, th, vx, vy, w, ax, ay, aw, dt, vxh, vyh, wh);
     T fx = zero, fy = zero, tq = zero, any = zero;
     T c = zero, sn = zero;
     if constexpr (!kDisc) lanes_cos_sin(th, c, sn);
@@ -187,23 +175,11 @@ void paper_steps(const PaperLanes& a, std::size_t i0) {
         px = x + c * a.vbx[s] - sn * a.vby[s];
         py = y + sn * a.vbx[s] + c * a.vby[s];
       }
-      const T dist = (py - ground) * ny - r;
-      const T h = lane_max(-dist, zero);
-      const T arm = r - 0.5 * h;
-      const T rcx = px - nx * arm - x;
-      const T rcy = py - ny * arm - y;
-      const T vcx = vxh - wh * rcy;
-      const T vcy = vyh + wh * rcx;
-      const T active = h > 0.0 ? one : zero;
+      const VertexContact<T> k =
+          vertex_contact<kDisc>(px, py, x, y, vxh, vyh, wh, nx, ny, ground, r);
+      const T h = k.h, active = k.active, lever = k.lever, vn = k.vn, vt = k.vt;
       const T dh = h - h_prev[s];
       h_prev[s] = h;
-      T lever;
-      if constexpr (kDisc)
-        lever = arm;
-      else
-        lever = lanes_sqrt(rcx * rcx + rcy * rcy);
-      const T vn = vcx * nx + vcy * ny;
-      const T vt = vcx * ny - vcy * nx;
       T fn = zero, ft = zero, mom = zero, fxb = zero, fyb = zero;
       if constexpr (!kOthers) {
         fsn[s] = NormalLaw::force(fsn[s], kn, en2, dh, h, active, one, one, one);
@@ -247,58 +223,21 @@ void paper_steps(const PaperLanes& a, std::size_t i0) {
         for (int e = 0; e < a.neffects; ++e) {
           const FusedEffect& eff = a.effects[e];
           if (eff.kind != FusedEffect::kOther) continue;
-          for (int k = 0; k < eff.nstate; ++k) {
-            double* q = eff.state[s][k] + i0;
+          for (int j = 0; j < eff.nstate; ++j) {
+            double* q = eff.state[s][j] + i0;
             put(q, active > 0.0 ? get(q) : zero);
           }
         }
         fn = get(io.fn), ft = get(io.ft), mom = get(io.moment);
         if (a.has_body) fxb = get(io.fxb), fyb = get(io.fyb);
       }
-      if constexpr (kDisc) {
-        fx += ft;
-        fy += fn;
-        tq += lever * ft + mom;
-      } else {
-        const T fcx = fn * nx + ft * ny;
-        const T fcy = fn * ny - ft * nx;
-        fx += fcx;
-        fy += fcy;
-        tq += rcx * fcy - rcy * fcx + mom;
-      }
-      wn += (pfn[s] + fn) * vn * half_dt;
-      wt += (pft[s] + ft) * vt * half_dt;
-      wr += (pmom[s] + mom) * wh * half_dt;
-      pfn[s] = fn;
-      pft[s] = ft;
-      pmom[s] = mom;
-      any = lane_max(any, active);
-      maxh = lane_max(maxh, h);
-      if constexpr (kOthers) {
-        if (a.has_body) {
-          fx += fxb;
-          fy += fyb;
-          wb += ((pfxb[s] + fxb) * vxh + (pfyb[s] + fyb) * vyh) * half_dt;
-          pfxb[s] = fxb;
-          pfyb[s] = fyb;
-        }
-      }
+      add_contact<kDisc>(fn, ft, mom, k, nx, ny, wh, dt, fx, fy, tq, wn, wt, wr, pfn[s], pft[s],
+                         pmom[s], any, maxh);
+      if constexpr (kOthers)
+        if (a.has_body) add_body(fxb, fyb, vxh, vyh, dt, fx, fy, wb, pfxb[s], pfyb[s]);
     }
-    ax = fx * inv_m;
-    ay = fy * inv_m - g;
-    aw = tq * inv_i;
-    vx = vxh + ax * half_dt;
-    vy = vyh + ay * half_dt;
-    w = wh + aw * half_dt;
-    t += dt;
-    const T onset = any * (1.0 - prev);
-    t_first = (had == 0.0) & (any > 0.0) ? t - dt : t_first;
-    phases += onset;
-    had = lane_max(had, any);
-    pending = any > 0.0 ? zero : pending;
-    prev = any;
-    const T leaving = vy > 0.0 ? one : zero;
-    cand = had * (1.0 - any) * leaving * (1.0 - pending);
+    verlet_second_half<true>(fx, fy, tq, any, vxh, vyh, wh, inv_m, inv_i, g, dt, ax, ay, aw, vx, vy,
+                             w, t, t_first, phases, had, pending, prev, cand);
     auto stop = (live > 0.0) & ((cand > 0.0) | (t >= max_time));
     if constexpr (!kDisc)
       if (a.stop_in_flight) stop |= (live > 0.0) & (any == 0.0) & (pending == 0.0) & (t >= fly_at);
