@@ -308,6 +308,15 @@ class CoefficientLaw final : public Effect {
   std::string_view equation() const override { return equation_; }
   std::string_view reference() const override { return reference_; }
   Stage stage() const override { return Stage::kCoefficient; }
+  LawKind kind() const override {
+    static constexpr std::array<Family, 4> kFamilies = {Family::kStiffness, Family::kRestitution,
+                                                        Family::kSlidingFriction,
+                                                        Family::kRollingResistance};
+    static constexpr std::array<Variable, 5> kVariables = {
+        Variable::kImpactSpeed, Variable::kSlipSpeed, Variable::kSpin, Variable::kPenetration,
+        Variable::kIncidenceAngle};
+    return {kFamilies[static_cast<std::size_t>(coef_)], kVariables[static_cast<std::size_t>(var_)]};
+  }
   std::span<const ParameterSpec> parameters() const override { return spec_; }
   std::span<const StateSpec> state() const override {
     return holds_state() ? std::span<const StateSpec>(state_) : std::span<const StateSpec>();

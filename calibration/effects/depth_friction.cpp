@@ -29,6 +29,7 @@ class DepthFriction final : public Effect {
     return "Lu, Caviezel, Christen et al. (2019) Landslides 16 (RAMMS::ROCKFALL scarring)";
   }
   Stage stage() const override { return Stage::kCoefficient; }
+  LawKind kind() const override { return {Family::kSlidingFriction, Variable::kPenetration}; }
   Signature signature() const override {
     return {"friction hardening with penetration depth", kSignature};
   }

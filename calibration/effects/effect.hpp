@@ -131,6 +131,45 @@ struct Signature {
   std::span<const std::string_view> contact_identified = {};
 };
 
+/// What an effect's law changes (issue 31): the diagnosis's confidence set names these families,
+/// so that laws that the data cannot tell apart are grouped by the physics they stand for.
+enum class Family {
+  kNone = 0,           ///< the law as it stands, nothing added (the confidence set's "none")
+  kRestitution,        ///< the normal energy restitution e_n^2
+  kSlidingFriction,    ///< the Coulomb friction mu
+  kRollingResistance,  ///< the rolling resistance mu_R
+  kStiffness,          ///< the contact's normal stiffness or its elastic curve
+  kDrag,               ///< a velocity-dependent resisting force (inertial or viscous drag)
+  kPloughing,          ///< a force from the sand pushed ahead of the block
+  kOther,              ///< none of the above
+};
+inline constexpr std::size_t kFamilyCount = 8;
+/// "none", "restitution", "sliding_friction", "rolling_resistance", "stiffness", "drag",
+/// "ploughing", "other" (the JSON words of docs/commands/diagnose.md).
+std::string_view family_name(Family family);
+
+/// What an effect's law depends on (issue 31).
+enum class Variable {
+  kNone = 0,        ///< a constant
+  kImpactSpeed,     ///< the contact's (largest) approach speed
+  kNormalSpeed,     ///< the current normal velocity of the contact
+  kPenetration,     ///< the overlap h
+  kSpin,            ///< the block's angular velocity
+  kSlipSpeed,       ///< the sliding speed of the contact point
+  kIncidenceAngle,  ///< the angle of the incident velocity
+  kOther,           ///< none of the above
+};
+inline constexpr std::size_t kVariableCount = 8;
+/// "none", "impact_speed", "normal_speed", "penetration", "spin", "slip_speed",
+/// "incidence_angle", "other".
+std::string_view variable_name(Variable variable);
+
+/// The family and the variable of an effect's law (Effect::kind()).
+struct LawKind {
+  Family family = Family::kOther;
+  Variable variable = Variable::kOther;
+};
+
 /// Interface of a physical effect. Implementations are stateless (all history lives in the
 /// engine's state arrays), so one instance serves every thread.
 class Effect {
@@ -147,6 +186,9 @@ class Effect {
   /// The effect's signature (see Signature). Every built-in declares one (tested); a plugin
   /// that does not is diagnosed by its held-out error alone, with summary() as its meaning.
   virtual Signature signature() const { return {}; }
+  /// What the law changes and what it depends on (LawKind). Every effect declares it, plugins
+  /// included: the diagnosis groups the laws it cannot tell apart by family (issue 31).
+  virtual LawKind kind() const = 0;
   /// The effect as a law with numbers and units, e.g.
   /// "mu_R = mu_R0 (1 + c |omega|), c = 0.012 s/rad". `values`: this effect's parameters in
   /// declaration order. Default: equation() followed by "name = value unit" for each parameter.

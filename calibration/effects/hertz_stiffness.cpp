@@ -37,6 +37,7 @@ class HertzStiffness final : public Effect {
     return "Hertz contact, k ~ sqrt(h) (Johnson 1985, Contact Mechanics); Thornton & Ning (1998)";
   }
   Stage stage() const override { return Stage::kCoefficient; }
+  LawKind kind() const override { return {Family::kStiffness, Variable::kPenetration}; }
   Signature signature() const override {
     return {"a normal stiffness growing with penetration (Hertz-like bearing)", kSignature, true};
   }

@@ -34,6 +34,7 @@ class InertialDrag final : public Effect {
     return "Katsuragi & Durian (2007) Nature Physics 3, 420-423";
   }
   Stage stage() const override { return Stage::kNormal; }
+  LawKind kind() const override { return {Family::kDrag, Variable::kNormalSpeed}; }
   Signature signature() const override {
     return {"inertial drag of the sand (a force growing with the speed squared)", kSignature};
   }

@@ -39,6 +39,7 @@ class Normal final : public Effect {
     return "Garcia et al. (2020) JGR Earth Surf. 125, Eq. 3-4; Banton et al. (2009)";
   }
   Stage stage() const override { return Stage::kNormal; }
+  LawKind kind() const override { return {Family::kRestitution, Variable::kNone}; }
   Signature signature() const override {
     return {
         "the paper's normal contact law (Eq. 3)", {}, false, false, kNuisance, kContactIdentified};

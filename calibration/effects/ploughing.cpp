@@ -43,6 +43,7 @@ class Ploughing final : public Effect {
            "(soil abutment of triangles)";
   }
   Stage stage() const override { return Stage::kBody; }
+  LawKind kind() const override { return {Family::kPloughing, Variable::kPenetration}; }
   Signature signature() const override {
     return {"passive earth pressure (ploughing) growing with the depth squared", kSignature};
   }

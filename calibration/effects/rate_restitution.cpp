@@ -36,6 +36,7 @@ class RateRestitution final : public Effect {
     return "Bourrier, Dorren, Nicot, Berger & Darve (2009) Geomorphology 107; PlatRock";
   }
   Stage stage() const override { return Stage::kCoefficient; }
+  LawKind kind() const override { return {Family::kRestitution, Variable::kImpactSpeed}; }
   Signature signature() const override { return {"speed-dependent restitution", kSignature}; }
   std::span<const ParameterSpec> parameters() const override { return kParams; }
   std::span<const StateSpec> state() const override { return kState; }

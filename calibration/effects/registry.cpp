@@ -2,6 +2,7 @@
 
 #include <dlfcn.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -10,6 +11,20 @@
 #include "effects/coefficient_law.hpp"
 
 namespace ricochet {
+
+std::string_view family_name(Family family) {
+  static constexpr std::array<std::string_view, kFamilyCount> kNames = {
+      "none",      "restitution", "sliding_friction", "rolling_resistance",
+      "stiffness", "drag",        "ploughing",        "other"};
+  return kNames[static_cast<std::size_t>(family)];
+}
+
+std::string_view variable_name(Variable variable) {
+  static constexpr std::array<std::string_view, kVariableCount> kNames = {
+      "none", "impact_speed", "normal_speed",    "penetration",
+      "spin", "slip_speed",   "incidence_angle", "other"};
+  return kNames[static_cast<std::size_t>(variable)];
+}
 
 std::string_view stage_name(Stage stage) {
   switch (stage) {

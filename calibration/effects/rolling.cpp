@@ -26,6 +26,7 @@ class Rolling final : public Effect {
     return "Garcia et al. (2020) JGR Earth Surf. 125, Eq. 6; Richefeu & Villard (2016)";
   }
   Stage stage() const override { return Stage::kRolling; }
+  LawKind kind() const override { return {Family::kRollingResistance, Variable::kNone}; }
   Signature signature() const override { return {"the paper's rolling resistance (Eq. 6)", {}}; }
   std::span<const ParameterSpec> parameters() const override { return kParams; }
   std::span<const StateSpec> state() const override { return kState; }

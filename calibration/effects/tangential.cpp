@@ -26,6 +26,7 @@ class Tangential final : public Effect {
     return "Garcia et al. (2020) JGR Earth Surf. 125, Eq. 5; Richefeu & Villard (2016)";
   }
   Stage stage() const override { return Stage::kTangential; }
+  LawKind kind() const override { return {Family::kSlidingFriction, Variable::kNone}; }
   Signature signature() const override { return {"the paper's tangential friction (Eq. 5)", {}}; }
   std::span<const ParameterSpec> parameters() const override { return kParams; }
   std::span<const StateSpec> state() const override { return kState; }

@@ -56,6 +56,9 @@ class CraterEscape final : public Effect {
            "docs/diagnosis.md (resolved campaigns)";
   }
   Stage stage() const override { return Stage::kCoefficient; }
+  ricochet::LawKind kind() const override {
+    return {ricochet::Family::kRestitution, ricochet::Variable::kImpactSpeed};
+  }
   Signature signature() const override {
     return {"restitution growing with impact speed (rebound threshold)", kSignature};
   }

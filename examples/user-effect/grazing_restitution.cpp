@@ -7,7 +7,8 @@
 // kg = 0 recovers the paper's law.
 //
 // Walkthrough: docs/tutorial-effect.md. Build: this folder's CMakeLists.txt. Use:
-//   ricochet simulate --plugin ./libgrazing_restitution.so --add grazing_restitution --set kg=0.5 ...
+//   ricochet simulate --plugin ./libgrazing_restitution.so --add grazing_restitution --set kg=0.5
+//   ...
 #include <cmath>
 #include <memory>
 
@@ -35,6 +36,9 @@ class GrazingRestitution final : public ricochet::Effect {
   }
   // A coefficient effect: it scales e_n^2, which the `normal` effect then reads.
   ricochet::Stage stage() const override { return ricochet::Stage::kCoefficient; }
+  ricochet::LawKind kind() const override {
+    return {ricochet::Family::kRestitution, ricochet::Variable::kIncidenceAngle};
+  }
   std::span<const ricochet::ParameterSpec> parameters() const override { return kParams; }
   std::span<const ricochet::StateSpec> state() const override { return kState; }
 

@@ -35,6 +35,7 @@ class LeakyEffect final : public Effect {
   std::string_view equation() const override { return "fn += 1"; }
   std::string_view reference() const override { return "a test"; }
   Stage stage() const override { return Stage::kNormal; }
+  LawKind kind() const override { return {Family::kOther, Variable::kOther}; }
   std::span<const ParameterSpec> parameters() const override { return {}; }
   void apply(const ContactBatch& c, const double* const*, double* const*) const override {
     for (std::size_t i = 0; i < c.n; ++i) c.fn[i] += 1.0;
@@ -48,6 +49,7 @@ class EnergyPump final : public Effect {
   std::string_view equation() const override { return "fx += k * vx"; }
   std::string_view reference() const override { return "a test"; }
   Stage stage() const override { return Stage::kBody; }
+  LawKind kind() const override { return {Family::kOther, Variable::kOther}; }
   std::span<const ParameterSpec> parameters() const override { return kParams; }
   void apply(const ContactBatch& c, const double* const* p, double* const*) const override {
     for (std::size_t i = 0; i < c.n; ++i) c.fx_body[i] += c.active[i] * p[0][i] * c.vx[i];
