@@ -427,6 +427,15 @@ fit::PopulationFit refine_warm(const Model& start, const Shape& shape, const Imp
   return second.error <= first.error ? second : first;
 }
 
+Model nominal_start(const Model& model) {
+  Model m = model;
+  std::vector<double> v = m.values();
+  for (std::size_t i : m.calibrated_indices())
+    v[i] = std::clamp(m.spec(i).nominal, m.lower(i), m.upper(i));
+  m.set_values(v);
+  return m;
+}
+
 Assessment assess(const Model& model_in, const Shape& shape, const ImpactSet& set,
                   const AssessOptions& options, const Assessment* warm) {
   const AssessOptions o = resolve_scale(set, options);
@@ -457,7 +466,11 @@ Assessment assess(const Model& model_in, const Shape& shape, const ImpactSet& se
     if (local.error < a.population.error) a.population = local;
   }
 
-  // Held-out: every split is fitted on its training releases alone (file comment).
+  // Held-out: every split is fitted on its training releases alone (file comment), and starts
+  // from values no data chose (issue 31, 5a): the model's own values may be a fit to this very
+  // set (a ladder's next round, `diagnose --model` with a model written from it), and a fold fit
+  // started there would carry its held-out releases in through the start point.
+  const Model data_free = nominal_start(model);
   if (warm) {
     if (warm->cv.n != n)
       throw std::invalid_argument("assess: the warm assessment is of another set");
@@ -527,7 +540,7 @@ Assessment assess(const Model& model_in, const Shape& shape, const ImpactSet& se
       }
     } else {
       fj.starts = o.fold_starts;
-      pf = fit::calibrate_population(model, shape, train, fj);
+      pf = fit::calibrate_population(data_free, shape, train, fj);
     }
     a.fold_params[j] = pf.params;
     split_pred[j] = predict_observables(model, shape, pf.params, test, oj);

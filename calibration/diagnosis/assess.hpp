@@ -327,10 +327,17 @@ Model windowed(const Model& model, double window);
 std::vector<double> carry_values(const Model& to, const std::vector<std::string>& from_names,
                                  const std::vector<double>& from_values);
 
+/// `model` with every calibrated parameter at its declared nominal value (ParameterSpec, clamped
+/// to the model's bounds): the start of a fold fit, which no data chose.
+Model nominal_start(const Model& model);
+
 /// Calibrates `model` on `set` (population fit) and computes the held-out error. The model's
-/// current values are the first start point of the full-set fit. `warm`: an assessment of the
-/// base model on the same set and options (hence the same CvDesign); each split's fit then
-/// starts from the base model's optimum on that split's training releases (file comment).
+/// current values are the first start point of the full-set fit only: each split's fit starts
+/// from nominal_start(model), since the model's values may have been fitted on this very set
+/// (issue 31, 5a). `warm`: an assessment of the base model on the same set and options (hence
+/// the same CvDesign); each split's fit then starts from the base model's optimum on that
+/// split's training releases (file comment), the added parameters at the model's values (their
+/// neutral values in diagnose and ladder).
 Assessment assess(const Model& model, const Shape& shape, const ImpactSet& set,
                   const AssessOptions& options, const Assessment* warm = nullptr);
 

@@ -59,13 +59,13 @@ DiagnoseOptions resolve_scale(const ImpactSet& set, const DiagnoseOptions& optio
 }
 
 Baseline compare(const Model& model_in, const Shape& shape, const ImpactSet& set,
-                 const DiagnoseOptions& options) {
+                 const DiagnoseOptions& options, const Assessment* previous) {
   const DiagnoseOptions o = resolve_scale(set, options);
   // kn calibrated too when the set's contact features enter the error (assess.hpp).
   const Model model = calibration_model_for(model_in, set, o.assess);
   const auto t0 = std::chrono::steady_clock::now();
   Baseline b;
-  b.base = assess(model, shape, set, o.assess);
+  b.base = assess(model, shape, set, o.assess, previous);
   const auto& ef = o.assess.fit.error;
   b.error_floors = {
       ef.floor[0], ef.floor[1], ef.floor[2],

@@ -123,8 +123,11 @@ struct Baseline {
 /// of error denominators.
 DiagnoseOptions resolve_scale(const ImpactSet& set, const DiagnoseOptions& options);
 
+/// `warm`: an assessment of the same model on the same set and options whose fold fits are
+/// leak-free (a ladder's previous round: its best candidate's); each fold then refines that
+/// split's optimum (assess()), never a start fitted on its own held-out releases.
 Baseline compare(const Model& model, const Shape& shape, const ImpactSet& set,
-                 const DiagnoseOptions& options);
+                 const DiagnoseOptions& options, const Assessment* warm = nullptr);
 
 /// One candidate effect, judged.
 struct Candidate {

@@ -2,6 +2,8 @@
 // (diagnose.hpp).
 #include <fmt/format.h>
 
+#include <optional>
+
 #include "common/error.hpp"
 #include "common/progress.hpp"
 #include "diagnosis/diagnose.hpp"
@@ -56,8 +58,14 @@ Ladder auto_ladder(const Model& model, const Shape& shape, const ImpactSet& set,
                    const DiagnoseOptions& o, const Diagnosis* first) {
   Ladder l;
   Model current = model;
+  // The previous round's best candidate, calibrated leak-free split by split: the next round's
+  // folds refine its fold optima (issue 31, 5a), not the full-set optimum in `current`.
+  std::optional<Assessment> previous;
   for (int round = 0;; ++round) {
-    Diagnosis d = round == 0 && first ? *first : diagnose(current, shape, set, o);
+    Diagnosis d =
+        round == 0 && first ? *first
+        : previous ? diagnose(compare(current, shape, set, o, &*previous), current, shape, set, o)
+                   : diagnose(current, shape, set, o);
     if (round == 0) {
       l.floor = d.baseline.floor;
       Rung base;
@@ -99,6 +107,7 @@ Ladder auto_ladder(const Model& model, const Shape& shape, const ImpactSet& set,
       break;
     }
     current = with_values(next, best.assessment.population.params);
+    previous = best.assessment;
     Rung rung;
     rung.added = best.effect;
     rung.law = best.law;
