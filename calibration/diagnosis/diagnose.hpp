@@ -173,12 +173,67 @@ struct Screened {
   double t = NAN, p_value = 1, p_adjusted = 1;
 };
 
+/// One law of the confidence set (confidence.cpp): a candidate that the data cannot tell apart
+/// from the best, or the law as it stands ("none").
+struct LawMember {
+  std::string effect;                ///< registry name, "a+b" for a pair, "none"
+  std::vector<std::string> effects;  ///< the effects added (empty for "none")
+  std::string law;                   ///< with numbers and units
+  Family family = Family::kNone;     ///< of the first effect (Effect::kind())
+  Variable variable = Variable::kNone;
+  std::vector<Family> families;  ///< of every effect added ({kNone} for "none")
+  /// Its score statistic T (0 for "none"; NaN for a pair, which is tested against its first
+  /// effect instead), how far it is below the best law's, and the MCB critical value that gap
+  /// must not exceed (confidence.hpp).
+  double statistic = NAN, gap_to_best = NAN, critical = NAN;
+  /// Root mean square over releases of its predictions minus the best member's, per observable
+  /// (m/s, m/s, rad/s, m, s; NaN for an observable the set does not use).
+  Obs differs_from_best{};
+};
+
+/// The confidence set of laws (multiple comparisons with the best on the score statistics;
+/// confidence.hpp): the laws that these data cannot tell apart from the best one at level alpha.
+struct LawConfidenceSet {
+  double alpha = 0.05;
+  std::size_t models = 0;          ///< laws judged: every candidate with a statistic, and "none"
+  std::vector<LawMember> members;  ///< best (largest statistic) first
+  /// The distinct families of the members, "none" included when the law as it stands is in.
+  std::vector<Family> families() const;
+  bool holds_none() const;
+};
+
+/// The weakest law of one family that this set would detect with 80 % power (issue 31, item 2;
+/// power.hpp): what an `adequate` or `scatter` verdict cannot rule out.
+struct Detectable {
+  Family family = Family::kOther;
+  std::string effect;  ///< the family's most detectable candidate
+  Variable variable = Variable::kOther;
+  std::string parameter, unit;  ///< its parameter and the parameter's SI unit
+  double neutral = NAN;         ///< where the law does nothing
+  /// The parameter's value at 80 % power; NaN when that lies beyond its bounds (not detectable
+  /// within them).
+  double value = NAN;
+  std::string law;  ///< the law at that strength, with numbers and units
+  /// RMS over the set's releases of the change the law makes to the predictions at that
+  /// strength, per observable (m/s, m/s, rad/s, m, s; NaN where unused).
+  Obs shift{};
+  double noise_units = NAN;  ///< the same change, whitened: RMS per release in noise sd
+  double power = 0.8;
+  double level = NAN;     ///< the family-wise level of the test (alpha / 2, the score route)
+  double critical = NAN;  ///< the max-T critical value the diagnosis uses at that level
+};
+
 struct Diagnosis {
   Baseline baseline;
   std::string verdict;                 ///< "adequate" | "scatter" | "missing physics"
   std::vector<Candidate> ranking;      ///< best first (candidates that were calibrated)
   std::vector<Screened> screened_out;  ///< candidates tested but not calibrated
-  std::size_t family_size = 0;         ///< hypotheses in the max-T family (every candidate)
+  /// The laws these data cannot tell apart from the best one (issue 31, item 1).
+  LawConfidenceSet confidence_set;
+  /// Per family, the weakest law the set would detect (80 % power at the diagnosis's own
+  /// family-wise critical value); printed with every `adequate` and `scatter` verdict.
+  std::vector<Detectable> detectable;
+  std::size_t family_size = 0;  ///< hypotheses in the max-T family (every candidate)
   /// With no supported candidate: the Holm-significant trends (unnamed missing physics).
   std::vector<std::string> unnamed_structure;
   std::string summary;                   ///< one or two sentences
@@ -227,6 +282,9 @@ Model best_model(const Model& base, const Diagnosis& d,
 nlohmann::json to_json(const Assessment& a, const NoiseFloor& floor);
 nlohmann::json to_json(const Baseline& b, const ImpactSet& set);
 nlohmann::json to_json(const Candidate& c, const std::array<bool, kObservables>& use);
+/// The confidence set of laws as JSON: its members (`effect`, `law`, `family`, `families`,
+/// `variable`, `statistic`, `differs_from_best`) and how it was made.
+nlohmann::json to_json(const LawConfidenceSet& cs, const std::array<bool, kObservables>& use);
 /// The `ricochet diagnose --json` document (docs/commands/diagnose.md).
 nlohmann::json to_json(const Diagnosis& d);
 /// The `ricochet ladder --json` document (docs/commands/ladder.md).

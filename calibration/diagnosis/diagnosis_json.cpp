@@ -127,6 +127,54 @@ nlohmann::json to_json(const Candidate& c, const std::array<bool, kObservables>&
   return j;
 }
 
+nlohmann::json to_json(const LawConfidenceSet& cs, const std::array<bool, kObservables>& use) {
+  nlohmann::json members = nlohmann::json::array();
+  for (const LawMember& m : cs.members) {
+    nlohmann::json families = nlohmann::json::array();
+    for (Family f : m.families) families.push_back(family_name(f));
+    members.push_back({{"effect", m.effect},
+                       {"law", m.law},
+                       {"family", family_name(m.family)},
+                       {"families", families},
+                       {"variable", variable_name(m.variable)},
+                       {"statistic",
+                        {{"T", num(m.statistic)},
+                         {"gap_to_best", num(m.gap_to_best)},
+                         {"mcb_critical", num(m.critical)}}},
+                       {"differs_from_best", to_json(m.differs_from_best, use)}});
+  }
+  nlohmann::json families = nlohmann::json::array();
+  for (Family f : cs.families()) families.push_back(family_name(f));
+  return {{"alpha", cs.alpha},
+          {"laws_judged", cs.models},
+          {"method",
+           "multiple comparisons with the best (Hsu 1984) on the score statistics, the law as it "
+           "stands a reference of statistic 0; joint null by the multiplier bootstrap"},
+          {"families", families},
+          {"holds_none", cs.holds_none()},
+          {"members", members}};
+}
+
+nlohmann::json to_json(const std::vector<Detectable>& rows,
+                       const std::array<bool, kObservables>& use) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const Detectable& r : rows)
+    out.push_back({{"family", family_name(r.family)},
+                   {"variable", variable_name(r.variable)},
+                   {"effect", r.effect},
+                   {"parameter", r.parameter},
+                   {"unit", r.unit},
+                   {"neutral", num(r.neutral)},
+                   {"value", num(r.value)},
+                   {"law", r.law},
+                   {"shift", to_json(r.shift, use)},
+                   {"noise_units", num(r.noise_units)},
+                   {"power", r.power},
+                   {"level", num(r.level)},
+                   {"critical_value", num(r.critical)}});
+  return out;
+}
+
 nlohmann::json to_json(const Diagnosis& d) {
   const Baseline& b = d.baseline;
   nlohmann::json ranking = nlohmann::json::array();
@@ -138,7 +186,11 @@ nlohmann::json to_json(const Diagnosis& d) {
                         {"t", num(s.t)},
                         {"p_value", num(s.p_value)},
                         {"p_adjusted", num(s.p_adjusted)}});
+  const nlohmann::json cs = to_json(d.confidence_set, b.base.use);
   return {{"verdict", d.verdict},
+          {"confidence_set", cs["members"]},
+          {"confidence_set_detail", cs},
+          {"minimum_detectable", to_json(d.detectable, b.base.use)},
           {"family_size", d.family_size},
           {"multiplicity", "step-down max-T over the family (Gaussian multiplier bootstrap)"},
           {"screened_out", screened},

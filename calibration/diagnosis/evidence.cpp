@@ -77,7 +77,60 @@ std::string evidence_of(const Candidate& c, const Baseline& b, const DiagnoseOpt
   return text;
 }
 
+std::string confidence_text(const LawConfidenceSet& cs) {
+  if (cs.members.empty()) return {};
+  const std::vector<Family> families = cs.families();
+  std::string list;
+  for (Family f : families) {
+    std::string names;
+    for (const LawMember& m : cs.members)
+      if (m.families.front() == f) names += (names.empty() ? "" : ", ") + m.effect;
+    list += fmt::format("{}{}: {}", list.empty() ? "" : "; ", family_name(f), names);
+  }
+  std::string text =
+      cs.members.size() == 1
+          ? fmt::format("Of {} laws judged, the data single out one at level {:.2g} ({})",
+                        cs.models, cs.alpha, list)
+          : fmt::format(
+                "These data cannot tell apart {} of the {} laws judged, of {} famil{} (multiple "
+                "comparisons with the best at level {:.2g}): {}",
+                cs.members.size(), cs.models, families.size(), families.size() == 1 ? "y" : "ies",
+                cs.alpha, list);
+  if (cs.holds_none()) text += "; the law as it stands is in the set: perhaps nothing is missing";
+  return text + ".";
+}
+
+std::string detectable_text(const std::vector<Detectable>& rows, std::size_t releases) {
+  if (rows.empty()) return {};
+  std::string list;
+  for (const Detectable& r : rows) {
+    std::string shift;
+    for (int k = 0; k < kObservables; ++k)
+      if (std::isfinite(r.shift[k]))
+        shift +=
+            fmt::format("{}{:.2g} {}", shift.empty() ? "" : ", ", r.shift[k], kObservableUnits[k]);
+    list += fmt::format("{}{}: {} ({}{})", list.empty() ? "" : "; ", family_name(r.family), r.law,
+                        std::isfinite(r.value) ? "moves the predictions by " : "",
+                        std::isfinite(r.value) ? shift : r.effect);
+  }
+  return fmt::format(
+      "Weakest law of each family these {} releases would detect (power {:.0f} % at family-wise "
+      "level {:.2g}): {}.",
+      releases, 100 * rows.front().power, rows.front().level, list);
+}
+
 std::string summary_of(const Diagnosis& d, const DiagnoseOptions& o) {
+  std::string text = verdict_text(d, o);
+  if (const std::string s = confidence_text(d.confidence_set); !s.empty()) text += " " + s;
+  if (d.verdict == "adequate" || d.verdict == "scatter")
+    if (const std::string s =
+            detectable_text(d.detectable, d.baseline.base.heldout.per_release.size());
+        !s.empty())
+      text += " " + s;
+  return text;
+}
+
+std::string verdict_text(const Diagnosis& d, const DiagnoseOptions& o) {
   const Baseline& b = d.baseline;
   const Assessment& base = b.base;
   const Candidate* best =
@@ -85,14 +138,18 @@ std::string summary_of(const Diagnosis& d, const DiagnoseOptions& o) {
   const std::string floor_text =
       fmt::format("held-out error {:.4g} is {:.2f} x the measurement noise floor {:.4g}",
                   base.heldout.error.mean, b.adequacy.ratio, b.floor.value.mean);
+  // A single name only when the confidence set holds one family (issue 31): otherwise the best
+  // supported candidate is one of several laws the data cannot tell apart.
+  const std::size_t families = d.confidence_set.families().size();
   if (best)
     return fmt::format(
-        "Missing physics: {}. Found: {} ({}), supported at family-wise level {:.2g} (score "
+        "Missing physics: {}. {}: {} ({}), supported at family-wise level {:.2g} (score "
         "test max-T adjusted p {:.2g}, held-out test Holm p {:.2g}, over {} candidates): {}. "
         "Held-out error {:.4g} -> {:.4g}{}.",
-        floor_text, best->effect, best->meaning, o.alpha, best->p_adjusted, best->p_holm,
-        d.family_size, best->law.empty() ? best->effect : best->law, base.heldout.error.mean,
-        best->heldout_error,
+        floor_text,
+        families > 1 ? "Best ranked, one of several laws these data cannot tell apart" : "Found",
+        best->effect, best->meaning, o.alpha, best->p_adjusted, best->p_holm, d.family_size,
+        best->law.empty() ? best->effect : best->law, base.heldout.error.mean, best->heldout_error,
         best->adequacy.adequate ? ", within the noise floor" : ", still above the noise floor");
   if (d.verdict == "missing physics") {
     std::string s = fmt::format(

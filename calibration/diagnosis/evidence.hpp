@@ -18,8 +18,16 @@ std::string bias_text(const ErrorReport& r, int k);
 /// error falls most, the score test, the calibrated law, the declared signature trends found.
 std::string evidence_of(const Candidate& c, const Baseline& b, const DiagnoseOptions& o);
 
-/// One or two sentences for the verdict of `d` (ranking, verdict and scatter already set).
+/// The verdict of `d` and its confidence set of laws, in sentences (ranking, verdict, scatter
+/// and confidence set already set).
 std::string summary_of(const Diagnosis& d, const DiagnoseOptions& o);
+/// The verdict alone, one or two sentences.
+std::string verdict_text(const Diagnosis& d, const DiagnoseOptions& o);
+/// The confidence set in one sentence: how many laws of how many families, by family, and
+/// whether the law as it stands is one of them. Empty when no set was computed.
+std::string confidence_text(const LawConfidenceSet& cs);
+/// The minimum detectable law of each family in one sentence (power.hpp); empty without rows.
+std::string detectable_text(const std::vector<Detectable>& rows, std::size_t releases);
 
 /// What a model leaves unexplained: its ratio to the floor, observables far above their floor,
 /// one line per residual with a Holm-significant trend, contact biases.

@@ -6,9 +6,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include "common/progress.hpp"
+#include "diagnosis/confidence.hpp"
 #include "diagnosis/evidence.hpp"
+#include "diagnosis/power.hpp"
 #include "diagnosis/signature.hpp"
 #include "stats/stats.hpp"
 
@@ -127,6 +130,57 @@ std::vector<Candidate> judge_all(const Judge& judge,
   return out;
 }
 
+// The confidence set of laws (confidence.hpp) over every candidate tested, the pairs tried and
+// "none". A law calibrated by the ranking shows its calibrated values.
+LawConfidenceSet confidence_set_of(const Diagnosis& d, const std::vector<std::string>& names,
+                                   const std::vector<std::optional<Model>>& models,
+                                   const std::vector<detail::Score>& scores,
+                                   const stats::ScoreTests& tests, const detail::Directions& dirs,
+                                   const Model& warm, const EffectRegistry& registry,
+                                   const DiagnoseOptions& o) {
+  auto calibrated_law = [&](const std::string& effect) {
+    for (const Candidate& c : d.ranking)
+      if (c.effect == effect && c.error.empty()) return c.law;
+    return std::string();
+  };
+  auto index_of = [&](const std::string& name) {
+    return static_cast<std::size_t>(std::find(names.begin(), names.end(), name) - names.begin());
+  };
+  std::vector<detail::LawCandidate> cands;
+  for (std::size_t h = 0; h < names.size(); ++h) {
+    if (!models[h]) continue;
+    cands.push_back(
+        {names[h], {names[h]}, *models[h], scores[h].directions, calibrated_law(names[h]), h});
+  }
+  for (const Candidate& p : d.ranking) {
+    if (p.effects.size() != 2) continue;
+    const std::size_t a = index_of(p.effects[0]), b = index_of(p.effects[1]);
+    if (a >= names.size() || b >= names.size() || !models[a] || !models[b]) continue;
+    try {
+      std::vector<std::size_t> added;
+      std::vector<std::string> pnames;
+      detail::LawCandidate c{p.effect,
+                             p.effects,
+                             candidate_model(warm, p.effects, registry, added, pnames),
+                             {},
+                             p.error.empty() ? p.law : std::string(),
+                             std::nullopt,
+                             p.supported};
+      // The pair's directions are its effects' own (the local model is additive), each
+      // parameter re-indexed in the composed model.
+      for (std::size_t h : {a, b})
+        for (detail::ScoreDirection dir : scores[h].directions) {
+          dir.parameter = c.model.index(models[h]->parameter_names()[dir.parameter]);
+          c.directions.push_back(std::move(dir));
+        }
+      cands.push_back(std::move(c));
+    } catch (const std::exception&) {
+      // A pair that cannot be composed here is judged by the ranking alone.
+    }
+  }
+  return detail::law_confidence_set(dirs, cands, tests, registry, d.baseline.base.use, o.alpha);
+}
+
 }  // namespace
 
 Diagnosis diagnose(const Model& model, const Shape& shape, const ImpactSet& set,
@@ -160,6 +214,9 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
   }
   std::vector<double> r(names.size(), NAN);
   std::vector<stats::ScoreColumn> columns;
+  // Each candidate's model and directions, kept for the confidence set of laws.
+  std::vector<std::optional<Model>> cand_models(names.size());
+  std::vector<detail::Score> scores(names.size());
   for (std::size_t h = 0; h < names.size(); ++h) {
     try {
       std::vector<std::size_t> added;
@@ -168,7 +225,9 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
       detail::Score sc =
           detail::score_of(dirs, cand, shape, set, added, o.assess, o.probe_fraction, h);
       r[h] = sc.r;
-      for (auto& col : sc.columns) columns.push_back(std::move(col));
+      for (const auto& col : sc.columns) columns.push_back(col);
+      scores[h] = std::move(sc);
+      cand_models[h] = cand;
     } catch (const std::exception&) {
       // Not testable here (e.g. its parameters clash with the model's): p = 1 below.
     }
@@ -178,7 +237,8 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
   const auto q = static_cast<std::size_t>(dirs.X.cols());
   if (set.size() <= q + 1) columns.clear();
   const stats::ScoreTests tests = stats::robust_score_tests(
-      columns, names.size(), {.nuisance = q, .draws = o.score_draws, .seed = o.assess.fit.seed});
+      columns, names.size(),
+      {.nuisance = q, .mcb_level = o.alpha, .draws = o.score_draws, .seed = o.assess.fit.seed});
   d.family_size = names.size();
 
   // The candidates calibrated: all named ones, else the `screen` of largest score statistic.
@@ -285,6 +345,10 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
   }
   for (Candidate& c : d.ranking)
     if (c.error.empty()) c.evidence = detail::evidence_of(c, b, o);
+  d.confidence_set =
+      confidence_set_of(d, names, cand_models, scores, tests, dirs, warm, registry, o);
+  d.detectable = detail::minimum_detectable(dirs, names, cand_models, scores, tests, registry,
+                                            b.base.use, o.alpha);
 
   // The verdict, from the ranking first (it never contradicts it).
   const Candidate* best =

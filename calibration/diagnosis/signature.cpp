@@ -116,6 +116,16 @@ Score score_of(const Directions& dirs, const Model& cand, const Shape& shape, co
     const Eigen::VectorXd s =
         dirs.proj * scaled_change(p, p0, set, dirs.rows, step, dirs.whiten, o);
     if (s.norm() == 0) continue;
+    ScoreDirection dir{j, s, Eigen::VectorXd(static_cast<Eigen::Index>(dirs.rows.size())),
+                       at_lower   ? 1
+                       : at_upper ? -1
+                                  : 0};
+    for (std::size_t row = 0; row < dirs.rows.size(); ++row) {
+      const auto [i, k] = dirs.rows[row];
+      const double x = (p[i].value[k] - p0[i].value[k]) / step;
+      dir.raw[static_cast<Eigen::Index>(row)] = std::isfinite(x) ? x : 0.0;
+    }
+    out.directions.push_back(std::move(dir));
     // Sign convention: positive when moving the parameter from neutral into its bounds moves
     // the predictions towards the measurements (the change is per unit step, so a negative
     // step flips it).

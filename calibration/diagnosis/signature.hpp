@@ -48,9 +48,18 @@ Directions base_directions(const Model& warm, const Shape& shape, const ImpactSe
 /// The score test of `cand` (the warm base model plus the effect at neutral): `r`, the
 /// correlation of largest magnitude over its calibrated parameters `added`, and one column of
 /// per-release score contributions per parameter, labelled `hypothesis`.
+/// One added parameter's direction, kept for the confidence set of laws (confidence.cpp).
+struct ScoreDirection {
+  std::size_t parameter = 0;  ///< index in the candidate model
+  Eigen::VectorXd s;          ///< whitened, projected change per unit of the parameter
+  Eigen::VectorXd raw;        ///< change of the predictions per unit (SI, rows of Directions)
+  /// Which way the parameter may move from neutral: +1 up, -1 down (neutral at a bound), 0 both.
+  int allowed = 0;
+};
 struct Score {
   double r = NAN;
   std::vector<stats::ScoreColumn> columns;
+  std::vector<ScoreDirection> directions;
 };
 Score score_of(const Directions& dirs, const Model& cand, const Shape& shape, const ImpactSet& set,
                const std::vector<std::size_t>& added, const AssessOptions& o, double probe_fraction,

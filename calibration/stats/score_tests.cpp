@@ -78,6 +78,37 @@ ScoreTests robust_score_tests(std::span<const ScoreColumn> columns, std::size_t 
       h = std::max(h, oriented(w * t, columns[c].two_sided));
     }
   }
+  out.max_null.reserve(B);
+  for (std::size_t b = 0; b < B; ++b) {
+    const double* row = &star[b * hypotheses];
+    out.max_null.push_back(*std::max_element(row, row + hypotheses));
+  }
+  std::sort(out.max_null.begin(), out.max_null.end());
+  // Multiple comparisons with the best (header): per hypothesis, the draws of its largest
+  // deficit against any other hypothesis or the reference.
+  out.mcb_critical.assign(hypotheses, NAN);
+  {
+    auto quantile = [&](std::vector<double>& x) {
+      std::sort(x.begin(), x.end());
+      const auto k =
+          static_cast<std::size_t>(std::ceil((1.0 - o.mcb_level) * static_cast<double>(B)));
+      return x[std::min(k, x.size() - 1)];
+    };
+    std::vector<double> deficit(B);
+    for (std::size_t h = 0; h < hypotheses; ++h) {
+      if (out.statistic[h] == kNoStat) continue;
+      for (std::size_t b = 0; b < B; ++b) {
+        const double* row = &star[b * hypotheses];
+        double m = 0;  // the reference
+        for (std::size_t k = 0; k < hypotheses; ++k)
+          if (k != h && row[k] != kNoStat) m = std::max(m, row[k]);
+        deficit[b] = m - row[h];
+      }
+      out.mcb_critical[h] = quantile(deficit);
+    }
+    for (std::size_t b = 0; b < B; ++b) deficit[b] = std::max(0.0, out.max_null[b]);
+    out.mcb_reference_critical = quantile(deficit);
+  }
   auto p_of = [&](std::size_t count) {
     return (1.0 + static_cast<double>(count)) / (1.0 + static_cast<double>(B));
   };
@@ -112,6 +143,14 @@ ScoreTests robust_score_tests(std::span<const ScoreColumn> columns, std::size_t 
     out.p_adjusted[order[k]] = running;
   }
   return out;
+}
+
+double max_null_quantile(const ScoreTests& tests, double level) {
+  if (tests.max_null.empty() || !(level > 0 && level < 1)) return NAN;
+  // The smallest draw with at most a fraction `level` of the draws at or above it.
+  const auto B = static_cast<double>(tests.max_null.size());
+  const auto k = static_cast<std::size_t>(std::ceil((1.0 - level) * B));
+  return tests.max_null[std::min(k, tests.max_null.size() - 1)];
 }
 
 }  // namespace ricochet::stats

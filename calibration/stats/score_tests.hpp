@@ -33,6 +33,7 @@
 // be tested) has p = 1 and does not enter the maxima.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -47,7 +48,9 @@ struct ScoreColumn {
 };
 
 struct ScoreTestOptions {
-  std::size_t nuisance = 0;       ///< q: parameters re-estimated under H0 (projected out)
+  std::size_t nuisance = 0;  ///< q: parameters re-estimated under H0 (projected out)
+  /// Level of the multiple comparisons with the best (ScoreTests::mcb_critical).
+  double mcb_level = 0.05;
   std::size_t draws = 20000;      ///< multiplier bootstrap draws
   std::uint64_t seed = 20260401;  ///< of the draws (a run is reproducible bit for bit)
 };
@@ -58,7 +61,27 @@ struct ScoreTests {
   std::vector<double> p_adjusted;  ///< per hypothesis, step-down max-T (family-wise)
   std::vector<double> t;           ///< per column: T_c (signed)
   double dof = 0;                  ///< nu = n - q - 1
+  /// The joint null's maximum over every hypothesis, one per draw, sorted ascending: the
+  /// single-step max-T critical values (max_null_quantile).
+  std::vector<double> max_null;
+  /// Multiple comparisons with the best (MCB; Hsu 1984, Ann. Statist. 12:1136; Hsu 1996,
+  /// "Multiple Comparisons", ch. 4), at level mcb_level, among the hypotheses and a reference
+  /// whose statistic is 0 with no noise (the model with nothing added). Per hypothesis h, c_h is
+  /// the 1 - level quantile of max_{k != h} (H*_k - H*_h), the reference's H* = 0 included; NaN
+  /// for an untested hypothesis. h cannot be told apart from the best when
+  ///   H_h >= max(0, max_{k != h} H_k) - c_h,
+  /// and the set of such h holds the hypothesis of largest expected statistic with probability
+  /// at least 1 - level (only the comparisons of that one hypothesis need to hold).
+  std::vector<double> mcb_critical;
+  /// The reference's own c: the 1 - level quantile of max(0, max_k H*_k). The reference is in the
+  /// set when no statistic exceeds it (the single-step max-T test at that level).
+  double mcb_reference_critical = NAN;
 };
+
+/// The (1 - level) quantile of the joint null's maximum: the critical value that a hypothesis's
+/// statistic must exceed for its max-T adjusted p to fall below `level` at the first step of the
+/// step-down (the power of the family-wise test is computed against it). NaN without draws.
+double max_null_quantile(const ScoreTests& tests, double level);
 
 /// The tests of `hypotheses` hypotheses from their columns (file comment). Throws
 /// std::invalid_argument when columns differ in length, a column names a hypothesis out of

@@ -266,5 +266,40 @@ TEST(HiddenEffect, TheLadderSecondRoundDoesNotLeakThroughItsStartValues) {
         << "component " << k;
 }
 
+// Every diagnosis gives its confidence set of laws (issue 31, item 1): with a strong hidden
+// speed-dependent restitution the set holds the restitution family and not the law as it stands;
+// with nothing hidden the law as it stands is in it. Every member declares family and variable.
+TEST(HiddenEffect, TheConfidenceSetHoldsTheTruthsFamilyAndNotNone) {
+  DiagnoseOptions o = options();
+  o.candidates.clear();  // the whole registry: catalog and generated laws
+  o.assess.release_fits = false;
+  o.assess.repeats = 1;
+  const Diagnosis d = diagnose(Model::paper(), Shape::cylinder(),
+                               hidden_set({"rate_cs", {"rate_restitution"}, {{"kv", 0.5}}}), o);
+  const LawConfidenceSet& cs = d.confidence_set;
+  ASSERT_FALSE(cs.members.empty()) << d.summary;
+  EXPECT_GT(cs.models, 40u);
+  EXPECT_FALSE(cs.holds_none()) << d.summary;
+  const auto fam = cs.families();
+  EXPECT_NE(std::find(fam.begin(), fam.end(), Family::kRestitution), fam.end()) << d.summary;
+  for (const LawMember& m : cs.members) {
+    if (std::isfinite(m.statistic)) EXPECT_LE(m.gap_to_best, m.critical) << m.effect;
+    EXPECT_FALSE(m.law.empty()) << m.effect;
+  }
+  // Fewer laws than were judged: the set says something.
+  EXPECT_LT(cs.members.size(), cs.models) << d.summary;
+  const nlohmann::json j = to_json(d);
+  ASSERT_TRUE(j.contains("confidence_set"));
+  for (const auto& m : j["confidence_set"]) {
+    EXPECT_TRUE(m.contains("family") && m.contains("variable") && m.contains("law")) << m.dump();
+    EXPECT_NE(m["family"].get<std::string>(), "other") << m.dump();
+  }
+  EXPECT_NE(d.summary.find("cannot tell apart"), std::string::npos) << d.summary;
+
+  const Diagnosis null =
+      diagnose(Model::paper(), Shape::cylinder(), hidden_set({"none_cs", {}, {}}), o);
+  EXPECT_TRUE(null.confidence_set.holds_none()) << null.summary;
+}
+
 }  // namespace
 }  // namespace ricochet::diagnosis
