@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "cli_common.hpp"
+#include "cmd_design.hpp"
 #include "common/error.hpp"
 
 int main(int argc, char** argv) {
@@ -25,6 +26,7 @@ int main(int argc, char** argv) {
   ricochet::cli::add_compare_command(app);
   ricochet::cli::add_diagnose_command(app);
   ricochet::cli::add_ladder_command(app);
+  ricochet::cli::add_design_command(app);
   ricochet::cli::add_report_command(app);
   // The resolved model needs LIGGGHTS (RICOCHET_HAVE_LIGGGHTS, set by CMake: cli/CMakeLists.txt).
 #if RICOCHET_HAVE_LIGGGHTS

@@ -225,7 +225,7 @@ CampaignDesign parse_campaign_design(const std::string& text, const std::string&
 
   if (const auto* g = table_at(root, "design", path, "")) {
     check_keys(*g,
-               {"shape", "incident", "incident_from", "where", "alpha_in_deg",
+               {"shape", "incident", "incident_from", "where", "plan", "alpha_in_deg",
                 "alpha_in_deg_sample", "seeds", "vary", "sample", "id_prefix"},
                path, "design");
     std::string shape = "cylinder";
@@ -261,8 +261,24 @@ CampaignDesign parse_campaign_design(const std::string& text, const std::string&
       }
       for (const auto& im : set.impacts) incident.emplace_back(prefix + im.id, im.vin);
     }
+    // A plan of throws (`ricochet design --out plan.csv`): incident states read by the impact-set
+    // reader (read_incident_states), each row one impact of the row's shape, replica seed = the
+    // row index unless `seeds` is given.
+    std::vector<std::string> row_shape(incident.size());
+    std::vector<std::optional<std::int64_t>> row_seed(incident.size());
+    if (const auto* n = g->get("plan")) {
+      std::string file = string_of(*n, path, "design.plan");
+      if (fs::path(file).is_relative()) file = (fs::path(path).parent_path() / file).string();
+      const ImpactSet plan = read_incident_states(file);
+      for (std::size_t i = 0; i < plan.size(); ++i) {
+        check_shape(plan.impacts[i].shape, path, line_of(*n), "design.plan");
+        incident.emplace_back(prefix + plan.impacts[i].id, plan.impacts[i].vin);
+        row_shape.push_back(plan.impacts[i].shape);
+        row_seed.push_back(static_cast<std::int64_t>(i));
+      }
+    }
     if (incident.empty())
-      throw InputError(path, line_of(*g), "design", "give incident or incident_from");
+      throw InputError(path, line_of(*g), "design", "give incident, incident_from or plan");
     std::vector<double> alphas = {0.0};
     if (const auto* n = g->get("alpha_in_deg")) {
       const toml::array* a = n->as_array();
@@ -426,10 +442,10 @@ CampaignDesign parse_campaign_design(const std::string& text, const std::string&
             if (alphas.size() > 1) s.id += fmt::format("-a{}", shortest_number(alpha));
             if (seed && seeds.size() > 1) s.id += fmt::format("-s{}", *seed);
             s.id += combo_tags[c];
-            s.shape = shape;
+            s.shape = row_shape[inc].empty() ? shape : row_shape[inc];
             s.vin = vin;
             s.alpha_in_rad = alpha * std::numbers::pi / 180.0;
-            s.seed = seed;
+            s.seed = seed ? seed : row_seed[inc];
             s.params = merged(combos[c]);
             add(std::move(s), line_of(*g), "design");
           }

@@ -1,6 +1,7 @@
 // A campaign design: the impacts to run, read from TOML (docs/commands/dem.md, "Design file").
 // Explicit [[impact]] tables, a product design ([design] incident states x angles x seeds x
-// [design.vary]) and a space-filling sample over grain-scale parameters ([design.sample]).
+// [design.vary]) and a space-filling sample over grain-scale parameters ([design.sample]). The
+// incident states may come from a plan of throws ([design] plan = "plan.csv", `ricochet design`).
 #pragma once
 
 #include <string>

@@ -83,14 +83,15 @@ FileColumn parse_header_cell(const std::string& cell, const std::string& file, s
   return col;
 }
 
-}  // namespace
-
-ImpactSet parse_impact_set_csv(const std::string& text, const std::string& name) {
+// The reader of both entry points: `incident_only` (parse_incident_states_csv) lets the three
+// reflected columns be absent together; each release's vout is then NaN.
+ImpactSet parse_csv(const std::string& text, const std::string& name, bool incident_only) {
   ImpactSet set;
   set.source = name;
   std::vector<FileColumn> columns;
   bool have_header = false;
-  RowAssembler rows(name, "empty cell", "line");
+  bool no_vout = false;  // an incident-state file: no reflected column at all
+  RowAssembler rows(name, "empty cell", "line", incident_only);
 
   std::string_view all(text);
   if (all.starts_with("\xEF\xBB\xBF")) all.remove_prefix(3);  // UTF-8 byte-order mark
@@ -120,9 +121,19 @@ ImpactSet parse_impact_set_csv(const std::string& text, const std::string& name)
         if (!seen.emplace(columns.back().name, i).second)
           throw InputError(name, line_no, columns.back().name, "duplicate column");
       }
-      for (const auto& spec : schema_columns())
-        if (spec.required && !seen.contains(spec.name))
-          throw InputError(name, line_no, spec.name, "missing required column");
+      const bool any_vout =
+          seen.contains("vout_x") || seen.contains("vout_y") || seen.contains("wout");
+      no_vout = incident_only && !any_vout;
+      for (const auto& spec : schema_columns()) {
+        const bool reflected =
+            spec.col == Col::kVoutX || spec.col == Col::kVoutY || spec.col == Col::kWout;
+        if (spec.required && !seen.contains(spec.name) && !(reflected && no_vout))
+          throw InputError(name, line_no, spec.name,
+                           incident_only && reflected
+                               ? "missing column: vout_x, vout_y and wout come together (or none, "
+                                 "for incident states)"
+                               : "missing required column");
+      }
       // The uncertainty of a velocity is all three components or none.
       for (const char* group : {"sigma_vin_", "sigma_vout_"}) {
         const std::string g(group);
@@ -147,6 +158,7 @@ ImpactSet parse_impact_set_csv(const std::string& text, const std::string& name)
                            std::to_string(columns.size()));
     }
     Impact m;
+    if (no_vout) m.vout = {kNaN, kNaN, kNaN};
     m.extra.assign(set.extra_names.size(), kNaN);
     // Which sigma components this row gives, to refuse a partial triple.
     for (std::size_t i = 0; i < cells.size(); ++i) {
@@ -183,12 +195,30 @@ ImpactSet parse_impact_set_csv(const std::string& text, const std::string& name)
   return set;
 }
 
-ImpactSet read_impact_set_csv(const std::string& path) {
+std::string slurp_csv(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, "", "cannot open the file for reading");
   std::ostringstream buffer;
   buffer << in.rdbuf();
-  return parse_impact_set_csv(buffer.str(), path);
+  return buffer.str();
+}
+
+}  // namespace
+
+ImpactSet parse_impact_set_csv(const std::string& text, const std::string& name) {
+  return parse_csv(text, name, /*incident_only=*/false);
+}
+
+ImpactSet parse_incident_states_csv(const std::string& text, const std::string& name) {
+  return parse_csv(text, name, /*incident_only=*/true);
+}
+
+ImpactSet read_impact_set_csv(const std::string& path) {
+  return parse_impact_set_csv(slurp_csv(path), path);
+}
+
+ImpactSet read_incident_states_csv(const std::string& path) {
+  return parse_incident_states_csv(slurp_csv(path), path);
 }
 
 std::string format_impact_set_csv(const ImpactSet& set) {

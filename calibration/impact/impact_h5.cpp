@@ -274,6 +274,12 @@ ImpactSet read_impact_set(const std::string& path) {
   return format_of(path) == Format::kCsv ? read_impact_set_csv(path) : read_impact_set_h5(path);
 }
 
+ImpactSet read_incident_states(const std::string& path) {
+  // HDF5 holds full impact sets only (the design command writes its plans in CSV).
+  return format_of(path) == Format::kCsv ? read_incident_states_csv(path)
+                                         : read_impact_set_h5(path);
+}
+
 void write_impact_set(const ImpactSet& set, const std::string& path) {
   if (format_of(path) == Format::kCsv)
     write_impact_set_csv(set, path);

@@ -213,11 +213,17 @@ bool has_column(const Impact& m, Col col) {
   }
 }
 
-void check_impact(const Impact& m, std::size_t n_extra, const std::string& file, std::size_t line) {
+void check_impact(const Impact& m, std::size_t n_extra, const std::string& file, std::size_t line,
+                  bool incident_only) {
   check_text(m.id, "id", file, line);
   check_text(m.shape, "shape", file, line);
+  // An incident state (read_incident_states: a plan of throws) has no reflected velocity yet.
+  const bool no_vout =
+      incident_only && std::isnan(m.vout[kVx]) && std::isnan(m.vout[kVy]) && std::isnan(m.vout[kW]);
   for (const auto& spec : schema_columns()) {
     if (spec.dim == Dim::kText) continue;
+    if (no_vout && (spec.col == Col::kVoutX || spec.col == Col::kVoutY || spec.col == Col::kWout))
+      continue;
     const auto v = get_numeric(m, spec.col);
     if (v) check_finite(*v, spec.name, file, line);
   }
@@ -226,7 +232,7 @@ void check_impact(const Impact& m, std::size_t n_extra, const std::string& file,
     throw InputError(file, line, "vin_y",
                      "incident vertical velocity " + shortest_number(m.vin[kVy]) +
                          " m/s must be negative (y is up: the block falls onto the ground)");
-  if (m.vout[kVy] <= 0)
+  if (!no_vout && m.vout[kVy] <= 0)
     throw InputError(file, line, "vout_y",
                      "reflected vertical velocity " + shortest_number(m.vout[kVy]) +
                          " m/s must be positive (y is up: the block leaves the ground)");
@@ -306,7 +312,7 @@ void RowAssembler::finish(Impact&& m, ImpactSet& set, std::size_t line) {
             std::string(missing_) + ": give all three components of the uncertainty or none");
   }
   sigma_given_ = {};
-  check_impact(m, set.extra_names.size(), file_, line);
+  check_impact(m, set.extra_names.size(), file_, line, incident_only_);
   const auto [it, inserted] = id_line_.emplace(m.id, line);
   if (!inserted)
     throw InputError(

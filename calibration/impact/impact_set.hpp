@@ -103,6 +103,16 @@ ImpactSet read_impact_set_csv(const std::string& path);
 ImpactSet parse_impact_set_csv(const std::string& text, const std::string& name);
 ImpactSet read_impact_set_h5(const std::string& path);
 
+/// Read a set of incident states: a plan of throws (`ricochet design --out plan.csv`, docs/
+/// commands/design.md) or any impact set. The impact-set reader with one difference: in CSV
+/// the three reflected columns (vout_x, vout_y, wout) may be absent, all three together, and
+/// each release's vout is then NaN (docs/impact-sets.md, "Incident states"); every other rule
+/// holds (required incident columns, units, vin_y < 0, unique ids). A file with reflected
+/// columns is read and checked as an impact set. HDF5 holds full impact sets only.
+ImpactSet read_incident_states(const std::string& path);
+ImpactSet read_incident_states_csv(const std::string& path);
+ImpactSet parse_incident_states_csv(const std::string& text, const std::string& name);
+
 /// Write an impact set; the format follows the extension (.csv, .h5/.hdf5).
 /// Optional columns are written only when at least one impact has them.
 void write_impact_set(const ImpactSet& set, const std::string& path);

@@ -74,8 +74,10 @@ bool has_column(const Impact& impact, Col col);
 
 /// Checks the invariants of one impact (not the uniqueness of its id) and throws InputError(file,
 /// line, field, ...) on the first violation. `n_extra` is the expected size of impact.extra.
+/// `incident_only` (read_incident_states): an impact whose three vout components are all NaN is
+/// an incident state, and its reflected velocity is not checked.
 void check_impact(const Impact& impact, std::size_t n_extra, const std::string& file,
-                  std::size_t line);
+                  std::size_t line, bool incident_only = false);
 /// Checks extra_names / extra_units of a set (names valid, unique, not reserved; SI units).
 void check_extras_declaration(const ImpactSet& set, const std::string& file, std::size_t line);
 
@@ -86,8 +88,9 @@ void check_extras_declaration(const ImpactSet& set, const std::string& file, std
 /// "row").
 class RowAssembler {
  public:
-  RowAssembler(std::string file, const char* missing, const char* place)
-      : file_(std::move(file)), missing_(missing), place_(place) {}
+  /// `incident_only`: rows without a reflected velocity (NaN vout) are accepted (check_impact).
+  RowAssembler(std::string file, const char* missing, const char* place, bool incident_only = false)
+      : file_(std::move(file)), missing_(missing), place_(place), incident_only_(incident_only) {}
   /// Stores one numeric value (SI) of a schema column (`spec`) or of extra column `extra_index`.
   void store(Impact& impact, const ColumnSpec* spec, std::size_t extra_index, double value_si);
   /// Checks the row (n_extra extra columns expected) and appends it to `set`.
@@ -97,6 +100,7 @@ class RowAssembler {
   std::string file_;
   const char* missing_;
   const char* place_;
+  bool incident_only_ = false;
   std::array<std::array<bool, 3>, 2> sigma_given_{};
   std::unordered_map<std::string, std::size_t> id_line_;
 };

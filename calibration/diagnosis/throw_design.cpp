@@ -1,0 +1,316 @@
+// The throws that would decide between rival laws (throw_design.hpp).
+#include "diagnosis/throw_design.hpp"
+
+#include <fmt/format.h>
+#include <openturns/OT.hxx>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <stdexcept>
+
+#include "common/error.hpp"
+#include "diagnosis/discrimination.hpp"
+#include "diagnosis/signature.hpp"
+#include "fit/design.hpp"
+
+namespace ricochet::diagnosis {
+
+WideBox box_of(const ImpactSet& set) {
+  WideBox b;
+  if (set.empty()) return b;
+  const auto span = [&](int k) {
+    std::array<double, 2> r{set.impacts[0].vin[k], set.impacts[0].vin[k]};
+    for (const auto& im : set.impacts) r = {std::min(r[0], im.vin[k]), std::max(r[1], im.vin[k])};
+    return r;
+  };
+  b.vin_x = span(kVx);
+  b.vin_y = span(kVy);
+  b.win = span(kW);
+  return b;
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// A point of the unit cube mapped into the box.
+Vel3 in_box(const WideBox& b, double u0, double u1, double u2) {
+  return {b.vin_x[0] + u0 * (b.vin_x[1] - b.vin_x[0]), b.vin_y[0] + u1 * (b.vin_y[1] - b.vin_y[0]),
+          b.win[0] + u2 * (b.win[1] - b.win[0])};
+}
+
+// K points of the Sobol' sequence in the box (OpenTURNS; deterministic: no seed).
+std::vector<Vel3> sobol_states(const WideBox& box, std::size_t k) {
+  const OT::Sample s = OT::SobolSequence(3).generate(k);
+  std::vector<Vel3> out(k);
+  for (std::size_t i = 0; i < k; ++i) out[i] = in_box(box, s(i, 0), s(i, 1), s(i, 2));
+  return out;
+}
+
+// n states drawn uniformly in the box (OpenTURNS' generator, seeded: fit::uniform_unit_sample).
+std::vector<Vel3> uniform_states(const WideBox& box, std::size_t n, std::uint64_t seed) {
+  const std::vector<double> u = fit::uniform_unit_sample(3, n, seed);
+  std::vector<Vel3> out(n);
+  for (std::size_t i = 0; i < n; ++i) out[i] = in_box(box, u[3 * i], u[3 * i + 1], u[3 * i + 2]);
+  return out;
+}
+
+Impact state_impact(const std::string& id, const std::string& shape, const Vel3& vin) {
+  Impact im;
+  im.id = id;
+  im.shape = shape;
+  im.vin = vin;
+  im.vout = {kNaN, kNaN, kNaN};  // not thrown yet
+  return im;
+}
+
+// A rival's predictions on the states and the forward-difference columns of its calibrated
+// parameters (probe_calibrated: the diagnosis's steps, 2 % of a range or of a log range).
+struct RivalPredictions {
+  std::vector<ObsPrediction> value;
+  std::vector<ParameterProbe> probes;
+};
+
+RivalPredictions predict_rival(const Rival& r, const Shape& shape, const ImpactSet& states,
+                               const AssessOptions& o) {
+  RivalPredictions p;
+  p.value = predict_observables(r.model, shape, r.model.values(), states, o);
+  p.probes = probe_calibrated(r.model, shape, states, o);
+  return p;
+}
+
+bool subset_of(const std::vector<std::string>& a, const std::vector<std::string>& b) {
+  return std::all_of(a.begin(), a.end(), [&](const std::string& e) {
+    return std::find(b.begin(), b.end(), e) != b.end();
+  });
+}
+
+}  // namespace
+
+ThrowDesign design_throws(const Model& base, const Shape& shape, const ImpactSet& set,
+                          const std::vector<std::vector<std::string>>& rival_effects,
+                          const WideBox& box, const DesignOptions& options) {
+  const auto t0 = Clock::now();
+  const EffectRegistry& registry = options.registry ? *options.registry : EffectRegistry::global();
+  const AssessOptions o = resolve_scale(set, options.assess);
+  const std::size_t n = set.size(), budget = options.budget;
+  const std::size_t K =
+      options.candidates > 0 ? options.candidates : std::max<std::size_t>(1024, 4 * budget);
+  if (budget < 1) throw std::invalid_argument("design_throws: budget must be >= 1");
+  if (K < budget) throw std::invalid_argument("design_throws: fewer candidates than the budget");
+  if (rival_effects.size() < 2) throw std::invalid_argument("design_throws: two rivals at least");
+
+  ThrowDesign d;
+  d.shape = shape.name;
+  d.box = box;
+  d.releases = n;
+  d.candidates = K;
+  d.alpha = options.alpha;
+  d.seed = options.seed;
+
+  // 1. The rivals, calibrated on the set; the base model's fit gives the noise's whitening.
+  std::vector<Rival> all = calibrate_rivals(base, shape, set, rival_effects, o, registry);
+  const Rival base_fit = all.front();
+  d.rivals.assign(all.begin() + 1, all.end());
+  d.calibration_s = seconds_since(t0);
+  const auto t1 = Clock::now();
+  Assessment a;
+  a.use = observables_of(set, o);
+  a.population = base_fit.fit;
+  a.insample_predictions = to_observables(base_fit.fit.predictions);
+  a.insample = error_report(set, a.insample_predictions, a.use, o);
+  const detail::Directions noise = detail::base_directions(base_fit.model, shape, set, a, o);
+  const Eigen::MatrixXd& W = noise.whiten;
+  d.use = a.use;
+  std::vector<int> obs;
+  for (int k = 0; k < kObservables; ++k)
+    if (a.use[k]) obs.push_back(k);
+  const auto kobs = static_cast<Eigen::Index>(obs.size());
+
+  // 2. The states: the set's, then the candidates, then the uniform draw.
+  const std::vector<Vel3> cand = sobol_states(box, K);
+  d.uniform = uniform_states(box, budget, options.seed);
+  ImpactSet states = set;
+  for (std::size_t i = 0; i < K; ++i)
+    states.impacts.push_back(state_impact(fmt::format("K{:05d}", i + 1), shape.name, cand[i]));
+  for (std::size_t i = 0; i < budget; ++i)
+    states.impacts.push_back(state_impact(fmt::format("U{:05d}", i + 1), shape.name, d.uniform[i]));
+  const std::size_t S = states.size();
+
+  // Predictions, one engine batch per parameter vector; the base model's ("none") once.
+  std::map<std::string, RivalPredictions> cache;
+  const auto predictions_of = [&](const Rival& r) -> const RivalPredictions& {
+    auto it = cache.find(r.name);
+    if (it == cache.end()) it = cache.emplace(r.name, predict_rival(r, shape, states, o)).first;
+    return it->second;
+  };
+  const std::vector<ObsPrediction>& base_pred = predictions_of(base_fit).value;
+  std::vector<const RivalPredictions*> pred;
+  for (const Rival& r : d.rivals) pred.push_back(&predictions_of(r));
+
+  // Which states inform: every rival and every probe rebounds there.
+  std::vector<char> ok(S, 1);
+  for (const RivalPredictions* p : pred)
+    for (std::size_t s = 0; s < S; ++s) {
+      ok[s] = ok[s] && p->value[s].status == CollisionStatus::kOk;
+      for (const ParameterProbe& q : p->probes)
+        ok[s] = ok[s] && q.predictions[s].status == CollisionStatus::kOk;
+    }
+  // Error denominators per state: measured V_out for the set, the base model's prediction for a
+  // state not thrown yet.
+  std::vector<Obs> scale(S);
+  for (std::size_t s = 0; s < S; ++s) {
+    Impact im = states.impacts[s];
+    if (s >= n) {
+      const Obs& b = base_pred[s].value;
+      im.vout = {b[kObsVx], b[kObsVy], b[kObsW]};
+      im.penetration = b[kObsPenetration];
+      im.contact_duration = b[kObsDuration];
+    }
+    scale[s] = error_scale(im, o);
+  }
+  // Candidates kept: those that inform; the Direction layout is [set][kept candidates][uniform].
+  std::vector<std::size_t> kept;
+  for (std::size_t i = 0; i < K; ++i)
+    if (ok[n + i]) kept.push_back(n + i);
+  d.excluded = K - kept.size();
+  if (kept.size() < budget)
+    throw InputError("<command line>", 0, "--range",
+                     fmt::format("only {} of the {} candidate states rebound under every rival: "
+                                 "widen the box (faster or steeper throws) or lower --budget",
+                                 kept.size(), K));
+  std::vector<std::size_t> layout;
+  for (std::size_t s = 0; s < n; ++s) layout.push_back(s);
+  layout.insert(layout.end(), kept.begin(), kept.end());
+  for (std::size_t i = 0; i < budget; ++i) layout.push_back(n + K + i);
+
+  // 3. The per-state terms of every ordered pair (truth a, refitted b).
+  const std::size_t R = d.rivals.size();
+  std::vector<Direction> directions;
+  std::vector<std::vector<std::size_t>> dir_of(R, std::vector<std::size_t>(R, 0));
+  for (std::size_t ia = 0; ia < R; ++ia)
+    for (std::size_t ib = 0; ib < R; ++ib) {
+      if (ia == ib) continue;
+      const RivalPredictions& pa = *pred[ia];
+      const RivalPredictions& pb = *pred[ib];
+      Direction dir;
+      dir.truth = ia;
+      dir.fitted = ib;
+      dir.parameters = static_cast<int>(pb.probes.size());
+      dir.states.reserve(layout.size());
+      for (std::size_t s : layout) {
+        Eigen::VectorXd r = Eigen::VectorXd::Zero(kobs);
+        Eigen::MatrixXd G = Eigen::MatrixXd::Zero(kobs, dir.parameters);
+        if (ok[s])
+          for (Eigen::Index row = 0; row < kobs; ++row) {
+            const int k = obs[static_cast<std::size_t>(row)];
+            r[row] = (pa.value[s].value[k] - pb.value[s].value[k]) / scale[s][k];
+            for (int c = 0; c < dir.parameters; ++c) {
+              const ParameterProbe& q = pb.probes[static_cast<std::size_t>(c)];
+              G(row, c) = (q.predictions[s].value[k] - pb.value[s].value[k]) / q.step / scale[s][k];
+            }
+          }
+        if (!r.allFinite() || !G.allFinite()) r.setZero(), G.setZero();
+        dir.states.push_back(state_terms(W * r, W * G));
+      }
+      dir_of[ia][ib] = directions.size();
+      directions.push_back(std::move(dir));
+    }
+  d.prediction_s = seconds_since(t1);
+  const auto t2 = Clock::now();
+
+  // 4. Pairs: their rules, and which ones any throw could decide.
+  std::vector<std::size_t> set_states(n), all_states(n + kept.size());
+  for (std::size_t s = 0; s < n + kept.size(); ++s) all_states[s] = s;
+  for (std::size_t s = 0; s < n; ++s) set_states[s] = s;
+  std::vector<PairRule> rules, active;
+  for (std::size_t ia = 0; ia < R; ++ia)
+    for (std::size_t ib = ia + 1; ib < R; ++ib) {
+      PairResult p;
+      p.a = ia;
+      p.b = ib;
+      PairRule rule;
+      const auto& ea = d.rivals[ia].effects;
+      const auto& eb = d.rivals[ib].effects;
+      if (ea.size() < eb.size() && subset_of(ea, eb)) {
+        p.nested = true;  // b is the larger law: b true, a refitted
+        rule.directions = {dir_of[ib][ia]};
+      } else if (eb.size() < ea.size() && subset_of(eb, ea)) {
+        p.nested = true;
+        rule.directions = {dir_of[ia][ib]};
+      } else {
+        rule.directions = {dir_of[ia][ib], dir_of[ib][ia]};
+      }
+      double best = std::numeric_limits<double>::infinity();
+      for (std::size_t di : rule.directions)
+        best = std::min(best, direction_lambda(directions[di], all_states));
+      p.indistinguishable = !(best >= options.indistinguishable_lambda);
+      if (!p.indistinguishable) active.push_back(rule);
+      rules.push_back(rule);
+      d.pairs.push_back(p);
+    }
+
+  // 5. The plan.
+  SelectionOptions so;
+  so.budget = budget;
+  so.max_passes = options.max_passes;
+  std::vector<std::size_t> chosen;
+  if (!active.empty()) {
+    const Selection sel = select_max_min(directions, active, n, kept.size(), so);
+    chosen = sel.chosen;
+    d.greedy_lambda = sel.greedy_value;
+    d.passes = sel.passes;
+    d.swaps = sel.swaps;
+  } else {
+    // Nothing to decide: the first candidates of the low-discrepancy sequence (space filling).
+    for (std::size_t i = 0; i < budget; ++i) chosen.push_back(n + i);
+    d.greedy_lambda = kNaN;
+  }
+  for (std::size_t c : chosen) d.plan.push_back(states.impacts[layout[c]].vin);
+  d.selection_s = seconds_since(t2);
+
+  // 6. Every pair on the three designs.
+  std::vector<std::size_t> plan_states = set_states, uniform_design = set_states;
+  plan_states.insert(plan_states.end(), chosen.begin(), chosen.end());
+  for (std::size_t i = 0; i < budget; ++i) uniform_design.push_back(n + kept.size() + i);
+  const auto on = [&](const PairResult& p, const PairRule& rule,
+                      const std::vector<std::size_t>& design) {
+    PairOnDesign r;
+    r.lambda_ab = direction_lambda(directions[dir_of[p.a][p.b]], design);
+    r.lambda_ba = direction_lambda(directions[dir_of[p.b][p.a]], design);
+    r.lambda = std::numeric_limits<double>::infinity();
+    for (std::size_t di : rule.directions)
+      r.lambda = std::min(r.lambda, di == dir_of[p.a][p.b] ? r.lambda_ab : r.lambda_ba);
+    r.power = discrimination_power(r.lambda, options.alpha);
+    return r;
+  };
+  const auto min_into = [](PairOnDesign& m, const PairOnDesign& x, bool first) {
+    if (first || x.lambda < m.lambda) m = x;
+  };
+  bool first = true;
+  for (std::size_t k = 0; k < d.pairs.size(); ++k) {
+    PairResult& p = d.pairs[k];
+    p.plan = on(p, rules[k], plan_states);
+    p.uniform = on(p, rules[k], uniform_design);
+    p.set = on(p, rules[k], set_states);
+    if (p.indistinguishable) continue;
+    min_into(d.min_plan, p.plan, first);
+    min_into(d.min_uniform, p.uniform, first);
+    min_into(d.min_set, p.set, first);
+    first = false;
+  }
+  if (first)
+    for (PairOnDesign* m : {&d.min_plan, &d.min_uniform, &d.min_set}) *m = {kNaN, kNaN, kNaN, kNaN};
+  d.seconds = seconds_since(t0);
+  return d;
+}
+
+}  // namespace ricochet::diagnosis
