@@ -103,12 +103,16 @@ CampaignSummary run_campaign(const CampaignDesign& design, const Decks& decks,
   pending.resize(static_cast<std::size_t>(n_pending));
   MPI_Bcast(pending.data(), n_pending, MPI_INT, 0, world);
 
-  // Beds first, each built once by one group, so that no two groups build the same bed.
+  // Beds first, each built once by one group, so that no two groups build the same bed. With a
+  // single group there is no one to share with, and building first would cost the design its
+  // order: a design laid out from cheap to expensive (a stiffness ladder, whose stiff beds take
+  // hours) would build every bed before its first impact. There each bed is built when the first
+  // impact that needs it comes (below).
   std::vector<std::map<std::string, std::string>> beds;
   std::set<std::string> keys;
   for (int i : pending) {
     auto o = bed_overrides(design.impacts[static_cast<std::size_t>(i)]);
-    if (keys.insert(bed_key(decks, o)).second) beds.push_back(o);
+    if (groups > 1 && keys.insert(bed_key(decks, o)).second) beds.push_back(o);
   }
   for (std::size_t j = 0; j < beds.size(); ++j)
     if (group != MPI_COMM_NULL && static_cast<int>(j % static_cast<std::size_t>(groups)) == color) {
@@ -127,7 +131,21 @@ CampaignSummary run_campaign(const CampaignDesign& design, const Decks& decks,
     const ImpactSpec& spec = design.impacts[static_cast<std::size_t>(pending[n])];
     ImpactContext ctx;
     ctx.decks = &decks;
-    ctx.bed = ensure_bed(decks, bed_overrides(spec), design.cache_dir, group);
+    if (grank == 0) {
+      // A line before the work (an impact on a stiff bed takes an hour, its bed longer): what
+      // runs now, and whether its bed must be built first.
+      const std::string key = bed_key(decks, bed_overrides(spec));
+      const std::string prefix = (fs::path(design.cache_dir) / ("bed-" + key)).string();
+      const bool cached = fs::exists(prefix + ".restart") && fs::exists(prefix + ".params");
+      std::cerr << fmt::format("[dem] starting {} (group {}), bed {}{}\n", spec.id, color, key,
+                               cached ? "" : ": building it first");
+    }
+    bool built = false;
+    double bed_wall = 0;
+    ctx.bed = ensure_bed(decks, bed_overrides(spec), design.cache_dir, group, &built, &bed_wall);
+    if (grank == 0 && built)
+      std::cerr << fmt::format("[dem] bed {}: {} grains built in {:.0f} s (group {})\n",
+                               ctx.bed.key, ctx.bed.grains, bed_wall, color);
     ctx.extract = design.extract;
     ctx.work_dir = (fs::path(design.work_dir) / spec.id).string();
     if (options.vtk_every > 0) {

@@ -252,6 +252,32 @@ std::vector<CampaignEntry> read_campaign_index(const std::string& path) {
   return out;
 }
 
+Track read_campaign_track(const std::string& path, const std::string& id) {
+  if (!fs::exists(path)) throw std::runtime_error("no campaign file " + path);
+  h5::File f(path, h5::File::Mode::kRead);
+  const std::string tg = "/dem/tracks/" + id;
+  if (!f.exists(tg)) throw std::runtime_error(path + " has no track " + tg);
+  std::vector<std::size_t> dims;
+  const auto rows = f.read_doubles(tg, &dims);
+  std::vector<std::string> columns;
+  if (f.has_attr(tg, "columns")) {
+    const std::string text = f.attr_string(tg, "columns");
+    std::size_t a = 0;
+    while (a <= text.size()) {
+      const auto b = std::min(text.find(',', a), text.size());
+      columns.push_back(text.substr(a, b - a));
+      a = b + 1;
+    }
+  } else {
+    // Written before the attribute: the first campaigns' twelve columns.
+    columns.assign(Track::column_names().begin(), Track::column_names().begin() + 12);
+  }
+  if (dims.size() != 2 || dims[1] != columns.size())
+    throw std::runtime_error(fmt::format("{}: {} does not have the {} columns its attribute names",
+                                         path, tg, columns.size()));
+  return Track::from_rows(rows, columns);
+}
+
 void append_result(const std::string& path, const ImpactResult& r, const ImpactSpec& spec,
                    const std::string& design_name) {
   FileLock lock(path);

@@ -28,6 +28,8 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// Atom type of the block's spheres (impact/setup.in: `group block type 2`, common/materials.in).
+constexpr int kBlockAtomType = 2;
 
 double run_param(const ImpactSpec& spec, const Decks& decks, const std::string& name) {
   const auto it = spec.params.run.find(name);
@@ -111,53 +113,147 @@ std::map<std::string, std::string> bed_overrides(const ImpactSpec& spec) {
 
 const std::vector<std::string>& Track::column_names() {
   static const std::vector<std::string> names = {
-      "t[s]",     "x[m]",   "y[m]",   "theta[rad]",     "vx[m/s]",     "vy[m/s]",
-      "w[rad/s]", "fcx[N]", "fcy[N]", "penetration[m]", "ke_block[J]", "ke_grains[J]"};
+      "t[s]",        "x[m]",         "y[m]",        "theta[rad]",      "vx[m/s]",
+      "vy[m/s]",     "w[rad/s]",     "fcx[N]",      "fcy[N]",          "penetration[m]",
+      "ke_block[J]", "ke_grains[J]", "torque[N*m]", "overlap_d_max[-]"};
   return names;
+}
+
+namespace {
+
+// A column name without its unit: "torque[N*m]" -> "torque".
+std::string bare_name(const std::string& name) {
+  const auto b = name.find('[');
+  std::string s = b == std::string::npos ? name : name.substr(0, b);
+  while (!s.empty() && s.back() == ' ') s.pop_back();
+  while (!s.empty() && s.front() == ' ') s.erase(0, 1);
+  return s;
+}
+
+// The deck writes theta in (-2 pi, 2 pi]: unwrap to a continuous angle.
+void unwrap_theta(std::vector<double>& theta) {
+  for (std::size_t i = 1; i < theta.size(); ++i) {
+    const double d = theta[i] - theta[i - 1];
+    const double turn = 2 * std::numbers::pi;
+    theta[i] -= turn * std::round(d / turn);
+  }
+}
+
+// Every column as long as t, NaN where a source had none.
+void pad_columns(Track& tr) {
+  for (const auto& name : Track::column_names()) {
+    auto* c = tr.column(name);
+    c->resize(tr.t.size(), kNaN);
+  }
+}
+
+}  // namespace
+
+namespace {
+
+// The member holding column `name` (with or without its unit); nullptr for an unknown name.
+std::vector<double> Track::*track_member(const std::string& name) {
+  static const std::vector<std::pair<std::string, std::vector<double> Track::*>> members = {
+      {"t", &Track::t},
+      {"x", &Track::x},
+      {"y", &Track::y},
+      {"theta", &Track::theta},
+      {"vx", &Track::vx},
+      {"vy", &Track::vy},
+      {"w", &Track::w},
+      {"fcx", &Track::fcx},
+      {"fcy", &Track::fcy},
+      {"penetration", &Track::penetration},
+      {"ke_block", &Track::ke_block},
+      {"ke_grains", &Track::ke_grains},
+      {"torque", &Track::torque},
+      {"overlap_d_max", &Track::overlap_d_max}};
+  const std::string bare = bare_name(name);
+  for (const auto& [n, m] : members)
+    if (n == bare) return m;
+  return nullptr;
+}
+
+}  // namespace
+
+std::vector<double>* Track::column(const std::string& name) {
+  const auto m = track_member(name);
+  return m ? &(this->*m) : nullptr;
 }
 
 Track Track::read(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot read the block track " + path);
   Track tr;
-  std::vector<double>* cols[] = {&tr.t,   &tr.x,           &tr.y,        &tr.theta,
-                                 &tr.vx,  &tr.vy,          &tr.w,        &tr.fcx,
-                                 &tr.fcy, &tr.penetration, &tr.ke_block, &tr.ke_grains};
+  // Columns of the file: from its title line, else the layout before the title named them
+  // (twelve columns; a thirteenth is the torque).
+  std::vector<std::string> names(column_names().begin(), column_names().begin() + 13);
   std::string line;
+  bool titled = false;
   while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream ls(line);
-    double v[12];
-    bool complete = true;
-    for (double& x : v) {
-      std::string cell;
-      if (!(ls >> cell)) {
-        complete = false;
-        break;
+    if (line.empty()) continue;
+    if (line[0] == '#') {
+      if (titled) continue;
+      std::istringstream ls(line.substr(1));
+      std::vector<std::string> title;
+      for (std::string w; ls >> w;) title.push_back(w);
+      if (!title.empty() && bare_name(title[0]) == "t") {
+        names = title;
+        titled = true;
       }
-      x = std::strtod(cell.c_str(), nullptr);  // "nan" reads as NaN
+      continue;
     }
-    if (!complete) continue;  // a line cut by a crash
-    if (!tr.t.empty() && v[0] <= tr.t.back()) continue;
-    for (int c = 0; c < 12; ++c) cols[c]->push_back(v[c]);
+    std::istringstream ls(line);
+    std::vector<double> v;
+    for (std::string cell; ls >> cell;)
+      v.push_back(std::strtod(cell.c_str(), nullptr));  // "nan" reads as NaN
+    // A line cut by a crash has fewer cells; a title-less legacy file has 12.
+    const std::size_t need = titled ? names.size() : 12;
+    if (v.size() < need) continue;
+    std::size_t it = 0;
+    while (it < names.size() && bare_name(names[it]) != "t") ++it;
+    if (it >= v.size()) continue;
+    if (!tr.t.empty() && v[it] <= tr.t.back()) continue;
+    const std::size_t row = tr.t.size();
+    for (std::size_t c = 0; c < std::min(v.size(), names.size()); ++c)
+      if (auto* col = tr.column(names[c])) {
+        col->resize(row, kNaN);
+        col->push_back(v[c]);
+      }
+    pad_columns(tr);
   }
-  // The deck writes theta in (-2 pi, 2 pi]: unwrap to a continuous angle.
-  for (std::size_t i = 1; i < tr.theta.size(); ++i) {
-    double d = tr.theta[i] - tr.theta[i - 1];
-    const double turn = 2 * std::numbers::pi;
-    tr.theta[i] -= turn * std::round(d / turn);
-  }
+  pad_columns(tr);
+  unwrap_theta(tr.theta);
   return tr;
 }
 
 std::vector<double> Track::rows() const {
-  const std::vector<double>* cols[] = {&t, &x,   &y,   &theta,       &vx,       &vy,
-                                       &w, &fcx, &fcy, &penetration, &ke_block, &ke_grains};
+  std::vector<const std::vector<double>*> cols;
+  for (const auto& name : column_names()) cols.push_back(&(this->*track_member(name)));
   std::vector<double> out;
-  out.reserve(size() * 12);
+  out.reserve(size() * cols.size());
   for (std::size_t i = 0; i < size(); ++i)
-    for (const auto* c : cols) out.push_back((*c)[i]);
+    for (const auto* c : cols) out.push_back(i < c->size() ? (*c)[i] : kNaN);
   return out;
+}
+
+Track Track::from_rows(const std::vector<double>& rows, const std::vector<std::string>& columns) {
+  if (columns.empty() || rows.size() % columns.size() != 0)
+    throw std::invalid_argument("track: the data is not a whole number of rows of " +
+                                std::to_string(columns.size()) + " columns");
+  Track tr;
+  const std::size_t n = rows.size() / columns.size();
+  bool has_t = false;
+  for (std::size_t c = 0; c < columns.size(); ++c) {
+    auto* col = tr.column(columns[c]);
+    if (!col) continue;
+    has_t = has_t || col == &tr.t;
+    col->resize(n);
+    for (std::size_t i = 0; i < n; ++i) (*col)[i] = rows[i * columns.size() + c];
+  }
+  if (!has_t) throw std::invalid_argument("track: no t column");
+  pad_columns(tr);
+  return tr;
 }
 
 std::string ensure_template(const Shape& shape, const BedFiles& bed, const std::string& dir) {
@@ -311,6 +407,7 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
   const double crater_bin = 2 * bed.r_max_m;
   std::vector<double> before, after;
   double block_mass = 0, t_max = 0, deck_contact_end = -1;
+  std::vector<std::pair<double, double>> overlaps;  // (t, largest grain overlap / d)
   {
     Liggghts lmp(comm, (fs::path(ctx.work_dir) / "log.liggghts").string(),
                  (fs::path(ctx.work_dir) / "screen.txt").string(), vars);
@@ -329,6 +426,10 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
                               lmp.natoms(), bed.grains, r.block_spheres);
     } else {
       before = surface_profile(lmp, bed, crater_bin);
+      // The grains' largest overlap at every record (the deck cannot compute it: its
+      // compute pair/gran/local must exist before the bed's first run).
+      lmp.start_overlap_probe(static_cast<long>(lmp.number("record_every").value_or(10)),
+                              kBlockAtomType);
       ChunkRun run;
       run.chunk_steps = chunk;
       run.check_file = decks.impact_dir + "/check.in";
@@ -355,6 +456,7 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
       };
       if (ctx.progress) run.progress = [&](double t) { ctx.progress(t, t_max); };
       const ChunkOutcome outcome = run_chunks(lmp, run);
+      overlaps = lmp.overlap_samples();
       r.status = outcome.status;
       r.message = outcome.message;
       r.rayleigh_fraction = outcome.rayleigh_fraction;
@@ -397,6 +499,16 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
       r.message = e.what();
     }
     return r;
+  }
+  // The overlap samples are taken at the track's steps: join them by time.
+  if (!overlaps.empty()) {
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < r.track.size(); ++i) {
+      const double t = r.track.t[i];
+      while (k + 1 < overlaps.size() && overlaps[k + 1].first <= t + 0.25 * r.dt_s) ++k;
+      if (std::abs(overlaps[k].first - t) <= 0.25 * r.dt_s)
+        r.track.overlap_d_max[i] = overlaps[k].second;
+    }
   }
   const Track& tr = r.track;
   for (double p : tr.penetration) r.penetration_max_m = std::max(r.penetration_max_m, p);

@@ -3,9 +3,12 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <map>
 #include <stdexcept>
 
 // LIGGGHTS headers (libliggghts-dev): the C interface plus the Variable class, whose retrieve()
@@ -14,6 +17,14 @@
 #include <lammps.h>
 #include <library.h>
 #include <variable.h>
+// ... and, for the overlap probe, the atoms, the pair style's neighbour list and fix external.
+#include <atom.h>
+#include <fix_external.h>
+#include <force.h>
+#include <modify.h>
+#include <neigh_list.h>
+#include <pair.h>
+#include <update.h>
 
 namespace ricochet::dem {
 
@@ -70,6 +81,84 @@ Liggghts::Liggghts(MPI_Comm comm, const std::string& log_path, const std::string
   Quiet quiet(/*also_stderr=*/true);
   lammps_open(static_cast<int>(args.size()), argv.data(), comm, &lmp_);
   if (!lmp_) throw std::runtime_error("LIGGGHTS: lammps_open failed");
+}
+
+struct Liggghts::OverlapProbeState {
+  LAMMPS_NS::LAMMPS* lmp = nullptr;
+  int body_type = 0;
+  /// step -> largest delta / d on this rank (a step sampled twice, by a run's set-up, once)
+  std::map<long, double> max_by_step;
+  std::map<long, double> time_by_step;
+};
+
+namespace {
+
+// fix external's callback (post_force, every N steps, on every rank of the instance): the
+// largest relative overlap of the touching pairs in the pair style's list. No force is added.
+void overlap_callback(void* ptr, LAMMPS_NS::bigint step, int nlocal, int* /*ids*/, double** /*x*/,
+                      double** fexternal) {
+  auto* st = static_cast<Liggghts::OverlapProbeState*>(ptr);
+  for (int i = 0; i < nlocal; ++i) fexternal[i][0] = fexternal[i][1] = fexternal[i][2] = 0.0;
+  LAMMPS_NS::LAMMPS* lmp = st->lmp;
+  double best = 0.0;
+  const LAMMPS_NS::NeighList* list = lmp->force->pair ? lmp->force->pair->list : nullptr;
+  if (list) {
+    double** x = lmp->atom->x;
+    const double* radius = lmp->atom->radius;
+    const int* type = lmp->atom->type;
+    for (int ii = 0; ii < list->inum; ++ii) {
+      const int i = list->ilist[ii];
+      const int* jlist = list->firstneigh[i];
+      const int jnum = list->numneigh[i];
+      for (int jj = 0; jj < jnum; ++jj) {
+        const int j = jlist[jj] & NEIGHMASK;
+        if (type[i] == st->body_type && type[j] == st->body_type) continue;
+        const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
+        const double rsum = radius[i] + radius[j];
+        const double rsq = dx * dx + dy * dy + dz * dz;
+        if (rsq >= rsum * rsum) continue;
+        const double delta = rsum - std::sqrt(rsq);
+        best = std::max(best, delta / (2 * std::min(radius[i], radius[j])));
+      }
+    }
+  }
+  const long s = static_cast<long>(step);
+  auto& m = st->max_by_step[s];
+  m = std::max(m, best);
+  st->time_by_step[s] = lmp->update->get_cur_time();
+}
+
+}  // namespace
+
+void Liggghts::start_overlap_probe(long every_steps, int body_type) {
+  if (every_steps < 1) every_steps = 1;
+  probe_ = std::make_unique<OverlapProbeState>();
+  probe_->lmp = static_cast<LAMMPS_NS::LAMMPS*>(lmp_);
+  probe_->body_type = body_type;
+  command("fix overlap_probe all external pf/callback " + std::to_string(every_steps) + " " +
+          std::to_string(every_steps));
+  std::string id = "overlap_probe";
+  const int ifix = probe_->lmp->modify->find_fix(id.data());
+  if (ifix < 0) throw std::runtime_error("LIGGGHTS: fix overlap_probe was not created");
+  static_cast<LAMMPS_NS::FixExternal*>(probe_->lmp->modify->fix[ifix])
+      ->set_callback(&overlap_callback, probe_.get());
+}
+
+std::vector<std::pair<double, double>> Liggghts::overlap_samples() {
+  std::vector<std::pair<double, double>> out;
+  long n = probe_ ? static_cast<long>(probe_->max_by_step.size()) : 0;
+  long n_min = n, n_max = n;
+  MPI_Allreduce(MPI_IN_PLACE, &n_min, 1, MPI_LONG, MPI_MIN, comm_);
+  MPI_Allreduce(MPI_IN_PLACE, &n_max, 1, MPI_LONG, MPI_MAX, comm_);
+  // Every rank samples at the same steps; if they ever disagreed, nothing is reported.
+  if (n_min != n_max || n == 0) return out;
+  std::vector<double> values;
+  for (const auto& [step, v] : probe_->max_by_step) values.push_back(v);
+  MPI_Allreduce(MPI_IN_PLACE, values.data(), static_cast<int>(n), MPI_DOUBLE, MPI_MAX, comm_);
+  std::size_t k = 0;
+  for (const auto& [step, v] : probe_->max_by_step)
+    out.emplace_back(probe_->time_by_step.at(step), values[k++]);
+  return out;
 }
 
 Liggghts::~Liggghts() {

@@ -10,6 +10,7 @@
 #include <mpi.h>
 
 #include <array>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -56,11 +57,27 @@ class Liggghts {
   };
   LocalAtoms local_atoms();
 
+  /// The grains' largest overlap, sampled through the runs that follow (collective): every
+  /// `every_steps` steps, the largest delta / d over the pairs of the granular pair style's
+  /// neighbour list that touch (delta = r_i + r_j - |x_i - x_j| > 0, d = 2 min(r_i, r_j): the
+  /// smaller sphere's diameter; pairs of two atoms of `body_type`, the rigid block's own spheres,
+  /// are skipped). Defines `fix overlap_probe all external pf/callback N N` whose callback reads
+  /// the pair style's list at post_force and adds no force (it zeroes its force array); call it
+  /// after a first `run` (the pair style and its list exist) and before the runs to sample. A
+  /// step with no touching pair samples 0.
+  void start_overlap_probe(long every_steps, int body_type);
+  /// The samples so far, (simulated time [s], largest delta / d), reduced over the instance's
+  /// ranks (collective). Repeated steps (each run's set-up samples again) keep one sample.
+  std::vector<std::pair<double, double>> overlap_samples();
+
   MPI_Comm comm() const { return comm_; }
+
+  struct OverlapProbeState;
 
  private:
   void* lmp_ = nullptr;
   MPI_Comm comm_;
+  std::unique_ptr<OverlapProbeState> probe_;
 };
 
 }  // namespace ricochet::dem

@@ -119,6 +119,23 @@ TEST(DemEndToEnd, OneImpactThroughLiggghtsExtractionAndHdf5) {
   ASSERT_EQ(dims.size(), 2u);
   EXPECT_EQ(dims[1], Track::column_names().size());
   EXPECT_EQ(dims[0], r.track.size());
+  // The contact torque and the grains' largest overlap are recorded at every record, and the
+  // records are at most record_dt_s (0.2 ms) apart.
+  const Track back = read_campaign_track(h5, "e2e");
+  ASSERT_EQ(back.size(), r.track.size());
+  double torque_max = 0, overlap_max = 0;
+  for (std::size_t i = 0; i < back.size(); ++i) {
+    ASSERT_TRUE(std::isfinite(back.torque[i])) << i;
+    ASSERT_TRUE(std::isfinite(back.overlap_d_max[i])) << i;
+    torque_max = std::max(torque_max, std::abs(back.torque[i]));
+    overlap_max = std::max(overlap_max, back.overlap_d_max[i]);
+    if (i > 0) EXPECT_LE(back.t[i] - back.t[i - 1], 2e-4 * (1 + 1e-9)) << i;
+  }
+  EXPECT_GT(torque_max, 0.0);
+  EXPECT_GT(overlap_max, 0.0);
+  EXPECT_LT(overlap_max, 0.3);  // (measured: 0.14 of d under the block on this bed)
+  // Before the first contact (free flight) the torque is zero: gravity acts at the centre of mass.
+  EXPECT_EQ(back.torque[0], 0.0);
   const auto index = read_campaign_index(h5);
   ASSERT_EQ(index.size(), 1u);
   EXPECT_EQ(index[0].status, "rebound");

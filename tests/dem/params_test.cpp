@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -267,6 +268,30 @@ TEST(Design, EveryShippedCampaignFileParses) {
     }) << e.path();
   }
   EXPECT_GE(files, 40u);
+}
+
+// Issue 32's stiffness plateau: 7 states x 3 replica beds x 3 grain stiffnesses, one bed per
+// stiffness and seed (shared by the cylinder and the triangles), ordered cheap level first and,
+// within a level, the cylinder on all three beds before any triangle.
+TEST(Design, StiffnessPlateauDesign) {
+  const fs::path dir = fs::path(RICOCHET_SOURCE_DIR) / "liggghts-inputs/campaigns";
+  const auto d = read_campaign_design((dir / "stiffness-plateau.toml").string(), decks());
+  ASSERT_EQ(d.impacts.size(), 63u);
+  std::set<std::string> beds;
+  std::vector<double> level;
+  for (const auto& s : d.impacts) {
+    beds.insert(bed_key(decks(), bed_overrides(s)));
+    level.push_back(std::stod(s.params.bed.at("E_grain_Pa")));
+  }
+  EXPECT_EQ(beds.size(), 9u);
+  EXPECT_TRUE(std::is_sorted(level.begin(), level.end()));
+  for (std::size_t l = 0; l < 3; ++l) {
+    for (std::size_t k = 0; k < 21; ++k)
+      EXPECT_EQ(d.impacts[21 * l + k].shape, k < 3 ? "cylinder" : "triangle") << l << " " << k;
+  }
+  EXPECT_EQ(d.impacts[0].id, "E1.5e7-cyl-s0");
+  EXPECT_DOUBLE_EQ(d.impacts[0].vin[ricochet::kVx], 2.9);
+  EXPECT_EQ(d.impacts[62].id, "E1.5e9-T22-s2");
 }
 
 // The example designs shipped with the decks are valid and mean what their comments say.

@@ -1,0 +1,76 @@
+#!/usr/bin/env bash
+# Issue 32, item 1: the stiffness-plateau campaign (liggghts-inputs/campaigns/stiffness-plateau.toml;
+# the design, the rule fixed before the run and the cost estimate are in its header and in
+# docs/resolved-model.md, "Stiffness plateau (issue 32)"). Days of one core: run it in the
+# background, it survives the session and resumes after any interruption.
+#
+#   nohup setsid scripts/stiffness-plateau.sh > /dev/null 2>&1 &
+#   tail -f results/plateau/campaign.log
+#
+# - One MPI rank (the machine has two cores; the other one is for other work).
+# - Fixed working directory results/plateau/: the design's cache_dir (dem-cache) and work_dir
+#   (dem-work/stiffness-plateau) are relative to it.
+# - Resumable: the campaign skips the impacts already in results/plateau/stiffness-plateau.h5 and
+#   reruns the one a kill interrupted (`--retry-crashed` also reruns one during which LIGGGHTS
+#   stopped the process). Start the script again after a reboot or a kill.
+# - One copy at a time: a second start while one runs exits at once (flock on
+#   results/plateau/campaign.lock), saying so in the log.
+# - Pinned program and decks: the first start copies build/cli/ricochet and liggghts-inputs/ into
+#   results/plateau/pinned/ (taking the shared build lock, so that it never copies a binary being
+#   linked) and every later start uses that copy, so that a campaign of several days runs one
+#   program on one set of decks (a deck edited meanwhile would change the bed cache key and
+#   rebuild beds). Delete results/plateau/pinned/ to take the tree's current ones on the next start.
+#
+# - Across sessions: a session copies the file so far to data/resolved/stiffness-plateau.h5 and
+#   commits it; a new work tree without results/plateau/ resumes from that copy (the beds are
+#   built again from their seeds).
+# When the campaign ends the script prints the status counts; the table and figure of
+# docs/resolved-model.md are made from the file afterwards.
+set -uo pipefail
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+OUT=$ROOT/results/plateau
+DESIGN=$ROOT/liggghts-inputs/campaigns/stiffness-plateau.toml
+mkdir -p "$OUT"
+LOG=$OUT/campaign.log
+
+exec 9> "$OUT/campaign.lock"
+if ! flock -n 9; then
+  echo "$(date '+%F %T') another stiffness-plateau run holds $OUT/campaign.lock: not started" >> "$LOG"
+  exit 1
+fi
+
+{
+  echo "== $(date '+%F %T') stiffness-plateau: start (pid $$, host $(hostname))"
+  PIN=$OUT/pinned
+  if [ ! -x "$PIN/ricochet" ] || [ ! -d "$PIN/liggghts-inputs" ]; then
+    rm -rf "$PIN.tmp" && mkdir -p "$PIN.tmp"
+    flock /tmp/ricochet-build.lock cp "$ROOT/build/cli/ricochet" "$PIN.tmp/ricochet"
+    cp -r "$ROOT/liggghts-inputs" "$PIN.tmp/liggghts-inputs"
+    cp "$DESIGN" "$PIN.tmp/stiffness-plateau.toml"
+    (cd "$ROOT" && git rev-parse HEAD && git status --short -- src-ext liggghts-inputs cli) \
+      > "$PIN.tmp/source-state.txt" 2>&1
+    rm -rf "$PIN" && mv "$PIN.tmp" "$PIN"
+    echo "pinned the program and the decks in $PIN"
+  fi
+  if ! cmp -s "$DESIGN" "$PIN/stiffness-plateau.toml"; then
+    echo "note: $DESIGN differs from the pinned copy; running the pinned design"
+  fi
+  # A new work tree (the next session's) resumes from the impacts shipped so far.
+  SHIPPED=$ROOT/data/resolved/stiffness-plateau.h5
+  if [ ! -f "$OUT/stiffness-plateau.h5" ] && [ -f "$SHIPPED" ]; then
+    cp "$SHIPPED" "$OUT/stiffness-plateau.h5"
+    echo "resuming from the shipped $SHIPPED"
+  fi
+  cd "$OUT" || exit 1   # cache_dir and work_dir of the design are relative to this folder
+  mpirun --oversubscribe --allow-run-as-root -np 1 "$PIN/ricochet" dem campaign \
+    "$PIN/stiffness-plateau.toml" --decks "$PIN/liggghts-inputs" \
+    --out "$OUT/stiffness-plateau.h5" --retry-crashed
+  rc=$?
+  echo "== $(date '+%F %T') stiffness-plateau: campaign command ended with status $rc"
+  if [ "$rc" -eq 0 ]; then
+    "$PIN/ricochet" dem campaign "$PIN/stiffness-plateau.toml" --decks "$PIN/liggghts-inputs" \
+      --out "$OUT/stiffness-plateau.h5" --json 2>/dev/null \
+      | python3 -c "import json,sys; d=json.load(sys.stdin); print('status counts:', d['status_counts'])" \
+      || true
+  fi
+} >> "$LOG" 2>&1
