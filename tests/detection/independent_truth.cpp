@@ -48,6 +48,12 @@ int main(int argc, char** argv) {
                  "lab (the lab's incident states, smoothed bootstrap) or wide (V_in^x 1.5-6 m/s, "
                  "V_in^y -5 to -1 m/s, omega_in -90 to 0 rad/s)")
       ->capture_default_str();
+  std::string states, id_prefix = "T";
+  app.add_option("--states", states,
+                 "Incident states to throw (a plan of `ricochet design`, or any impact set): the "
+                 "given design, one release per row in order; --n is their number");
+  app.add_option("--id-prefix", id_prefix, "Prefix of the releases' ids (T001, ...)")
+      ->capture_default_str();
   app.add_option("--seed", seed, "Seed of every random draw, in [0, 2^64)")->capture_default_str();
   app.add_option("--out", out, "Impact set to write (.csv or .h5)");
   app.add_option("--truth", truth_path,
@@ -109,12 +115,20 @@ int main(int argc, char** argv) {
   o.strength = strength;
   o.n = static_cast<std::size_t>(n);
   o.seed = seed;
-  o.design = design == "lab" ? truth::Design::kLab : truth::Design::kWide;
+  o.design = !states.empty()  ? truth::Design::kGiven
+             : design == "lab" ? truth::Design::kLab
+                               : truth::Design::kWide;
+  o.id_prefix = id_prefix;
   o.refit = !no_refit;
   if (engine_numerics) o.numerics = ricochet::truth::kEngineNumerics;
   o.oracle_family_size = static_cast<std::size_t>(family_size);
   o.contact_features = contact_features;
   try {
+    if (o.design == truth::Design::kGiven) {
+      for (const auto& im : read_incident_states(states).impacts) o.given_vin.push_back(im.vin);
+      o.n = o.given_vin.size();
+      o.lab_source = states;
+    }
     if (o.design == truth::Design::kLab) {
       for (const auto& im : read_impact_set(lab).impacts)
         if (im.shape == "cylinder") o.lab_vin.push_back(im.vin);

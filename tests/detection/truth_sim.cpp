@@ -359,6 +359,8 @@ TruthSet make_set(const SetOptions& o) {
   if (!(o.strength >= 0)) throw std::invalid_argument("strength must be >= 0");
   if (o.design == Design::kLab && o.lab_vin.size() < 2)
     throw std::invalid_argument("the lab design needs the lab's incident states");
+  if (o.design == Design::kGiven && o.given_vin.size() < o.n)
+    throw std::invalid_argument("the given design needs n incident states");
   Rng rng(o.seed);
   // Silverman's bandwidth 1.06 sd n^(-1/5) of each V_in component of the lab states.
   std::array<double, 3> bw{};
@@ -386,6 +388,8 @@ TruthSet make_set(const SetOptions& o) {
       const auto& base = o.lab_vin[std::min(
           o.lab_vin.size() - 1, static_cast<std::size_t>(rng.uniform() * o.lab_vin.size()))];
       for (int k = 0; k < 3; ++k) vin[k] = base[k] + bw[k] * rng.normal();
+    } else if (o.design == Design::kGiven) {
+      vin = o.given_vin[out.set.size()];
     } else {
       vin = {rng.uniform(1.5, 6.0), rng.uniform(-5.0, -1.0), rng.uniform(-90.0, 0.0)};
     }
@@ -424,7 +428,7 @@ TruthSet make_set(const SetOptions& o) {
       sq[k] += delta[k] * delta[k];
     }
     char id[32];
-    std::snprintf(id, sizeof id, "T%03zu", out.set.size() + 1);
+    std::snprintf(id, sizeof id, "%s%03zu", o.id_prefix.c_str(), out.set.size() + 1);
     im.id = id;
     im.shape = "cylinder";
     out.set.impacts.push_back(im);
@@ -499,7 +503,9 @@ TruthSet make_set(const SetOptions& o) {
          "in that model no test of this alternative has more power; on this nonlinear "
          "simulator the ceiling is optimistic (tests/detection/truth_sim.hpp)"}};
   }
-  const std::string design = o.design == Design::kLab ? "lab" : "wide";
+  const std::string design = o.design == Design::kLab    ? "lab"
+                             : o.design == Design::kWide ? "wide"
+                                                         : "given";
   out.set.comments = {
       "Ricochet impact set v1. Independent truth (tests/detection/truth_sim.hpp): a second "
       "implementation of the paper's law, semi-implicit Euler, dt 2e-6 s, kn = kt = 3e7 N/m, kr = "

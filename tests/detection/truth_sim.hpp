@@ -181,7 +181,9 @@ Rebound collide(const std::array<double, 3>& vin, const Ground& ground,
 /// lever arm and end of contact.
 inline constexpr Numerics kEngineNumerics{1e-5, 1e7, 1e7, 1e8, 9.81, 0.2};
 
-enum class Design { kLab, kWide };
+/// kGiven: the incident states of SetOptions::given_vin, in order (a plan of throws from
+/// `ricochet design`), one release each; the ground, the noise and the effect as in the others.
+enum class Design { kLab, kWide, kGiven };
 
 /// The oracle's one-sided level for one pre-specified hypothesis (file comment).
 inline constexpr double kOracleAlpha = 0.05;
@@ -207,6 +209,9 @@ struct SetOptions {
   /// a Gaussian kernel of Silverman's bandwidth per component). Required for Design::kLab.
   std::vector<std::array<double, 3>> lab_vin;
   std::string lab_source;  ///< where lab_vin came from (provenance only)
+  /// The true incident states of Design::kGiven (n is their number); ids `id_prefix` + index.
+  std::vector<std::array<double, 3>> given_vin;
+  std::string id_prefix = "T";
   /// Also compute the effect's part that a recalibration of the law's constants cannot absorb
   /// (TruthSet::residual_rms; about 0.3 s for 40 releases) and, for a family other than none,
   /// the oracle's z (TruthSet::oracle_z; 12 collisions per release).

@@ -277,5 +277,27 @@ TEST(TruthSim, OneMappingFromCandidatesToFamilies) {
   EXPECT_FALSE(names_family(Family::kKdDrag, ""));
 }
 
+// The given design (a plan of `ricochet design` thrown by this truth, issue 31 item 4): one
+// release per given state, in order, with the given id prefix; its true incident state is the
+// given one (the measured one differs by the V_in noise only).
+TEST(TruthSim, GivenDesignThrowsThePlannedStates) {
+  SetOptions o;
+  o.family = Family::kCrspRestitution;
+  o.design = Design::kGiven;
+  o.given_vin = {{2.0, -4.4, -60.0}, {5.4, -2.0, -20.0}, {3.0, -3.0, -45.0}};
+  o.n = o.given_vin.size();
+  o.id_prefix = "D";
+  o.refit = false;
+  const TruthSet t = make_set(o);
+  ASSERT_EQ(t.set.size(), 3u);
+  EXPECT_EQ(t.set.impacts[0].id, "D001");
+  EXPECT_EQ(t.set.impacts[2].id, "D003");
+  for (std::size_t i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k)  // V_in noise: 0.05 m/s, 0.05 m/s, 1.4 rad/s; 5 sd
+      EXPECT_NEAR(t.set.impacts[i].vin[k], o.given_vin[i][k], k < 2 ? 0.25 : 7.0);
+  o.n = 4;  // more releases than states
+  EXPECT_THROW(make_set(o), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace ricochet::truth

@@ -1,0 +1,89 @@
+#!/usr/bin/env bash
+# Issue 31, item 4: the closed loop on the independent simulator (tests/detection/truth_sim.hpp),
+# which shares no code with the engine. Per family and seed:
+#   1. 40 releases at the lab's incident states with the hidden effect (seed K);
+#   2. `ricochet diagnose`: its confidence set of laws (before);
+#   3. `ricochet design` on that set: BUDGET throws in the box below;
+#   4. the same truth throws the plan (another seed: new ground and noise draws);
+#   5. `ricochet diagnose` of the old and new releases together: the set after.
+# One line per loop in OUT/loops.tsv (resumable: loops already there are skipped), then a table
+# (OUT/summary.md): set size and families before and after, the truth's family in the set, none
+# in the set, the set holding only the truth's family. Not part of CI (minutes per family).
+#
+#   scripts/closed-loop-study.sh BUILD_DIR OUT_DIR [SEEDS] [BUDGET]
+#
+# FAMILIES (environment): "family:strength ..." (strength x the family's reference).
+set -euo pipefail
+BUILD=$(cd "$1" && pwd)
+OUT=$2
+SEEDS=${3:-5}
+BUDGET=${4:-40}
+R="$BUILD/cli/ricochet"
+T="$BUILD/tests/detection/independent_truth"
+FAMILIES=${FAMILIES:-"crsp_restitution:3.65068 spin_rolling:2.01086 depth_friction_exp:33.2814 kd_drag:83.7314"}
+BOX="--range vin_x=1.5:6 --range vin_y=-5:-1 --range win=-90:0"
+mkdir -p "$OUT/sets"
+TSV=$OUT/loops.tsv
+[ -f "$TSV" ] || printf 'family\tstrength\tseed\tbefore_n\tbefore_families\tbefore_none\tafter_n\tafter_families\tafter_none\tpower_plan\tpower_uniform\n' > "$TSV"
+
+families_of() {  # diagnose JSON on stdin -> "n<TAB>fam1,fam2<TAB>none?"
+  python3 -c '
+import json, sys
+d = json.load(sys.stdin)
+m = d["confidence_set"]
+fams = []
+for x in m:
+    if x["family"] not in fams: fams.append(x["family"])
+print("%d\t%s\t%s" % (len(m), ",".join(fams), "yes" if "none" in fams else "no"))'
+}
+
+for spec in $FAMILIES; do
+  fam=${spec%%:*}; s=${spec#*:}
+  for seed in $(seq 1 "$SEEDS"); do
+    if grep -q "^$fam	$s	$seed	" "$TSV"; then continue; fi
+    base=$OUT/sets/$fam-$seed
+    "$T" --family "$fam" --strength "$s" --n 40 --design lab --seed "$seed" --out "$base.old.csv" > /dev/null
+    before=$("$R" diagnose "$base.old.csv" --json 2>/dev/null | families_of)
+    "$R" design "$base.old.csv" --shape cylinder --budget "$BUDGET" $BOX --seed "$seed" \
+      --out "$base.plan.csv" --json > "$base.design.json" 2>/dev/null
+    "$T" --family "$fam" --strength "$s" --states "$base.plan.csv" --seed $((seed + 100000)) \
+      --id-prefix D --out "$base.new.csv" > /dev/null
+    # Old and new releases in one set: the second file's comment and header lines dropped.
+    { cat "$base.old.csv"; grep -v '^#' "$base.new.csv" | tail -n +2; } > "$base.both.csv"
+    after=$("$R" diagnose "$base.both.csv" --json 2>/dev/null | families_of)
+    powers=$(python3 -c '
+import json, sys
+d = json.load(open(sys.argv[1]))
+print("%.3f\t%.3f" % (d["min_pair"]["plan"]["power"], d["min_pair"]["uniform"]["power"]))' "$base.design.json" 2>/dev/null || printf 'nan\tnan')
+    printf '%s\t%s\t%s\t%s\t%s\t%s\n' "$fam" "$s" "$seed" "$before" "$after" "$powers" >> "$TSV"
+    echo "$(date +%T) $fam s=$s seed $seed: before [$before] after [$after] power $powers"
+  done
+done
+# The table: per family, how often the truth's family is in the set, none is out, and the set
+# holds the truth's family alone, before and after the plan (Wilson 95 % intervals).
+python3 - "$TSV" > "$OUT/summary.md" <<'PY'
+import csv, math, sys
+truth = {"crsp_restitution": "restitution", "kd_drag": "drag", "spin_rolling": "rolling_resistance",
+         "depth_friction_exp": "sliding_friction", "rankine_plough": "ploughing"}
+def wilson(k, n, z=1.96):
+    if n == 0: return "-"
+    p = k / n; d = 1 + z * z / n
+    c = (p + z * z / (2 * n)) / d; h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
+    return "%d/%d [%.2f, %.2f]" % (k, n, max(0, c - h), min(1, c + h))
+rows = list(csv.DictReader(open(sys.argv[1]), delimiter="\t"))
+print("| family | strength | loops | mean set size before -> after | truth's family in the set, before / after | none in the set, before / after | the truth's family alone, after | predicted weakest-pair power, plan / uniform (median) |")
+print("| :-- | --: | --: | :-- | :-- | :-- | :-- | :-- |")
+for fam in dict.fromkeys(r["family"] for r in rows):
+    rs = [r for r in rows if r["family"] == fam]; n = len(rs); t = truth.get(fam, "none")
+    inb = sum(t in r["before_families"].split(",") for r in rs)
+    ina = sum(t in r["after_families"].split(",") for r in rs)
+    nb = sum(r["before_none"] == "yes" for r in rs); na = sum(r["after_none"] == "yes" for r in rs)
+    alone = sum(r["after_families"] == t for r in rs)
+    med = lambda k: sorted(float(r[k]) for r in rs)[n // 2]
+    print("| %s | %s | %d | %.1f -> %.1f | %s / %s | %s / %s | %s | %.2f / %.2f |" % (
+        fam, rs[0]["strength"], n, sum(int(r["before_n"]) for r in rs) / n,
+        sum(int(r["after_n"]) for r in rs) / n, wilson(inb, n), wilson(ina, n), wilson(nb, n),
+        wilson(na, n), wilson(alone, n), med("power_plan"), med("power_uniform")))
+PY
+cat "$OUT/summary.md"
+echo "loops: $TSV"
