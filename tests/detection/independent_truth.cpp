@@ -48,7 +48,12 @@ int main(int argc, char** argv) {
                  "lab (the lab's incident states, smoothed bootstrap) or wide (V_in^x 1.5-6 m/s, "
                  "V_in^y -5 to -1 m/s, omega_in -90 to 0 rad/s)")
       ->capture_default_str();
-  std::string states, id_prefix = "T";
+  std::string states, id_prefix = "T", scatter = "narrow";
+  app.add_option("--scatter", scatter,
+                 "Ground scatter per release: narrow (e_n^2 U(0.12, 0.20), mu U(0.25, 0.45), mu_R "
+                 "U(0.12, 0.20)) or lab (the lab's own spread: e_n^2 U(0.08, 0.24), mu_R U(0.02, "
+                 "0.62))")
+      ->capture_default_str();
   app.add_option("--states", states,
                  "Incident states to throw (a plan of `ricochet design`, or any impact set): the "
                  "given design, one release per row in order; --n is their number");
@@ -115,10 +120,16 @@ int main(int argc, char** argv) {
   o.strength = strength;
   o.n = static_cast<std::size_t>(n);
   o.seed = seed;
-  o.design = !states.empty()  ? truth::Design::kGiven
+  o.design = !states.empty()   ? truth::Design::kGiven
              : design == "lab" ? truth::Design::kLab
                                : truth::Design::kWide;
   o.id_prefix = id_prefix;
+  if (scatter == "lab") {
+    o.scatter_lo = truth::kScatterLabLo;
+    o.scatter_hi = truth::kScatterLabHi;
+  } else if (scatter != "narrow") {
+    return bad("--scatter '" + scatter + "': use narrow or lab");
+  }
   o.refit = !no_refit;
   if (engine_numerics) o.numerics = ricochet::truth::kEngineNumerics;
   o.oracle_family_size = static_cast<std::size_t>(family_size);

@@ -20,8 +20,6 @@ constexpr double kKp = 3.7, kGamma = 15.7e3;  // Rankine K_p (phi = 35 deg), uni
 constexpr double kPloughRef = 0.5 * kKp * kGamma * kLength;  // [N/m^2], times h^2
 
 // Scatter of the ground per release and measurement noise (header comment).
-constexpr double kEn2Lo = 0.12, kEn2Hi = 0.20, kMuLo = 0.25, kMuHi = 0.45, kMuRLo = 0.12,
-                 kMuRHi = 0.20;
 constexpr std::array<double, 3> kNoiseIn = {0.05, 0.05, 1.4}, kNoiseOut = {0.05, 0.03, 2.0};
 
 const std::vector<std::string> kNames = {"none",         "crsp_restitution",   "kd_drag",
@@ -122,8 +120,7 @@ Mat3 central_jacobian(const Rebound& centre, const Vec3& step, At at) {
 // V_in, the release's ground without the effect, its V_out and the effect delta_i.
 double oracle_z(const std::vector<Vec3>& vins, const std::vector<Ground>& grounds,
                 const std::vector<Rebound>& nulls, const std::vector<Vec3>& deltas,
-                const Numerics& num) {
-  const Vec3 lo = {kEn2Lo, kMuLo, kMuRLo}, hi = {kEn2Hi, kMuHi, kMuRHi};
+                const Numerics& num, const Vec3& lo, const Vec3& hi) {
   Vec3 scatter_var{}, ground_step{}, vin_step{};
   for (int j = 0; j < 3; ++j) {
     scatter_var[j] = (hi[j] - lo[j]) * (hi[j] - lo[j]) / 12.0;  // variance of U(a, b)
@@ -354,6 +351,17 @@ double shift_in_lab_units(const std::array<double, 3>& mean_shift) {
   return m;
 }
 
+namespace {
+std::string fmt_ground(const SetOptions& o) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf,
+                "Ground per release: en2 U(%.2f,%.2f), mu U(%.2f,%.2f), muR U(%.2f,%.2f).",
+                o.scatter_lo[0], o.scatter_hi[0], o.scatter_lo[1], o.scatter_hi[1], o.scatter_lo[2],
+                o.scatter_hi[2]);
+  return buf;
+}
+}  // namespace
+
 TruthSet make_set(const SetOptions& o) {
   if (o.n == 0) throw std::invalid_argument("n must be positive");
   if (!(o.strength >= 0)) throw std::invalid_argument("strength must be >= 0");
@@ -393,8 +401,9 @@ TruthSet make_set(const SetOptions& o) {
     } else {
       vin = {rng.uniform(1.5, 6.0), rng.uniform(-5.0, -1.0), rng.uniform(-90.0, 0.0)};
     }
-    Ground g{rng.uniform(kEn2Lo, kEn2Hi), rng.uniform(kMuLo, kMuHi), rng.uniform(kMuRLo, kMuRHi),
-             o.family, o.strength};
+    Ground g{rng.uniform(o.scatter_lo[0], o.scatter_hi[0]),
+             rng.uniform(o.scatter_lo[1], o.scatter_hi[1]),
+             rng.uniform(o.scatter_lo[2], o.scatter_hi[2]), o.family, o.strength};
     std::array<double, 3> nin, nout;
     for (int k = 0; k < 3; ++k) nin[k] = rng.normal();
     for (int k = 0; k < 3; ++k) nout[k] = rng.normal();
@@ -486,7 +495,7 @@ TruthSet make_set(const SetOptions& o) {
   if (o.refit) {
     if (o.oracle_family_size == 0) throw std::invalid_argument("oracle family size must be >= 1");
     if (o.family != Family::kNone)
-      out.oracle_z = oracle_z(vins, grounds, nulls, deltas, o.numerics);
+      out.oracle_z = oracle_z(vins, grounds, nulls, deltas, o.numerics, o.scatter_lo, o.scatter_hi);
     const double family_alpha = kOracleAlpha / static_cast<double>(o.oracle_family_size);
     oracle = {
         {"z", out.oracle_z},
@@ -512,8 +521,9 @@ TruthSet make_set(const SetOptions& o) {
       "5e7 N m/rad.",
       std::to_string(o.n) + " cylinder releases, seed " + std::to_string(o.seed) + ", design " +
           design +
-          ". Noise (1 sd): V_in 0.05 m/s, 0.05 m/s, 1.4 rad/s; V_out 0.05 m/s, 0.03 m/s, 2 rad/s. "
-          "Ground per release: en2 U(0.12,0.20), mu U(0.25,0.45), muR U(0.12,0.20)."};
+          ". Noise (1 sd): V_in 0.05 m/s, 0.05 m/s, 1.4 rad/s; V_out 0.05 m/s, 0.03 m/s, 2 "
+          "rad/s. " +
+          fmt_ground(o)};
   const Reference ref = reference(o.family);
   const Numerics& num = o.numerics;
   nlohmann::json design_json = {{"name", design}};
@@ -567,9 +577,9 @@ TruthSet make_set(const SetOptions& o) {
         {"lever_arm", "R - h"},
         {"end_of_contact", "out of the ground with the centre rising"}}},
       {"scatter",
-       {{"en2", {kEn2Lo, kEn2Hi}},
-        {"mu", {kMuLo, kMuHi}},
-        {"muR", {kMuRLo, kMuRHi}},
+       {{"en2", {o.scatter_lo[0], o.scatter_hi[0]}},
+        {"mu", {o.scatter_lo[1], o.scatter_hi[1]}},
+        {"muR", {o.scatter_lo[2], o.scatter_hi[2]}},
         {"distribution", "uniform, drawn per release"}}},
       {"noise", {{"vin", kNoiseIn}, {"vout", kNoiseOut}, {"distribution", "Gaussian, 1 sd"}}},
       {"observables",
