@@ -213,17 +213,24 @@ TEST(Assess, TheFullSetOptimumBeatsEveryFoldOptimumOnTheLabTriangles) {
 // outputs wildly and its held-out prediction must not move, bit for bit, for the base model and
 // for a candidate warm-started from it. (Before the leak-free folds, changing one release's
 // V_out moved its own "held-out" prediction by 0.21 m/s and 5.1 rad/s.)
-TEST(Assess, AHeldOutPredictionIgnoresItsOwnMeasuredOutputs) {
-  const Model truth = base_truth();
+// The leak tests' set (16 wide-design releases of the base truth) and the same set with the
+// victim's measured outputs moved wildly.
+constexpr std::size_t kVictim = 5;
+std::pair<ImpactSet, ImpactSet> victim_sets() {
   SynthOptions so;
   so.n = 16;
   so.seed = 21;
   so.design = Design::kWide;
   so.write_penetration = so.write_contact_duration = false;
-  const ImpactSet set = synthesize(truth, Shape::cylinder(), so).set;
+  const ImpactSet set = synthesize(base_truth(), Shape::cylinder(), so).set;
   ImpactSet moved = set;
-  const std::size_t victim = 5;
-  moved.impacts[victim].vout = {9.0, 4.0, 150.0};
+  moved.impacts[kVictim].vout = {9.0, 4.0, 150.0};
+  return {set, moved};
+}
+
+TEST(Assess, AHeldOutPredictionIgnoresItsOwnMeasuredOutputs) {
+  const auto [set, moved] = victim_sets();
+  const std::size_t victim = kVictim;
   AssessOptions o;
   o.folds = 4;
   o.repeats = 2;
@@ -253,15 +260,8 @@ TEST(Assess, AHeldOutPredictionIgnoresItsOwnMeasuredOutputs) {
 // fits start from the declared nominal values instead, so the victim's held-out prediction does
 // not move, and equals the one made from the paper's model.
 TEST(Assess, AHeldOutPredictionIgnoresItsOutputsThroughAModelFittedOnTheSet) {
-  SynthOptions so;
-  so.n = 16;
-  so.seed = 21;
-  so.design = Design::kWide;
-  so.write_penetration = so.write_contact_duration = false;
-  const ImpactSet set = synthesize(base_truth(), Shape::cylinder(), so).set;
-  ImpactSet moved = set;
-  const std::size_t victim = 5;
-  moved.impacts[victim].vout = {9.0, 4.0, 150.0};
+  const auto [set, moved] = victim_sets();
+  const std::size_t victim = kVictim;
   AssessOptions o;
   o.folds = 4;
   o.repeats = 1;
