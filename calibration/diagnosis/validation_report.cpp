@@ -288,6 +288,38 @@ void diagnosis_section(report::HtmlPage& page, const ReportSection& s) {
   std::vector<std::string> ev;
   for (const auto& c : d.ranking) ev.push_back(c.effect + ": " + c.evidence);
   page.list(ev);
+  // The laws these data cannot tell apart (issue 31): how each differs from the best in the
+  // observables, so that a reader sees which throws could separate them.
+  std::vector<std::vector<std::string>> set_rows;
+  for (const LawMember& m : d.confidence_set.members) {
+    std::string differs;
+    for (int k = 0; k < kObservables; ++k)
+      if (std::isfinite(m.differs_from_best[k]))
+        differs +=
+            (differs.empty() ? "" : ", ") + g3(m.differs_from_best[k]) + " " + kObservableUnits[k];
+    set_rows.push_back({m.effect, std::string(family_name(m.family)),
+                        std::string(variable_name(m.variable)), f2(m.statistic), m.law, differs});
+  }
+  if (!set_rows.empty())
+    page.table({"law", "family", "depends on", "score T", "law with its numbers",
+                "differs from the best by (RMS)"},
+               set_rows,
+               fmt::format("Laws these data cannot tell apart (multiple comparisons with the best "
+                           "at level {:.2g}), best first",
+                           d.confidence_set.alpha));
+  std::vector<std::vector<std::string>> power_rows;
+  for (const Detectable& r : d.detectable) {
+    std::string shift;
+    for (int k = 0; k < kObservables; ++k)
+      if (std::isfinite(r.shift[k]))
+        shift += (shift.empty() ? "" : ", ") + g3(r.shift[k]) + " " + kObservableUnits[k];
+    power_rows.push_back({std::string(family_name(r.family)), r.effect, r.law,
+                          std::isfinite(r.value) ? shift : "-"});
+  }
+  if (!power_rows.empty() && (d.verdict == "adequate" || d.verdict == "scatter"))
+    page.table({"family", "most detectable law", "weakest law detected (80 % power)",
+                "its change of the predictions (RMS)"},
+               power_rows, "What this set could have detected");
   page.labelled("What it cannot explain", "");
   page.list(d.unexplained);
   for (const auto& f : diagnose_figures(d, s.input.label)) page.figure(f.figure, f.caption);
