@@ -234,7 +234,10 @@ nlohmann::json to_json(const Ladder& l) {
   if (!l.rounds.empty()) {
     nlohmann::json rounds = nlohmann::json::array();
     for (const auto& d : l.rounds) {
-      nlohmann::json r = {{"verdict", d.verdict}, {"summary", d.summary}};
+      nlohmann::json r = {{"verdict", d.verdict},
+                          {"summary", d.summary},
+                          {"confidence_set", to_json(d.confidence_set, d.baseline.base.use)},
+                          {"minimum_detectable", to_json(d.detectable, d.baseline.base.use)}};
       if (!d.ranking.empty())
         r["best"] = {{"effect", d.ranking.front().effect},
                      {"law", d.ranking.front().law},
