@@ -37,7 +37,7 @@ int main(int argc, char** argv) {
   lab = std::string(RICOCHET_SOURCE_DIR) + "/data/lab/cylinders.csv";
   app.add_option("--family", family,
                  "none, crsp_restitution, kd_drag, spin_rolling, depth_friction_exp, "
-                 "rankine_plough, two")
+                 "rankine_plough, two, depth_speed_drag, yield_restitution, slip_spin_friction")
       ->capture_default_str();
   app.add_option("--strength", strength,
                  "Multiplier of the family's reference strength, in [0, 1e6] (1 = literature "

@@ -16,15 +16,26 @@ constexpr double kVc = 9.144;       // CRSP v_c [m/s] (Pfeiffer & Bowen 1989)
 constexpr double kDragRef = 40.0;   // Katsuragi-Durian m/d1 for the lab cylinder [kg/m] (notes)
 constexpr double kSpinRef = 0.008;  // c_w [s/rad], lab scale at s = 1 (no literature value)
 constexpr double kDepthRef = 3e-3;  // h_mu [m] (no literature value)
+constexpr double kDepthSpeedRef = kDragRef / kDepthRef;  // c_hv [kg/m^2]: m/d1 at 3 mm
+constexpr double kYieldSpeed = 2.0;  // v_yield [m/s] (Thornton & Ning 1998 form; lab-range choice)
+constexpr double kSlipSpinRef =
+    2e-3;  // c_sw [s^2/(m rad)]: mu +30 % at the lab mean state (no value)
 constexpr double kKp = 3.7, kGamma = 15.7e3;  // Rankine K_p (phi = 35 deg), unit weight [N/m^3]
 constexpr double kPloughRef = 0.5 * kKp * kGamma * kLength;  // [N/m^2], times h^2
 
 // Scatter of the ground per release and measurement noise (header comment).
 constexpr std::array<double, 3> kNoiseIn = {0.05, 0.05, 1.4}, kNoiseOut = {0.05, 0.03, 2.0};
 
-const std::vector<std::string> kNames = {"none",         "crsp_restitution",   "kd_drag",
-                                         "spin_rolling", "depth_friction_exp", "rankine_plough",
-                                         "two"};
+const std::vector<std::string> kNames = {"none",
+                                         "crsp_restitution",
+                                         "kd_drag",
+                                         "spin_rolling",
+                                         "depth_friction_exp",
+                                         "rankine_plough",
+                                         "two",
+                                         "depth_speed_drag",
+                                         "yield_restitution",
+                                         "slip_spin_friction"};
 
 bool has(const Ground& g, Family f) {
   return g.family == f ||
@@ -224,6 +235,16 @@ Reference reference(Family f) {
               "L = 0.29 m (notes): 1 N at h = 1 cm"};
     case Family::kTwo:
       return {"", 0, "", "crsp_restitution and spin_rolling, each at s times its reference"};
+    case Family::kDepthSpeedDrag:
+      return {"c_hv", kDepthSpeedRef, "kg/m^2",
+              "Katsuragi-Durian's m/d1 = 40 kg/m reached at 3 mm of overlap (no literature value "
+              "for the depth dependence)"};
+    case Family::kYieldRestitution:
+      return {"v_yield", kYieldSpeed, "m/s",
+              "e ~ (v_yield / v)^(1/4) above the yield speed at s = 1 (Thornton & Ning 1998, "
+              "elastic-plastic impact); 2 m/s a lab-range choice"};
+    case Family::kSlipSpinFriction:
+      return {"c_sw", kSlipSpinRef, "s^2/(m rad)", "no literature value"};
     default:
       return {"", 0, "", "none"};
   }
@@ -243,6 +264,7 @@ std::string candidate_family(const std::string& e) {
   if (e == "inertial_drag") return "drag";
   if (starts("muR_spin_")) return "spin rolling";
   if (e == "depth_friction" || starts("mu_penetration_")) return "depth friction";
+  if (starts("mu_slip_speed_") || starts("mu_spin_")) return "slip friction";
   if (e == "ploughing") return "ploughing";
   return "other";
 }
@@ -261,6 +283,12 @@ std::vector<std::string> expected_families(Family f) {
       return {"ploughing"};
     case Family::kTwo:
       return {"restitution", "spin rolling"};
+    case Family::kDepthSpeedDrag:
+      return {"drag"};
+    case Family::kYieldRestitution:
+      return {"restitution"};
+    case Family::kSlipSpinFriction:
+      return {"slip friction"};
     default:
       return {};
   }
@@ -300,6 +328,9 @@ Rebound collide(const std::array<double, 3>& vin, const Ground& g, const Numeric
         const double r = 1.0 + s * (vn0 / kVc) * (vn0 / kVc);
         en2 /= r * r;
       }
+      // Thornton & Ning (1998): constant below the yield speed, e ~ (v_yield / v)^(s/4) above.
+      if (has(g, Family::kYieldRestitution) && vn0 > kYieldSpeed)
+        en2 *= std::pow(kYieldSpeed / vn0, 0.5 * s);
       // Normal: incremental loading, direct unloading to e_n^2 kn h (notes; paper Eq. 3).
       const double dh = h - h_prev;
       fn = dh >= 0 ? fn + num.kn * dh : std::min(fn, en2 * num.kn * h);
@@ -307,11 +338,15 @@ Rebound collide(const std::array<double, 3>& vin, const Ground& g, const Numeric
       double normal = fn;
       // Katsuragi & Durian (2007): m z'' = m g - k z - (m/d1) z'^2 while penetrating.
       if (has(g, Family::kKdDrag) && vy < 0) normal += s * kDragRef * vy * vy;
+      // A drag whose coefficient grows with depth: c_hv h v_y^2 while penetrating.
+      if (has(g, Family::kDepthSpeedDrag) && vy < 0) normal += s * kDepthSpeedRef * h * vy * vy;
       const double l = kRadius - h;  // centre to the contact point on the ground surface
       const double vt = vx + w * l;  // slip of the contact point
       double mu = g.mu;
       // Depth-hardening friction, quadratic in depth (not the catalog's linear mu (1 + a h)).
       if (has(g, Family::kDepthFrictionExp)) mu *= 1.0 + s * (h / kDepthRef) * (h / kDepthRef);
+      // Friction growing with the product of slip and spin (no generated law has a product).
+      if (has(g, Family::kSlipSpinFriction)) mu *= 1.0 + s * kSlipSpinRef * std::fabs(vt * w);
       ft = std::clamp(ft - num.kt * vt * dt, -mu * normal, mu * normal);
       double muR = g.muR;
       // Spin-dependent rolling resistance mu_R (1 + c_w |omega|) (no literature form).

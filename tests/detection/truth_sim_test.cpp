@@ -262,7 +262,8 @@ TEST(TruthSim, OneMappingFromCandidatesToFamilies) {
   EXPECT_EQ(candidate_family("en2_approach_speed_power"), "restitution");
   EXPECT_EQ(candidate_family("inertial_drag"), "drag");
   EXPECT_EQ(candidate_family("muR_spin_linear"), "spin rolling");
-  EXPECT_EQ(candidate_family("mu_spin_linear"), "other");
+  EXPECT_EQ(candidate_family("mu_spin_linear"), "slip friction");
+  EXPECT_EQ(candidate_family("kn_spin_linear"), "other");
   EXPECT_EQ(candidate_family("depth_friction"), "depth friction");
   EXPECT_EQ(candidate_family("mu_penetration_power"), "depth friction");
   EXPECT_EQ(candidate_family("ploughing"), "ploughing");
@@ -275,6 +276,33 @@ TEST(TruthSim, OneMappingFromCandidatesToFamilies) {
   EXPECT_TRUE(names_family(Family::kTwo, "en2_approach_speed_linear"));
   EXPECT_FALSE(names_family(Family::kNone, "rate_restitution"));
   EXPECT_FALSE(names_family(Family::kKdDrag, ""));
+}
+
+// The three families whose form no candidate has (issue 31, 5c) are off at strength 0, act in
+// the direction their physics says, and are named by their families' candidates.
+TEST(TruthSim, FormsNoCandidateHas) {
+  const std::array<double, 3> vin = {2.9, -2.3, -65.0};
+  auto vout = [&](Family f, double s) {
+    return collide(vin, Ground{0.16, 0.35, 0.16, f, s}, Numerics{}).vout;
+  };
+  const auto base = vout(Family::kNone, 0);
+  for (Family f : {Family::kDepthSpeedDrag, Family::kYieldRestitution, Family::kSlipSpinFriction})
+    EXPECT_EQ(vout(f, 0), base) << family_name(f);
+  // A strong drag and a lower restitution both lower the bounce (V_out^y); at s = 1 the drag
+  // is weak at this code's 1.6 mm overlap (m/d1 = 40 kg/m is reached at 3 mm).
+  EXPECT_LT(vout(Family::kDepthSpeedDrag, 50)[1], base[1] - 0.01);
+  EXPECT_LT(vout(Family::kYieldRestitution, 1)[1], base[1] - 0.01);
+  // Top-spin makes the contact point slide backwards (v_t = 2.9 - 65 x 0.08 < 0): more friction
+  // pushes the block forwards and brakes the spin.
+  EXPECT_GT(vout(Family::kSlipSpinFriction, 1)[0], base[0] + 0.005);
+  EXPECT_GT(vout(Family::kSlipSpinFriction, 1)[2], base[2]);
+  // Below the yield speed the restitution is the paper's.
+  const std::array<double, 3> slow = {2.9, -1.5, -65.0};
+  EXPECT_EQ(collide(slow, Ground{0.16, 0.35, 0.16, Family::kYieldRestitution, 1}, Numerics{}).vout,
+            collide(slow, Ground{0.16, 0.35, 0.16, Family::kNone, 0}, Numerics{}).vout);
+  EXPECT_TRUE(names_family(Family::kDepthSpeedDrag, "inertial_drag"));
+  EXPECT_TRUE(names_family(Family::kYieldRestitution, "en2_approach_speed_power"));
+  EXPECT_TRUE(names_family(Family::kSlipSpinFriction, "mu_slip_speed_linear"));
 }
 
 // The given design (a plan of `ricochet design` thrown by this truth, issue 31 item 4): one
