@@ -283,7 +283,9 @@ TEST(HiddenEffect, TheConfidenceSetHoldsTheTruthsFamilyAndNotNone) {
   const auto fam = cs.families();
   EXPECT_NE(std::find(fam.begin(), fam.end(), Family::kRestitution), fam.end()) << d.summary;
   for (const LawMember& m : cs.members) {
-    if (std::isfinite(m.statistic)) EXPECT_LE(m.gap_to_best, m.critical) << m.effect;
+    if (std::isfinite(m.statistic)) {
+      EXPECT_LE(m.gap_to_best, m.critical) << m.effect;
+    }
     EXPECT_FALSE(m.law.empty()) << m.effect;
   }
   // Fewer laws than were judged: the set says something.
