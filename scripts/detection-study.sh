@@ -31,6 +31,7 @@
 # OUT_DIR/summary.json (tests/detection/detection_summary.cpp, Wilson 95 % intervals).
 # DETECTION_ONLY=REGEX (environment) runs only the sets whose name matches (a plumbing check:
 # DETECTION_ONLY='^(spin_rolling-s1-n40|none-n40|two)-.*-(1|1001|2001)$').
+# FAMILIES (environment): the hidden families studied (default the first five).
 # STRENGTHS (environment, default "1 0.5 0.25 lab"): the strengths of each family, numbers
 # (times the reference) or "lab" / "2lab" (once / twice the lab-scale strength).
 # NS (environment, default "28 40"): the release counts. JOBS (environment, default 1): sets
@@ -54,7 +55,7 @@ for exe in "$T" "$R" "$S"; do
 done
 case "$DESIGN" in lab | wide) ;; *) echo "DESIGN must be lab or wide" >&2; exit 2 ;; esac
 mkdir -p "$OUT"
-FAMILIES="crsp_restitution kd_drag spin_rolling depth_friction_exp rankine_plough"
+FAMILIES=${FAMILIES:-crsp_restitution kd_drag spin_rolling depth_friction_exp rankine_plough}
 STRENGTHS=${STRENGTHS:-1 0.5 0.25 lab}
 NS=${NS:-28 40}
 JOBS=${JOBS:-1}
