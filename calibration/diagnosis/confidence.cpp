@@ -158,16 +158,7 @@ LawConfidenceSet law_confidence_set(const Directions& d, const std::vector<LawCa
   for (Entry& e : in) {
     LawMember& m = e.member;
     m.gap_to_best = std::isfinite(m.statistic) ? top - m.statistic : NAN;
-    Obs sum{}, cnt{};
-    for (std::size_t r = 0; r < d.rows.size(); ++r) {
-      const auto obs = static_cast<std::size_t>(d.rows[r].second);
-      const double x =
-          e.change[static_cast<Eigen::Index>(r)] - best.change[static_cast<Eigen::Index>(r)];
-      sum[obs] += x * x;
-      cnt[obs] += 1;
-    }
-    for (std::size_t q = 0; q < sum.size(); ++q)
-      m.differs_from_best[q] = use[q] && cnt[q] > 0 ? std::sqrt(sum[q] / cnt[q]) : NAN;
+    m.differs_from_best = rms_per_observable(d, e.change - best.change, use);
     out.members.push_back(std::move(m));
   }
   return out;

@@ -100,15 +100,20 @@ std::string confidence_text(const LawConfidenceSet& cs) {
   return text + ".";
 }
 
+std::string observables_text(const Obs& v, int digits) {
+  std::string out;
+  for (int k = 0; k < kObservables; ++k)
+    if (std::isfinite(v[k]))
+      out +=
+          fmt::format("{}{:.{}g} {}", out.empty() ? "" : ", ", v[k], digits, kObservableUnits[k]);
+  return out;
+}
+
 std::string detectable_text(const std::vector<Detectable>& rows, std::size_t releases) {
   if (rows.empty()) return {};
   std::string list;
   for (const Detectable& r : rows) {
-    std::string shift;
-    for (int k = 0; k < kObservables; ++k)
-      if (std::isfinite(r.shift[k]))
-        shift +=
-            fmt::format("{}{:.2g} {}", shift.empty() ? "" : ", ", r.shift[k], kObservableUnits[k]);
+    const std::string shift = observables_text(r.shift, 2);
     list += fmt::format("{}{}: {} ({}{})", list.empty() ? "" : "; ", family_name(r.family), r.law,
                         std::isfinite(r.value) ? "moves the predictions by " : "",
                         std::isfinite(r.value) ? shift : r.effect);

@@ -26,6 +26,9 @@ std::string verdict_text(const Diagnosis& d, const DiagnoseOptions& o);
 /// The confidence set in one sentence: how many laws of how many families, by family, and
 /// whether the law as it stands is one of them. Empty when no set was computed.
 std::string confidence_text(const LawConfidenceSet& cs);
+/// The finite components of `v` with their units, "0.28 m/s, 0.35 m/s, 5 rad/s", each to
+/// `digits` significant digits.
+std::string observables_text(const Obs& v, int digits);
 /// The minimum detectable law of each family in one sentence (power.hpp); empty without rows.
 std::string detectable_text(const std::vector<Detectable>& rows, std::size_t releases);
 

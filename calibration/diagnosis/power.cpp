@@ -29,10 +29,7 @@ std::vector<Detectable> minimum_detectable(
       const ScoreDirection& dir = sc.directions[col];
       const std::vector<double>& u = sc.columns[col].u;
       const auto n = static_cast<double>(u.size());
-      double mean = 0, ss = 0;
-      for (double x : u) mean += x / n;
-      for (double x : u) ss += (x - mean) * (x - mean);
-      const double sigma_s = std::sqrt(n * ss / tests.dof);
+      const double sigma_s = stats::score_standard_error(u, tests.dof);
       const double s2 = dir.s.squaredNorm();
       if (!(sigma_s > 0) || !(s2 > 0)) continue;
       const double beta = (c + kZPower) * sigma_s / s2;  // |change| from neutral
@@ -62,15 +59,7 @@ std::vector<Detectable> minimum_detectable(
         d.law = fmt::format("not detectable within its bounds [{:.4g}, {:.4g}] {}", m.lower(j),
                             m.upper(j), d.unit);
       }
-      Obs sum{}, cnt{};
-      for (std::size_t r = 0; r < dirs.rows.size(); ++r) {
-        const auto k = static_cast<std::size_t>(dirs.rows[r].second);
-        const double x = dir.raw[static_cast<Eigen::Index>(r)] * side * beta;
-        sum[k] += x * x;
-        cnt[k] += 1;
-      }
-      for (std::size_t k = 0; k < sum.size(); ++k)
-        d.shift[k] = use[k] && cnt[k] > 0 ? std::sqrt(sum[k] / cnt[k]) : NAN;
+      d.shift = rms_per_observable(dirs, dir.raw * static_cast<double>(side) * beta, use);
       auto& slot = best[static_cast<std::size_t>(kind.family)];
       // A law within its bounds beats one beyond them; then the smaller change in noise units.
       const bool better = !slot || (std::isfinite(d.value) && !std::isfinite(slot->value)) ||

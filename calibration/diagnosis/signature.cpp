@@ -143,6 +143,20 @@ Score score_of(const Directions& dirs, const Model& cand, const Shape& shape, co
   return out;
 }
 
+Obs rms_per_observable(const Directions& dirs, const Eigen::VectorXd& change,
+                       const std::array<bool, kObservables>& use) {
+  Obs sum{}, cnt{}, out{};
+  for (std::size_t r = 0; r < dirs.rows.size(); ++r) {
+    const auto k = static_cast<std::size_t>(dirs.rows[r].second);
+    const double x = change[static_cast<Eigen::Index>(r)];
+    sum[k] += x * x;
+    cnt[k] += 1;
+  }
+  for (std::size_t k = 0; k < out.size(); ++k)
+    out[k] = use[k] && cnt[k] > 0 ? std::sqrt(sum[k] / cnt[k]) : NAN;
+  return out;
+}
+
 const EffectRegistry& registry_of(const DiagnoseOptions& o) {
   return o.registry ? *o.registry : EffectRegistry::global();
 }

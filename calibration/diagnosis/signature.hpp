@@ -65,6 +65,12 @@ Score score_of(const Directions& dirs, const Model& cand, const Shape& shape, co
                const std::vector<std::size_t>& added, const AssessOptions& o, double probe_fraction,
                std::size_t hypothesis);
 
+/// Root mean square over releases, per observable, of a change of the predictions laid out like
+/// `dirs.rows` (SI units, e.g. ScoreDirection::raw times a parameter change); NaN for an
+/// observable that `use` leaves out.
+Obs rms_per_observable(const Directions& dirs, const Eigen::VectorXd& change,
+                       const std::array<bool, kObservables>& use);
+
 /// The registry of the options (built-ins and plugins by default).
 const EffectRegistry& registry_of(const DiagnoseOptions& o);
 

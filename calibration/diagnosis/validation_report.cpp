@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "diagnosis/evidence.hpp"
 #include "diagnosis/figures.hpp"
 #include "impact/impact_snapshot.hpp"
 #include "report/html.hpp"
@@ -292,13 +293,9 @@ void diagnosis_section(report::HtmlPage& page, const ReportSection& s) {
   // observables, so that a reader sees which throws could separate them.
   std::vector<std::vector<std::string>> set_rows;
   for (const LawMember& m : d.confidence_set.members) {
-    std::string differs;
-    for (int k = 0; k < kObservables; ++k)
-      if (std::isfinite(m.differs_from_best[k]))
-        differs +=
-            (differs.empty() ? "" : ", ") + g3(m.differs_from_best[k]) + " " + kObservableUnits[k];
     set_rows.push_back({m.effect, std::string(family_name(m.family)),
-                        std::string(variable_name(m.variable)), f2(m.statistic), m.law, differs});
+                        std::string(variable_name(m.variable)), f2(m.statistic), m.law,
+                        detail::observables_text(m.differs_from_best, 3)});
   }
   if (!set_rows.empty())
     page.table({"law", "family", "depends on", "score T", "law with its numbers",
@@ -309,12 +306,8 @@ void diagnosis_section(report::HtmlPage& page, const ReportSection& s) {
                            d.confidence_set.alpha));
   std::vector<std::vector<std::string>> power_rows;
   for (const Detectable& r : d.detectable) {
-    std::string shift;
-    for (int k = 0; k < kObservables; ++k)
-      if (std::isfinite(r.shift[k]))
-        shift += (shift.empty() ? "" : ", ") + g3(r.shift[k]) + " " + kObservableUnits[k];
     power_rows.push_back({std::string(family_name(r.family)), r.effect, r.law,
-                          std::isfinite(r.value) ? shift : "-"});
+                          std::isfinite(r.value) ? detail::observables_text(r.shift, 3) : "-"});
   }
   if (!power_rows.empty() && (d.verdict == "adequate" || d.verdict == "scatter"))
     page.table({"family", "most detectable law", "weakest law detected (80 % power)",

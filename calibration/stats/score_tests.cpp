@@ -12,6 +12,14 @@ namespace {
 
 constexpr double kNoStat = -std::numeric_limits<double>::infinity();
 
+// The (1 - level) quantile of draws sorted ascending: the smallest draw with at most a fraction
+// `level` of the draws at or above it.
+double upper_quantile(const std::vector<double>& sorted, double level) {
+  const auto k =
+      static_cast<std::size_t>(std::ceil((1.0 - level) * static_cast<double>(sorted.size())));
+  return sorted[std::min(k, sorted.size() - 1)];
+}
+
 double oriented(double t, bool two_sided) {
   return two_sided ? std::fabs(t) : t;
 }
@@ -41,11 +49,8 @@ ScoreTests robust_score_tests(std::span<const ScoreColumn> columns, std::size_t 
     if (col.hypothesis >= hypotheses)
       throw std::invalid_argument("robust_score_tests: column of hypothesis " +
                                   std::to_string(col.hypothesis) + " out of range");
-    double s = 0;
-    for (double x : col.u) s += x;
-    const double mean = s / static_cast<double>(n);
-    double ss = 0;  // centred: under the alternative the contributions' mean is the signal
-    for (double x : col.u) ss += (x - mean) * (x - mean);
+    // Centred: under the alternative the contributions' mean is the signal.
+    const auto [s, mean, ss] = column_moments(col.u);
     double t = 0;
     if (ss > 0 && std::isfinite(ss)) {
       t = s / std::sqrt(static_cast<double>(n) * ss / out.dof);
@@ -90,9 +95,7 @@ ScoreTests robust_score_tests(std::span<const ScoreColumn> columns, std::size_t 
   {
     auto quantile = [&](std::vector<double>& x) {
       std::sort(x.begin(), x.end());
-      const auto k =
-          static_cast<std::size_t>(std::ceil((1.0 - o.mcb_level) * static_cast<double>(B)));
-      return x[std::min(k, x.size() - 1)];
+      return upper_quantile(x, o.mcb_level);
     };
     std::vector<double> deficit(B);
     for (std::size_t h = 0; h < hypotheses; ++h) {
@@ -145,12 +148,22 @@ ScoreTests robust_score_tests(std::span<const ScoreColumn> columns, std::size_t 
   return out;
 }
 
+ColumnMoments column_moments(std::span<const double> u) {
+  ColumnMoments m;
+  for (double x : u) m.sum += x;
+  m.mean = m.sum / static_cast<double>(u.size());
+  for (double x : u) m.ss += (x - m.mean) * (x - m.mean);
+  return m;
+}
+
+double score_standard_error(std::span<const double> u, double dof) {
+  if (!(dof > 0)) return NAN;
+  return std::sqrt(static_cast<double>(u.size()) * column_moments(u).ss / dof);
+}
+
 double max_null_quantile(const ScoreTests& tests, double level) {
   if (tests.max_null.empty() || !(level > 0 && level < 1)) return NAN;
-  // The smallest draw with at most a fraction `level` of the draws at or above it.
-  const auto B = static_cast<double>(tests.max_null.size());
-  const auto k = static_cast<std::size_t>(std::ceil((1.0 - level) * B));
-  return tests.max_null[std::min(k, tests.max_null.size() - 1)];
+  return upper_quantile(tests.max_null, level);
 }
 
 }  // namespace ricochet::stats

@@ -78,6 +78,15 @@ struct ScoreTests {
   double mcb_reference_critical = NAN;
 };
 
+/// One column's contributions summed (the score S), their mean, and their centred sum of squares.
+struct ColumnMoments {
+  double sum = 0, mean = 0, ss = 0;
+};
+ColumnMoments column_moments(std::span<const double> u);
+/// The score's robust standard error sqrt(n ss / nu) (file comment), nu the degrees of freedom
+/// (ScoreTests::dof); what T_c divides S by. NaN when nu <= 0.
+double score_standard_error(std::span<const double> u, double dof);
+
 /// The (1 - level) quantile of the joint null's maximum: the critical value that a hypothesis's
 /// statistic must exceed for its max-T adjusted p to fall below `level` at the first step of the
 /// step-down (the power of the family-wise test is computed against it). NaN without draws.
