@@ -4,6 +4,9 @@
 //   compare.cpp    compare(): the base model, its noise floor, trends, regimes, KS tests
 //   ranking.cpp    diagnose(): candidates judged by held-out error, multiplicity-controlled
 //   signature.cpp  the score test and the effects' declared signatures (Effect::signature())
+//   confidence.cpp the confidence set of laws: multiple comparisons with the best on the score
+//                  statistics (confidence.hpp)
+//   power.cpp      the weakest law of each family the set would detect (power.hpp)
 //   scatter.cpp    the population scatter of the calibrated parameters (scatter.hpp)
 //   evidence.cpp   words with numbers: evidence, verdict summary, what is left unexplained
 //   ladder.cpp     ladder(), auto_ladder()
