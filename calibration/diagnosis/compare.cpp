@@ -87,6 +87,9 @@ Baseline compare(const Model& model_in, const Shape& shape, const ImpactSet& set
   // One family: every residual and parameter trend (about 40 tests).
   control_family({&b.residual_trends, &b.parameter_trends}, o.trends.alpha);
   b.scatter = population_scatter(warm, shape, set, b.base, b.floor, o.assess);
+  // Without replicates or declared uncertainties the measurement floor is the fitted one.
+  b.floor = b.scatter.measurement;
+  b.adequacy = adequacy(b.base, b.floor);
   b.regimes = regimes_of(set, b.base, b.floor);
   for (int k = 0; k < kObservables; ++k) {
     if (!b.base.use[k]) continue;

@@ -42,7 +42,11 @@
 //             pairs of it with the next candidates are tried (a sparse search, tested after
 //             the singles: a fixed sequence, so it keeps the family-wise level; a pair is
 //             supported when it beats its first effect alone by the corrected test at
-//             alpha / pairs tried). Ranking: supported first, then by penalised held-out error.
+//             alpha / (candidates - 1): Bonferroni over every partner the data could have
+//             picked, so the partner's selection by the same data's scores is accounted for;
+//             issue 31, 5e). Later `ladder --auto` rounds are a fixed sequence of nested
+//             hypotheses ("the model of round r misses nothing"; docs/diagnosis.md, "Selection
+//             across rounds"). Ranking: supported first, then by penalised held-out error.
 //             Verdict, never contradicting the ranking (docs/diagnosis.md, "Verdict"):
 //               "missing physics"  a candidate is supported (named), or, with none supported, a
 //                                  residual or parameter trend survives Holm (unnamed);
@@ -156,7 +160,7 @@ struct Candidate {
   double heldout_t = 0;         ///< corrected resampled t of the held-out drop (reported)
   double heldout_p = 1;         ///< its one-sided p
   /// A pair: its held-out error is also significantly below its first effect's alone
-  /// (corrected resampled t-test at alpha); a pair is supported only then.
+  /// (corrected resampled t-test at alpha / (candidates - 1)); a pair is supported only then.
   bool beats_first = false;
   bool contact_bias = false;     ///< the effect's signature includes a contact-feature bias
   double penalty = 0;            ///< p_added * floor / n_train
@@ -213,6 +217,13 @@ struct Detectable {
   Variable variable = Variable::kOther;
   std::string parameter, unit;  ///< its parameter and the parameter's SI unit
   double neutral = NAN;         ///< where the law does nothing
+  /// The change from neutral at 80 % power (signed: the side the law may take), whether or not
+  /// it lies within the bounds; infinite when no strength reaches it (t_ceiling too low).
+  double change_80 = NAN;
+  /// The score statistic's mean per unit change at small changes, and its ceiling (power.hpp):
+  /// at a change beta of the allowed sign, E[T] = |beta| t_per_unit / sqrt(1 + (|beta|
+  /// t_per_unit / t_ceiling)^2), and the power is Phi(E[T] - critical).
+  double t_per_unit = NAN, t_ceiling = NAN;
   /// The parameter's value at 80 % power; NaN when that lies beyond its bounds (not detectable
   /// within them).
   double value = NAN;
@@ -236,6 +247,10 @@ struct Diagnosis {
   /// Per family, the weakest law the set would detect (80 % power at the diagnosis's own
   /// family-wise critical value); printed with every `adequate` and `scatter` verdict.
   std::vector<Detectable> detectable;
+  /// The same for every tested candidate parameter (JSON `minimum_detectable_by_candidate`):
+  /// the power of the test of a named law at any strength (power calibration,
+  /// docs/detection-benchmark.md).
+  std::vector<Detectable> detectable_candidates;
   std::size_t family_size = 0;  ///< hypotheses in the max-T family (every candidate)
   /// With no supported candidate: the Holm-significant trends (unnamed missing physics).
   std::vector<std::string> unnamed_structure;

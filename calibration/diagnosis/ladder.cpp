@@ -7,6 +7,7 @@
 #include "common/error.hpp"
 #include "common/progress.hpp"
 #include "diagnosis/diagnose.hpp"
+#include "diagnosis/scatter.hpp"
 #include "diagnosis/signature.hpp"
 
 namespace ricochet::diagnosis {
@@ -43,9 +44,12 @@ Ladder ladder(const Model& model, const Shape& shape, const ImpactSet& set,
         assess(current, shape, set, rung_options, r > 0 ? &l.rungs.back().assessment : nullptr);
     current = with_values(current, rung.assessment.population.params);
     if (r > 0) rung.law = detail::law_of(current, current.values(), {rung.added}, registry);
-    if (r == 0)
-      l.floor = noise_floor(current, shape, rung.assessment.population.params, set,
-                            rung.assessment.use, o.assess);
+    if (r == 0)  // the measurement floor as compare() has it (fitted when nothing declares it)
+      l.floor = population_scatter(current, shape, set, rung.assessment,
+                                   noise_floor(current, shape, rung.assessment.population.params,
+                                               set, rung.assessment.use, o.assess),
+                                   o.assess)
+                    .measurement;
     rung.adequacy = adequacy(rung.assessment, l.floor);
     l.rungs.push_back(std::move(rung));
     progress.advance();

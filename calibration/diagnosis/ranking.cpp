@@ -316,12 +316,16 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
                              std::vector<const Assessment*>(pair_jobs.size(), &first.assessment),
                              threads, pp);
       pp.finish();
-      // A pair must beat its first effect alone (corrected test on the splits, Bonferroni over
-      // the pairs tried): otherwise its second effect is a passenger (seen: ploughing +
-      // depth_friction with a_mu = 0.5 1/m, doing nothing, ranked first by chance).
+      // A pair must beat its first effect alone (corrected test on the splits): otherwise its
+      // second effect is a passenger (seen: ploughing + depth_friction with a_mu = 0.5 1/m,
+      // doing nothing, ranked first by chance). The partners were picked by the same data's
+      // scores, so the test is Bonferroni over every partner that could have been picked (each
+      // candidate but the first), not over the pairs tried: the union bound over all of them
+      // holds whichever the data chose (issue 31, 5e).
       const double nn = static_cast<double>(set.size());
       const double n_test = nn / static_cast<double>(base.cv.folds);
-      const double level = o.alpha / static_cast<double>(pair_jobs.size());
+      const std::size_t partners = std::max<std::size_t>(1, names.size() - 1);
+      const double level = o.alpha / static_cast<double>(partners);
       for (Candidate& c : pairs) {
         if (c.error.empty()) {
           std::vector<double> dj(base.cv.splits());
@@ -331,10 +335,9 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
           c.beats_first = std::isfinite(t.p_value) && t.p_value < level;
           c.t = t.t;
           c.p_value = std::isfinite(t.p_value) ? t.p_value : 1.0;
-          c.p_adjusted = c.p_holm =
-              std::min(1.0, c.p_value * static_cast<double>(pair_jobs.size()));
+          c.p_adjusted = c.p_holm = std::min(1.0, c.p_value * static_cast<double>(partners));
         }
-        c.family_size = pair_jobs.size();
+        c.family_size = partners;
         c.signature_r = first.signature_r;
         c.supported = c.error.empty() && c.beats_first && c.error_drop > first.error_drop;
       }
@@ -347,8 +350,9 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
     if (c.error.empty()) c.evidence = detail::evidence_of(c, b, o);
   d.confidence_set =
       confidence_set_of(d, names, cand_models, scores, tests, dirs, warm, registry, o);
-  d.detectable = detail::minimum_detectable(dirs, names, cand_models, scores, tests, registry,
-                                            b.base.use, o.alpha);
+  d.detectable_candidates = detail::detectable_candidates(dirs, names, cand_models, scores, tests,
+                                                          registry, b.base.use, o.alpha);
+  d.detectable = detail::minimum_detectable(d.detectable_candidates);
 
   // The verdict, from the ranking first (it never contradicts it).
   const Candidate* best =

@@ -15,6 +15,18 @@
 // (conservatively chi^2 with p degrees of freedom) says whether there is scatter beyond the
 // measurement noise. The floor with scatter adds diag(J_i diag(tau^2) J_i^T) to S_i.
 //
+// Where the set has neither replicates nor declared uncertainty columns, the measurement
+// variances themselves are fitted: S_i = diag(g^2) S_i^Table1, one scale g_k per observable,
+// estimated jointly with tau (issue 31, 5b), g_k <= 1. The Table 1 constants (the paper's
+// operator scale) then give the shape of S_i over releases and a ceiling; the floor's source
+// reads "fitted". What
+// separates noise from scatter is structure, not magnitude: the noise is independent between
+// observables and has the same scale for every release, while the scatter correlates the
+// observables through J_i and changes with the incident state. Where J_i is nearly the same for
+// every release and diagonal, the split is weakly identified, and a deterministic effect whose
+// residuals look like independent noise can still be absorbed by g (the detection benchmark's
+// "The noise floor" table measures how often).
+//
 // What it means: tau describes ANY excess that a random spread of the parameters can absorb,
 // deterministic missing physics included. The diagnosis therefore calls the excess "scatter"
 // only when no candidate effect is supported and no residual or parameter trend survives the
@@ -40,7 +52,14 @@ struct PopulationScatter {
   /// least 0.5 in log-likelihood. A parameter the rebound does not depend on (mu when the
   /// contact sticks) has a flat likelihood in tau_j: its spread is reported as not identified.
   std::vector<bool> identified;
-  double lr = 0;            ///< likelihood-ratio statistic of tau = 0
+  /// Whether the measurement noise was fitted with tau (the set has neither replicates nor
+  /// declared uncertainties, and n >= 2 (observables + parameters)): then the variances are
+  /// g_k^2 times the Table 1 fallback's, g_k = noise_scale[k] in [0.05, 1] (issue 31, 5b).
+  bool noise_fitted = false;
+  Obs noise_scale{1, 1, 1, 1, 1};
+  /// The measurement floor: the fitted one when noise_fitted, else the floor given.
+  NoiseFloor measurement;
+  double lr = 0;            ///< likelihood-ratio statistic of tau = 0 (noise scale profiled)
   double p_value = 1;       ///< chi^2 (p dof) upper tail of lr: conservative
   NoiseFloor floor;         ///< the measurement floor plus the scatter
   Adequacy adequacy;        ///< of the base model against the floor with scatter

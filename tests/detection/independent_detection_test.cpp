@@ -129,6 +129,31 @@ TEST_F(IndependentDetection, NothingIsSupportedOnNullSets) {
   }
 }
 
+// (f) The measurement floor comes from the set (issue 31, 5b): the simulator's noise is
+// 0.05 m/s, 0.03 m/s, 2 rad/s on V_out, 0.5, 0.3 and 0.6 x the paper's Table 1, and the set has
+// no uncertainty columns. Without ground scatter the fitted noise must fall below the Table 1
+// ceiling on every observable (the fallback used to assume it outright) and the model must not
+// be called scattered; with the lab's own ground scatter the same fit must find a spread of
+// e_n^2 (the lab's is 0.045 sd) and must not call the model adequate.
+TEST_F(IndependentDetection, TheNoiseFloorIsFittedFromTheSet) {
+  SetOptions quiet = options(Family::kNone, 0.0, 31);
+  quiet.scatter_lo = quiet.scatter_hi = {0.16, 0.35, 0.16};
+  const auto q = diagnose(make(quiet));
+  EXPECT_EQ(q["noise_floor_source"], "fitted");
+  for (const auto& [obs, g] : q["scatter"]["noise_scale_to_table1"].items()) {
+    EXPECT_GT(g.get<double>(), 0.15) << obs;
+    EXPECT_LT(g.get<double>(), 0.9) << obs;
+  }
+  EXPECT_NE(q["verdict"], "scatter") << ranking_text(q);
+  SetOptions lab = options(Family::kNone, 0.0, 32);
+  lab.scatter_lo = kScatterLabLo;
+  lab.scatter_hi = kScatterLabHi;
+  const auto l = diagnose(make(lab));
+  EXPECT_EQ(l["noise_floor_source"], "fitted");
+  EXPECT_GT(l["scatter"]["parameters"]["en2"]["sd"].get<double>(), 0.02);
+  EXPECT_NE(l["verdict"], "adequate") << ranking_text(l);
+}
+
 // (d) Two effects at once (CRSP restitution and spin rolling, s = 10 each):
 // two rounds of `ladder --auto` name one law of each family (or the first round adds them as a
 // pair), and the error falls.

@@ -3,6 +3,8 @@
 // report rendered in headless Chromium with every figure shown.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -117,7 +119,8 @@ TEST_F(CmdDiagnosis, CompareReportsPerObservableRegimeAndReleaseWithFigures) {
   const auto doc = nlohmann::json::parse(r.out);
   EXPECT_EQ(doc["shape"], "cylinder");
   EXPECT_EQ(doc["releases"].size(), 28u);
-  EXPECT_EQ(doc["noise_floor"]["source"], "table1");
+  // No replicates, no uncertainty columns: the noise is fitted, Table 1 its ceiling (5b).
+  EXPECT_EQ(doc["noise_floor"]["source"], "fitted");
   EXPECT_EQ(doc["folds"], 4);
   EXPECT_EQ(doc["regimes"].size(), 3u);
   for (const char* k : {"vx", "vy", "w"}) {
@@ -138,6 +141,49 @@ TEST_F(CmdDiagnosis, CompareReportsPerObservableRegimeAndReleaseWithFigures) {
   EXPECT_EQ(back.size(), 28u);
   h5::File f((dir_ / "c.h5").string(), h5::File::Mode::kRead);
   EXPECT_EQ(f.read_doubles("/compare/releases/heldout_error").size(), 28u);
+}
+
+// The power of every tested law (issue 31, item 2; diagnosis/power.hpp): its 80 % strength is
+// where the statistic's mean E[T] = b a / sqrt(1 + (b a / ceiling)^2) reaches critical + 0.8416,
+// or there is none when the ceiling lies below that; each family's row is its candidate of
+// smallest change in noise units among those within bounds. Checked on the lab cylinders' JSON.
+TEST_F(CmdDiagnosis, ThePowerOfEveryLawFollowsItsStatisticsCeiling) {
+  const RunResult r = ricochet("diagnose " + quote(kLab + "cylinders.csv") + " --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto doc = nlohmann::json::parse(r.out);
+  const auto& rows = doc["minimum_detectable_by_candidate"];
+  ASSERT_GE(rows.size(), 40u);
+  std::size_t never = 0;
+  for (const auto& row : rows) {
+    const double k = row["critical_value"].get<double>() + 0.8416212335729143;
+    const double a = row["t_per_unit"].get<double>();
+    const double ceiling = row["t_ceiling"].is_number() ? row["t_ceiling"].get<double>() : 1e300;
+    ASSERT_GT(a, 0.0) << row["effect"];
+    if (row["change_80"].is_null()) {
+      ++never;
+      EXPECT_LE(ceiling, k) << row["effect"];
+      EXPECT_NE(row["law"].get<std::string>().find("not detectable at any strength"),
+                std::string::npos)
+          << row["effect"];
+      continue;
+    }
+    const double b = std::fabs(row["change_80"].get<double>());
+    const double t = b * a / std::sqrt(1 + (b * a / ceiling) * (b * a / ceiling));
+    EXPECT_NEAR(t, k, 1e-6 * k) << row["effect"];
+    EXPECT_GT(ceiling, k) << row["effect"];
+  }
+  for (const auto& fam : doc["minimum_detectable"]) {
+    bool found = false;
+    for (const auto& row : rows) {
+      if (row["family"] != fam["family"]) continue;
+      found = found || row["effect"] == fam["effect"];
+      if (fam["value"].is_number() && row["value"].is_number())
+        EXPECT_LE(fam["noise_units"].get<double>(), row["noise_units"].get<double>() + 1e-12)
+            << fam["family"] << ": " << row["effect"];
+    }
+    EXPECT_TRUE(found) << fam["family"];
+  }
+  RecordProperty("laws_never_at_80_percent", static_cast<int>(never));
 }
 
 TEST_F(CmdDiagnosis, LadderContract) {
