@@ -14,6 +14,8 @@
 #
 # FAMILIES (environment): "family:strength ..." (strength x the family's reference).
 set -euo pipefail
+# The study scripts' shared statistics (scripts/study_stats.py).
+export PYTHONPATH="$(cd "$(dirname "$0")" && pwd)${PYTHONPATH:+:$PYTHONPATH}"
 BUILD=$(cd "$1" && pwd)
 OUT=$2
 SEEDS=${3:-5}
@@ -65,11 +67,9 @@ python3 - "$TSV" > "$OUT/summary.md" <<'PY'
 import csv, math, sys
 truth = {"crsp_restitution": "restitution", "kd_drag": "drag", "spin_rolling": "rolling_resistance",
          "depth_friction_exp": "sliding_friction", "rankine_plough": "ploughing"}
-def wilson(k, n, z=1.96):
-    if n == 0: return "-"
-    p = k / n; d = 1 + z * z / n
-    c = (p + z * z / (2 * n)) / d; h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
-    return "%d/%d [%.2f, %.2f]" % (k, n, max(0, c - h), min(1, c + h))
+from study_stats import wilson_text
+def wilson(k, n):
+    return wilson_text(k, n, 2) if n else "-"
 rows = list(csv.DictReader(open(sys.argv[1]), delimiter="\t"))
 print("| family | strength | loops | mean set size before -> after | truth's family in the set, before / after | none in the set, before / after | the truth's family alone, after | predicted weakest-pair power, plan / uniform (median) |")
 print("| :-- | --: | --: | :-- | :-- | :-- | :-- | :-- |")

@@ -9,6 +9,8 @@
 #
 #   scripts/floor-study.sh BUILD_DIR OUT_DIR
 set -euo pipefail
+# The study scripts' shared statistics (scripts/study_stats.py).
+export PYTHONPATH="$(cd "$(dirname "$0")" && pwd)${PYTHONPATH:+:$PYTHONPATH}"
 BUILD=$(cd "$1" && pwd)
 OUT=$2
 R="$BUILD/cli/ricochet"
@@ -43,10 +45,7 @@ PY
 done
 python3 - "$TSV" > "$OUT/summary.md" <<'PY'
 import csv, math, sys
-def wilson(k, n, z=1.96):
-    p = k / n; d = 1 + z * z / n
-    c = (p + z * z / (2 * n)) / d; h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
-    return "%d/%d [%.2f, %.2f]" % (k, n, max(0, c - h), min(1, c + h))
+from study_stats import wilson_text as wilson
 rows = list(csv.DictReader(open(sys.argv[1]), delimiter="\t"))
 cells = []
 for r in rows:

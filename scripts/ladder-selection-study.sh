@@ -13,6 +13,8 @@
 #
 #   [DESIGN=wide SPIN=4 DRAG=150 SEEDS="..."] scripts/ladder-selection-study.sh BUILD_DIR OUT_DIR
 set -euo pipefail
+# The study scripts' shared statistics (scripts/study_stats.py).
+export PYTHONPATH="$(cd "$(dirname "$0")" && pwd)${PYTHONPATH:+:$PYTHONPATH}"
 BUILD=$(cd "$1" && pwd)
 OUT=$2
 R="$BUILD/cli/ricochet"
@@ -46,11 +48,7 @@ PY
 done
 python3 - "$TSV" > "$OUT/summary.md" <<'PY'
 import csv, math, sys
-def wilson(k, n, z=1.96):
-    if n == 0: return "0/0"
-    p = k / n; d = 1 + z * z / n
-    c = (p + z * z / (2 * n)) / d; h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
-    return "%d/%d = %.3f [%.3f, %.3f]" % (k, n, p, max(0, c - h), min(1, c + h))
+from study_stats import wilson_text as wilson
 rows = list(csv.DictReader(open(sys.argv[1]), delimiter="\t"))
 print("| hidden law | sets | round 1 adds the truth's form | round 2 adds anything after that (false addition) |")
 print("| :-- | --: | :-- | :-- |")

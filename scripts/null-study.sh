@@ -10,6 +10,8 @@
 # Seeds (fixed before the run, never used for any choice): narrow scatter 7001-7200, lab scatter
 # 7501-7600.
 set -euo pipefail
+# The study scripts' shared statistics (scripts/study_stats.py).
+export PYTHONPATH="$(cd "$(dirname "$0")" && pwd)${PYTHONPATH:+:$PYTHONPATH}"
 BUILD=$(cd "$1" && pwd)
 OUT=$2
 R="$BUILD/cli/ricochet"
@@ -34,10 +36,7 @@ for seed in $(seq 7001 7200); do run narrow "$seed"; done
 for seed in $(seq 7501 7600); do run lab "$seed"; done
 python3 - "$TSV" > "$OUT/summary.md" <<'PY'
 import csv, math, sys
-def wilson(k, n, z=1.96):
-    p = k / n; d = 1 + z * z / n
-    c = (p + z * z / (2 * n)) / d; h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
-    return "%d/%d = %.3f [%.3f, %.3f]" % (k, n, p, max(0, c - h), min(1, c + h))
+from study_stats import wilson_text as wilson
 rows = list(csv.DictReader(open(sys.argv[1]), delimiter="\t"))
 print("| ground scatter | sets | anything supported (false alarm) | verdict scatter | verdict adequate | verdict missing physics | none in the confidence set |")
 print("| :-- | --: | :-- | :-- | :-- | :-- | :-- |")

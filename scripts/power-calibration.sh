@@ -17,6 +17,8 @@
 #
 #   [SEEDS="8101 ... 8130"] scripts/power-calibration.sh BUILD_DIR OUT_DIR
 set -euo pipefail
+# The study scripts' shared statistics (scripts/study_stats.py).
+export PYTHONPATH="$(cd "$(dirname "$0")" && pwd)${PYTHONPATH:+:$PYTHONPATH}"
 BUILD=$(cd "$1" && pwd)
 OUT=$2
 R="$BUILD/cli/ricochet"
@@ -96,10 +98,7 @@ done
 # 3. The table and the calibration curve.
 python3 - "$TSV" "$OUT" > "$OUT/summary.md" <<'PY'
 import csv, math, sys
-def wilson(k, n, z=1.96):
-    p = k / n; d = 1 + z * z / n
-    c = (p + z * z / (2 * n)) / d; h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
-    return p, max(0, c - h), min(1, c + h)
+from study_stats import wilson
 rows = list(csv.DictReader(open(sys.argv[1]), delimiter="\t"))
 fam_of = {"spin_rolling": "rolling_resistance", "kd_drag": "drag"}
 cells = []
