@@ -13,18 +13,11 @@
 #   scripts/closed-loop-study.sh BUILD_DIR OUT_DIR [SEEDS] [BUDGET]
 #
 # FAMILIES (environment): "family:strength ..." (strength x the family's reference).
-set -euo pipefail
-# The study scripts' shared statistics (scripts/study_stats.py).
-export PYTHONPATH="$(cd "$(dirname "$0")" && pwd)${PYTHONPATH:+:$PYTHONPATH}"
-BUILD=$(cd "$1" && pwd)
-OUT=$2
+source "$(dirname "$0")/study-env.sh" "$1" "$2"
 SEEDS=${3:-5}
 BUDGET=${4:-40}
-R="$BUILD/cli/ricochet"
-T="$BUILD/tests/detection/independent_truth"
 FAMILIES=${FAMILIES:-"crsp_restitution:3.65068 spin_rolling:2.01086 depth_friction_exp:33.2814 kd_drag:83.7314"}
 BOX="--range vin_x=1.5:6 --range vin_y=-5:-1 --range win=-90:0"
-mkdir -p "$OUT/sets"
 TSV=$OUT/loops.tsv
 [ -f "$TSV" ] || printf 'family\tstrength\tseed\tbefore_n\tbefore_families\tbefore_none\tafter_n\tafter_families\tafter_none\tpower_plan\tpower_uniform\n' > "$TSV"
 

@@ -8,14 +8,7 @@
 # recomputed per set (`independent_truth --oracle`). Resumable (rows in OUT/floor.tsv skipped).
 #
 #   scripts/floor-study.sh BUILD_DIR OUT_DIR
-set -euo pipefail
-# The study scripts' shared statistics (scripts/study_stats.py).
-export PYTHONPATH="$(cd "$(dirname "$0")" && pwd)${PYTHONPATH:+:$PYTHONPATH}"
-BUILD=$(cd "$1" && pwd)
-OUT=$2
-R="$BUILD/cli/ricochet"
-T="$BUILD/tests/detection/independent_truth"
-mkdir -p "$OUT/sets"
+source "$(dirname "$0")/study-env.sh" "$@"
 TSV=$OUT/floor.tsv
 [ -f "$TSV" ] || printf 'design\tfamily\tstrength\tseed\toracle_z\tverdict\tfloor_source\tnoise_scale\tratio_to_floor\n' > "$TSV"
 CELLS="lab:none:0 wide:none:0

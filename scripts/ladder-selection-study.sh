@@ -12,14 +12,7 @@
 # to test round 2): DESIGN=wide, spin_rolling at 4 and kd_drag at 150, seeds 8601-8640.
 #
 #   [DESIGN=wide SPIN=4 DRAG=150 SEEDS="..."] scripts/ladder-selection-study.sh BUILD_DIR OUT_DIR
-set -euo pipefail
-# The study scripts' shared statistics (scripts/study_stats.py).
-export PYTHONPATH="$(cd "$(dirname "$0")" && pwd)${PYTHONPATH:+:$PYTHONPATH}"
-BUILD=$(cd "$1" && pwd)
-OUT=$2
-R="$BUILD/cli/ricochet"
-T="$BUILD/tests/detection/independent_truth"
-mkdir -p "$OUT/sets"
+source "$(dirname "$0")/study-env.sh" "$@"
 declare -A CAND=([spin_rolling]=muR_spin_linear [kd_drag]=inertial_drag)
 TSV=$OUT/rounds.tsv
 [ -f "$TSV" ] || printf 'family\tseed\tround1\tround1_is_truth\tround2_supported\tround2\n' > "$TSV"

@@ -9,14 +9,7 @@
 #
 # Seeds (fixed before the run, never used for any choice): narrow scatter 7001-7200, lab scatter
 # 7501-7600.
-set -euo pipefail
-# The study scripts' shared statistics (scripts/study_stats.py).
-export PYTHONPATH="$(cd "$(dirname "$0")" && pwd)${PYTHONPATH:+:$PYTHONPATH}"
-BUILD=$(cd "$1" && pwd)
-OUT=$2
-R="$BUILD/cli/ricochet"
-T="$BUILD/tests/detection/independent_truth"
-mkdir -p "$OUT/sets"
+source "$(dirname "$0")/study-env.sh" "$@"
 TSV=$OUT/nulls.tsv
 [ -f "$TSV" ] || printf 'scatter\tseed\tverdict\tsupported\ttop\tnone_in_set\tset_size\n' > "$TSV"
 run() {  # SCATTER SEED

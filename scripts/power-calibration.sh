@@ -16,14 +16,7 @@
 # the default. Resumable: rows already in OUT/cells.tsv are skipped.
 #
 #   [SEEDS="8101 ... 8130"] scripts/power-calibration.sh BUILD_DIR OUT_DIR
-set -euo pipefail
-# The study scripts' shared statistics (scripts/study_stats.py).
-export PYTHONPATH="$(cd "$(dirname "$0")" && pwd)${PYTHONPATH:+:$PYTHONPATH}"
-BUILD=$(cd "$1" && pwd)
-OUT=$2
-R="$BUILD/cli/ricochet"
-T="$BUILD/tests/detection/independent_truth"
-mkdir -p "$OUT/sets"
+source "$(dirname "$0")/study-env.sh" "$@"
 FAMILIES="spin_rolling kd_drag"
 declare -A CAND=([spin_rolling]=muR_spin_linear [kd_drag]=inertial_drag)
 declare -A REF=([spin_rolling]=0.008 [kd_drag]=40)

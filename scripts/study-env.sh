@@ -1,0 +1,12 @@
+# Sourced by the detection studies (scripts/*-study.sh, power-calibration.sh) with their
+# arguments BUILD_DIR OUT_DIR: the programs they run and where they write.
+#   R  the built `ricochet`;  T  the independent simulator (tests/detection/truth_sim.hpp);
+#   OUT/sets  the sets and their diagnoses;  PYTHONPATH  scripts/ (study_stats.py).
+set -euo pipefail
+[ $# -ge 2 ] || { echo "usage: $0 BUILD_DIR OUT_DIR" >&2; exit 2; }
+BUILD=$(cd "$1" && pwd)
+OUT=$2
+R="$BUILD/cli/ricochet"
+T="$BUILD/tests/detection/independent_truth"
+mkdir -p "$OUT/sets"
+export PYTHONPATH="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)${PYTHONPATH:+:$PYTHONPATH}"
