@@ -12,6 +12,10 @@
 #
 #   scripts/closed-loop-study.sh BUILD_DIR OUT_DIR [SEEDS] [BUDGET]
 #
+# FIRST_SEED (environment, default 1): the loops use seeds FIRST_SEED .. FIRST_SEED + SEEDS - 1.
+# Exploratory run: seeds 1-5; reporting run: FIRST_SEED=9101, 10 seeds (fixed in
+# docs/detection-benchmark.md before it).
+#
 # FAMILIES (environment): "family:strength ..." (strength x the family's reference).
 source "$(dirname "$0")/study-env.sh" "$1" "$2"
 SEEDS=${3:-5}
@@ -34,7 +38,7 @@ print("%d\t%s\t%s" % (len(m), ",".join(fams), "yes" if "none" in fams else "no")
 
 for spec in $FAMILIES; do
   fam=${spec%%:*}; s=${spec#*:}
-  for seed in $(seq 1 "$SEEDS"); do
+  for seed in $(seq "${FIRST_SEED:-1}" $(( ${FIRST_SEED:-1} + SEEDS - 1 ))); do
     if grep -q "^$fam	$s	$seed	" "$TSV"; then continue; fi
     base=$OUT/sets/$fam-$seed
     "$T" --family "$fam" --strength "$s" --n 40 --design lab --seed "$seed" --out "$base.old.csv" > /dev/null
