@@ -188,6 +188,28 @@ ErrorReport error_report(const ImpactSet& set, const std::vector<ObsPrediction>&
   return r;
 }
 
+void derive_floor_terms(NoiseFloor& f, const ImpactSet& set,
+                        const std::array<bool, kObservables>& use, const AssessOptions& options) {
+  const AssessOptions o = resolve_scale(set, options);
+  const std::size_t n = f.variance.size();
+  f.terms.assign(n, Obs{});
+  f.per_release.assign(n, 0.0);
+  f.term_mean = Obs{};
+  f.sigma_mean = Obs{};
+  for (std::size_t i = 0; i < n; ++i) {
+    const Obs d = error_scale(set.impacts[i], o);
+    double e = 0;
+    for (int k = 0; k < kObservables; ++k) {
+      f.terms[i][k] = use[k] ? f.variance[i][k] / (d[k] * d[k]) : 0.0;
+      e += f.terms[i][k];
+      f.term_mean[k] += f.terms[i][k] / static_cast<double>(n);
+      f.sigma_mean[k] += use[k] ? std::sqrt(f.variance[i][k]) / static_cast<double>(n) : NAN;
+    }
+    f.per_release[i] = e;
+  }
+  f.value = mean_se(f.per_release);
+}
+
 NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const double> params,
                        const ImpactSet& set, const std::array<bool, kObservables>& use,
                        const AssessOptions& options) {
@@ -284,19 +306,8 @@ NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const d
                     : "");
   }
 
-  f.terms.resize(n);
   f.variance = var;
-  for (std::size_t i = 0; i < n; ++i) {
-    double e = 0;
-    for (int k = 0; k < kObservables; ++k) {
-      f.terms[i][k] = use[k] ? var[i][k] / (d[i][k] * d[i][k]) : 0.0;
-      e += f.terms[i][k];
-      f.term_mean[k] += f.terms[i][k] / static_cast<double>(n);
-      f.sigma_mean[k] += use[k] ? std::sqrt(var[i][k]) / static_cast<double>(n) : NAN;
-    }
-    f.per_release.push_back(e);
-  }
-  f.value = mean_se(f.per_release);
+  derive_floor_terms(f, set, use, o);
 
   // Nearest-neighbour cross-check in standardised incident state (and orientation).
   if (n >= 2) {

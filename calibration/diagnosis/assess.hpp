@@ -260,6 +260,11 @@ struct NoiseFloor {
 NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const double> params,
                        const ImpactSet& set, const std::array<bool, kObservables>& use,
                        const AssessOptions& options);
+/// Recomputes what a floor derives from its variances (terms, per_release, term_mean,
+/// sigma_mean, value) on the error's scale (error_scale): after noise_floor sets them, or after
+/// a caller rescales or adds to them (the fitted noise and the scatter, scatter.hpp).
+void derive_floor_terms(NoiseFloor& f, const ImpactSet& set,
+                        const std::array<bool, kObservables>& use, const AssessOptions& options);
 
 /// The train/test splits of a repeated k-fold (see the file comment): split r k + f holds out
 /// fold f of partition r. Depends only on n, folds, repeats and the seed.

@@ -97,31 +97,6 @@ Optimum minimise(const Likelihood& L, const std::vector<double>& hi, std::size_t
   return o;
 }
 
-// `floor` with every used observable's variance (and its terms) scaled by g_k^2 (obs[k]).
-NoiseFloor scaled(NoiseFloor floor, const std::vector<double>& g, const std::vector<int>& obs,
-                  const ImpactSet& set, const AssessOptions& o) {
-  const std::size_t n = set.size();
-  floor.sigma_mean = Obs{};
-  floor.term_mean = Obs{};
-  for (std::size_t i = 0; i < n; ++i) {
-    double e = 0;
-    for (std::size_t k = 0; k < obs.size(); ++k) {
-      const int ok = obs[k];
-      floor.variance[i][ok] *= g[k] * g[k];
-      const double d = error_scale(set.impacts[i], o)[ok];
-      floor.terms[i][ok] = floor.variance[i][ok] / (d * d);
-      e += floor.terms[i][ok];
-      floor.term_mean[ok] += floor.terms[i][ok] / static_cast<double>(n);
-      floor.sigma_mean[ok] += std::sqrt(floor.variance[i][ok]) / static_cast<double>(n);
-    }
-    floor.per_release[i] = e;
-  }
-  for (int k = 0; k < kObservables; ++k)
-    if (std::find(obs.begin(), obs.end(), k) == obs.end()) floor.sigma_mean[k] = NAN;
-  floor.value = mean_se(floor.per_release);
-  return floor;
-}
-
 }  // namespace
 
 PopulationScatter population_scatter(const Model& warm, const Shape& shape, const ImpactSet& set,
@@ -189,7 +164,10 @@ PopulationScatter population_scatter(const Model& warm, const Shape& shape, cons
       cal.empty() ? 1.0 : stats::chi_square_upper_tail(out.lr, static_cast<double>(cal.size()));
 
   if (out.noise_fitted) {
-    out.measurement = scaled(floor, best_fit.g, obs, set, o);
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t k = 0; k < obs.size(); ++k)
+        out.measurement.variance[i][obs[k]] *= best_fit.g[k] * best_fit.g[k];
+    derive_floor_terms(out.measurement, set, base.use, o);
     out.measurement.source = "fitted";
     std::string sd;
     for (std::size_t k = 0; k < obs.size(); ++k) {
@@ -206,8 +184,7 @@ PopulationScatter population_scatter(const Model& warm, const Shape& shape, cons
   }
   out.floor = out.measurement;
   out.floor.source = out.measurement.source + "+scatter";
-  for (std::size_t i = 0; i < n; ++i) {
-    double e = 0;
+  for (std::size_t i = 0; i < n; ++i)
     for (std::size_t k = 0; k < obs.size(); ++k) {
       double extra = 0;
       for (std::size_t c = 0; c < cal.size(); ++c) {
@@ -215,13 +192,8 @@ PopulationScatter population_scatter(const Model& warm, const Shape& shape, cons
         extra += out.sd[c] * out.sd[c] * jv * jv;
       }
       out.floor.variance[i][obs[k]] += extra;
-      const double d = error_scale(set.impacts[i], o)[obs[k]];
-      out.floor.terms[i][obs[k]] += extra / (d * d);
-      e += out.floor.terms[i][obs[k]];
     }
-    out.floor.per_release[i] = e;
-  }
-  out.floor.value = mean_se(out.floor.per_release);
+  derive_floor_terms(out.floor, set, base.use, o);
   out.adequacy = adequacy(base, out.floor);
   std::string spread;
   for (std::size_t c = 0; c < cal.size(); ++c)
@@ -251,7 +223,7 @@ nlohmann::json to_json(const PopulationScatter& s) {
   if (s.noise_fitted) {
     scale = nlohmann::json::object();
     for (int k = 0; k < kObservables; ++k)
-      if (s.measurement.variance.size() && std::isfinite(s.measurement.sigma_mean[k]))
+      if (std::isfinite(s.measurement.sigma_mean[k]))
         scale[kObservableLabels[k]] = s.noise_scale[k];
   }
   return {{"parameters", params},
