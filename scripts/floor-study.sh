@@ -38,16 +38,12 @@ PY
 done
 python3 - "$TSV" > "$OUT/summary.md" <<'PY'
 import csv, math, sys
-from study_stats import wilson_text as wilson
+from study_stats import cells, wilson_text as wilson
 rows = list(csv.DictReader(open(sys.argv[1]), delimiter="\t"))
-cells = []
-for r in rows:
-    k = (r["design"], r["family"], r["strength"])
-    if k not in cells: cells.append(k)
 print("| design | hidden effect | strength | sets | mean oracle z | adequate | scatter | missing physics | mean held-out error / floor |")
 print("| :-- | :-- | --: | --: | --: | :-- | :-- | :-- | --: |")
-for c in cells:
-    rs = [r for r in rows if (r["design"], r["family"], r["strength"]) == c]; n = len(rs)
+for c, rs in cells(rows, "design", "family", "strength"):
+    n = len(rs)
     v = lambda x: "%d" % sum(r["verdict"] == x for r in rs)
     print("| %s | %s | %s | %d | %.1f | %s | %s | %s | %.2f |" % (c + (n, sum(float(r["oracle_z"]) for r in rs) / n,
           v("adequate"), v("scatter"), v("missing physics"), sum(float(r["ratio_to_floor"]) for r in rs) / n)))

@@ -91,19 +91,15 @@ done
 # 3. The table and the calibration curve.
 python3 - "$TSV" "$OUT" > "$OUT/summary.md" <<'PY'
 import csv, math, sys
-from study_stats import wilson
+from study_stats import cells, wilson
 rows = list(csv.DictReader(open(sys.argv[1]), delimiter="\t"))
 fam_of = {"spin_rolling": "rolling_resistance", "kd_drag": "drag"}
-cells = []
-for r in rows:
-    key = (r["family"], r["fraction"], r["strength"])
-    if key not in cells: cells.append(key)
+groups = cells(rows, "family", "fraction", "strength")
 print("| hidden law | strength | sets | predicted power (mean over seeds) | measured: the law's score test rejects | inside the 95 % interval | verdict missing physics, top supported of the truth's family | score statistic T: predicted mean (median over seeds) / measured mean |")
 print("| :-- | --: | --: | --: | :-- | :-- | :-- | :-- |")
 dat = open(sys.argv[2] + "/calibration.dat", "w")
 inside = 0
-for fam, fr, s in cells:
-    rs = [r for r in rows if (r["family"], r["fraction"], r["strength"]) == (fam, fr, s)]
+for (fam, fr, s), rs in groups:
     n = len(rs); pred = sum(float(r["predicted"]) for r in rs) / n
     k = sum(r["rejected"] == "yes" for r in rs); p, lo, hi = wilson(k, n)
     k2 = sum(r["verdict"] == "missing physics" and r["top_family"] == fam_of[fam] for r in rs)
@@ -114,7 +110,7 @@ for fam, fr, s in cells:
     print("| %s | %s | %d | %.3f | %d/%d = %.3f [%.3f, %.3f] | %s | %d/%d = %.3f [%.3f, %.3f] | %.2f / %.2f |" % (
         fam, s, n, pred, k, n, p, lo, hi, "yes" if ok else "no", k2, n, p2, lo2, hi2, pt, mt))
     dat.write("%s %.4f %.4f %.4f %.4f\n" % (fam, pred, p, lo, hi))
-print("\nPredicted power inside the measured rate's 95 %% Wilson interval in %d of %d cells." % (inside, len(cells)))
+print("\nPredicted power inside the measured rate's 95 %% Wilson interval in %d of %d cells." % (inside, len(groups)))
 PY
 cat "$OUT/summary.md"
 if command -v gnuplot > /dev/null; then

@@ -22,3 +22,12 @@ def wilson_text(k, n, digits=3):
     p, lo, hi = wilson(k, n)
     f = "%%.%df" % digits
     return ("%d/%d = " + f + " [" + f + ", " + f + "]") % (k, n, p, lo, hi)
+
+
+def cells(rows, *columns):
+    """The rows grouped by the values of `columns`, in order of first appearance:
+    a list of (key tuple, rows)."""
+    groups = {}
+    for r in rows:
+        groups.setdefault(tuple(r[c] for c in columns), []).append(r)
+    return list(groups.items())
