@@ -33,10 +33,7 @@ std::vector<Detectable> detectable_candidates(
       const double s2 = dir.s.squaredNorm();
       if (!(sigma_s > 0) || !(s2 > 0)) continue;
       // Per release, the score's gain per unit change: a_i = |s_i|^2 over its rows.
-      std::vector<double> a(u.size(), 0.0);
-      for (std::size_t row = 0; row < dirs.rows.size(); ++row)
-        a[dirs.rows[row].first] += dir.s[static_cast<Eigen::Index>(row)] *
-                                   dir.s[static_cast<Eigen::Index>(row)];
+      const std::vector<double> a = per_release_products(dirs, dir.s, dir.s, u.size());
       const double spread = stats::score_standard_error(a, tests.dof);  // sqrt(V)
       const double k = c + kZPower;
       // T(beta) = beta A / sqrt(sigma_S^2 + beta^2 V) = k  (file comment); none when the

@@ -132,13 +132,20 @@ Score score_of(const Directions& dirs, const Model& cand, const Shape& shape, co
     const double sign = step > 0 ? 1.0 : -1.0;
     const double r = dirs.z.dot(s) / (dirs.z.norm() * s.norm()) * sign;
     if (!(std::fabs(r) <= std::fabs(out.r))) out.r = r;
-    stats::ScoreColumn col{hypothesis, std::vector<double>(set.size(), 0.0),
+    stats::ScoreColumn col{hypothesis, per_release_products(dirs, s, dirs.z, set.size()),
                            /*two_sided=*/!at_lower && !at_upper};
-    for (std::size_t row = 0; row < dirs.rows.size(); ++row) {
-      const auto e = static_cast<Eigen::Index>(row);
-      col.u[dirs.rows[row].first] += sign * s[e] * dirs.z[e];
-    }
+    for (double& u : col.u) u *= sign;
     out.columns.push_back(std::move(col));
+  }
+  return out;
+}
+
+std::vector<double> per_release_products(const Directions& dirs, const Eigen::VectorXd& x,
+                                         const Eigen::VectorXd& y, std::size_t releases) {
+  std::vector<double> out(releases, 0.0);
+  for (std::size_t row = 0; row < dirs.rows.size(); ++row) {
+    const auto e = static_cast<Eigen::Index>(row);
+    out[dirs.rows[row].first] += x[e] * y[e];
   }
   return out;
 }

@@ -65,6 +65,12 @@ Score score_of(const Directions& dirs, const Model& cand, const Shape& shape, co
                const std::vector<std::size_t>& added, const AssessOptions& o, double probe_fraction,
                std::size_t hypothesis);
 
+/// Per release, the sum over its rows (`dirs.rows`) of x_r y_r: a score's contributions u_i with
+/// (x, y) = (direction, residual), or a direction's own gain per unit change a_i = |s_i|^2 with
+/// x = y = s (power.hpp). `releases` entries.
+std::vector<double> per_release_products(const Directions& dirs, const Eigen::VectorXd& x,
+                                         const Eigen::VectorXd& y, std::size_t releases);
+
 /// Root mean square over releases, per observable, of a change of the predictions laid out like
 /// `dirs.rows` (SI units, e.g. ScoreDirection::raw times a parameter change); NaN for an
 /// observable that `use` leaves out.
