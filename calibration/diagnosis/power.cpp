@@ -88,9 +88,9 @@ std::vector<Detectable> minimum_detectable(const std::vector<Detectable>& candid
   for (const Detectable& d : candidates) {
     auto& slot = best[static_cast<std::size_t>(d.family)];
     // A law within its bounds beats one beyond them; then the smaller change in noise units.
-    const bool better = !slot || (std::isfinite(d.value) && !std::isfinite(slot->value)) ||
-                        (std::isfinite(d.value) == std::isfinite(slot->value) &&
-                         d.noise_units < slot->noise_units);
+    const bool better =
+        !slot || (std::isfinite(d.value) && !std::isfinite(slot->value)) ||
+        (std::isfinite(d.value) == std::isfinite(slot->value) && d.noise_units < slot->noise_units);
     if (better) slot = d;
   }
   std::vector<Detectable> out;
