@@ -184,7 +184,8 @@ TEST_F(IndependentDetection, TheClosedLoopRemovesTheLawAsItStandsAndKeepsTheTrut
   const std::string plan = (dir_ / "plan.csv").string();
   const auto r = ricochet("design " + quote(old_path) +
                           " --shape cylinder --budget 40 --range vin_x=1.5:6 --range "
-                          "vin_y=-5:-1 --range win=-90:0 --seed 1 --out " + quote(plan));
+                          "vin_y=-5:-1 --range win=-90:0 --seed 1 --out " +
+                          quote(plan));
   ASSERT_EQ(r.status, 0) << r.err;
   SetOptions thrown = o;
   thrown.design = Design::kGiven;
