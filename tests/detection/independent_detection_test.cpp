@@ -170,9 +170,7 @@ TEST_F(IndependentDetection, TheClosedLoopRemovesTheLawAsItStandsAndKeepsTheTrut
   };
   SetOptions o = options(Family::kSpinRolling, 2.01086, 1);
   o.design = Design::kLab;
-  for (const auto& im :
-       read_impact_set(std::string(RICOCHET_SOURCE_DIR) + "/data/lab/cylinders.csv").impacts)
-    o.lab_vin.push_back(im.vin);
+  o.lab_vin = lab_cylinder_states(std::string(RICOCHET_SOURCE_DIR) + "/data/lab/cylinders.csv");
   const TruthSet old_set = make_set(o);
   const std::string old_path = (dir_ / "loop-old.csv").string();
   write_impact_set(old_set.set, old_path);

@@ -141,8 +141,7 @@ int main(int argc, char** argv) {
       o.lab_source = states;
     }
     if (o.design == truth::Design::kLab) {
-      for (const auto& im : read_impact_set(lab).impacts)
-        if (im.shape == "cylinder") o.lab_vin.push_back(im.vin);
+      o.lab_vin = truth::lab_cylinder_states(lab);
       o.lab_source = lab;
     }
     if (calibrate) {

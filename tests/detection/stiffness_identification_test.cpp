@@ -32,9 +32,8 @@ ImpactSet independent_set(std::size_t n, std::uint64_t seed, bool contact_featur
   o.seed = seed;
   o.refit = false;
   o.contact_features = contact_features;
-  for (const auto& im :
-       read_impact_set(std::string(RICOCHET_SOURCE_DIR) + "/data/lab/cylinders.csv").impacts)
-    o.lab_vin.push_back(im.vin);
+  o.lab_vin =
+      truth::lab_cylinder_states(std::string(RICOCHET_SOURCE_DIR) + "/data/lab/cylinders.csv");
   return truth::make_set(o).set;
 }
 

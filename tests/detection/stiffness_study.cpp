@@ -74,9 +74,8 @@ int main(int argc, char** argv) {
   so.contact_features = true;
   so.noise_penetration_m = noise_h;
   so.noise_contact_duration_s = noise_t;
-  for (const auto& im :
-       read_impact_set(std::string(RICOCHET_SOURCE_DIR) + "/data/lab/cylinders.csv").impacts)
-    so.lab_vin.push_back(im.vin);
+  so.lab_vin =
+      truth::lab_cylinder_states(std::string(RICOCHET_SOURCE_DIR) + "/data/lab/cylinders.csv");
   const Shape shape = Shape::resolve("cylinder");
   const Model paper = Model::paper();
   Model all = paper;

@@ -656,4 +656,11 @@ double lab_scale_strength(SetOptions o) {
   return hi;
 }
 
+std::vector<std::array<double, 3>> lab_cylinder_states(const std::string& path) {
+  std::vector<std::array<double, 3>> v;
+  for (const auto& im : read_impact_set(path).impacts)
+    if (im.shape == "cylinder") v.push_back(im.vin);
+  return v;
+}
+
 }  // namespace ricochet::truth

@@ -284,4 +284,8 @@ double shift_in_lab_units(const std::array<double, 3>& mean_shift);
 /// strength up to 1e6 reaches the scale.
 double lab_scale_strength(SetOptions options);
 
+/// The incident states (V_in^x, V_in^y, omega_in) of the cylinder releases of the impact set at
+/// `path`: SetOptions::lab_vin of the lab design (data/lab/cylinders.csv in the studies).
+std::vector<std::array<double, 3>> lab_cylinder_states(const std::string& path);
+
 }  // namespace ricochet::truth

@@ -22,11 +22,7 @@ double kinetic(const std::array<double, 3>& v) {
 }
 
 std::vector<std::array<double, 3>> lab_states() {
-  std::vector<std::array<double, 3>> v;
-  for (const auto& im :
-       read_impact_set(std::string(RICOCHET_SOURCE_DIR) + "/data/lab/cylinders.csv").impacts)
-    v.push_back(im.vin);
-  return v;
+  return lab_cylinder_states(std::string(RICOCHET_SOURCE_DIR) + "/data/lab/cylinders.csv");
 }
 
 // Options of a lab-design set of `n` releases.
