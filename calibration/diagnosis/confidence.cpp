@@ -77,7 +77,8 @@ Fitted fit_linear(const Directions& d, const LawCandidate& c) {
 
 LawConfidenceSet law_confidence_set(const Directions& d, const std::vector<LawCandidate>& cands,
                                     const stats::ScoreTests& tests, const EffectRegistry& registry,
-                                    const std::array<bool, kObservables>& use, double alpha) {
+                                    const std::array<bool, kObservables>& use, double alpha,
+                                    std::span<const Family> excluded) {
   LawConfidenceSet out;
   out.alpha = alpha;
   const auto N = static_cast<Eigen::Index>(d.rows.size());
@@ -138,8 +139,12 @@ LawConfidenceSet law_confidence_set(const Directions& d, const std::vector<LawCa
     e.change = f.change;
     in.push_back(std::move(e));
   };
+  const auto left = [&](const LawCandidate& c) {
+    const Family f = registry.get(c.effects.front()).kind().family;
+    return std::find(excluded.begin(), excluded.end(), f) != excluded.end();
+  };
   for (std::size_t c = 0; c < cands.size(); ++c) {
-    if (!std::isfinite(stat[c])) continue;
+    if (!std::isfinite(stat[c]) || left(cands[c])) continue;
     const std::size_t h = *cands[c].hypothesis;
     double other = 0;  // the best of the others, the reference included
     for (std::size_t k = 0; k < cands.size(); ++k)
@@ -149,7 +154,7 @@ LawConfidenceSet law_confidence_set(const Directions& d, const std::vector<LawCa
   }
   // Supported pairs whose first effect is a member.
   for (const LawCandidate& c : cands) {
-    if (!c.supported_pair || c.effects.empty() || c.directions.empty()) continue;
+    if (!c.supported_pair || c.effects.empty() || c.directions.empty() || left(c)) continue;
     const bool first_in = std::any_of(
         in.begin(), in.end(), [&](const Entry& e) { return e.member.effect == c.effects.front(); });
     if (first_in) add(c, NAN, NAN);

@@ -28,6 +28,7 @@
 #pragma once
 
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -49,11 +50,14 @@ struct LawCandidate {
   bool supported_pair = false;  ///< a pair the ranking supports
 };
 
-/// The confidence set of `cands` and "none" at the score tests' MCB level `alpha` (`tests` made
-/// with ScoreTestOptions::mcb_level = alpha). Single candidates without a statistic are not
-/// judged. `use`: the observables of the set (for differs_from_best).
+/// The first stage of the confidence set (file comment) of `cands` and "none" at the score
+/// tests' MCB level `alpha` (`tests` made with ScoreTestOptions::mcb_level = alpha). Single
+/// candidates without a statistic are not judged. `use`: the observables of the set (for
+/// differs_from_best). `excluded`: families the second stage removed (encompassing.hpp): their
+/// candidates, and pairs whose first effect is theirs, are left out before the best is chosen.
 LawConfidenceSet law_confidence_set(const Directions& dirs, const std::vector<LawCandidate>& cands,
                                     const stats::ScoreTests& tests, const EffectRegistry& registry,
-                                    const std::array<bool, kObservables>& use, double alpha);
+                                    const std::array<bool, kObservables>& use, double alpha,
+                                    std::span<const Family> excluded = {});
 
 }  // namespace ricochet::diagnosis::detail

@@ -60,6 +60,7 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -198,12 +199,34 @@ struct LawMember {
   Obs differs_from_best{};
 };
 
-/// The confidence set of laws (multiple comparisons with the best on the score statistics;
-/// confidence.hpp): the laws that these data cannot tell apart from the best one at level alpha.
+/// The second stage of the confidence set (encompassing.hpp): each family's best law of the
+/// first stage, calibrated on the set, tested against every other family's by the non-nested
+/// J test; a family whose law another one encompasses leaves the set.
+struct FamilyEncompassing {
+  double alpha = NAN;     ///< this stage's level (half the set's)
+  double critical = NAN;  ///< one-sided normal quantile at 1 - alpha / (laws (laws - 1))
+  std::vector<std::string> laws;        ///< each family's best first-stage member (its effect)
+  std::vector<Family> families;         ///< of each law
+  std::vector<std::string> calibrated;  ///< each law with its calibrated numbers and units
+  /// t[a][b]: law a taken as true, tested in the direction of law b (NaN on the diagonal and
+  /// where a law could not be calibrated).
+  std::vector<std::vector<double>> t;
+  /// Per law: the index of the law that encompasses it (t[a][b] > critical >= t[b][a]; the
+  /// largest such t[a][b]), or -1 when it stays.
+  std::vector<int> excluded_by;
+  double seconds = 0;  ///< calibrations and predictions
+};
+
+/// The confidence set of laws: the laws that these data cannot tell apart from the best one at
+/// level alpha. Two stages, each at alpha / 2 (so that the set holds the best law with
+/// probability at least 1 - alpha): multiple comparisons with the best on the score statistics
+/// (confidence.hpp), then the encompassing tests between the families' calibrated laws.
 struct LawConfidenceSet {
   double alpha = 0.05;
   std::size_t models = 0;          ///< laws judged: every candidate with a statistic, and "none"
   std::vector<LawMember> members;  ///< best (largest statistic) first
+  /// The second stage, run when the first left two candidate families or more.
+  std::optional<FamilyEncompassing> encompassing;
   /// The distinct families of the members, "none" included when the law as it stands is in.
   std::vector<Family> families() const;
   bool holds_none() const;

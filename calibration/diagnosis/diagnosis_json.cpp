@@ -145,14 +145,39 @@ nlohmann::json to_json(const LawConfidenceSet& cs, const std::array<bool, kObser
   }
   nlohmann::json families = nlohmann::json::array();
   for (Family f : cs.families()) families.push_back(family_name(f));
-  return {{"alpha", cs.alpha},
-          {"laws_judged", cs.models},
-          {"method",
-           "multiple comparisons with the best (Hsu 1984) on the score statistics, the law as it "
-           "stands a reference of statistic 0; joint null by the multiplier bootstrap"},
-          {"families", families},
-          {"holds_none", cs.holds_none()},
-          {"members", members}};
+  nlohmann::json out = {
+      {"alpha", cs.alpha},
+      {"laws_judged", cs.models},
+      {"method",
+       "multiple comparisons with the best (Hsu 1984) on the score statistics at alpha / 2, the "
+       "law as it stands a reference of statistic 0, joint null by the multiplier bootstrap; "
+       "then the families' calibrated laws by pairwise J tests (Davidson & MacKinnon 1981) at "
+       "alpha / 2"},
+      {"families", families},
+      {"holds_none", cs.holds_none()},
+      {"members", members},
+      {"encompassing", nullptr}};
+  if (const auto& e = cs.encompassing) {
+    nlohmann::json laws = nlohmann::json::array();
+    for (std::size_t a = 0; a < e->laws.size(); ++a) {
+      nlohmann::json t = nlohmann::json::object();
+      for (std::size_t b = 0; b < e->laws.size(); ++b)
+        if (b != a) t[e->laws[b]] = num(e->t[a][b]);
+      const int by = e->excluded_by[a];
+      laws.push_back({{"effect", e->laws[a]},
+                      {"family", family_name(e->families[a])},
+                      {"law", e->calibrated[a]},
+                      {"excluded", by >= 0},
+                      {"excluded_by", by >= 0 ? nlohmann::json(e->laws[static_cast<std::size_t>(by)])
+                                              : nlohmann::json(nullptr)},
+                      {"t", t}});
+    }
+    out["encompassing"] = {{"alpha", e->alpha},
+                           {"critical", num(e->critical)},
+                           {"seconds", e->seconds},
+                           {"laws", laws}};
+  }
+  return out;
 }
 
 nlohmann::json to_json(const std::vector<Detectable>& rows,

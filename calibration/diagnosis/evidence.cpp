@@ -92,11 +92,21 @@ std::string confidence_text(const LawConfidenceSet& cs) {
           ? fmt::format("Of {} laws judged, the data single out one at level {:.2g} ({})",
                         cs.models, cs.alpha, list)
           : fmt::format(
-                "These data cannot tell apart {} of the {} laws judged, of {} famil{} (multiple "
-                "comparisons with the best at level {:.2g}): {}",
+                "These data cannot tell apart {} of the {} laws judged, of {} famil{} (level "
+                "{:.2g}): {}",
                 cs.members.size(), cs.models, families.size(), families.size() == 1 ? "y" : "ies",
                 cs.alpha, list);
   if (cs.holds_none()) text += "; the law as it stands is in the set: perhaps nothing is missing";
+  if (const auto& e = cs.encompassing) {
+    std::string gone;
+    for (std::size_t a = 0; a < e->laws.size(); ++a)
+      if (const int b = e->excluded_by[a]; b >= 0)
+        gone += fmt::format("{}{} ({} explains what it leaves, t = {:.1f} > {:.2f})",
+                            gone.empty() ? "" : ", ", family_name(e->families[a]),
+                            e->laws[static_cast<std::size_t>(b)],
+                            e->t[a][static_cast<std::size_t>(b)], e->critical);
+    if (!gone.empty()) text += "; calibrated on the set, these families' laws leave it: " + gone;
+  }
   return text + ".";
 }
 

@@ -10,6 +10,7 @@
 
 #include "common/progress.hpp"
 #include "diagnosis/confidence.hpp"
+#include "diagnosis/encompassing.hpp"
 #include "diagnosis/evidence.hpp"
 #include "diagnosis/power.hpp"
 #include "diagnosis/signature.hpp"
@@ -136,8 +137,8 @@ LawConfidenceSet confidence_set_of(const Diagnosis& d, const std::vector<std::st
                                    const std::vector<std::optional<Model>>& models,
                                    const std::vector<detail::Score>& scores,
                                    const stats::ScoreTests& tests, const detail::Directions& dirs,
-                                   const Model& warm, const EffectRegistry& registry,
-                                   const DiagnoseOptions& o) {
+                                   const Model& warm, const Shape& shape, const ImpactSet& set,
+                                   const EffectRegistry& registry, const DiagnoseOptions& o) {
   auto calibrated_law = [&](const std::string& effect) {
     for (const Candidate& c : d.ranking)
       if (c.effect == effect && c.error.empty()) return c.law;
@@ -178,7 +179,31 @@ LawConfidenceSet confidence_set_of(const Diagnosis& d, const std::vector<std::st
       // A pair that cannot be composed here is judged by the ranking alone.
     }
   }
-  return detail::law_confidence_set(dirs, cands, tests, registry, d.baseline.base.use, o.alpha);
+  const auto& use = d.baseline.base.use;
+  LawConfidenceSet first = detail::law_confidence_set(dirs, cands, tests, registry, use, o.alpha);
+  // The second stage (encompassing.hpp), at the other half of alpha: each family's best member
+  // (members come best first; a pair goes with its first effect's family).
+  std::vector<std::string> laws;
+  std::vector<Family> families;
+  for (const LawMember& m : first.members)
+    if (m.effects.size() == 1 &&
+        std::find(families.begin(), families.end(), m.family) == families.end()) {
+      laws.push_back(m.effect);
+      families.push_back(m.family);
+    }
+  if (laws.size() < 2) return first;
+  FamilyEncompassing enc =
+      detail::encompassing_tests(warm, d.baseline.base.population, shape, set, laws, families,
+                                 dirs.whiten, use, o.assess, o.alpha / 2, registry);
+  std::vector<Family> excluded;
+  for (std::size_t k = 0; k < laws.size(); ++k)
+    if (enc.excluded_by[k] >= 0) excluded.push_back(families[k]);
+  LawConfidenceSet out =
+      excluded.empty() ? std::move(first)
+                       : detail::law_confidence_set(dirs, cands, tests, registry, use, o.alpha,
+                                                    excluded);
+  out.encompassing = std::move(enc);
+  return out;
 }
 
 }  // namespace
@@ -238,7 +263,7 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
   if (set.size() <= q + 1) columns.clear();
   const stats::ScoreTests tests = stats::robust_score_tests(
       columns, names.size(),
-      {.nuisance = q, .mcb_level = o.alpha, .draws = o.score_draws, .seed = o.assess.fit.seed});
+      {.nuisance = q, .mcb_level = o.alpha / 2, .draws = o.score_draws, .seed = o.assess.fit.seed});
   d.family_size = names.size();
 
   // The candidates calibrated: all named ones, else the `screen` of largest score statistic.
@@ -349,7 +374,7 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
   for (Candidate& c : d.ranking)
     if (c.error.empty()) c.evidence = detail::evidence_of(c, b, o);
   d.confidence_set =
-      confidence_set_of(d, names, cand_models, scores, tests, dirs, warm, registry, o);
+      confidence_set_of(d, names, cand_models, scores, tests, dirs, warm, shape, set, registry, o);
   d.detectable_candidates = detail::detectable_candidates(dirs, names, cand_models, scores, tests,
                                                           registry, b.base.use, o.alpha);
   d.detectable = detail::minimum_detectable(d.detectable_candidates);

@@ -119,7 +119,19 @@ std::vector<Rival> calibrate_rivals(const Model& base, const Shape& shape, const
   b.law = detail::law_of(b.model, b.fit.params, b.model.effect_names(), registry);
   b.error = mean_error(b.fit, set.size());
 
-  // The rivals, one calibration per thread.
+  const std::vector<Rival> rest = calibrate_rivals_from(b, shape, set, rivals, o, registry);
+  std::copy(rest.begin(), rest.end(), out.begin() + 1);
+  return out;
+}
+
+std::vector<Rival> calibrate_rivals_from(const Rival& base, const Shape& shape,
+                                         const ImpactSet& set,
+                                         const std::vector<std::vector<std::string>>& rivals,
+                                         const AssessOptions& options,
+                                         const EffectRegistry& registry) {
+  const AssessOptions o = resolve_scale(set, options);
+  std::vector<Rival> out(rivals.size());
+  // One calibration per thread.
   const int available = o.fit.threads > 0 ? o.fit.threads : omp_get_max_threads();
   const int threads = std::max(
       1, std::min<int>(available, static_cast<int>(std::max<std::size_t>(1, rivals.size()))));
@@ -128,10 +140,10 @@ std::vector<Rival> calibrate_rivals(const Model& base, const Shape& shape, const
   for (std::size_t k = 0; k < rivals.size(); ++k) {
     try {
       if (rivals[k].empty())
-        out[1 + k] = b;
+        out[k] = base;
       else
-        out[1 + k] = calibrate_one(b.model, rivals[k], shape, set, o, registry,
-                                   threads > 1 ? 1 : o.fit.threads);
+        out[k] = calibrate_one(base.model, rivals[k], shape, set, o, registry,
+                               threads > 1 ? 1 : o.fit.threads);
     } catch (...) {
       failure[k] = std::current_exception();
     }

@@ -55,6 +55,16 @@ std::vector<Rival> calibrate_rivals(const Model& base, const Shape& shape, const
                                     const std::vector<std::vector<std::string>>& rivals,
                                     const AssessOptions& options, const EffectRegistry& registry);
 
+/// The rivals from a base model already calibrated on the set (`base`: name "none", its model
+/// with the calibrated values and its population fit, e.g. the diagnosis's warm model), as
+/// calibrate_rivals does after the base model's own fit. Returns the rivals in the order given
+/// ("none" among them is `base` again).
+std::vector<Rival> calibrate_rivals_from(const Rival& base, const Shape& shape,
+                                         const ImpactSet& set,
+                                         const std::vector<std::vector<std::string>>& rivals,
+                                         const AssessOptions& options,
+                                         const EffectRegistry& registry);
+
 /// The rivals when none are named: "none" plus, per family, the best member of the diagnosis's
 /// confidence set of laws (diagnose() with `options`; Diagnosis::confidence_set).
 std::vector<std::string> default_rivals(const Model& base, const Shape& shape, const ImpactSet& set,

@@ -1,0 +1,159 @@
+// The second stage of the confidence set of laws (encompassing.hpp).
+#include "diagnosis/encompassing.hpp"
+
+#include <openturns/OT.hxx>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "diagnosis/rivals.hpp"
+
+namespace ricochet::diagnosis::detail {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// One law on the set's releases, whitened and stacked (release-major, the used observables of
+// a release contiguous): its predictions f, its residual e = W D^-1 (y - f), and G, the columns
+// of its calibrated parameters' forward differences.
+struct Stacked {
+  Eigen::VectorXd f, e;
+  Eigen::MatrixXd G;
+  bool ok = false;  ///< every release rebounds under the law and its probes
+};
+
+Stacked stack(const Rival& r, const Shape& shape, const ImpactSet& set,
+              const Eigen::MatrixXd& W, const std::array<bool, kObservables>& use,
+              const AssessOptions& o) {
+  std::vector<int> obs;
+  for (int k = 0; k < kObservables; ++k)
+    if (use[k]) obs.push_back(k);
+  const auto K = static_cast<Eigen::Index>(obs.size());
+  const auto N = static_cast<Eigen::Index>(set.size()) * K;
+  const std::vector<ObsPrediction> p = predict_observables(r.model, shape, r.model.values(), set, o);
+  const std::vector<ParameterProbe> probes = probe_calibrated(r.model, shape, set, o);
+  const ErrorReport rep = error_report(set, p, use, o);
+  Stacked s;
+  s.f.resize(N);
+  s.e.resize(N);
+  s.G.resize(N, static_cast<Eigen::Index>(probes.size()));
+  s.ok = true;
+  for (std::size_t i = 0; i < set.size(); ++i) {
+    const Obs D = error_scale(set.impacts[i], o);
+    const Eigen::Index row0 = static_cast<Eigen::Index>(i) * K;
+    Eigen::VectorXd f(K), e(K);
+    Eigen::MatrixXd g(K, s.G.cols());
+    bool ok = p[i].status == CollisionStatus::kOk;
+    for (Eigen::Index a = 0; a < K; ++a) {
+      const int k = obs[static_cast<std::size_t>(a)];
+      f[a] = p[i].value[k] / D[k];
+      e[a] = rep.residual[i][k] / D[k];
+      for (std::size_t c = 0; c < probes.size(); ++c) {
+        const ObsPrediction& q = probes[c].predictions[i];
+        ok = ok && q.status == CollisionStatus::kOk;
+        g(a, static_cast<Eigen::Index>(c)) = (q.value[k] - p[i].value[k]) / probes[c].step / D[k];
+      }
+    }
+    ok = ok && f.allFinite() && e.allFinite() && g.allFinite();
+    s.ok = s.ok && ok;
+    s.f.segment(row0, K) = W * f;
+    s.e.segment(row0, K) = W * e;
+    s.G.middleRows(row0, K) = W * g;
+  }
+  return s;
+}
+
+// d -= G (G^T G)^+ G^T d.
+void project_out(Eigen::VectorXd& d, const Eigen::MatrixXd& G) {
+  if (G.cols() > 0) d -= G * G.completeOrthogonalDecomposition().solve(d);
+}
+
+// t_ab of the file comment: law a true, in the direction of law b.
+double j_statistic(const Stacked& a, const Stacked& b, Eigen::Index K) {
+  Eigen::VectorXd d = b.f - a.f;
+  project_out(d, b.G);  // the JA form: what b's own refit cannot take up (file comment)
+  project_out(d, a.G);
+  double num = 0, den = 0;
+  for (Eigen::Index r = 0; r + K <= d.size(); r += K) {
+    const double u = d.segment(r, K).dot(a.e.segment(r, K));
+    num += u;
+    den += u * u;
+  }
+  return den > 0 ? num / std::sqrt(den) : kNaN;
+}
+
+}  // namespace
+
+FamilyEncompassing encompassing_tests(const Model& warm, const fit::PopulationFit& base_fit,
+                                      const Shape& shape, const ImpactSet& set,
+                                      const std::vector<std::string>& laws,
+                                      const std::vector<Family>& families,
+                                      const Eigen::MatrixXd& whiten,
+                                      const std::array<bool, kObservables>& use,
+                                      const AssessOptions& options, double alpha,
+                                      const EffectRegistry& registry) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const AssessOptions o = resolve_scale(set, options);
+  const std::size_t m = laws.size();
+  FamilyEncompassing out;
+  out.alpha = alpha;
+  out.laws = laws;
+  out.families = families;
+  out.calibrated.assign(m, std::string());
+  out.t.assign(m, std::vector<double>(m, kNaN));
+  out.excluded_by.assign(m, -1);
+  if (m < 2) return out;
+  out.critical = OT::DistFunc::qNormal(1.0 - alpha / static_cast<double>(m * (m - 1)));
+
+  Rival base;
+  base.name = "none";
+  base.model = warm;
+  base.fit = base_fit;
+  std::vector<std::vector<std::string>> effects;
+  for (const auto& l : laws) effects.push_back({l});
+  // A law that cannot be calibrated here is not judged (it stays); the others still are.
+  std::vector<Rival> rivals(m);
+  std::vector<bool> calibrated(m, false);
+  try {
+    rivals = calibrate_rivals_from(base, shape, set, effects, o, registry);
+    calibrated.assign(m, true);
+  } catch (const std::exception&) {
+    for (std::size_t k = 0; k < m; ++k) try {
+        rivals[k] = calibrate_rivals_from(base, shape, set, {effects[k]}, o, registry).front();
+        calibrated[k] = true;
+      } catch (const std::exception&) {
+      }
+  }
+  std::vector<Stacked> s(m);
+  for (std::size_t k = 0; k < m; ++k)
+    if (calibrated[k]) {
+      out.calibrated[k] = rivals[k].law;
+      s[k] = stack(rivals[k], shape, set, whiten, use, o);
+    }
+  const Eigen::Index K = whiten.rows();
+  for (std::size_t a = 0; a < m; ++a)
+    for (std::size_t b = 0; b < m; ++b)
+      if (a != b && s[a].ok && s[b].ok) out.t[a][b] = j_statistic(s[a], s[b], K);
+  const double c = out.critical;
+  for (std::size_t a = 0; a < m; ++a) {
+    double worst = -std::numeric_limits<double>::infinity();
+    for (std::size_t b = 0; b < m; ++b) {
+      const double tab = out.t[a][b], tba = out.t[b][a];
+      if (a == b || !std::isfinite(tab) || !std::isfinite(tba)) continue;
+      if (tab > c && tba <= c && tab > worst) {
+        worst = tab;
+        out.excluded_by[a] = static_cast<int>(b);
+      }
+    }
+  }
+  // Every law excluded by another (a cycle of rejections): the tests contradict each other
+  // and decide nothing.
+  if (std::all_of(out.excluded_by.begin(), out.excluded_by.end(), [](int b) { return b >= 0; }))
+    out.excluded_by.assign(m, -1);
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+}  // namespace ricochet::diagnosis::detail
