@@ -225,7 +225,8 @@ struct LawConfidenceSet {
   double alpha = 0.05;
   std::size_t models = 0;          ///< laws judged: every candidate with a statistic, and "none"
   std::vector<LawMember> members;  ///< best (largest statistic) first
-  /// The second stage, run when the first left two candidate families or more.
+  /// The second stage, run when the first rejected the law as it stands ("none") and left two
+  /// candidate families or more.
   std::optional<FamilyEncompassing> encompassing;
   /// The distinct families of the members, "none" included when the law as it stands is in.
   std::vector<Family> families() const;

@@ -21,7 +21,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 struct Stacked {
   Eigen::VectorXd f, e;
   Eigen::MatrixXd G;
-  bool ok = false;  ///< every release rebounds under the law and its probes
+  std::vector<char> ok;  ///< per release: it rebounds under the law and its probes
 };
 
 Stacked stack(const Rival& r, const Shape& shape, const ImpactSet& set,
@@ -39,7 +39,7 @@ Stacked stack(const Rival& r, const Shape& shape, const ImpactSet& set,
   s.f.resize(N);
   s.e.resize(N);
   s.G.resize(N, static_cast<Eigen::Index>(probes.size()));
-  s.ok = true;
+  s.ok.assign(set.size(), 0);
   for (std::size_t i = 0; i < set.size(); ++i) {
     const Obs D = error_scale(set.impacts[i], o);
     const Eigen::Index row0 = static_cast<Eigen::Index>(i) * K;
@@ -56,13 +56,29 @@ Stacked stack(const Rival& r, const Shape& shape, const ImpactSet& set,
         g(a, static_cast<Eigen::Index>(c)) = (q.value[k] - p[i].value[k]) / probes[c].step / D[k];
       }
     }
-    ok = ok && f.allFinite() && e.allFinite() && g.allFinite();
-    s.ok = s.ok && ok;
-    s.f.segment(row0, K) = W * f;
-    s.e.segment(row0, K) = W * e;
-    s.G.middleRows(row0, K) = W * g;
+    s.ok[i] = ok && f.allFinite() && e.allFinite() && g.allFinite();
+    s.f.segment(row0, K) = s.ok[i] ? Eigen::VectorXd(W * f) : Eigen::VectorXd::Zero(K);
+    s.e.segment(row0, K) = s.ok[i] ? Eigen::VectorXd(W * e) : Eigen::VectorXd::Zero(K);
+    s.G.middleRows(row0, K) = s.ok[i] ? Eigen::MatrixXd(W * g) : Eigen::MatrixXd::Zero(K, g.cols());
   }
   return s;
+}
+
+// Keeps the releases every law predicts (a triangle can stay in the sand under one law's probe):
+// the others' rows are zeroed, so they count in no sum and no projection.
+void keep_common(std::vector<Stacked>& laws, Eigen::Index K) {
+  if (laws.empty()) return;
+  std::vector<char> all(laws.front().ok.size(), 1);
+  for (const Stacked& s : laws)
+    for (std::size_t i = 0; i < all.size() && i < s.ok.size(); ++i) all[i] = all[i] && s.ok[i];
+  for (Stacked& s : laws)
+    for (std::size_t i = 0; i < all.size(); ++i)
+      if (!all[i]) {
+        const Eigen::Index r = static_cast<Eigen::Index>(i) * K;
+        s.f.segment(r, K).setZero();
+        s.e.segment(r, K).setZero();
+        s.G.middleRows(r, K).setZero();
+      }
 }
 
 // d -= G (G^T G)^+ G^T d.
@@ -126,16 +142,19 @@ FamilyEncompassing encompassing_tests(const Model& warm, const fit::PopulationFi
       } catch (const std::exception&) {
       }
   }
-  std::vector<Stacked> s(m);
+  const Eigen::Index K = whiten.rows();
+  std::vector<Stacked> s;
+  std::vector<std::size_t> judged;  // the calibrated laws
   for (std::size_t k = 0; k < m; ++k)
     if (calibrated[k]) {
       out.calibrated[k] = rivals[k].law;
-      s[k] = stack(rivals[k], shape, set, whiten, use, o);
+      s.push_back(stack(rivals[k], shape, set, whiten, use, o));
+      judged.push_back(k);
     }
-  const Eigen::Index K = whiten.rows();
-  for (std::size_t a = 0; a < m; ++a)
-    for (std::size_t b = 0; b < m; ++b)
-      if (a != b && s[a].ok && s[b].ok) out.t[a][b] = j_statistic(s[a], s[b], K);
+  keep_common(s, K);
+  for (std::size_t x = 0; x < judged.size(); ++x)
+    for (std::size_t y = 0; y < judged.size(); ++y)
+      if (x != y) out.t[judged[x]][judged[y]] = j_statistic(s[x], s[y], K);
   const double c = out.critical;
   for (std::size_t a = 0; a < m; ++a) {
     double worst = -std::numeric_limits<double>::infinity();

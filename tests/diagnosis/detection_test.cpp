@@ -297,6 +297,24 @@ TEST(HiddenEffect, TheConfidenceSetHoldsTheTruthsFamilyAndNotNone) {
     EXPECT_NE(m["family"].get<std::string>(), "other") << m.dump();
   }
   EXPECT_NE(d.summary.find("cannot tell apart"), std::string::npos) << d.summary;
+  // The second stage (encompassing.hpp) between the families' calibrated laws: the truth's
+  // family stays, and every exclusion follows the rule (t_ab > c >= t_ba). Whether any family
+  // leaves is a question of power (40 releases: none does here; the closed loop's test,
+  // independent_detection_test.cpp, has one that must).
+  ASSERT_TRUE(cs.encompassing.has_value()) << d.summary;
+  const FamilyEncompassing& e = *cs.encompassing;
+  for (std::size_t k = 0; k < e.laws.size(); ++k) {
+    if (e.families[k] == Family::kRestitution) {
+      EXPECT_LT(e.excluded_by[k], 0) << e.laws[k] << " | " << d.summary;
+    }
+    if (e.excluded_by[k] >= 0) {
+      EXPECT_EQ(std::count(fam.begin(), fam.end(), e.families[k]), 0) << e.laws[k];
+      const auto b = static_cast<std::size_t>(e.excluded_by[k]);
+      EXPECT_GT(e.t[k][b], e.critical);
+      EXPECT_LE(e.t[b][k], e.critical);
+    }
+  }
+  EXPECT_FALSE(j["confidence_set_detail"]["encompassing"].is_null());
 
   const Diagnosis null =
       diagnose(Model::paper(), Shape::cylinder(), hidden_set({"none_cs", {}, {}}), o);
