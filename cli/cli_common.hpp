@@ -68,6 +68,7 @@ void require_out_extension(const OutputOptions& options,
 
 // One registration function per subcommand, called in order by main.cpp (explicit registry).
 void add_stats_command(CLI::App& app);
+void add_paired_command(CLI::App& app);
 void add_reconstruct_command(CLI::App& app);
 void add_transfer_command(CLI::App& app);
 void add_effects_command(CLI::App& app);

@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
 
   // Explicit registry of subcommands, in the order of the paper's analysis.
   ricochet::cli::add_stats_command(app);
+  ricochet::cli::add_paired_command(app);
   ricochet::cli::add_reconstruct_command(app);
   ricochet::cli::add_transfer_command(app);
   ricochet::cli::add_effects_command(app);

@@ -31,8 +31,17 @@ void PrintTo(const BadCase& c, std::ostream* os) {
 }
 
 // At least one case per subcommand (and per `dem` / `transfer` subcommand).
+// A resolved campaign with two grain stiffnesses of the same impacts (ids E1.5e7-KEY, E1.5e8-KEY).
+const std::string kPlateau =
+    quote(std::string(RICOCHET_SOURCE_DIR) + "/data/resolved/stiffness-plateau.h5");
+
 const std::vector<BadCase> kCases = {
     {"stats " + kCyl + " --bogus 1", "--bogus"},
+    {"paired " + kPlateau + " --base E1.5e7- --against E1.5e8- --margin -1",
+     "--margin: value -1 is outside [0, 100]"},
+    {"paired " + kPlateau + " --base E1.5e7- --against E1.5e7-", "--against"},
+    {"paired " + kPlateau + " --base X- --against Y-", "no pair of ids"},
+    {"paired " + kPlateau + " --base E1.5e7- --against E1.5e8- --lab " + kCyl, "triangle"},
     {"reconstruct track.csv --k-sigma -1", "--k-sigma: value -1 is outside [0.001, 1000]"},
     {"reconstruct track.csv --pixel-size 0", "--pixel-size"},
     {"reconstruct track.csv --guard -2", "--guard"},

@@ -49,6 +49,9 @@ const std::vector<std::string> kImpactSet = {".csv", ".h5", ".hdf5"};
 // docs/commands/README.md says so).
 const std::vector<OutCase> kCases = {
     {"stats " + kCyl, kTable},
+    {"paired " + quote(kSource + "/data/resolved/stiffness-plateau.h5") +
+         " --base E1.5e7- --against E1.5e8-",
+     {".csv", ".json"}},
     {"reconstruct no-such-track.csv", kTable, false},
     {"transfer fit " + kCyl, kTable},
     {"transfer predict --seed 1 --from " + kCyl + " --vin 2.9,-2.3,-65", kTable},
@@ -325,6 +328,9 @@ TEST_P(JsonKeys, EveryTopLevelKeyIsDocumented) {
 
 const std::vector<KeysCase> kKeysCases = {
     {"stats " + kCyl, "stats"},
+    {"paired " + quote(kSource + "/data/resolved/stiffness-plateau.h5") +
+         " --base E1.5e7- --against E1.5e8-",
+     "paired"},
     {"reconstruct @DIR@/track.csv --pixel-size 0.001", "reconstruct"},
     {"transfer fit " + kCyl, "transfer"},
     {"transfer predict --seed 1 --from " + kCyl + " --vin 2.9,-2.3,-65", "transfer"},

@@ -16,6 +16,8 @@ namespace {
 using test::quote;
 
 const std::string kCyl = quote(std::string(RICOCHET_SOURCE_DIR) + "/data/lab/cylinders.csv");
+const std::string kCampaignPlateau =
+    quote(std::string(RICOCHET_SOURCE_DIR) + "/data/resolved/stiffness-plateau.h5");
 const std::string kCampaign =
     quote(std::string(RICOCHET_SOURCE_DIR) + "/data/resolved/convergence.h5");
 
@@ -63,6 +65,7 @@ TEST_F(SharedOptions, WhereOnEveryCommandThatReadsAnImpactSet) {
   const std::string out = quote((dir_ / "out.html").string());
   const std::vector<std::string> commands = {
       "stats " + kCyl,
+      "paired " + kCampaignPlateau + " --base E1.5e7- --against E1.5e8-",
       "transfer fit " + kCyl,
       "transfer predict --seed 1 --vin 2.9,-2.3,-65 --from " + kCyl,
       "calibrate " + kCyl,
