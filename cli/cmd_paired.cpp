@@ -43,8 +43,9 @@ std::map<std::string, std::array<double, 3>> lab_scales(const std::vector<std::s
     }
     for (const auto& [shape, s] : by_shape) {
       if (out.count(shape))
-        throw InputError(f, 0, "shape",
-                         fmt::format("a second lab set for shape '{}' (one --lab per shape)", shape));
+        throw InputError(
+            f, 0, "shape",
+            fmt::format("a second lab set for shape '{}' (one --lab per shape)", shape));
       out[shape] = stats::vout_std(s);
     }
   }
@@ -56,7 +57,9 @@ nlohmann::json to_json(const stats::PairedComparison& c,
   nlohmann::json comps = nlohmann::json::object();
   for (std::size_t k = 0; k < 3; ++k) {
     const stats::PairedComponent& x = c.components[k];
-    const auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
+    const auto num = [](double v) {
+      return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
+    };
     comps[kKeys[k]] = {{"n", x.n},
                        {"mean", num(x.mean)},
                        {"sd", num(x.sd)},
@@ -67,9 +70,10 @@ nlohmann::json to_json(const stats::PairedComparison& c,
   }
   nlohmann::json pairs = nlohmann::json::array();
   for (std::size_t i = 0; i < c.keys.size(); ++i)
-    pairs.push_back({{"key", c.keys[i]},
-                     {"shape", c.shapes[i]},
-                     {"difference", {c.differences[i][0], c.differences[i][1], c.differences[i][2]}}});
+    pairs.push_back(
+        {{"key", c.keys[i]},
+         {"shape", c.shapes[i]},
+         {"difference", {c.differences[i][0], c.differences[i][1], c.differences[i][2]}}});
   nlohmann::json sc = nlohmann::json::object();
   for (const auto& [shape, s] : scales) sc[shape] = {s[0], s[1], s[2]};
   return {{"base", c.base},
@@ -98,9 +102,10 @@ void run(const PairedCliOptions& o) {
 
   if (!o.output.out.empty()) {
     CsvTable t;
-    t.comment(fmt::format("ricochet paired {}: {} minus {}, in lab standard deviations of each "
-                          "shape's V_out",
-                          o.data, o.against, o.base));
+    t.comment(
+        fmt::format("ricochet paired {}: {} minus {}, in lab standard deviations of each "
+                    "shape's V_out",
+                    o.data, o.against, o.base));
     t.row({"key", "shape", "d_vout_x[sd]", "d_vout_y[sd]", "d_wout[sd]"});
     for (std::size_t i = 0; i < c.keys.size(); ++i)
       t.row({c.keys[i], c.shapes[i], CsvTable::num(c.differences[i][0]),
@@ -115,9 +120,8 @@ void run(const PairedCliOptions& o) {
       "{}: {} minus {}, {} pair{}; differences in lab standard deviations of each shape's "
       "V_out\n",
       o.data, o.against, o.base, c.keys.size(), c.keys.size() == 1 ? "" : "s");
-  std::cout << fmt::format("{:<10} {:>3} {:>8} {:>7}   {:<22} {}\n", "component", "n", "mean",
-                           "sd", fmt::format("{:.0f} % interval", 100 * o.paired.level),
-                           "holds");
+  std::cout << fmt::format("{:<10} {:>3} {:>8} {:>7}   {:<22} {}\n", "component", "n", "mean", "sd",
+                           fmt::format("{:.0f} % interval", 100 * o.paired.level), "holds");
   for (std::size_t k = 0; k < 3; ++k) {
     const stats::PairedComponent& x = c.components[k];
     const std::string why = x.n < 2 ? "fewer than 2 pairs: no interval"
@@ -127,8 +131,8 @@ void run(const PairedCliOptions& o) {
                             : x.within_margin       ? "|mean| < margin"
                                                     : "moves";
     std::cout << fmt::format("{:<10} {:>3} {:>+8.3f} {:>7.3f}   [{:+.3f}, {:+.3f}]{:>5} {} ({})\n",
-                             kComponents[k], x.n, x.mean, x.sd, x.lo, x.hi, "", x.holds ? "yes" : "no",
-                             why);
+                             kComponents[k], x.n, x.mean, x.sd, x.lo, x.hi, "",
+                             x.holds ? "yes" : "no", why);
   }
   std::cout << fmt::format("all components hold (margin {} sd): {}\n", o.paired.margin,
                            c.all_hold ? "yes" : "no");

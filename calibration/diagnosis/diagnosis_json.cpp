@@ -164,13 +164,14 @@ nlohmann::json to_json(const LawConfidenceSet& cs, const std::array<bool, kObser
       for (std::size_t b = 0; b < e->laws.size(); ++b)
         if (b != a) t[e->laws[b]] = num(e->t[a][b]);
       const int by = e->excluded_by[a];
-      laws.push_back({{"effect", e->laws[a]},
-                      {"family", family_name(e->families[a])},
-                      {"law", e->calibrated[a]},
-                      {"excluded", by >= 0},
-                      {"excluded_by", by >= 0 ? nlohmann::json(e->laws[static_cast<std::size_t>(by)])
-                                              : nlohmann::json(nullptr)},
-                      {"t", t}});
+      laws.push_back(
+          {{"effect", e->laws[a]},
+           {"family", family_name(e->families[a])},
+           {"law", e->calibrated[a]},
+           {"excluded", by >= 0},
+           {"excluded_by", by >= 0 ? nlohmann::json(e->laws[static_cast<std::size_t>(by)])
+                                   : nlohmann::json(nullptr)},
+           {"t", t}});
     }
     out["encompassing"] = {{"alpha", e->alpha},
                            {"critical", num(e->critical)},

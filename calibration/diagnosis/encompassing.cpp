@@ -24,15 +24,15 @@ struct Stacked {
   std::vector<char> ok;  ///< per release: it rebounds under the law and its probes
 };
 
-Stacked stack(const Rival& r, const Shape& shape, const ImpactSet& set,
-              const Eigen::MatrixXd& W, const std::array<bool, kObservables>& use,
-              const AssessOptions& o) {
+Stacked stack(const Rival& r, const Shape& shape, const ImpactSet& set, const Eigen::MatrixXd& W,
+              const std::array<bool, kObservables>& use, const AssessOptions& o) {
   std::vector<int> obs;
   for (int k = 0; k < kObservables; ++k)
     if (use[k]) obs.push_back(k);
   const auto K = static_cast<Eigen::Index>(obs.size());
   const auto N = static_cast<Eigen::Index>(set.size()) * K;
-  const std::vector<ObsPrediction> p = predict_observables(r.model, shape, r.model.values(), set, o);
+  const std::vector<ObsPrediction> p =
+      predict_observables(r.model, shape, r.model.values(), set, o);
   const std::vector<ParameterProbe> probes = probe_calibrated(r.model, shape, set, o);
   const ErrorReport rep = error_report(set, p, use, o);
   Stacked s;
@@ -102,14 +102,11 @@ double j_statistic(const Stacked& a, const Stacked& b, Eigen::Index K) {
 
 }  // namespace
 
-FamilyEncompassing encompassing_tests(const Model& warm, const fit::PopulationFit& base_fit,
-                                      const Shape& shape, const ImpactSet& set,
-                                      const std::vector<std::string>& laws,
-                                      const std::vector<Family>& families,
-                                      const Eigen::MatrixXd& whiten,
-                                      const std::array<bool, kObservables>& use,
-                                      const AssessOptions& options, double alpha,
-                                      const EffectRegistry& registry) {
+FamilyEncompassing encompassing_tests(
+    const Model& warm, const fit::PopulationFit& base_fit, const Shape& shape, const ImpactSet& set,
+    const std::vector<std::string>& laws, const std::vector<Family>& families,
+    const Eigen::MatrixXd& whiten, const std::array<bool, kObservables>& use,
+    const AssessOptions& options, double alpha, const EffectRegistry& registry) {
   const auto t0 = std::chrono::steady_clock::now();
   const AssessOptions o = resolve_scale(set, options);
   const std::size_t m = laws.size();

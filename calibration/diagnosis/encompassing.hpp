@@ -15,7 +15,8 @@
 // the set (rivals.hpp, calibrate_rivals_from: the diagnosis's own full-set calibration):
 //   e_i = W D_i^-1 (y_i - f_a(x_i))        a's whitened residual of release i,
 //   d_i = W D_i^-1 (f_b(x_i) - f_a(x_i))   the whitened move from a's predictions to b's,
-//   d'  = (I - P_b) d,  d~ = (I - P_a) d'   over all releases stacked, P_r = G_r (G_r^T G_r)^+ G_r^T
+//   d'  = (I - P_b) d,  d~ = (I - P_a) d'   over all releases stacked, P_r = G_r (G_r^T G_r)^+
+//   G_r^T
 //                                          the projection on law r's whitened parameter Jacobian
 //                                          (probe_calibrated): what neither b's refit nor a's own
 //                                          parameters can absorb,
@@ -66,13 +67,10 @@ namespace ricochet::diagnosis::detail {
 /// per family, of the families `families`), each added to `warm` (the base model with its
 /// values calibrated on `set`, `base_fit` that calibration) and calibrated on `set`. `whiten`:
 /// Directions::whiten; `use`: the set's observables; `options` resolved on `set`.
-FamilyEncompassing encompassing_tests(const Model& warm, const fit::PopulationFit& base_fit,
-                                      const Shape& shape, const ImpactSet& set,
-                                      const std::vector<std::string>& laws,
-                                      const std::vector<Family>& families,
-                                      const Eigen::MatrixXd& whiten,
-                                      const std::array<bool, kObservables>& use,
-                                      const AssessOptions& options, double alpha,
-                                      const EffectRegistry& registry);
+FamilyEncompassing encompassing_tests(
+    const Model& warm, const fit::PopulationFit& base_fit, const Shape& shape, const ImpactSet& set,
+    const std::vector<std::string>& laws, const std::vector<Family>& families,
+    const Eigen::MatrixXd& whiten, const std::array<bool, kObservables>& use,
+    const AssessOptions& options, double alpha, const EffectRegistry& registry);
 
 }  // namespace ricochet::diagnosis::detail

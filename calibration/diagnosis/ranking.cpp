@@ -202,10 +202,9 @@ LawConfidenceSet confidence_set_of(const Diagnosis& d, const std::vector<std::st
   std::vector<Family> excluded;
   for (std::size_t k = 0; k < laws.size(); ++k)
     if (enc.excluded_by[k] >= 0) excluded.push_back(families[k]);
-  LawConfidenceSet out =
-      excluded.empty() ? std::move(first)
-                       : detail::law_confidence_set(dirs, cands, tests, registry, use, o.alpha,
-                                                    excluded);
+  LawConfidenceSet out = excluded.empty() ? std::move(first)
+                                          : detail::law_confidence_set(dirs, cands, tests, registry,
+                                                                       use, o.alpha, excluded);
   out.encompassing = std::move(enc);
   return out;
 }

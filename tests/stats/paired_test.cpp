@@ -37,8 +37,7 @@ ImpactSet four_pairs() {
     const auto& sc = kScale.at(shape);
     const std::string key = "k" + std::to_string(i);
     s.impacts.push_back(impact("A-" + key, shape, 3.0, 1.0, -40.0));
-    s.impacts.push_back(
-        impact("B-" + key, shape, 3.0 + dx[i] * sc[0], 1.0, -40.0 + dw[i] * sc[2]));
+    s.impacts.push_back(impact("B-" + key, shape, 3.0 + dx[i] * sc[0], 1.0, -40.0 + dw[i] * sc[2]));
   }
   s.impacts.push_back(impact("A-lonely", "cylinder", 3.0, 1.0, -40.0));
   return s;
