@@ -78,8 +78,8 @@ struct DiagnoseOptions {
   /// Family-wise error rate of the candidate tests (step-down max-T over the whole family).
   double alpha = 0.05;
   /// Candidates calibrated (held-out error) after the score test, by largest statistic; all of
-  /// them when `candidates` names them. Each costs a leak-free calibration (about 1.4 s on the
-  /// lab cylinders on 2 cores): 1 keeps that diagnosis within 3 s; the score test needs none.
+  /// them when `candidates` names them. Each costs a leak-free calibration, most of a
+  /// diagnosis's time (docs/diagnosis.md, "Cost"); the score test needs none.
   std::size_t screen = 1;
   /// Multiplier-bootstrap draws of the max-T adjustment (Monte Carlo error of an adjusted p
   /// near 0.05: about 0.0015 with 20,000).

@@ -1,5 +1,5 @@
 // Impact features and the trends of residuals and per-release calibrated parameters against
-// them: the residual signatures of missing physics (shared notes, physics-candidates.md).
+// them: the residual signatures of missing physics (each effect's Signature, docs/effects/).
 //
 // A trend is a Pearson correlation with its two-sided p-value (stats::pearson, OpenTURNS). Many
 // trends are tested at once (every residual and parameter against every feature, about 40), so

@@ -14,7 +14,7 @@ std::unique_ptr<Effect> make_normal();
 std::unique_ptr<Effect> make_tangential();
 std::unique_ptr<Effect> make_rolling();
 
-// Candidate missing physics (../shared/notes/physics-candidates.md), one per family.
+// Candidate missing physics (docs/effects/README.md, one page each), one per family.
 std::unique_ptr<Effect> make_rate_restitution();
 std::unique_ptr<Effect> make_inertial_drag();
 std::unique_ptr<Effect> make_ploughing();

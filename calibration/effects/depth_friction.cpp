@@ -11,7 +11,8 @@ constexpr ParameterSpec kParams[] = {
     {"a_mu", "1/m", 0.0, 2000.0, 0.0, 0.0, true, "friction hardening per metre of penetration"},
 };
 
-// Signature: the shared notes' residual and parameter trends of this family.
+// Signature: the residual and parameter trends of this family (docs/effects/depth_friction.md,
+// "Signature in residuals", which gives the physical reasoning and the literature).
 constexpr SignatureTrend kSignature[] = {
     {"param mu", "penetration"},
     {"residual vx", "penetration"},

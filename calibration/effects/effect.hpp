@@ -107,8 +107,8 @@ struct SignatureTrend {
 };
 
 /// What an effect stands for and what its absence looks like (its signature): the diagnosis
-/// tests these trends and cites them as evidence; the physics notes
-/// (shared notes, physics-candidates.md) are their source for the built-ins.
+/// tests these trends and cites them as evidence; each built-in's page in docs/effects/ gives
+/// their physical reasoning and the literature behind it.
 struct Signature {
   std::string_view meaning;                ///< in words, e.g. "speed-dependent restitution"
   std::span<const SignatureTrend> trends;  ///< empty for the paper's own law

@@ -17,7 +17,8 @@ constexpr ParameterSpec kParams[] = {
     {"h_ref", "m", 1e-4, 0.05, 2e-3, NAN, false, "penetration at which kn_eff = kn"},
 };
 
-// Signature: the shared notes' residual and parameter trends of this family.
+// Signature: the residual and parameter trends of this family (docs/effects/hertz_stiffness.md,
+// "Signature in residuals", which gives the physical reasoning and the literature).
 constexpr SignatureTrend kSignature[] = {
     {"residual contact_duration", "speed_in"},
     {"residual penetration", "speed_in"},

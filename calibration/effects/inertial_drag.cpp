@@ -13,7 +13,8 @@ constexpr ParameterSpec kParams[] = {
     {"cd", "kg/m", 0.0, 5000.0, 0.0, 0.0, true, "drag coefficient m/d1 (0 = no drag)"},
 };
 
-// Signature: the shared notes' residual and parameter trends of this family.
+// Signature: the residual and parameter trends of this family (docs/effects/inertial_drag.md,
+// "Signature in residuals", which gives the physical reasoning and the literature).
 constexpr SignatureTrend kSignature[] = {
     {"residual vy", "speed_in"},
     {"residual vx", "speed_in"},

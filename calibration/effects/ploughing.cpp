@@ -22,7 +22,8 @@ constexpr ParameterSpec kParams[] = {
 };
 constexpr double kVelocityEpsilon = 0.01;  // m/s
 
-// Signature: the shared notes' residual and parameter trends of this family.
+// Signature: the residual and parameter trends of this family (docs/effects/ploughing.md,
+// "Signature in residuals", which gives the physical reasoning and the literature).
 constexpr SignatureTrend kSignature[] = {
     {"residual vx", "penetration"},
     {"param mu", "penetration"},

@@ -16,7 +16,8 @@ constexpr ParameterSpec kParams[] = {
 };
 constexpr StateSpec kState[] = {{"v0", "m/s"}};
 
-// Signature: the shared notes' residual and parameter trends of this family.
+// Signature: the residual and parameter trends of this family (docs/effects/rate_restitution.md,
+// "Signature in residuals", which gives the physical reasoning and the literature).
 constexpr SignatureTrend kSignature[] = {
     {"residual vy", "abs_vin_y"},
     {"param en2", "abs_vin_y"},

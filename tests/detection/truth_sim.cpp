@@ -12,8 +12,9 @@ namespace ricochet::truth {
 namespace {
 
 // Reference strengths (s = 1), header comment and docs/detection-benchmark.md.
-constexpr double kVc = 9.144;       // CRSP v_c [m/s] (Pfeiffer & Bowen 1989)
-constexpr double kDragRef = 40.0;   // Katsuragi-Durian m/d1 for the lab cylinder [kg/m] (notes)
+constexpr double kVc = 9.144;  // CRSP v_c [m/s] (Pfeiffer & Bowen 1989)
+constexpr double kDragRef =
+    40.0;  // Katsuragi-Durian m/d1 for the lab cylinder [kg/m] (truth_sim.hpp)
 constexpr double kSpinRef = 0.008;  // c_w [s/rad], lab scale at s = 1 (no literature value)
 constexpr double kDepthRef = 3e-3;  // h_mu [m] (no literature value)
 constexpr double kDepthSpeedRef = kDragRef / kDepthRef;  // c_hv [kg/m^2]: m/d1 at 3 mm
@@ -220,7 +221,7 @@ Reference reference(Family f) {
     case Family::kKdDrag:
       return {"m/d1", kDragRef, "kg/m",
               "m/d1 ~ rho_g x projected area ~ 40 kg/m for this cylinder at 1 cm (Katsuragi & "
-              "Durian 2007, notes)"};
+              "Durian 2007)"};
     case Family::kSpinRolling:
       return {"c_w", kSpinRef, "s/rad",
               "no literature value; chosen so that s = 1 shifts the mean V_out by the lab's "
@@ -232,7 +233,7 @@ Reference reference(Family f) {
     case Family::kRankinePlough:
       return {"1/2 K_p gamma L", kPloughRef, "N/m^2 (times h^2)",
               "Rankine passive pressure, K_p = 3.7 (phi = 35 deg), gamma = 15.7 kN/m^3, "
-              "L = 0.29 m (notes): 1 N at h = 1 cm"};
+              "L = 0.29 m: 1 N at h = 1 cm"};
     case Family::kTwo:
       return {"", 0, "", "crsp_restitution and spin_rolling, each at s times its reference"};
     case Family::kDepthSpeedDrag:
@@ -331,7 +332,7 @@ Rebound collide(const std::array<double, 3>& vin, const Ground& g, const Numeric
       // Thornton & Ning (1998): constant below the yield speed, e ~ (v_yield / v)^(s/4) above.
       if (has(g, Family::kYieldRestitution) && vn0 > kYieldSpeed)
         en2 *= std::pow(kYieldSpeed / vn0, 0.5 * s);
-      // Normal: incremental loading, direct unloading to e_n^2 kn h (notes; paper Eq. 3).
+      // Normal: incremental loading, direct unloading to e_n^2 kn h (paper Eq. 3).
       const double dh = h - h_prev;
       fn = dh >= 0 ? fn + num.kn * dh : std::min(fn, en2 * num.kn * h);
       fn = std::max(fn, 0.0);

@@ -1,11 +1,13 @@
 // An independent truth for the detection benchmark (issue 10, item 5;
 // docs/detection-benchmark.md): a second implementation of the paper's contact law for the lab
-// cylinder, written from the notes' description of the law (notes/contact-law-and-reference-
-// numbers.md) and sharing NO code with the engine it tests: this library links only the
-// impact-set writer (ricochet_impact) and never includes calibration/engine or
-// calibration/effects. It has its own integrator, time step, stiffnesses and lever arm, hidden
-// physics in forms the engine's catalog does not use, release-to-release scatter of the ground
-// and lab-like measurement noise, so that a diagnosis tested on its sets is not an inverse crime.
+// cylinder, written from the paper's equations (Garcia et al. 2020, Eqs. 3, 5 and 6, as
+// docs/effects/normal.md, tangential.md and rolling.md state them) and sharing NO code with the
+// engine it tests: this library links only the impact-set writer (ricochet_impact) and never
+// includes calibration/engine or calibration/effects. It has its own integrator, time step,
+// stiffnesses and lever arm, hidden physics (some families in forms no catalog candidate has;
+// kd_drag, rankine_plough and spin_rolling in a candidate's form: docs/detection-benchmark.md),
+// release-to-release scatter of the ground and lab-like measurement noise, so that a diagnosis
+// tested on its sets is not an inverse crime.
 //
 // What differs from the engine (calibration/engine/engine.hpp) and why:
 //   integrator  semi-implicit (symplectic) Euler: v += a dt, then x += v dt   engine: velocity
@@ -17,7 +19,7 @@
 // The stiffnesses are within the range a calibration could not tell apart on rebound velocities
 // (the law's V_out depends weakly on them), so the law is "the same physics, another code".
 //
-// The law (paper Eq. 3, 5, 6 as fixed by the notes), per step with overlap h = R - y > 0:
+// The law (paper Eq. 3, 5, 6), per step with overlap h = R - y > 0:
 //   normal     loading (h grows): fn += kn dh; unloading: fn = min(fn, e_n^2 kn h); fn >= 0
 //   tangential ft -= kt v_t dt, |ft| <= mu F_n, v_t = v_x + omega l (bottom-point slip)
 //   rolling    M -= kr omega dt, |M| <= mu_R l F_n
@@ -33,7 +35,7 @@
 //   kd_drag             F_n += s (m/d1) v_y^2 while the block moves into the sand (v_y < 0, h > 0),
 //                       zero while it comes out; m/d1 = 40 kg/m (Katsuragi & Durian 2007, Nature
 //                       Physics 3, 420: m z'' = m g - k z - (m/d1) z'^2, m/d1 ~ rho_g x projected
-//                       area = 1600 kg/m^3 x 0.08 m x 0.29 m at 1 cm, notes). The drag is a normal
+//                       area = 1600 kg/m^3 x 0.08 m x 0.29 m at 1 cm). The drag is a normal
 //                       force of the sand, so it also raises the Coulomb and rolling caps.
 //   spin_rolling        mu_R -> mu_R (1 + s c_w |omega|), c_w = 0.008 s/rad: no literature
 //                       value; chosen so that s = 1 moves the mean V_out by the lab's Table 1
@@ -44,9 +46,9 @@
 //                       a depth-dependent friction without a number for sand); 3 mm is the
 //                       overlap scale of the paper's stiffness.
 //   rankine_plough      F_x -= sign(v_x) s 1/2 K_p gamma h^2 L, K_p = 3.7 (Rankine,
-//                       tan^2(45 + 35/2 deg)), gamma = 15.7 kN/m^3, L = 0.29 m (notes): about
-//                       0.02 N at this code's 1.6 mm overlap, 1 N at 1 cm: physically invisible
-//                       in rebound velocities (measured anyway).
+//                       tan^2(45 + 35/2 deg)), gamma = 15.7 kN/m^3, L = 0.29 m
+//                       (data/shapes/cylinder.toml): about 0.02 N at this code's 1.6 mm overlap, 1
+//                       N at 1 cm: physically invisible in rebound velocities (measured anyway).
 //   two                 crsp_restitution and spin_rolling, each at s times its own reference.
 // Three more whose exact form no candidate has (issue 31, 5c):
 //   depth_speed_drag    F_n += s c_hv h v_y^2 while penetrating (v_y < 0): a drag whose
@@ -116,8 +118,8 @@
 
 namespace ricochet::truth {
 
-/// The lab cylinder (paper Fig. 4 caption; notes): radius [m], mass [kg], inertia [kg m^2],
-/// length [m] (solid concrete cylinder with I = m R^2 / 2).
+/// The lab cylinder (paper Fig. 4 caption; data/shapes/cylinder.toml): radius [m], mass [kg],
+/// inertia [kg m^2], length [m] (solid concrete cylinder with I = m R^2 / 2).
 inline constexpr double kRadius = 0.08, kMass = 13.9, kInertia = 0.0445, kLength = 0.29;
 
 /// The families of hidden physics (file comment).

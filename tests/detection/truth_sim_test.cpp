@@ -42,7 +42,7 @@ TEST(TruthSim, FrictionlessDropReturnsTheRestitution) {
   no_gravity.gravity = 0;
   for (double en2 : {0.05, 0.16, 0.5, 0.9}) {
     for (double v : {1.0, 2.3, 5.0}) {
-      // Without gravity the law returns e_n^2 of the energy (notes): vy_out = -e_n vy_in.
+      // Without gravity the law returns e_n^2 of the energy (paper Eq. 3): vy_out = -e_n vy_in.
       const Rebound r = collide({0.0, -v, 0.0}, {en2, 0.0, 0.0}, no_gravity);
       ASSERT_TRUE(r.ok);
       EXPECT_NEAR(r.vout[1], std::sqrt(en2) * v, 0.01 * std::sqrt(en2) * v) << en2 << " " << v;

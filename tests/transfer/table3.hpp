@@ -1,5 +1,6 @@
 // Table 3 of the paper to three decimals, as Eq. 2 gives it on Appendix A
-// (/work/shared/notes/contact-law-and-reference-numbers.md). The paper prints two digits.
+// (Garcia et al. 2020: Eq. 2 fitted to the Appendix A releases; the third decimal is ours). The
+// paper prints two digits.
 #pragma once
 
 #include <array>
