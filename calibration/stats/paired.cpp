@@ -8,9 +8,12 @@
 #include <limits>
 #include <stdexcept>
 #include <unordered_map>
+#include <unordered_set>
 
+#include "common/csv.hpp"
 #include "common/error.hpp"
 #include "stats/stats.hpp"
+#include "stats/table2.hpp"
 
 namespace ricochet::stats {
 namespace {
@@ -42,13 +45,8 @@ PairedComponent component(const std::vector<double>& d, const PairedOptions& o) 
 
 std::array<double, 3> vout_std(const ImpactSet& set) {
   if (set.empty()) throw InputError(set.source, 0, "shape", "no release to take a scale from");
-  std::array<double, 3> out{};
-  for (int k = 0; k < 3; ++k) {
-    std::vector<double> x;
-    for (const Impact& im : set.impacts) x.push_back(im.vout[k]);
-    out[static_cast<std::size_t>(k)] = summarize(x).std;
-  }
-  return out;
+  const Table2 t = table2(set, set.source, "");
+  return {t.columns[1].std, t.columns[3].std, t.columns[5].std};  // kTable2Columns' V_out
 }
 
 PairedComparison paired_comparison(const ImpactSet& set, const std::string& base,
@@ -63,6 +61,7 @@ PairedComparison paired_comparison(const ImpactSet& set, const std::string& base
   out.base = base;
   out.other = other;
   out.options = options;
+  out.scales = scale;
   // An id belongs to the condition of the longest prefix it starts with ("E1" and "E10": "E10-x"
   // is E10's).
   const auto key_of = [](const std::string& id, const std::string& prefix) {
@@ -77,7 +76,7 @@ PairedComparison paired_comparison(const ImpactSet& set, const std::string& base
   std::unordered_map<std::string, const Impact*> others;
   for (const Impact& im : set.impacts)
     if (is_other(im.id)) others.emplace(key_of(im.id, other), &im);
-  std::unordered_map<std::string, bool> used;
+  std::unordered_set<std::string> used;
   std::array<std::vector<double>, 3> d;
   for (const Impact& im : set.impacts) {
     if (!is_base(im.id)) continue;
@@ -87,10 +86,14 @@ PairedComparison paired_comparison(const ImpactSet& set, const std::string& base
       out.unpaired.push_back(im.id);
       continue;
     }
-    used[key] = true;
+    used.insert(key);
     const Impact& b = *it->second;
+    if (b.shape != im.shape)
+      throw InputError(set.source, 0, "shape",
+                       fmt::format("impacts '{}' ({}) and '{}' ({}) pair but differ in shape",
+                                   im.id, im.shape, b.id, b.shape));
     const auto sc = scale.find(im.shape);
-    if (sc == scale.end() || b.shape != im.shape)
+    if (sc == scale.end())
       throw InputError(set.source, 0, "shape",
                        fmt::format("no scale for shape '{}' (impacts '{}' and '{}'): give a lab "
                                    "set of that shape",
@@ -108,7 +111,7 @@ PairedComparison paired_comparison(const ImpactSet& set, const std::string& base
     out.differences.push_back(diff);
   }
   for (const Impact& im : set.impacts)
-    if (is_other(im.id) && !used.count(key_of(im.id, other))) out.unpaired.push_back(im.id);
+    if (is_other(im.id) && !used.contains(key_of(im.id, other))) out.unpaired.push_back(im.id);
   if (out.keys.empty())
     throw InputError(set.source, 0, "id",
                      fmt::format("no pair of ids '{}KEY' and '{}KEY' in the set", base, other));
@@ -116,6 +119,88 @@ PairedComparison paired_comparison(const ImpactSet& set, const std::string& base
   for (std::size_t k = 0; k < 3; ++k) {
     out.components[k] = component(d[k], options);
     out.all_hold = out.all_hold && out.components[k].holds;
+  }
+  return out;
+}
+
+namespace {
+
+constexpr std::array<const char*, 3> kComponents = {"V_out^x", "V_out^y", "omega_out"};
+constexpr std::array<const char*, 3> kKeys = {"vout_x", "vout_y", "wout"};
+
+}  // namespace
+
+nlohmann::json to_json(const PairedComparison& c) {
+  // nlohmann::json writes NaN (no interval with fewer than 2 pairs) as null.
+  nlohmann::json comps = nlohmann::json::object();
+  for (std::size_t k = 0; k < 3; ++k) {
+    const PairedComponent& x = c.components[k];
+    comps[kKeys[k]] = {{"n", x.n},
+                       {"mean", x.mean},
+                       {"sd", x.sd},
+                       {"interval", {x.lo, x.hi}},
+                       {"interval_holds_zero", x.interval_holds_zero},
+                       {"within_margin", x.within_margin},
+                       {"holds", x.holds}};
+  }
+  nlohmann::json pairs = nlohmann::json::array();
+  for (std::size_t i = 0; i < c.keys.size(); ++i)
+    pairs.push_back(
+        {{"key", c.keys[i]},
+         {"shape", c.shapes[i]},
+         {"difference", {c.differences[i][0], c.differences[i][1], c.differences[i][2]}}});
+  nlohmann::json sc = nlohmann::json::object();
+  for (const auto& [shape, s] : c.scales) sc[shape] = {s[0], s[1], s[2]};
+  return {{"base", c.base},
+          {"against", c.other},
+          {"level", c.options.level},
+          {"margin", c.options.margin},
+          {"scales", sc},
+          {"pairs", pairs},
+          {"unpaired", c.unpaired},
+          {"components", comps},
+          {"all_hold", c.all_hold}};
+}
+
+void write_csv(const std::string& path, const PairedComparison& c, const std::string& data,
+               const std::string& option) {
+  CsvTable t;
+  t.comment(
+      fmt::format("ricochet paired {}: {} minus {}, in lab standard deviations of each "
+                  "shape's V_out",
+                  data, c.other, c.base));
+  t.row({"key", "shape", "d_vout_x[sd]", "d_vout_y[sd]", "d_wout[sd]"});
+  for (std::size_t i = 0; i < c.keys.size(); ++i)
+    t.row({c.keys[i], c.shapes[i], CsvTable::num(c.differences[i][0]),
+           CsvTable::num(c.differences[i][1]), CsvTable::num(c.differences[i][2])});
+  t.write(path, option);
+}
+
+std::string format_text(const PairedComparison& c, const std::string& data) {
+  std::string out = fmt::format(
+      "{}: {} minus {}, {} pair{}; differences in lab standard deviations of each shape's "
+      "V_out\n",
+      data, c.other, c.base, c.keys.size(), c.keys.size() == 1 ? "" : "s");
+  out += fmt::format("{:<10} {:>3} {:>8} {:>7}   {:<22} {}\n", "component", "n", "mean", "sd",
+                     fmt::format("{:.0f} % interval", 100 * c.options.level), "holds");
+  for (std::size_t k = 0; k < 3; ++k) {
+    const PairedComponent& x = c.components[k];
+    const std::string why = x.n < 2 ? "fewer than 2 pairs: no interval"
+                            : x.interval_holds_zero && x.within_margin
+                                ? "interval holds 0, |mean| < margin"
+                            : x.interval_holds_zero ? "interval holds 0"
+                            : x.within_margin       ? "|mean| < margin"
+                                                    : "moves";
+    out +=
+        fmt::format("{:<10} {:>3} {:>+8.3f} {:>7.3f}   [{:+.3f}, {:+.3f}]{:>5} {} ({})\n",
+                    kComponents[k], x.n, x.mean, x.sd, x.lo, x.hi, "", x.holds ? "yes" : "no", why);
+  }
+  out += fmt::format("all components hold (margin {} sd): {}\n", c.options.margin,
+                     c.all_hold ? "yes" : "no");
+  if (!c.unpaired.empty()) {
+    std::string ids;
+    for (const auto& id : c.unpaired) ids += (ids.empty() ? "" : ", ") + id;
+    out += "unpaired: " + ids + "\n";
   }
   return out;
 }

@@ -15,10 +15,13 @@
 // (issue 32)"): a component holds when its interval contains 0 (it moves by less than the replica
 // scatter can tell) or |d| < margin (it moves by less than `margin` scales); all hold when every
 // component does. With fewer than 2 pairs the interval is undefined and nothing holds.
+//
+// Also the comparison's output layer (JSON, CSV, text), as table2.hpp is `ricochet stats`'s.
 #pragma once
 
 #include <array>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -43,6 +46,8 @@ struct PairedComponent {
 struct PairedComparison {
   std::string base, other;  ///< the two id prefixes
   PairedOptions options;
+  /// The scales given, per shape (V_out^x, V_out^y, omega_out; m/s, m/s, rad/s).
+  std::map<std::string, std::array<double, 3>> scales;
   std::vector<std::string> keys;  ///< the pairs' keys, in the set's order of the base impacts
   std::vector<std::string> shapes;
   /// Per pair: other minus base, V_out^x, V_out^y, omega_out, in the shape's scale units.
@@ -54,8 +59,9 @@ struct PairedComparison {
   bool all_hold = false;
 };
 
-/// The scales of each shape (V_out^x, V_out^y, omega_out; m/s, m/s, rad/s), e.g. a lab set's
-/// standard deviations. Throws InputError(set.source, 0, "shape", ...) for an empty set.
+/// A set's V_out standard deviations (V_out^x, V_out^y, omega_out; m/s, m/s, rad/s), as paper
+/// Table 2 gives them (table2.hpp): the scales of a lab set's shape. Throws InputError(set.source,
+/// 0, "shape", ...) for an empty set.
 std::array<double, 3> vout_std(const ImpactSet& set);
 
 /// The comparison (file comment). `scale` maps a shape name to its scales; a paired impact of a
@@ -66,5 +72,15 @@ PairedComparison paired_comparison(const ImpactSet& set, const std::string& base
                                    const std::string& other,
                                    const std::map<std::string, std::array<double, 3>>& scale,
                                    const PairedOptions& options = {});
+
+/// The JSON keys of docs/commands/paired.md: base, against, level, margin, scales, pairs,
+/// unpaired, components, all_hold (NaN written as null).
+nlohmann::json to_json(const PairedComparison& c);
+/// One row per pair: key, shape, the three differences in scale units; a comment line naming
+/// `data`, the impact set compared. `option` names the option in a write error.
+void write_csv(const std::string& path, const PairedComparison& c, const std::string& data,
+               const std::string& option = "--out");
+/// The comparison as `ricochet paired` prints it (`data`: the impact set compared).
+std::string format_text(const PairedComparison& c, const std::string& data);
 
 }  // namespace ricochet::stats
