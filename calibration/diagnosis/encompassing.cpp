@@ -127,25 +127,15 @@ FamilyEncompassing encompassing_tests(
   std::vector<std::vector<std::string>> effects;
   for (const auto& l : laws) effects.push_back({l});
   // A law that cannot be calibrated here is not judged (it stays); the others still are.
-  std::vector<Rival> rivals(m);
-  std::vector<bool> calibrated(m, false);
-  try {
-    rivals = calibrate_rivals_from(base, shape, set, effects, o, registry);
-    calibrated.assign(m, true);
-  } catch (const std::exception&) {
-    for (std::size_t k = 0; k < m; ++k) try {
-        rivals[k] = calibrate_rivals_from(base, shape, set, {effects[k]}, o, registry).front();
-        calibrated[k] = true;
-      } catch (const std::exception&) {
-      }
-  }
+  const std::vector<RivalCalibration> rivals =
+      try_calibrate_rivals_from(base, shape, set, effects, o, registry);
   const Eigen::Index K = whiten.rows();
   std::vector<Stacked> s;
   std::vector<std::size_t> judged;  // the calibrated laws
   for (std::size_t k = 0; k < m; ++k)
-    if (calibrated[k]) {
-      out.calibrated[k] = rivals[k].law;
-      s.push_back(stack(rivals[k], shape, set, whiten, use, o));
+    if (const auto& r = rivals[k].rival) {
+      out.calibrated[k] = r->law;
+      s.push_back(stack(*r, shape, set, whiten, use, o));
       judged.push_back(k);
     }
   keep_common(s, K);

@@ -4,7 +4,6 @@
 #include <omp.h>
 
 #include <algorithm>
-#include <exception>
 #include <set>
 
 #include "common/error.hpp"
@@ -124,39 +123,42 @@ std::vector<Rival> calibrate_rivals(const Model& base, const Shape& shape, const
   return out;
 }
 
+std::vector<RivalCalibration> try_calibrate_rivals_from(
+    const Rival& base, const Shape& shape, const ImpactSet& set,
+    const std::vector<std::vector<std::string>>& rivals, const AssessOptions& options,
+    const EffectRegistry& registry) {
+  const AssessOptions o = resolve_scale(set, options);
+  std::vector<RivalCalibration> out(rivals.size());
+  // One calibration per thread.
+  const int available = o.fit.threads > 0 ? o.fit.threads : omp_get_max_threads();
+  const int threads = std::max(
+      1, std::min<int>(available, static_cast<int>(std::max<std::size_t>(1, rivals.size()))));
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+  for (std::size_t k = 0; k < rivals.size(); ++k) {
+    try {
+      out[k].rival = rivals[k].empty() ? base
+                                       : calibrate_one(base.model, rivals[k], shape, set, o,
+                                                       registry, threads > 1 ? 1 : o.fit.threads);
+    } catch (const std::exception& e) {
+      out[k].error = e.what();
+    }
+  }
+  return out;
+}
+
 std::vector<Rival> calibrate_rivals_from(const Rival& base, const Shape& shape,
                                          const ImpactSet& set,
                                          const std::vector<std::vector<std::string>>& rivals,
                                          const AssessOptions& options,
                                          const EffectRegistry& registry) {
-  const AssessOptions o = resolve_scale(set, options);
-  std::vector<Rival> out(rivals.size());
-  // One calibration per thread.
-  const int available = o.fit.threads > 0 ? o.fit.threads : omp_get_max_threads();
-  const int threads = std::max(
-      1, std::min<int>(available, static_cast<int>(std::max<std::size_t>(1, rivals.size()))));
-  std::vector<std::exception_ptr> failure(rivals.size());
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-  for (std::size_t k = 0; k < rivals.size(); ++k) {
-    try {
-      if (rivals[k].empty())
-        out[k] = base;
-      else
-        out[k] = calibrate_one(base.model, rivals[k], shape, set, o, registry,
-                               threads > 1 ? 1 : o.fit.threads);
-    } catch (...) {
-      failure[k] = std::current_exception();
-    }
+  std::vector<Rival> out;
+  const auto each = try_calibrate_rivals_from(base, shape, set, rivals, options, registry);
+  for (std::size_t k = 0; k < each.size(); ++k) {
+    if (!each[k].rival)
+      throw std::runtime_error("rival '" + rival_name(rivals[k]) +
+                               "' could not be calibrated: " + each[k].error);
+    out.push_back(*each[k].rival);
   }
-  for (std::size_t k = 0; k < rivals.size(); ++k)
-    if (failure[k]) {
-      try {
-        std::rethrow_exception(failure[k]);
-      } catch (const std::exception& e) {
-        throw std::runtime_error("rival '" + rival_name(rivals[k]) +
-                                 "' could not be calibrated: " + e.what());
-      }
-    }
   return out;
 }
 

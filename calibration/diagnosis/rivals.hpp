@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cmath>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -58,12 +59,26 @@ std::vector<Rival> calibrate_rivals(const Model& base, const Shape& shape, const
 /// The rivals from a base model already calibrated on the set (`base`: name "none", its model
 /// with the calibrated values and its population fit, e.g. the diagnosis's warm model), as
 /// calibrate_rivals does after the base model's own fit. Returns the rivals in the order given
-/// ("none" among them is `base` again).
+/// ("none" among them is `base` again). Throws std::runtime_error naming the first rival that
+/// could not be calibrated.
 std::vector<Rival> calibrate_rivals_from(const Rival& base, const Shape& shape,
                                          const ImpactSet& set,
                                          const std::vector<std::vector<std::string>>& rivals,
                                          const AssessOptions& options,
                                          const EffectRegistry& registry);
+
+/// One rival's calibration: the rival, or why it could not be calibrated.
+struct RivalCalibration {
+  std::optional<Rival> rival;
+  std::string error;  ///< the calibration's exception message when `rival` is empty
+};
+
+/// As calibrate_rivals_from, but a rival that cannot be calibrated does not stop the others:
+/// its entry holds the reason instead (the diagnosis's second stage judges the others).
+std::vector<RivalCalibration> try_calibrate_rivals_from(
+    const Rival& base, const Shape& shape, const ImpactSet& set,
+    const std::vector<std::vector<std::string>>& rivals, const AssessOptions& options,
+    const EffectRegistry& registry);
 
 /// The rivals when none are named: "none" plus, per family, the best member of the diagnosis's
 /// confidence set of laws (diagnose() with `options`; Diagnosis::confidence_set).
