@@ -97,13 +97,19 @@ void print_text(const diagnosis::ThrowDesign& d, const std::string& data, const 
   }
   std::cout << fmt::format(
       "\n{:<48}{:>12}{:>8}{:>12}{:>8}{:>12}{:>8}\n",
-      "pair (noncentrality lambda, power at alpha " + fmt::format("{:g})", d.alpha), "plan", "",
-      "uniform", "", "set only", "");
+      "pair (noncentrality lambda, power at level " + fmt::format("{:.3g})", d.test_level), "plan",
+      "", "uniform", "", "set only", "");
   for (const auto& p : d.pairs) {
     const std::string name =
         d.rivals[p.a].name + " vs " + d.rivals[p.b].name + (p.nested ? " (nested)" : "");
     if (p.indistinguishable) {
       std::cout << fmt::format("{:<48}  indistinguishable at the set's calibration\n", name);
+      continue;
+    }
+    if (p.beyond_budget) {
+      std::cout << fmt::format(
+          "{:<48}  beyond the budget: its own best plan reaches power {:.3f} (lambda {:.3g})\n",
+          name, p.alone.power, p.alone.lambda);
       continue;
     }
     std::cout << fmt::format("{:<48}{:>12.4g}{:>8.3f}{:>12.4g}{:>8.3f}{:>12.4g}{:>8.3f}\n", name,
@@ -177,10 +183,11 @@ void run(DesignCliOptions& o) {
                   "[{:g}, {:g}] m/s, win [{:g}, {:g}] rad/s; seed {}, {} candidates",
                   o.data, d.releases, d.shape, d.box.vin_x[0], d.box.vin_x[1], d.box.vin_y[0],
                   d.box.vin_y[1], d.box.win[0], d.box.win[1], d.seed, d.candidates),
-      fmt::format("weakest pair: noncentrality {:.4g} (power {:.3f} at alpha {:g}) with this plan, "
-                  "{:.4g} (power {:.3f}) with as many uniform throws",
-                  d.min_plan.lambda, d.min_plan.power, d.alpha, d.min_uniform.lambda,
-                  d.min_uniform.power)};
+      fmt::format(
+          "weakest pair: noncentrality {:.4g} (power {:.3f} at level {:.3g}) with this plan, "
+          "{:.4g} (power {:.3f}) with as many uniform throws",
+          d.min_plan.lambda, d.min_plan.power, d.test_level, d.min_uniform.lambda,
+          d.min_uniform.power)};
   write_plan_csv(d, o.output.out, comments);
   if (o.output.json) {
     nlohmann::json doc = diagnosis::to_json(d);
@@ -216,7 +223,9 @@ void add_design_command(CLI::App& app) {
                   "Candidate states (Sobol' points in the box); 0: max(1024, 4 x budget)")
       ->capture_default_str();
   check_range(sub, "--candidates", 0, 1e6);
-  sub->add_option("--alpha", o->design.alpha, "Level of the discrimination test (predicted power)")
+  sub->add_option("--alpha", o->design.alpha,
+                  "Family-wise level of the discrimination tests (the predicted power: each pair "
+                  "at alpha/(m(m-1)) for m rival laws other than none)")
       ->capture_default_str();
   check_range(sub, "--alpha", 1e-6, 0.5);
   sub->add_option("--passes", o->design.max_passes, "Exchange passes at most")

@@ -23,7 +23,7 @@ BUDGET=${4:-40}
 FAMILIES=${FAMILIES:-"crsp_restitution:3.65068 spin_rolling:2.01086 depth_friction_exp:33.2814 kd_drag:83.7314"}
 BOX="--range vin_x=1.5:6 --range vin_y=-5:-1 --range win=-90:0"
 TSV=$OUT/loops.tsv
-[ -f "$TSV" ] || printf 'family\tstrength\tseed\tbefore_n\tbefore_families\tbefore_none\tafter_n\tafter_families\tafter_none\tpower_plan\tpower_uniform\n' > "$TSV"
+[ -f "$TSV" ] || printf 'family\tstrength\tseed\tbefore_n\tbefore_families\tbefore_none\tafter_n\tafter_families\tafter_none\tpower_plan\tpower_uniform\tplan_n\n' > "$TSV"
 
 families_of() {  # diagnose JSON on stdin -> "n<TAB>fam1,fam2<TAB>none?"
   python3 -c '
@@ -53,7 +53,8 @@ for spec in $FAMILIES; do
     powers=$(python3 -c '
 import json, sys
 d = json.load(open(sys.argv[1]))
-print("%.3f\t%.3f" % (d["min_pair"]["plan"]["power"], d["min_pair"]["uniform"]["power"]))' "$base.design.json" 2>/dev/null || printf 'nan\tnan')
+nz = lambda x: float("nan") if x is None else x
+print("%.3f\t%.3f\t%d" % (nz(d["min_pair"]["plan"]["power"]), nz(d["min_pair"]["uniform"]["power"]), d["budget"]))' "$base.design.json" 2>/dev/null || printf 'nan\tnan\tnan')
     printf '%s\t%s\t%s\t%s\t%s\t%s\n' "$fam" "$s" "$seed" "$before" "$after" "$powers" >> "$TSV"
     echo "$(date +%T) $fam s=$s seed $seed: before [$before] after [$after] power $powers"
   done
@@ -68,8 +69,8 @@ from study_stats import wilson_text
 def wilson(k, n):
     return wilson_text(k, n, 2) if n else "-"
 rows = list(csv.DictReader(open(sys.argv[1]), delimiter="\t"))
-print("| family | strength | loops | mean set size before -> after | truth's family in the set, before / after | none in the set, before / after | the truth's family alone, after | predicted weakest-pair power, plan / uniform (median) |")
-print("| :-- | --: | --: | :-- | :-- | :-- | :-- | :-- |")
+print("| family | strength | loops | mean set size before -> after | truth's family in the set, before / after | none in the set, before / after | the truth's family alone, after | predicted weakest-pair power, plan / uniform (median) | plan size (median) |")
+print("| :-- | --: | --: | :-- | :-- | :-- | :-- | :-- | --: |")
 for fam in dict.fromkeys(r["family"] for r in rows):
     rs = [r for r in rows if r["family"] == fam]; n = len(rs); t = truth.get(fam, "none")
     inb = sum(t in r["before_families"].split(",") for r in rs)
@@ -77,10 +78,12 @@ for fam in dict.fromkeys(r["family"] for r in rows):
     nb = sum(r["before_none"] == "yes" for r in rs); na = sum(r["after_none"] == "yes" for r in rs)
     alone = sum(r["after_families"] == t for r in rs)
     med = lambda k: sorted(float(r[k]) for r in rs)[n // 2]
-    print("| %s | %s | %d | %.1f -> %.1f | %s / %s | %s / %s | %s | %.2f / %.2f |" % (
+    r0 = rs[0].get("plan_n")
+    size = sorted(float(r["plan_n"]) for r in rs)[n // 2] if r0 not in (None, "") else float("nan")
+    print("| %s | %s | %d | %.1f -> %.1f | %s / %s | %s / %s | %s | %.2f / %.2f | %.0f |" % (
         fam, rs[0]["strength"], n, sum(int(r["before_n"]) for r in rs) / n,
         sum(int(r["after_n"]) for r in rs) / n, wilson(inb, n), wilson(ina, n), wilson(nb, n),
-        wilson(na, n), wilson(alone, n), med("power_plan"), med("power_uniform")))
+        wilson(na, n), wilson(alone, n), med("power_plan"), med("power_uniform"), size))
 PY
 cat "$OUT/summary.md"
 echo "loops: $TSV"

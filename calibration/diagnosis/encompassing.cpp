@@ -14,6 +14,9 @@ namespace ricochet::diagnosis::detail {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// The smallest non-nested move that counts, |(I - P_a)(I - P_b) d|^2 in whitened units summed
+// over the set: below it the move would carry less than a third of one noise standard deviation.
+constexpr double kMinMove = 0.1;
 
 // One law on the set's releases, whitened and stacked (release-major, the used observables of
 // a release contiguous): its predictions f, its residual e = W D^-1 (y - f), and G, the columns
@@ -21,11 +24,13 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 struct Stacked {
   Eigen::VectorXd f, e;
   Eigen::MatrixXd G;
+  Eigen::MatrixXd own;   ///< the columns of G of the law's own effect (not the base model's)
   std::vector<char> ok;  ///< per release: it rebounds under the law and its probes
 };
 
-Stacked stack(const Rival& r, const Shape& shape, const ImpactSet& set, const Eigen::MatrixXd& W,
-              const std::array<bool, kObservables>& use, const AssessOptions& o) {
+Stacked stack(const Rival& r, const Model& base, const Shape& shape, const ImpactSet& set,
+              const Eigen::MatrixXd& W, const std::array<bool, kObservables>& use,
+              const AssessOptions& o) {
   std::vector<int> obs;
   for (int k = 0; k < kObservables; ++k)
     if (use[k]) obs.push_back(k);
@@ -61,6 +66,14 @@ Stacked stack(const Rival& r, const Shape& shape, const ImpactSet& set, const Ei
     s.e.segment(row0, K) = s.ok[i] ? Eigen::VectorXd(W * e) : Eigen::VectorXd::Zero(K);
     s.G.middleRows(row0, K) = s.ok[i] ? Eigen::MatrixXd(W * g) : Eigen::MatrixXd::Zero(K, g.cols());
   }
+  const std::vector<std::string> shared = base.parameter_names();
+  std::vector<Eigen::Index> own;
+  for (std::size_t c = 0; c < probes.size(); ++c)
+    if (std::find(shared.begin(), shared.end(), r.model.spec(probes[c].index).name) == shared.end())
+      own.push_back(static_cast<Eigen::Index>(c));
+  s.own.resize(N, static_cast<Eigen::Index>(own.size()));
+  for (std::size_t c = 0; c < own.size(); ++c)
+    s.own.col(static_cast<Eigen::Index>(c)) = s.G.col(own[c]);
   return s;
 }
 
@@ -78,6 +91,7 @@ void keep_common(std::vector<Stacked>& laws, Eigen::Index K) {
         s.f.segment(r, K).setZero();
         s.e.segment(r, K).setZero();
         s.G.middleRows(r, K).setZero();
+        s.own.middleRows(r, K).setZero();
       }
 }
 
@@ -86,18 +100,53 @@ void project_out(Eigen::VectorXd& d, const Eigen::MatrixXd& G) {
   if (G.cols() > 0) d -= G * G.completeOrthogonalDecomposition().solve(d);
 }
 
-// t_ab of the file comment: law a true, in the direction of law b.
-double j_statistic(const Stacked& a, const Stacked& b, Eigen::Index K) {
+// The statistic of the file comment, law a true, in the direction of law b, as a one-sided
+// normal score (the chi^2_q tail probability mapped to N(0, 1)).
+double encompassing_statistic(const Stacked& a, const Stacked& b, Eigen::Index K) {
   Eigen::VectorXd d = b.f - a.f;
   project_out(d, b.G);  // the JA form: what b's own refit cannot take up (file comment)
-  project_out(d, a.G);
-  double num = 0, den = 0;
-  for (Eigen::Index r = 0; r + K <= d.size(); r += K) {
-    const double u = d.segment(r, K).dot(a.e.segment(r, K));
-    num += u;
-    den += u * u;
+  Eigen::MatrixXd Z(d.size(), 1 + b.own.cols());
+  Z << d, b.own;
+  for (Eigen::Index c = 0; c < Z.cols(); ++c) {
+    Eigen::VectorXd z = Z.col(c);
+    project_out(z, a.G);
+    Z.col(c) = z;
   }
-  return den > 0 ? num / std::sqrt(den) : kNaN;
+  // Directions that carry nothing: the non-nested move when it is below kMinMove noise units
+  // over the whole set (the laws predict alike once refitted), an effect column a's own
+  // parameters span.
+  std::vector<Eigen::Index> keep;
+  if (Z.col(0).squaredNorm() >= kMinMove) keep.push_back(0);
+  for (Eigen::Index c = 1; c < Z.cols(); ++c)
+    if (Z.col(c).norm() > 1e-8 * b.own.col(c - 1).norm()) keep.push_back(c);
+  if (keep.empty()) return kNaN;
+  // Per release, the score contributions u_i = Z_i^T e_i; robust (cluster) Wald s^T V^+ s.
+  const auto q = static_cast<Eigen::Index>(keep.size());
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(q);
+  Eigen::MatrixXd V = Eigen::MatrixXd::Zero(q, q);
+  for (Eigen::Index r = 0; r + K <= d.size(); r += K) {
+    Eigen::VectorXd u(q);
+    for (Eigen::Index j = 0; j < q; ++j)
+      u[j] = Z.col(keep[static_cast<std::size_t>(j)]).segment(r, K).dot(a.e.segment(r, K));
+    sum += u;
+    V += u * u.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(V);
+  const double top = eig.eigenvalues().maxCoeff();
+  if (!(top > 0)) return kNaN;
+  double wald = 0;
+  int rank = 0;
+  for (Eigen::Index j = 0; j < q; ++j) {
+    const double lj = eig.eigenvalues()[j];
+    if (lj <= 1e-10 * top) continue;
+    const double p = eig.eigenvectors().col(j).dot(sum);
+    wald += p * p / lj;
+    ++rank;
+  }
+  // One degree of freedom keeps the sign of the non-nested move (the JA t itself).
+  if (rank == 1 && q == 1 && keep.front() == 0) return sum[0] / std::sqrt(V(0, 0));
+  const double upper = OT::DistFunc::pGamma(0.5 * rank, 0.5 * wald, true);  // P(chi^2 > wald)
+  return upper > 0 ? OT::DistFunc::qNormal(upper, true) : 40.0;
 }
 
 }  // namespace
@@ -135,13 +184,13 @@ FamilyEncompassing encompassing_tests(
   for (std::size_t k = 0; k < m; ++k)
     if (const auto& r = rivals[k].rival) {
       out.calibrated[k] = r->law;
-      s.push_back(stack(*r, shape, set, whiten, use, o));
+      s.push_back(stack(*r, warm, shape, set, whiten, use, o));
       judged.push_back(k);
     }
   keep_common(s, K);
   for (std::size_t x = 0; x < judged.size(); ++x)
     for (std::size_t y = 0; y < judged.size(); ++y)
-      if (x != y) out.t[judged[x]][judged[y]] = j_statistic(s[x], s[y], K);
+      if (x != y) out.t[judged[x]][judged[y]] = encompassing_statistic(s[x], s[y], K);
   const double c = out.critical;
   for (std::size_t a = 0; a < m; ++a) {
     double worst = -std::numeric_limits<double>::infinity();

@@ -46,6 +46,20 @@
 // With b true, t_ab's mean is about |(I - P_b) (f_b - f^_a)|, the part of the design's lack of
 // fit (discrimination.hpp, lambda with b true and a refitted) that b's own parameters cannot
 // mimic: what `ricochet design` plans for is what this test sees.
+// The JA move alone is blind where a is (nearly) nested in b: when b's best law is a's plus a
+// small effect, b refitted to a's predictions IS a, (I - P_b) d vanishes, and the test of a in
+// b's direction then has no power however far a misses (seen in the closed loop's exploratory
+// seeds: the truth's rolling law at t = 2.9 against every near-neutral rival, c = 3.02, while
+// its own score statistic was 4.8). So the direction of b is the comprehensive one (Mizon &
+// Richard 1986, Econometrica 54:657, the encompassing principle; the artificial regression of
+// a's residual on what b has and a has not): the columns Z = (I - P_a) [ d', G_b,own ], G_b,own
+// the whitened Jacobian columns of b's own effect parameters (those the base model does not
+// have), and the statistic is the cluster-robust Wald s^T V^+ s, s = sum_i Z_i^T e_i,
+// V = sum_i (Z_i^T e_i)(Z_i^T e_i)^T, chi^2 with rank(V) degrees of freedom under a true,
+// reported as the one-sided normal score of its tail probability (so that one critical value c
+// serves every pair). A column carries nothing when the non-nested move is below 0.1 whitened
+// noise variances over the whole set, or when a's own parameters span the effect column; with
+// the JA move alone left, t_ab is the signed JA t above.
 // What it does not guarantee: when no candidate has the truth's exact form, each family's best
 // law is an approximation, and the true family's law can be rejected by another family's (then
 // the other is usually rejected too, and both stay).

@@ -120,6 +120,10 @@ ThrowDesign design_throws(const Model& base, const Shape& shape, const ImpactSet
   std::vector<Rival> all = calibrate_rivals(base, shape, set, rival_effects, o, registry);
   const Rival base_fit = all.front();
   d.rivals.assign(all.begin() + 1, all.end());
+  // The level the diagnosis's second stage tests each ordered pair of families at (ThrowDesign).
+  const auto m = static_cast<double>(std::count_if(
+      d.rivals.begin(), d.rivals.end(), [](const Rival& r) { return !r.effects.empty(); }));
+  d.test_level = m >= 2 ? options.alpha / (m * (m - 1)) : options.alpha;
   d.calibration_s = seconds_since(t0);
   const auto t1 = Clock::now();
   Assessment a;
@@ -253,15 +257,38 @@ ThrowDesign design_throws(const Model& base, const Shape& shape, const ImpactSet
       for (std::size_t di : rule.directions)
         best = std::min(best, direction_lambda(directions[di], all_states));
       p.indistinguishable = !(best >= options.indistinguishable_lambda);
-      if (!p.indistinguishable) active.push_back(rule);
       rules.push_back(rule);
       d.pairs.push_back(p);
     }
-
-  // 5. The plan.
+  // Pairs beyond the budget (file comment): each decidable pair's own greedy plan.
   SelectionOptions so;
   so.budget = budget;
   so.max_passes = options.max_passes;
+  SelectionOptions greedy_only = so;
+  greedy_only.max_passes = 0;
+  const auto on = [&](const PairResult& p, const PairRule& rule,
+                      const std::vector<std::size_t>& design) {
+    PairOnDesign r;
+    r.lambda_ab = direction_lambda(directions[dir_of[p.a][p.b]], design);
+    r.lambda_ba = direction_lambda(directions[dir_of[p.b][p.a]], design);
+    r.lambda = std::numeric_limits<double>::infinity();
+    for (std::size_t di : rule.directions)
+      r.lambda = std::min(r.lambda, di == dir_of[p.a][p.b] ? r.lambda_ab : r.lambda_ba);
+    r.power = discrimination_power(r.lambda, d.test_level);
+    return r;
+  };
+  for (std::size_t k = 0; k < d.pairs.size(); ++k) {
+    PairResult& p = d.pairs[k];
+    if (p.indistinguishable) continue;
+    std::vector<std::size_t> alone = set_states;
+    for (std::size_t c : select_max_min(directions, {rules[k]}, n, kept.size(), greedy_only).chosen)
+      alone.push_back(c);
+    p.alone = on(p, rules[k], alone);
+    p.beyond_budget = !(p.alone.power >= options.budget_power);
+    if (!p.beyond_budget) active.push_back(rules[k]);
+  }
+
+  // 5. The plan.
   std::vector<std::size_t> chosen;
   if (!active.empty()) {
     const Selection sel = select_max_min(directions, active, n, kept.size(), so);
@@ -281,17 +308,6 @@ ThrowDesign design_throws(const Model& base, const Shape& shape, const ImpactSet
   std::vector<std::size_t> plan_states = set_states, uniform_design = set_states;
   plan_states.insert(plan_states.end(), chosen.begin(), chosen.end());
   for (std::size_t i = 0; i < budget; ++i) uniform_design.push_back(n + kept.size() + i);
-  const auto on = [&](const PairResult& p, const PairRule& rule,
-                      const std::vector<std::size_t>& design) {
-    PairOnDesign r;
-    r.lambda_ab = direction_lambda(directions[dir_of[p.a][p.b]], design);
-    r.lambda_ba = direction_lambda(directions[dir_of[p.b][p.a]], design);
-    r.lambda = std::numeric_limits<double>::infinity();
-    for (std::size_t di : rule.directions)
-      r.lambda = std::min(r.lambda, di == dir_of[p.a][p.b] ? r.lambda_ab : r.lambda_ba);
-    r.power = discrimination_power(r.lambda, options.alpha);
-    return r;
-  };
   const auto min_into = [](PairOnDesign& m, const PairOnDesign& x, bool first) {
     if (first || x.lambda < m.lambda) m = x;
   };
@@ -301,7 +317,7 @@ ThrowDesign design_throws(const Model& base, const Shape& shape, const ImpactSet
     p.plan = on(p, rules[k], plan_states);
     p.uniform = on(p, rules[k], uniform_design);
     p.set = on(p, rules[k], set_states);
-    if (p.indistinguishable) continue;
+    if (p.indistinguishable || p.beyond_budget) continue;
     min_into(d.min_plan, p.plan, first);
     min_into(d.min_uniform, p.uniform, first);
     min_into(d.min_set, p.set, first);

@@ -51,6 +51,8 @@ nlohmann::json to_json(const ThrowDesign& d) {
                      {"b", d.rivals[p.b].name},
                      {"nested", p.nested},
                      {"indistinguishable", p.indistinguishable},
+                     {"beyond_budget", p.beyond_budget},
+                     {"alone", p.indistinguishable ? nlohmann::json(nullptr) : to_json(p.alone)},
                      {"plan", to_json(p.plan)},
                      {"uniform", to_json(p.uniform)},
                      {"set", to_json(p.set)}});
@@ -64,6 +66,7 @@ nlohmann::json to_json(const ThrowDesign& d) {
       {"candidates", d.candidates},
       {"excluded_candidates", d.excluded},
       {"alpha", d.alpha},
+      {"test_level", d.test_level},
       {"seed", d.seed},
       {"observables", observables},
       {"box", {{"vin_x", d.box.vin_x}, {"vin_y", d.box.vin_y}, {"win", d.box.win}}},

@@ -167,13 +167,41 @@ TEST(ThrowDesign, ThePlanBeatsAsManyUniformThrows) {
   EXPECT_GE(d.min_plan.power, d.min_uniform.power);
   EXPECT_GT(d.min_plan.lambda, d.min_set.lambda);  // new throws add information
   for (const auto& p : d.pairs) {
-    if (!p.indistinguishable) {
+    if (!p.indistinguishable && !p.beyond_budget) {
       EXPECT_GE(p.plan.lambda, d.min_plan.lambda);
     }
   }
   // The same on the wide set, whose releases already span the box.
   const ThrowDesign& w = rate_vs_none(wide());
   EXPECT_GT(w.min_plan.lambda, w.min_uniform.lambda);
+}
+
+// The power is that of the diagnosis's second stage: each pair at alpha / (m (m - 1)) for m
+// rivals other than `none`; a pair whose own greedy plan stays below 0.5 at that level is beyond
+// the budget and leaves the criterion (throw_design.hpp).
+TEST(ThrowDesign, PowerAtTheSecondStagesLevelAndPairsBeyondTheBudget) {
+  const ThrowDesign d =
+      design_throws(Model::paper(), Shape::cylinder(), lab_like(),
+                    {{}, {"rate_restitution"}, {"inertial_drag"}}, wide_box(), small(12));
+  EXPECT_DOUBLE_EQ(d.test_level, 0.05 / 2.0);  // m = 2 laws besides none
+  for (const auto& p : d.pairs) {
+    if (p.indistinguishable) continue;
+    EXPECT_EQ(p.beyond_budget, p.alone.power < DesignOptions{}.budget_power);
+    EXPECT_DOUBLE_EQ(p.alone.power, discrimination_power(p.alone.lambda, d.test_level));
+    EXPECT_DOUBLE_EQ(p.plan.power, discrimination_power(p.plan.lambda, d.test_level));
+  }
+  // One throw cannot decide rate_restitution against none on the lab-like set, twelve can: the
+  // same pair is beyond a budget of 1 and within one of 12, and with nothing left to decide the
+  // plan has no weakest pair.
+  const ThrowDesign& twelve = rate_vs_none(lab_like());
+  ASSERT_EQ(twelve.pairs.size(), 1u);
+  EXPECT_FALSE(twelve.pairs[0].beyond_budget);
+  EXPECT_GE(twelve.pairs[0].alone.power, 0.5);
+  const ThrowDesign one = design_throws(Model::paper(), Shape::cylinder(), lab_like(),
+                                        {{}, {"rate_restitution"}}, wide_box(), small(1));
+  ASSERT_EQ(one.pairs.size(), 1u);
+  EXPECT_TRUE(one.pairs[0].beyond_budget) << one.pairs[0].alone.power;
+  EXPECT_TRUE(std::isnan(one.min_plan.lambda));
 }
 
 TEST(ThrowDesign, ThrowsGoWhereTheRivalsDiffer) {
