@@ -190,6 +190,7 @@ TEST(Shapes, FilesMatchBuiltIns) {
     EXPECT_EQ(file.rounding_radius_m, builtin.rounding_radius_m);
     EXPECT_EQ(file.mass_kg, builtin.mass_kg);
     EXPECT_EQ(file.inertia_kgm2, builtin.inertia_kgm2);
+    EXPECT_EQ(file.length_m, builtin.length_m);  // the drop check carries drag to the block
   }
   // The triangle's geometry reproduces the lab block's radius of gyration within 1 %.
   const Shape t = Shape::triangle();
