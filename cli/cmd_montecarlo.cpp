@@ -65,6 +65,129 @@ std::vector<uq::ParameterInput> fitted_inputs(const std::string& path, const Mod
   return out;
 }
 
+// The inputs' distributions: uniform over --range (paper Table 5), or fitted to a calibration
+// file's per-release values (--fitted) with explicit --range overriding them.
+std::vector<uq::ParameterInput> build_inputs(const MonteCarloCliOptions& o, const Model& model) {
+  if (o.fitted.empty()) return o.inputs.build(model);
+  std::vector<uq::ParameterInput> inputs = fitted_inputs(o.fitted, model);
+  if (o.inputs.ranges.empty()) return inputs;
+  const auto ranged = o.inputs.build(model);
+  for (const auto& text : o.inputs.ranges) {
+    const auto name = uq::parse_range(text, "--range").first;
+    for (const auto& in : ranged)
+      if (in.name == name) {
+        bool replaced = false;
+        for (auto& cur : inputs)
+          if (cur.name == name) cur = in, replaced = true;
+        if (!replaced) inputs.push_back(in);
+      }
+  }
+  return inputs;
+}
+
+// The uq module's options with the command line's time step, progress, --vin and --alpha-range.
+uq::MonteCarloOptions mc_options(const MonteCarloCliOptions& o, const std::optional<Vel3>& vin) {
+  uq::MonteCarloOptions mc = o.mc;
+  mc.engine.dt_s = o.model.engine_options().dt_s;
+  mc.progress = !o.no_progress && !o.output.json;
+  if (vin) mc.vin = *vin;
+  if (!o.alpha_range_deg.empty()) {
+    if (o.alpha_range_deg.size() != 2 || !(o.alpha_range_deg[0] < o.alpha_range_deg[1]))
+      throw InputError("<command line>", 0, "--alpha-range", "expected LO,HI in degrees, LO < HI");
+    mc.alpha_min_rad = o.alpha_range_deg[0] * M_PI / 180.0;
+    mc.alpha_max_rad = o.alpha_range_deg[1] * M_PI / 180.0;
+  }
+  return mc;
+}
+
+// The runs, appended to (and resumed from) the HDF5 store when there is one.
+uq::MonteCarloResult run_runs(const Model& model, const Shape& shape,
+                              const std::vector<uq::ParameterInput>& inputs,
+                              const uq::MonteCarloOptions& mc, uq::MonteCarloStore* store) {
+  uq::MonteCarloResult result;
+  try {
+    result = uq::run_monte_carlo(
+        model, shape, inputs, mc,
+        [&](std::size_t begin, std::size_t end, const uq::MonteCarloResult& r) {
+          if (store) store->append(begin, end, r);
+        },
+        store ? store->done_runs() : 0);
+  } catch (const std::invalid_argument& e) {
+    throw InputError("<command line>", 0, "--range", e.what());
+  }
+  if (store) store->load(result);
+  return result;
+}
+
+// --calibrate-ranges: the uniform ranges fitted to the measured CDFs, then checked by an
+// independent full-size Monte Carlo (new seed), returned; doc["range_fit"] reports both.
+std::unique_ptr<uq::MonteCarloResult> calibrate_ranges(
+    const MonteCarloCliOptions& o, const Model& model, const Shape& shape,
+    const ImpactSet& measured, const std::vector<uq::ParameterInput>& inputs,
+    const uq::MonteCarloOptions& mc, nlohmann::json& doc) {
+  uq::RangeFitOptions rf = o.range;
+  rf.mc = mc;
+  rf.mc.runs = o.range.mc.runs;
+  rf.mc.progress = false;
+  if (o.distance == "ks")
+    rf.distance = uq::RangeFitOptions::Distance::kKolmogorovSmirnov;
+  else if (o.distance != "cvm")
+    throw InputError("<command line>", 0, "--distance", "expected 'cvm' or 'ks'");
+  const uq::RangeFitResult fitr = uq::calibrate_ranges(model, shape, measured, inputs, rf);
+  uq::MonteCarloOptions check = mc;
+  check.seed = mc.seed + 1;
+  check.progress = false;
+  auto calibrated_mc =
+      std::make_unique<uq::MonteCarloResult>(uq::run_monte_carlo(model, shape, fitr.ranges, check));
+  const uq::CdfComparison c = uq::compare_cdfs(*calibrated_mc, measured);
+  doc["range_fit"] = {{"ranges", uq::inputs_json(fitr.ranges)},
+                      {"distance", o.distance},
+                      {"objective", fitr.distance},
+                      {"objective_start", fitr.initial_distance},
+                      {"evaluations", fitr.evaluations},
+                      {"runs_per_evaluation", rf.mc.runs},
+                      {"check_runs", calibrated_mc->size()},
+                      {"ks", uq::components_json(c.ks)},
+                      {"p_value", uq::components_json(c.p_value)},
+                      {"cvm", uq::components_json(c.cvm)},
+                      {"seconds", fitr.seconds}};
+  return calibrated_mc;
+}
+
+void write_figures(const MonteCarloCliOptions& o, const uq::MonteCarloResult& result,
+                   const ImpactSet* measured, const uq::MonteCarloResult* calibrated_mc) {
+  std::filesystem::create_directories(o.figures);
+  std::vector<std::pair<std::string, const uq::MonteCarloResult*>> extra;
+  if (calibrated_mc) extra.push_back({"calibrated ranges", calibrated_mc});
+  uq::figure_reflected_cdfs(result, measured, o.figures + "/montecarlo_cdf.svg",
+                            o.fitted.empty() ? "uniform ranges" : "fitted distributions", extra);
+  if (!o.fitted.empty())
+    uq::figure_parameter_cdfs(fit::read_release_fits(o.fitted), uq::paper_ranges(),
+                              o.figures + "/montecarlo_parameters_cdf.svg");
+}
+
+void print_text(const uq::MonteCarloResult& result, const Shape& shape,
+                const std::vector<uq::ParameterInput>& inputs, const nlohmann::json& doc,
+                bool compared) {
+  std::cout << fmt::format("Monte Carlo: {} runs of shape {} in {:.2f} s ({} failed)\n",
+                           result.size(), shape.name, result.seconds,
+                           doc["failed_runs"].get<std::size_t>());
+  for (const auto& in : inputs)
+    std::cout << "  " << in.name << " ~ " << in.distribution.description() << "\n";
+  for (int k = 0; k < 3; ++k) {
+    const stats::Summary s = stats::summarize(result.component(k));
+    std::cout << fmt::format("  {:<3} mean {:8.3f}  std {:7.3f}", kComponentNames[k], s.mean,
+                             s.std);
+    if (compared)
+      std::cout << fmt::format("   KS {:.3f}  p = {:.3g}",
+                               doc["ks"][kComponentNames[k]].get<double>(),
+                               doc["p_value"][kComponentNames[k]].get<double>());
+    std::cout << "\n";
+  }
+  if (doc.contains("range_fit"))
+    std::cout << "Calibrated ranges:\n" << doc["range_fit"].dump(2) << "\n";
+}
+
 void run(const MonteCarloCliOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   // --vin is checked before any work, like every option (docs/commands/README.md).
@@ -78,38 +201,8 @@ void run(const MonteCarloCliOptions& o) {
   require_out_extension(o.output, {".csv", ".h5", ".hdf5"});
   if (o.resume && !h5)
     throw InputError("<command line>", 0, "--resume", "needs --out FILE.h5 (the file to continue)");
-
-  std::vector<uq::ParameterInput> inputs;
-  if (!o.fitted.empty()) {
-    inputs = fitted_inputs(o.fitted, model);
-    // Explicit ranges override the fitted distributions.
-    if (!o.inputs.ranges.empty()) {
-      const auto ranged = o.inputs.build(model);
-      for (const auto& text : o.inputs.ranges) {
-        const auto name = uq::parse_range(text, "--range").first;
-        for (const auto& in : ranged)
-          if (in.name == name) {
-            bool replaced = false;
-            for (auto& cur : inputs)
-              if (cur.name == name) cur = in, replaced = true;
-            if (!replaced) inputs.push_back(in);
-          }
-      }
-    }
-  } else {
-    inputs = o.inputs.build(model);
-  }
-
-  uq::MonteCarloOptions mc = o.mc;
-  mc.engine.dt_s = o.model.engine_options().dt_s;
-  mc.progress = !o.no_progress && !o.output.json;
-  if (vin) mc.vin = *vin;
-  if (!o.alpha_range_deg.empty()) {
-    if (o.alpha_range_deg.size() != 2 || !(o.alpha_range_deg[0] < o.alpha_range_deg[1]))
-      throw InputError("<command line>", 0, "--alpha-range", "expected LO,HI in degrees, LO < HI");
-    mc.alpha_min_rad = o.alpha_range_deg[0] * M_PI / 180.0;
-    mc.alpha_max_rad = o.alpha_range_deg[1] * M_PI / 180.0;
-  }
+  const std::vector<uq::ParameterInput> inputs = build_inputs(o, model);
+  uq::MonteCarloOptions mc = mc_options(o, vin);
   ImpactSet incident;
   if (!o.incident.empty()) {
     incident =
@@ -127,19 +220,7 @@ void run(const MonteCarloCliOptions& o) {
   if (h5)
     store = std::make_unique<uq::MonteCarloStore>(o.output.out, model, shape, inputs, mc,
                                                   o.incident, o.resume);
-  uq::MonteCarloResult result;
-  try {
-    result = uq::run_monte_carlo(
-        model, shape, inputs, mc,
-        [&](std::size_t begin, std::size_t end, const uq::MonteCarloResult& r) {
-          if (store) store->append(begin, end, r);
-        },
-        store ? store->done_runs() : 0);
-  } catch (const std::invalid_argument& e) {
-    throw InputError("<command line>", 0, "--range", e.what());
-  }
-  if (store) store->load(result);
-
+  const uq::MonteCarloResult result = run_runs(model, shape, inputs, mc, store.get());
   nlohmann::json doc;
   doc["runs"] = result.size();
   doc["shape"] = shape.name;
@@ -160,68 +241,18 @@ void run(const MonteCarloCliOptions& o) {
   }
   std::unique_ptr<uq::MonteCarloResult> calibrated_mc;
   if (o.calibrate_ranges) {
-    uq::RangeFitOptions rf = o.range;
-    rf.mc = mc;
-    rf.mc.runs = o.range.mc.runs;
-    rf.mc.progress = false;
-    if (o.distance == "ks")
-      rf.distance = uq::RangeFitOptions::Distance::kKolmogorovSmirnov;
-    else if (o.distance != "cvm")
-      throw InputError("<command line>", 0, "--distance", "expected 'cvm' or 'ks'");
-    const uq::RangeFitResult fitr = uq::calibrate_ranges(model, shape, *measured, inputs, rf);
-    // Check the calibrated ranges with an independent full-size Monte Carlo (new seed).
-    uq::MonteCarloOptions check = mc;
-    check.seed = mc.seed + 1;
-    check.progress = false;
-    calibrated_mc = std::make_unique<uq::MonteCarloResult>(
-        uq::run_monte_carlo(model, shape, fitr.ranges, check));
-    const uq::CdfComparison c = uq::compare_cdfs(*calibrated_mc, *measured);
-    doc["range_fit"] = {{"ranges", uq::inputs_json(fitr.ranges)},
-                        {"distance", o.distance},
-                        {"objective", fitr.distance},
-                        {"objective_start", fitr.initial_distance},
-                        {"evaluations", fitr.evaluations},
-                        {"runs_per_evaluation", rf.mc.runs},
-                        {"check_runs", calibrated_mc->size()},
-                        {"ks", uq::components_json(c.ks)},
-                        {"p_value", uq::components_json(c.p_value)},
-                        {"cvm", uq::components_json(c.cvm)},
-                        {"seconds", fitr.seconds}};
+    calibrated_mc = calibrate_ranges(o, model, shape, *measured, inputs, mc, doc);
     if (store) store->write_json("range_fit", doc["range_fit"]);
   }
   if (!o.output.out.empty() && !h5) uq::write_runs_csv(o.output.out, result);
-  if (!o.figures.empty()) {
-    std::filesystem::create_directories(o.figures);
-    std::vector<std::pair<std::string, const uq::MonteCarloResult*>> extra;
-    if (calibrated_mc) extra.push_back({"calibrated ranges", calibrated_mc.get()});
-    uq::figure_reflected_cdfs(result, measured.get(), o.figures + "/montecarlo_cdf.svg",
-                              o.fitted.empty() ? "uniform ranges" : "fitted distributions", extra);
-    if (!o.fitted.empty())
-      uq::figure_parameter_cdfs(fit::read_release_fits(o.fitted), uq::paper_ranges(),
-                                o.figures + "/montecarlo_parameters_cdf.svg");
-  }
+  if (!o.figures.empty()) write_figures(o, result, measured.get(), calibrated_mc.get());
   doc["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   doc["simulation_seconds"] = result.seconds;
   if (o.output.json) {
     print_json(doc);
     return;
   }
-  std::cout << fmt::format("Monte Carlo: {} runs of shape {} in {:.2f} s ({} failed)\n",
-                           result.size(), shape.name, result.seconds, failed);
-  for (const auto& in : inputs)
-    std::cout << "  " << in.name << " ~ " << in.distribution.description() << "\n";
-  for (int k = 0; k < 3; ++k) {
-    const stats::Summary s = stats::summarize(result.component(k));
-    std::cout << fmt::format("  {:<3} mean {:8.3f}  std {:7.3f}", kComponentNames[k], s.mean,
-                             s.std);
-    if (measured)
-      std::cout << fmt::format("   KS {:.3f}  p = {:.3g}",
-                               doc["ks"][kComponentNames[k]].get<double>(),
-                               doc["p_value"][kComponentNames[k]].get<double>());
-    std::cout << "\n";
-  }
-  if (doc.contains("range_fit"))
-    std::cout << "Calibrated ranges:\n" << doc["range_fit"].dump(2) << "\n";
+  print_text(result, shape, inputs, doc, measured != nullptr);
 }
 
 }  // namespace
