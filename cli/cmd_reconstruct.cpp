@@ -110,14 +110,7 @@ void draw(const kinematics::Track& tr, const kinematics::Reconstruction& r,
   report::render(fig, path);
 }
 
-void run(const ReconstructCliOptions& o) {
-  require_out_extension(o.output, {".csv", ".h5", ".hdf5"});
-  kinematics::Track track = kinematics::read_track_csv(o.track, o.pixel_size, o.y_down);
-  if (o.sigma_position) {
-    if (!(*o.sigma_position > 0))
-      throw InputError("<command line>", 0, "--sigma-position", "must be a positive length in m");
-    track.sigma_position_m = *o.sigma_position;
-  }
+kinematics::ReconstructOptions reconstruct_options(const ReconstructCliOptions& o) {
   kinematics::ReconstructOptions opt;
   if (!o.window.empty()) {
     const auto [t0, t1] = parse_window(o.window);
@@ -139,73 +132,62 @@ void run(const ReconstructCliOptions& o) {
   if (!(o.k_sigma > 0)) throw InputError("<command line>", 0, "--k-sigma", "must be positive");
   opt.detection_k_sigma = o.k_sigma;
   opt.detection_guard_points = o.guard;
+  return opt;
+}
 
-  kinematics::Reconstruction r;
-  try {
-    r = kinematics::reconstruct(track, opt);
-  } catch (const std::invalid_argument& e) {
-    // Not enough free flight, no contact found...: the user's track or options are at fault.
-    throw InputError(o.track, 0, "", e.what());
-  }
+// One release in the impact-set schema, with the standard errors as sigma columns.
+void write_release(const ReconstructCliOptions& o, const kinematics::Reconstruction& r) {
+  ImpactSet set;
+  set.source = o.track;
+  set.comments.push_back("ricochet reconstruct " + o.track + " (window " + r.window_method + ")");
+  Impact i;
+  i.id = o.id.empty() ? fs::path(o.track).stem().string() : o.id;
+  i.shape = o.shape;
+  i.vin = r.vin;
+  i.vout = r.vout;
+  i.sigma_vin = r.sigma_vin;
+  i.sigma_vout = r.sigma_vout;
+  i.contact_duration = r.contact_end_s - r.contact_start_s;
+  set.impacts.push_back(i);
+  write_impact_set(set, o.output.out);
+}
 
-  std::vector<std::string> figures;
-  if (!o.figures.empty()) {
-    const std::string path =
-        (fs::path(o.figures) / ("reconstruct_" + fs::path(o.track).stem().string() + ".svg"))
-            .string();
-    draw(track, r, path);
-    figures.push_back(path);
-  }
+json result_json(const ReconstructCliOptions& o, const kinematics::Reconstruction& r,
+                 const kinematics::ReconstructOptions& opt,
+                 const std::vector<std::string>& figures) {
+  json doc;
+  doc["command"] = "reconstruct";
+  doc["source"] = o.track;
+  doc["units"] = {{"vx", "m/s"}, {"vy", "m/s"}, {"w", "rad/s"}};
+  doc["vin"] = per_component(r.vin);
+  doc["sigma_vin"] = per_component(r.sigma_vin);
+  doc["vout"] = per_component(r.vout);
+  doc["sigma_vout"] = per_component(r.sigma_vout);
+  doc["window"] = {{"start_s", r.contact_start_s},
+                   {"end_s", r.contact_end_s},
+                   {"duration_s", r.contact_end_s - r.contact_start_s},
+                   {"detected", r.window_detected},
+                   {"method", r.window_method}};
+  doc["points_before"] = r.points_before;
+  doc["points_after"] = r.points_after;
+  doc["flagged_points"] = r.flagged_points;
+  doc["gravity"] = {{"imposed", opt.gravity_mps2.has_value()},
+                    {"before_mps2", r.gravity_before_mps2},
+                    {"after_mps2", r.gravity_after_mps2},
+                    {"sigma_before_mps2", r.sigma_gravity_before_mps2},
+                    {"sigma_after_mps2", r.sigma_gravity_after_mps2}};
+  doc["noise"] = {{"sigma_position_m", r.sigma_position_m},
+                  {"sigma_theta_rad", r.sigma_theta_rad},
+                  {"source", r.sigma_source}};
+  doc["rms_residual_m"] = {{"before", r.rms_residual_before_m}, {"after", r.rms_residual_after_m}};
+  doc["figures"] = figures;
+  doc["out"] = o.output.out.empty() ? json(nullptr) : json(o.output.out);
+  return doc;
+}
 
-  if (!o.output.out.empty()) {
-    // One release in the impact-set schema, with the standard errors as sigma columns.
-    ImpactSet set;
-    set.source = o.track;
-    set.comments.push_back("ricochet reconstruct " + o.track + " (window " + r.window_method + ")");
-    Impact i;
-    i.id = o.id.empty() ? fs::path(o.track).stem().string() : o.id;
-    i.shape = o.shape;
-    i.vin = r.vin;
-    i.vout = r.vout;
-    i.sigma_vin = r.sigma_vin;
-    i.sigma_vout = r.sigma_vout;
-    i.contact_duration = r.contact_end_s - r.contact_start_s;
-    set.impacts.push_back(i);
-    write_impact_set(set, o.output.out);
-  }
-
-  if (o.output.json) {
-    json doc;
-    doc["command"] = "reconstruct";
-    doc["source"] = o.track;
-    doc["units"] = {{"vx", "m/s"}, {"vy", "m/s"}, {"w", "rad/s"}};
-    doc["vin"] = per_component(r.vin);
-    doc["sigma_vin"] = per_component(r.sigma_vin);
-    doc["vout"] = per_component(r.vout);
-    doc["sigma_vout"] = per_component(r.sigma_vout);
-    doc["window"] = {{"start_s", r.contact_start_s},
-                     {"end_s", r.contact_end_s},
-                     {"duration_s", r.contact_end_s - r.contact_start_s},
-                     {"detected", r.window_detected},
-                     {"method", r.window_method}};
-    doc["points_before"] = r.points_before;
-    doc["points_after"] = r.points_after;
-    doc["flagged_points"] = r.flagged_points;
-    doc["gravity"] = {{"imposed", opt.gravity_mps2.has_value()},
-                      {"before_mps2", r.gravity_before_mps2},
-                      {"after_mps2", r.gravity_after_mps2},
-                      {"sigma_before_mps2", r.sigma_gravity_before_mps2},
-                      {"sigma_after_mps2", r.sigma_gravity_after_mps2}};
-    doc["noise"] = {{"sigma_position_m", r.sigma_position_m},
-                    {"sigma_theta_rad", r.sigma_theta_rad},
-                    {"source", r.sigma_source}};
-    doc["rms_residual_m"] = {{"before", r.rms_residual_before_m},
-                             {"after", r.rms_residual_after_m}};
-    doc["figures"] = figures;
-    doc["out"] = o.output.out.empty() ? json(nullptr) : json(o.output.out);
-    print_json(doc);
-    return;
-  }
+void print_text(const ReconstructCliOptions& o, const kinematics::Reconstruction& r,
+                const kinematics::ReconstructOptions& opt,
+                const std::vector<std::string>& figures) {
   std::cout << fmt::format(
       "{}: contact window [{:.5f}, {:.5f}] s ({}), {} points before, {} after\n", o.track,
       r.contact_start_s, r.contact_end_s, r.window_method, r.points_before, r.points_after);
@@ -225,6 +207,38 @@ void run(const ReconstructCliOptions& o) {
                              r.flagged_points, o.k_sigma);
   for (const std::string& f : figures) std::cout << "wrote " << f << "\n";
   if (!o.output.out.empty()) std::cout << "wrote " << o.output.out << "\n";
+}
+
+void run(const ReconstructCliOptions& o) {
+  require_out_extension(o.output, {".csv", ".h5", ".hdf5"});
+  kinematics::Track track = kinematics::read_track_csv(o.track, o.pixel_size, o.y_down);
+  if (o.sigma_position) {
+    if (!(*o.sigma_position > 0))
+      throw InputError("<command line>", 0, "--sigma-position", "must be a positive length in m");
+    track.sigma_position_m = *o.sigma_position;
+  }
+  const kinematics::ReconstructOptions opt = reconstruct_options(o);
+  kinematics::Reconstruction r;
+  try {
+    r = kinematics::reconstruct(track, opt);
+  } catch (const std::invalid_argument& e) {
+    // Not enough free flight, no contact found...: the user's track or options are at fault.
+    throw InputError(o.track, 0, "", e.what());
+  }
+  std::vector<std::string> figures;
+  if (!o.figures.empty()) {
+    const std::string path =
+        (fs::path(o.figures) / ("reconstruct_" + fs::path(o.track).stem().string() + ".svg"))
+            .string();
+    draw(track, r, path);
+    figures.push_back(path);
+  }
+  if (!o.output.out.empty()) write_release(o, r);
+  if (o.output.json) {
+    print_json(result_json(o, r, opt, figures));
+    return;
+  }
+  print_text(o, r, opt, figures);
 }
 
 }  // namespace
