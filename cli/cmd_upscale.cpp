@@ -117,63 +117,41 @@ void write_h5(const std::string& path, const dem::UpscaleResult& r, const Model&
   }
 }
 
-void run(const UpscaleCliOptions& o) {
-  require_out_extension(o.output, {".h5", ".hdf5"});
-  const auto decks = dem::Decks::locate(o.decks);
-  const Model model = o.model.build_model();
-  const Shape shape = o.model.build_shape();
-  dem::UpscaleOptions u;
-  u.by = o.by;
-  u.where = o.where;
-  u.fit = o.fit;
-  u.fit.engine.dt_s = o.model.engine_options().dt_s;
-  if (u.fit.starts < 1) throw InputError("<command line>", 0, "--starts", "must be at least 1");
-  u.fit.intervals = !o.no_intervals;
-  if (!o.lab_noise.empty() && o.lab.empty())
-    throw InputError("<command line>", 0, "--lab-noise", "needs --lab (the lab set it models)");
-  std::unique_ptr<ImpactSet> lab;
-  if (!o.lab.empty())
-    lab = std::make_unique<ImpactSet>(fit::select_shape(read_impact_set(o.lab), shape));
-  u.lab = lab.get();
-  const dem::UpscaleResult r = dem::upscale(o.campaign, decks, model, shape, u);
+// The gap to the lab, in numbers: V_out (and the exit slip of a disc), the lab's own checks,
+// then each parameter calibrated on both sides; into `j`, and as text.
+struct LabGapText {
+  std::string lab, params;
+};
+LabGapText add_lab_gap(const UpscaleCliOptions& o, const dem::UpscaleResult& r,
+                       const ImpactSet& lab, const Shape& shape, nlohmann::json& j) {
+  LabGapText text;
+  stats::LabGapOptions g;
+  if (!o.lab_noise.empty()) g.noise_sigma = Vel3{o.lab_noise[0], o.lab_noise[1], o.lab_noise[2]};
+  g.noise_draws = o.lab_noise_draws;
+  g.seed = o.fit.seed;
+  if (shape.is_disc()) g.disc_radius_m = shape.rounding_radius_m;
+  const stats::LabGap lab_gap = stats::lab_gap(r.set, lab, g);
+  nlohmann::json gap;
+  for (const auto& c : lab_gap.components) gap[c.name] = stats::to_json(c);
+  j["gap_to_lab"] = gap;
+  j["lab_checks"] = stats::checks_json(lab_gap);
+  text.lab = stats::to_text(lab_gap);
+  nlohmann::json params;
+  if (!r.impacts.empty())
+    for (std::size_t c : r.impacts.front().fit.calibrated) {
+      std::vector<double> dem_v, lab_v;
+      for (const auto& im : r.impacts) dem_v.push_back(im.fit.params[c]);
+      for (const auto& f : r.lab_fits) lab_v.push_back(f.params[c]);
+      const auto pg = stats::component_gap(r.impacts.front().fit.names[c], dem_v, lab_v);
+      params[pg.name] = stats::to_json(pg);
+      text.params += stats::to_text(pg);
+    }
+  j["parameters_vs_lab"] = params;
+  return text;
+}
 
-  std::vector<std::string> figures;
-  if (!o.figures.empty()) figures = dem::write_upscale_figures(r, o.figures);
-  if (!o.output.out.empty()) write_h5(o.output.out, r, model, shape, u.fit);
-
-  nlohmann::json j = result_json(r);
-  j["figures"] = figures;
-  std::string lab_text, params_text;
-  if (lab) {
-    // The gap to the lab, in numbers: V_out (and the exit slip of a disc), the lab's own
-    // checks, then each parameter calibrated on both sides.
-    stats::LabGapOptions g;
-    if (!o.lab_noise.empty()) g.noise_sigma = Vel3{o.lab_noise[0], o.lab_noise[1], o.lab_noise[2]};
-    g.noise_draws = o.lab_noise_draws;
-    g.seed = o.fit.seed;
-    if (shape.is_disc()) g.disc_radius_m = shape.rounding_radius_m;
-    const stats::LabGap lab_gap = stats::lab_gap(r.set, *lab, g);
-    nlohmann::json gap;
-    for (const auto& c : lab_gap.components) gap[c.name] = stats::to_json(c);
-    j["gap_to_lab"] = gap;
-    j["lab_checks"] = stats::checks_json(lab_gap);
-    lab_text = stats::to_text(lab_gap);
-    nlohmann::json params;
-    if (!r.impacts.empty())
-      for (std::size_t c : r.impacts.front().fit.calibrated) {
-        std::vector<double> dem_v, lab_v;
-        for (const auto& im : r.impacts) dem_v.push_back(im.fit.params[c]);
-        for (const auto& f : r.lab_fits) lab_v.push_back(f.params[c]);
-        const auto pg = stats::component_gap(r.impacts.front().fit.names[c], dem_v, lab_v);
-        params[pg.name] = stats::to_json(pg);
-        params_text += stats::to_text(pg);
-      }
-    j["parameters_vs_lab"] = params;
-  }
-  if (o.output.json) {
-    print_json(j);
-    return;
-  }
+void print_text(const dem::UpscaleResult& r, const std::optional<LabGapText>& lab_text,
+                const std::vector<std::string>& figures) {
   std::cout << fmt::format(
       "upscale {}: {} {} impacts in {} group(s) by [{}], {:.1f} s\n", r.source, r.impacts.size(),
       r.shape, r.groups.size(),
@@ -201,13 +179,48 @@ void run(const UpscaleCliOptions& o) {
       std::cout << fmt::format(" {} = {:.3f}", u2.fit.names[c], u2.fit.params[c]);
     std::cout << fmt::format("  (Eq. 7 = {:.2g})\n", u2.fit.error);
   }
-  if (j.contains("gap_to_lab")) {
-    std::cout << lab_text;
+  if (lab_text) {
+    std::cout << lab_text->lab;
     std::cout << "  equivalent parameters, resolved per impact against lab per release (one "
                  "engine):\n"
-              << params_text;
+              << lab_text->params;
   }
   for (const auto& f : figures) std::cout << "  figure: " << f << "\n";
+}
+
+void run(const UpscaleCliOptions& o) {
+  require_out_extension(o.output, {".h5", ".hdf5"});
+  const auto decks = dem::Decks::locate(o.decks);
+  const Model model = o.model.build_model();
+  const Shape shape = o.model.build_shape();
+  dem::UpscaleOptions u;
+  u.by = o.by;
+  u.where = o.where;
+  u.fit = o.fit;
+  u.fit.engine.dt_s = o.model.engine_options().dt_s;
+  if (u.fit.starts < 1) throw InputError("<command line>", 0, "--starts", "must be at least 1");
+  u.fit.intervals = !o.no_intervals;
+  if (!o.lab_noise.empty() && o.lab.empty())
+    throw InputError("<command line>", 0, "--lab-noise", "needs --lab (the lab set it models)");
+  std::unique_ptr<ImpactSet> lab;
+  if (!o.lab.empty())
+    lab = std::make_unique<ImpactSet>(fit::select_shape(read_impact_set(o.lab), shape));
+  u.lab = lab.get();
+  const dem::UpscaleResult r = dem::upscale(o.campaign, decks, model, shape, u);
+
+  std::vector<std::string> figures;
+  if (!o.figures.empty()) figures = dem::write_upscale_figures(r, o.figures);
+  if (!o.output.out.empty()) write_h5(o.output.out, r, model, shape, u.fit);
+
+  nlohmann::json j = result_json(r);
+  j["figures"] = figures;
+  std::optional<LabGapText> lab_text;
+  if (lab) lab_text = add_lab_gap(o, r, *lab, shape, j);
+  if (o.output.json) {
+    print_json(j);
+    return;
+  }
+  print_text(r, lab_text, figures);
 }
 
 }  // namespace
