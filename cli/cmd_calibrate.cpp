@@ -121,26 +121,12 @@ void print_text(const std::vector<fit::ReleaseFit>& fits, const nlohmann::json& 
   }
 }
 
-void run(const CalibrateOptions& o) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const bool h5 = !o.output.out.empty() && !o.output.out.ends_with(".csv");
-  require_out_extension(o.output, {".csv", ".h5", ".hdf5"});
-  if (o.resume && !h5)
-    throw InputError("<command line>", 0, "--resume", "needs --out FILE.h5 (the file to continue)");
-  const Model given = o.model.build_model();
-  const Shape shape = o.model.build_shape();
-  fit::FitOptions options = fit_options(o);
-  const ImpactSet set =
-      fit::select_shape(filter_nonempty(read_impact_set(o.data), o.where, o.data), shape);
-  // The set's contact features enter the error, and then kn is calibrated: the same rule as
-  // compare, diagnose and ladder (fit/fit.hpp).
-  if (!o.no_features) options.error = fit::with_contact_terms(options.error, set);
-  const Model model = fit::calibration_model(given, options.error);
-
-  std::unique_ptr<fit::ReleaseFitStore> store;
-  if (h5)
-    store =
-        std::make_unique<fit::ReleaseFitStore>(o.output.out, model, shape, set, options, o.resume);
+// Per-release fits, appended to (and resumed from) the HDF5 store when there is one, with a
+// progress bar; the fits already in the store replace their releases' placeholders.
+std::vector<fit::ReleaseFit> calibrate_each_release(const Model& model, const Shape& shape,
+                                                    const ImpactSet& set,
+                                                    const fit::FitOptions& options,
+                                                    fit::ReleaseFitStore* store) {
   std::vector<fit::ReleaseFit> fits;
   {
     Progress bar("calibrate", set.size());
@@ -162,7 +148,64 @@ void run(const CalibrateOptions& o) {
     for (const auto& f : store->existing())
       for (std::size_t i = 0; i < set.size(); ++i)
         if (set.impacts[i].id == f.id) fits[i] = f;
+  return fits;
+}
 
+nlohmann::json result_json(const CalibrateOptions& o, const std::vector<fit::ReleaseFit>& fits,
+                           const nlohmann::json& summary, const fit::PopulationFit* pop,
+                           const Model& model, const Shape& shape, const fit::FitOptions& options,
+                           double seconds) {
+  nlohmann::json doc;
+  doc["releases"] = nlohmann::json::array();
+  for (const auto& f : fits) doc["releases"].push_back(fit::to_json(f));
+  doc["summary"] = summary;
+  doc["seconds"] = seconds;
+  doc["shape"] = shape.name;
+  doc["data"] = o.data;
+  doc["model"] = model.to_json();
+  doc["settings"] = fit::to_json(options);
+  doc["equation"] =
+      std::string("Eq. 7: sum over vx, vy, w of ((V_sim - V_meas) / max(|V_meas|, floor))^2") +
+      (options.error.penetration ? " + ((h_sim - h_meas) / penetration_scale_m)^2" : "") +
+      (options.error.contact_duration ? " + ((T_sim - T_meas) / contact_duration_scale_s)^2" : "");
+  doc["threshold_definition"] =
+      "near-optimal: Eq. 7 <= optimum + threshold_scale * sum_k (sigma_k / max(|V_meas_k|, "
+      "floor_k))^2, plus (sigma_h / d_h)^2 and (sigma_T / d_T)^2 for the contact terms";
+  if (!shape.is_disc())
+    doc["alpha_in"] = {
+        {"mode", fit::alpha_mode_name(options.alpha.mode)},
+        {"range_deg", {options.alpha.min_rad * 180 / M_PI, options.alpha.max_rad * 180 / M_PI}},
+        {"note",
+         options.alpha.mode == fit::AlphaMode::kFit
+             ? "releases without a measured alpha_in: fitted per release as a nuisance "
+               "parameter (periodic range)"
+             : "releases without a measured alpha_in: Eq. 7 averaged over the orientations"}};
+  if (pop) doc["population"] = fit::to_json(*pop);
+  return doc;
+}
+
+void run(const CalibrateOptions& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const bool h5 = !o.output.out.empty() && !o.output.out.ends_with(".csv");
+  require_out_extension(o.output, {".csv", ".h5", ".hdf5"});
+  if (o.resume && !h5)
+    throw InputError("<command line>", 0, "--resume", "needs --out FILE.h5 (the file to continue)");
+  const Model given = o.model.build_model();
+  const Shape shape = o.model.build_shape();
+  fit::FitOptions options = fit_options(o);
+  const ImpactSet set =
+      fit::select_shape(filter_nonempty(read_impact_set(o.data), o.where, o.data), shape);
+  // The set's contact features enter the error, and then kn is calibrated: the same rule as
+  // compare, diagnose and ladder (fit/fit.hpp).
+  if (!o.no_features) options.error = fit::with_contact_terms(options.error, set);
+  const Model model = fit::calibration_model(given, options.error);
+
+  std::unique_ptr<fit::ReleaseFitStore> store;
+  if (h5)
+    store =
+        std::make_unique<fit::ReleaseFitStore>(o.output.out, model, shape, set, options, o.resume);
+  const std::vector<fit::ReleaseFit> fits =
+      calibrate_each_release(model, shape, set, options, store.get());
   std::unique_ptr<fit::PopulationFit> pop;
   if (o.population)
     pop =
@@ -179,39 +222,10 @@ void run(const CalibrateOptions& o) {
     if (options.intervals) uq::figure_intervals(fits, o.figures + "/calibrate_intervals.svg");
     uq::figure_fit_quality(fits, o.figures + "/calibrate_fit.svg");
   }
-
-  if (o.output.json) {
-    nlohmann::json doc;
-    doc["releases"] = nlohmann::json::array();
-    for (const auto& f : fits) doc["releases"].push_back(fit::to_json(f));
-    doc["summary"] = summary;
-    doc["seconds"] = seconds;
-    doc["shape"] = shape.name;
-    doc["data"] = o.data;
-    doc["model"] = model.to_json();
-    doc["settings"] = fit::to_json(options);
-    doc["equation"] =
-        std::string("Eq. 7: sum over vx, vy, w of ((V_sim - V_meas) / max(|V_meas|, floor))^2") +
-        (options.error.penetration ? " + ((h_sim - h_meas) / penetration_scale_m)^2" : "") +
-        (options.error.contact_duration ? " + ((T_sim - T_meas) / contact_duration_scale_s)^2"
-                                        : "");
-    doc["threshold_definition"] =
-        "near-optimal: Eq. 7 <= optimum + threshold_scale * sum_k (sigma_k / max(|V_meas_k|, "
-        "floor_k))^2, plus (sigma_h / d_h)^2 and (sigma_T / d_T)^2 for the contact terms";
-    if (!shape.is_disc())
-      doc["alpha_in"] = {
-          {"mode", fit::alpha_mode_name(options.alpha.mode)},
-          {"range_deg", {options.alpha.min_rad * 180 / M_PI, options.alpha.max_rad * 180 / M_PI}},
-          {"note",
-           options.alpha.mode == fit::AlphaMode::kFit
-               ? "releases without a measured alpha_in: fitted per release as a nuisance "
-                 "parameter (periodic range)"
-               : "releases without a measured alpha_in: Eq. 7 averaged over the orientations"}};
-    if (pop) doc["population"] = fit::to_json(*pop);
-    print_json(doc);
-  } else {
+  if (o.output.json)
+    print_json(result_json(o, fits, summary, pop.get(), model, shape, options, seconds));
+  else
     print_text(fits, summary, pop.get(), shape.name, seconds);
-  }
 }
 
 }  // namespace
