@@ -53,6 +53,66 @@ std::string file_fragment(const std::string& where) {
   return s;
 }
 
+// --split FEATURE=VALUE: the two subsets FEATURE < VALUE and FEATURE >= VALUE (paper Fig. 12,
+// Table 3 rows 3-4 with vin_x=3.5), each with its own Eq. 2 fit.
+struct Split {
+  std::string feature;
+  double value = 0;
+  std::vector<transfer::FitReport> parts;  ///< below, above; empty without --split
+};
+Split split_fits(const FitOptions& o, const ImpactSet& set) {
+  Split split;
+  if (o.split.empty()) return split;
+  const auto eq = o.split.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == o.split.size())
+    throw InputError("<command line>", 0, "--split",
+                     "expected FEATURE=VALUE, e.g. vin_x=3.5, got '" + o.split + "'");
+  split.feature = o.split.substr(0, eq);
+  try {
+    std::size_t used = 0;
+    split.value = std::stod(o.split.substr(eq + 1), &used);
+    if (used != o.split.size() - eq - 1) throw std::invalid_argument("trailing characters");
+  } catch (const std::exception&) {
+    throw InputError("<command line>", 0, "--split",
+                     "'" + o.split.substr(eq + 1) + "' is not a number");
+  }
+  const std::string value = o.split.substr(eq + 1);
+  const std::string join = o.where.empty() ? "" : o.where + " && ";
+  for (const std::string& cond : {split.feature + "<" + value, split.feature + ">=" + value}) {
+    const ImpactSet sub = filter(set, cond);
+    if (sub.empty())
+      throw InputError("<command line>", 0, "--split",
+                       "no release with " + cond + " in the selection");
+    split.parts.push_back(transfer::analyse_fit(sub, join + cond, o.seed, o.replicates));
+  }
+  return split;
+}
+
+std::vector<std::string> write_fit_figures(const FitOptions& o, const transfer::FitReport& main,
+                                           const Split& split) {
+  std::vector<std::string> figures;
+  const std::string data_stem = fs::path(o.data).stem().string();
+  const std::string stem = data_stem + (o.where.empty() ? "" : "_" + file_fragment(o.where));
+  auto row = [&](const transfer::FitReport& r) {
+    return transfer::CdfRow{data_stem + (r.where.empty() ? "" : " [" + r.where + "]") +
+                                " (n=" + std::to_string(r.n) + ")",
+                            &r.in, &r.out, &r.predicted};
+  };
+  const std::string path = (fs::path(o.figures) / ("transfer_cdf_" + stem + ".svg")).string();
+  transfer::write_cdf_figure(
+      path, "Transfer matrix (paper Eq. 2): incident, reflected and predicted CDFs", {row(main)});
+  figures.push_back(path);
+  if (!split.parts.empty()) {
+    const std::string spath = (fs::path(o.figures) / ("transfer_cdf_" + stem + "_split_" +
+                                                      file_fragment(split.feature) + ".svg"))
+                                  .string();
+    transfer::write_cdf_figure(spath, "Transfer matrix per subset (paper Fig. 12)",
+                               {row(split.parts[0]), row(split.parts[1])});
+    figures.push_back(spath);
+  }
+  return figures;
+}
+
 void run_fit(const FitOptions& o) {
   require_out_extension(o.output, {".csv", ".h5", ".hdf5"});
   if (o.replicates == 0)
@@ -61,77 +121,25 @@ void run_fit(const FitOptions& o) {
   const ImpactSet set = filter_nonempty(all, o.where, o.data);
   if (set.empty()) throw InputError(o.data, 0, "id", "the impact set has no release");
   const transfer::FitReport main = transfer::analyse_fit(set, o.where, o.seed, o.replicates);
-
-  // --split FEATURE=VALUE: the two subsets FEATURE < VALUE and FEATURE >= VALUE (paper Fig. 12,
-  // Table 3 rows 3-4 with vin_x=3.5), each with its own Eq. 2 fit.
-  std::vector<transfer::FitReport> parts;
-  std::string split_feature;
-  double split_value = 0;
-  if (!o.split.empty()) {
-    const auto eq = o.split.find('=');
-    if (eq == std::string::npos || eq == 0 || eq + 1 == o.split.size())
-      throw InputError("<command line>", 0, "--split",
-                       "expected FEATURE=VALUE, e.g. vin_x=3.5, got '" + o.split + "'");
-    split_feature = o.split.substr(0, eq);
-    try {
-      std::size_t used = 0;
-      split_value = std::stod(o.split.substr(eq + 1), &used);
-      if (used != o.split.size() - eq - 1) throw std::invalid_argument("trailing characters");
-    } catch (const std::exception&) {
-      throw InputError("<command line>", 0, "--split",
-                       "'" + o.split.substr(eq + 1) + "' is not a number");
-    }
-    const std::string value = o.split.substr(eq + 1);
-    const std::string join = o.where.empty() ? "" : o.where + " && ";
-    for (const std::string& cond : {split_feature + "<" + value, split_feature + ">=" + value}) {
-      const ImpactSet sub = filter(set, cond);
-      if (sub.empty())
-        throw InputError("<command line>", 0, "--split",
-                         "no release with " + cond + " in the selection");
-      parts.push_back(transfer::analyse_fit(sub, join + cond, o.seed, o.replicates));
-    }
-  }
-
-  std::vector<std::string> figures;
-  if (!o.figures.empty()) {
-    const std::string data_stem = fs::path(o.data).stem().string();
-    const std::string stem = data_stem + (o.where.empty() ? "" : "_" + file_fragment(o.where));
-    auto row = [&](const transfer::FitReport& r) {
-      return transfer::CdfRow{data_stem + (r.where.empty() ? "" : " [" + r.where + "]") +
-                                  " (n=" + std::to_string(r.n) + ")",
-                              &r.in, &r.out, &r.predicted};
-    };
-    const std::string path = (fs::path(o.figures) / ("transfer_cdf_" + stem + ".svg")).string();
-    transfer::write_cdf_figure(
-        path, "Transfer matrix (paper Eq. 2): incident, reflected and predicted CDFs", {row(main)});
-    figures.push_back(path);
-    if (!parts.empty()) {
-      const std::string spath = (fs::path(o.figures) / ("transfer_cdf_" + stem + "_split_" +
-                                                        file_fragment(split_feature) + ".svg"))
-                                    .string();
-      transfer::write_cdf_figure(spath, "Transfer matrix per subset (paper Fig. 12)",
-                                 {row(parts[0]), row(parts[1])});
-      figures.push_back(spath);
-    }
-  }
-
+  const Split split = split_fits(o, set);
+  const std::vector<std::string> figures =
+      o.figures.empty() ? std::vector<std::string>{} : write_fit_figures(o, main, split);
   if (!o.output.out.empty()) {
     if (o.output.out.ends_with(".csv"))
       transfer::write_fit_csv(o.output.out, o.data, main);
     else
       transfer::write_fit_h5(o.output.out, o.data, main);
   }
-
   if (o.output.json) {
     json doc = transfer::to_json(main);
     doc["command"] = "transfer fit";
     doc["source"] = o.data;
     doc["units"] = {{"vx", "m/s"}, {"vy", "m/s"}, {"w", "rad/s"}};
-    if (!parts.empty()) {
-      doc["split"] = {{"feature", split_feature},
-                      {"threshold", split_value},
-                      {"below", transfer::to_json(parts[0])},
-                      {"above", transfer::to_json(parts[1])}};
+    if (!split.parts.empty()) {
+      doc["split"] = {{"feature", split.feature},
+                      {"threshold", split.value},
+                      {"below", transfer::to_json(split.parts[0])},
+                      {"above", transfer::to_json(split.parts[1])}};
     }
     doc["figures"] = figures;
     doc["out"] = o.output.out.empty() ? json(nullptr) : json(o.output.out);
@@ -139,7 +147,8 @@ void run_fit(const FitOptions& o) {
     return;
   }
   std::cout << transfer::format_fit(o.data, main);
-  for (const transfer::FitReport& p : parts) std::cout << "\n" << transfer::format_fit(o.data, p);
+  for (const transfer::FitReport& p : split.parts)
+    std::cout << "\n" << transfer::format_fit(o.data, p);
   for (const std::string& f : figures) std::cout << "wrote " << f << "\n";
   if (!o.output.out.empty()) std::cout << "wrote " << o.output.out << "\n";
 }
@@ -153,6 +162,44 @@ struct PredictOptions {
   std::uint64_t seed = 0;
   OutputOptions output;
 };
+
+// The transfer model to predict with: stored by `transfer fit --out FIT.h5` (--model), or
+// fitted here on an impact set (--from).
+void load_model(const PredictOptions& o, transfer::PredictReport& r) {
+  if (!o.model.empty()) {
+    const transfer::StoredModel m = transfer::read_model_h5(o.model);
+    r.model = m.diagonal;
+    r.model_source = {{"file", o.model},
+                      {"source", m.source},
+                      {"where", m.where.empty() ? json(nullptr) : json(m.where)},
+                      {"n", m.n}};
+    return;
+  }
+  const ImpactSet all = read_impact_set(o.from);
+  const ImpactSet set = filter_nonempty(all, o.where, o.from);
+  if (set.empty()) throw InputError(o.from, 0, "id", "the impact set has no release");
+  r.model = transfer::fit_diagonal(set).model;
+  r.model_source = {{"file", nullptr},
+                    {"source", o.from},
+                    {"where", o.where.empty() ? json(nullptr) : json(o.where)},
+                    {"n", set.size()}};
+}
+
+// The incident states: --vin alone, or every release of --incident (returned, to compare with).
+ImpactSet load_incident(const PredictOptions& o, const std::optional<Vel3>& given_vin,
+                        transfer::PredictReport& r) {
+  ImpactSet incident_set;
+  if (given_vin) {
+    r.vin.push_back(*given_vin);
+    r.ids.push_back("vin");
+    return incident_set;
+  }
+  incident_set = filter_nonempty(read_impact_set(o.incident), o.where, o.incident);
+  if (incident_set.empty()) throw InputError(o.incident, 0, "id", "the impact set has no release");
+  r.vin = transfer::incident(incident_set);
+  for (const Impact& i : incident_set.impacts) r.ids.push_back(i.id);
+  return incident_set;
+}
 
 void run_predict(const PredictOptions& o) {
   require_out_extension(o.output, {".csv", ".h5", ".hdf5"});
@@ -169,35 +216,8 @@ void run_predict(const PredictOptions& o) {
 
   transfer::PredictReport r;
   r.seed = o.seed;
-  if (!o.model.empty()) {
-    const transfer::StoredModel m = transfer::read_model_h5(o.model);
-    r.model = m.diagonal;
-    r.model_source = {{"file", o.model},
-                      {"source", m.source},
-                      {"where", m.where.empty() ? json(nullptr) : json(m.where)},
-                      {"n", m.n}};
-  } else {
-    const ImpactSet all = read_impact_set(o.from);
-    const ImpactSet set = filter_nonempty(all, o.where, o.from);
-    if (set.empty()) throw InputError(o.from, 0, "id", "the impact set has no release");
-    r.model = transfer::fit_diagonal(set).model;
-    r.model_source = {{"file", nullptr},
-                      {"source", o.from},
-                      {"where", o.where.empty() ? json(nullptr) : json(o.where)},
-                      {"n", set.size()}};
-  }
-
-  ImpactSet incident_set;
-  if (given_vin) {
-    r.vin.push_back(*given_vin);
-    r.ids.push_back("vin");
-  } else {
-    incident_set = filter_nonempty(read_impact_set(o.incident), o.where, o.incident);
-    if (incident_set.empty())
-      throw InputError(o.incident, 0, "id", "the impact set has no release");
-    r.vin = transfer::incident(incident_set);
-    for (const Impact& i : incident_set.impacts) r.ids.push_back(i.id);
-  }
+  load_model(o, r);
+  const ImpactSet incident_set = load_incident(o, given_vin, r);
   r.replicates = o.n.value_or(o.vin.empty() ? 1 : 1000);
   r.samples = transfer::sample_reflected(r.model, r.vin, r.replicates, o.seed);
   // A reflected vertical velocity that is not upwards is possible when A_yy + dA_yy > 0.
@@ -217,14 +237,12 @@ void run_predict(const PredictOptions& o) {
                                  &measured, &r.samples}});
     figures.push_back(path);
   }
-
   if (!o.output.out.empty()) {
     if (o.output.out.ends_with(".csv"))
       transfer::write_predict_csv(o.output.out, r);
     else
       transfer::write_predict_h5(o.output.out, r);
   }
-
   if (o.output.json) {
     json doc = transfer::to_json(r);
     doc["command"] = "transfer predict";
