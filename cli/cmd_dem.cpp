@@ -229,6 +229,37 @@ struct ImpactOptions {
   long vtk_every = dem::kDefaultVtkEvery;
 };
 
+// --out: a .csv impact set of this one rebound, or the impact appended to a campaign file.
+void write_impact(const std::string& out, const dem::ImpactResult& r, const dem::ImpactSpec& spec) {
+  if (out.ends_with(".csv")) {
+    if (!r.ok())
+      throw InputError(
+          out, 0, "--out",
+          "impact " + r.status + ": no rebound to write as an impact set (" + r.message + ")");
+    ImpactSet set;
+    set.source = "ricochet dem impact";
+    set.extra_names = dem::impact_extra_names();
+    set.extra_units = dem::impact_extra_units();
+    set.impacts = {r.impact};
+    write_impact_set_csv(set, out);
+  } else {
+    dem::append_result(out, r, spec, "dem impact");
+  }
+}
+
+void print_impact_text(const dem::ImpactResult& r, int ranks) {
+  std::cout << fmt::format("{}: {} ({}) in {:.0f} s, {} steps, {} grains on {} rank(s)\n", r.id,
+                           r.status, r.message, r.wall_s, r.steps, r.grains, ranks);
+  if (r.ok())
+    std::cout << fmt::format(
+        "  V_in = ({:.3f}, {:.3f}, {:.2f})  V_out = ({:.3f}, {:.3f}, {:.2f})  (m/s, m/s, "
+        "rad/s)\n  penetration {:.4f} m, contact {:.4f} s, energy dissipated {:.1f} J ({:.0f} "
+        "%), crater {:.3f} m deep x {:.3f} m wide\n",
+        r.impact.vin[0], r.impact.vin[1], r.impact.vin[2], r.impact.vout[0], r.impact.vout[1],
+        r.impact.vout[2], r.penetration_max_m, r.impact.contact_duration.value_or(0),
+        r.energy_dissipated_J, 100 * r.energy_dissipated_frac, r.crater_depth_m, r.crater_width_m);
+}
+
 void run_impact_command_on_rank(const ImpactOptions& o, const MpiSession& mpi) {
   dem::ImpactSpec spec;
   spec.vin = parse_vin(o.vin);
@@ -274,42 +305,15 @@ void run_impact_command_on_rank(const ImpactOptions& o, const MpiSession& mpi) {
   const auto r = dem::run_impact(spec, ctx, MPI_COMM_WORLD);
   bar.finish();
   if (mpi.rank() != 0) return;
-  if (!o.output.out.empty()) {
-    const std::string& out = o.output.out;
-    if (out.ends_with(".csv")) {
-      if (!r.ok())
-        throw InputError(
-            out, 0, "--out",
-            "impact " + r.status + ": no rebound to write as an impact set (" + r.message + ")");
-      ImpactSet set;
-      set.source = "ricochet dem impact";
-      set.extra_names = dem::impact_extra_names();
-      set.extra_units = dem::impact_extra_units();
-      set.impacts = {r.impact};
-      write_impact_set_csv(set, out);
-    } else {
-      dem::append_result(out, r, spec, "dem impact");
-    }
-  }
+  if (!o.output.out.empty()) write_impact(o.output.out, r, spec);
   json j = result_json(r);
   j["bed"] = bed_json(ctx.bed);
   j["bed"]["built"] = built;
   j["ranks"] = mpi.size();
-  if (o.output.json) {
+  if (o.output.json)
     print_json(j);
-  } else {
-    std::cout << fmt::format("{}: {} ({}) in {:.0f} s, {} steps, {} grains on {} rank(s)\n", r.id,
-                             r.status, r.message, r.wall_s, r.steps, r.grains, mpi.size());
-    if (r.ok())
-      std::cout << fmt::format(
-          "  V_in = ({:.3f}, {:.3f}, {:.2f})  V_out = ({:.3f}, {:.3f}, {:.2f})  (m/s, m/s, "
-          "rad/s)\n  penetration {:.4f} m, contact {:.4f} s, energy dissipated {:.1f} J ({:.0f} "
-          "%), crater {:.3f} m deep x {:.3f} m wide\n",
-          r.impact.vin[0], r.impact.vin[1], r.impact.vin[2], r.impact.vout[0], r.impact.vout[1],
-          r.impact.vout[2], r.penetration_max_m, r.impact.contact_duration.value_or(0),
-          r.energy_dissipated_J, 100 * r.energy_dissipated_frac, r.crater_depth_m,
-          r.crater_width_m);
-  }
+  else
+    print_impact_text(r, mpi.size());
 }
 
 void run_impact_command(const ImpactOptions& o) {
