@@ -46,7 +46,7 @@ struct StudyDrop {
 /// How a study is analysed.
 struct DropStudyAnalysisOptions {
   DropAnalysisOptions analysis;  ///< derivative window and end of the penetration phase
-  double tolerance = 0.05;       ///< largest |n - 1/3| that passes Uehara's check
+  double tolerance = UeharaCheck{}.tolerance;  ///< largest |n - 1/3| that passes Uehara's check
 };
 
 /// Uehara's law fitted on one set of depths.
