@@ -190,18 +190,24 @@ TEST(ThrowDesign, PowerAtTheSecondStagesLevelAndPairsBeyondTheBudget) {
     EXPECT_DOUBLE_EQ(p.alone.power, discrimination_power(p.alone.lambda, d.test_level));
     EXPECT_DOUBLE_EQ(p.plan.power, discrimination_power(p.plan.lambda, d.test_level));
   }
-  // One throw cannot decide rate_restitution against none on the lab-like set, twelve can: the
-  // same pair is beyond a budget of 1 and within one of 12, and with nothing left to decide the
-  // plan has no weakest pair.
-  const ThrowDesign& twelve = rate_vs_none(lab_like());
-  ASSERT_EQ(twelve.pairs.size(), 1u);
-  EXPECT_FALSE(twelve.pairs[0].beyond_budget);
-  EXPECT_GE(twelve.pairs[0].alone.power, 0.5);
-  const ThrowDesign one = design_throws(Model::paper(), Shape::cylinder(), lab_like(),
-                                        {{}, {"rate_restitution"}}, wide_box(), small(1));
-  ASSERT_EQ(one.pairs.size(), 1u);
-  EXPECT_TRUE(one.pairs[0].beyond_budget) << one.pairs[0].alone.power;
-  EXPECT_TRUE(std::isnan(one.min_plan.lambda));
+  // One throw decides rate_restitution against none on the lab-like set with power 0.96 at
+  // this level: within the default budget power (0.5), beyond a required 0.99, and with
+  // nothing left to decide the plan then has no weakest pair.
+  DesignOptions one = small(1);
+  const ThrowDesign within = design_throws(Model::paper(), Shape::cylinder(), lab_like(),
+                                           {{}, {"rate_restitution"}}, wide_box(), one);
+  ASSERT_EQ(within.pairs.size(), 1u);
+  const double alone = within.pairs[0].alone.power;
+  ASSERT_GT(alone, 0.5);
+  ASSERT_LT(alone, 0.99);
+  EXPECT_FALSE(within.pairs[0].beyond_budget);
+  EXPECT_TRUE(std::isfinite(within.min_plan.lambda));
+  one.budget_power = 0.99;
+  const ThrowDesign beyond = design_throws(Model::paper(), Shape::cylinder(), lab_like(),
+                                           {{}, {"rate_restitution"}}, wide_box(), one);
+  EXPECT_TRUE(beyond.pairs[0].beyond_budget);
+  EXPECT_TRUE(std::isnan(beyond.min_plan.lambda));
+  EXPECT_EQ(beyond.plan.size(), 1u);  // still a plan: the space-filling fallback
 }
 
 TEST(ThrowDesign, ThrowsGoWhereTheRivalsDiffer) {
