@@ -203,10 +203,11 @@ struct LawMember {
 /// first stage, calibrated on the set, tested against every other family's by the non-nested
 /// J test; a family whose law another one encompasses leaves the set.
 struct FamilyEncompassing {
-  double alpha = NAN;             ///< this stage's level (half the set's)
-  double critical = NAN;          ///< one-sided normal quantile at 1 - alpha / (laws (laws - 1))
-  std::vector<std::string> laws;  ///< each family's best first-stage member (its effect)
-  std::vector<Family> families;   ///< of each law
+  double alpha = NAN;  ///< this stage's level (half the set's)
+  /// One-sided normal quantile at 1 - alpha / (ordered pairs of laws of different families).
+  double critical = NAN;
+  std::vector<std::string> laws;        ///< each family's best first-stage members (their effects)
+  std::vector<Family> families;         ///< of each law
   std::vector<std::string> calibrated;  ///< each law with its calibrated numbers and units
   /// t[a][b]: law a taken as true, tested in the direction of law b (NaN on the diagonal and
   /// where a law could not be calibrated).

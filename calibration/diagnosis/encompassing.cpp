@@ -167,7 +167,12 @@ FamilyEncompassing encompassing_tests(
   out.t.assign(m, std::vector<double>(m, kNaN));
   out.excluded_by.assign(m, -1);
   if (m < 2) return out;
-  out.critical = OT::DistFunc::qNormal(1.0 - alpha / static_cast<double>(m * (m - 1)));
+  // Bonferroni over the ordered pairs of laws of different families (the tests that can exclude).
+  std::size_t pairs = 0;
+  for (std::size_t a = 0; a < m; ++a)
+    for (std::size_t b = 0; b < m; ++b) pairs += families[a] != families[b];
+  if (pairs == 0) return out;
+  out.critical = OT::DistFunc::qNormal(1.0 - alpha / static_cast<double>(pairs));
 
   Rival base;
   base.name = "none";
@@ -196,13 +201,22 @@ FamilyEncompassing encompassing_tests(
     double worst = -std::numeric_limits<double>::infinity();
     for (std::size_t b = 0; b < m; ++b) {
       const double tab = out.t[a][b], tba = out.t[b][a];
-      if (a == b || !std::isfinite(tab) || !std::isfinite(tba)) continue;
+      if (families[a] == families[b] || !std::isfinite(tab) || !std::isfinite(tba)) continue;
       if (tab > c && tba <= c && tab > worst) {
         worst = tab;
         out.excluded_by[a] = static_cast<int>(b);
       }
     }
   }
+  // A family leaves only when every law representing it is excluded: one approximate member's
+  // rejection does not carry the family (file comment).
+  for (std::size_t a = 0; a < m; ++a)
+    if (out.excluded_by[a] >= 0)
+      for (std::size_t k = 0; k < m; ++k)
+        if (families[k] == families[a] && out.excluded_by[k] < 0) {
+          out.excluded_by[a] = -1;
+          break;
+        }
   // Every law excluded by another (a cycle of rejections): the tests contradict each other
   // and decide nothing.
   if (std::all_of(out.excluded_by.begin(), out.excluded_by.end(), [](int b) { return b >= 0; }))

@@ -64,9 +64,15 @@
 // law is an approximation, and the true family's law can be rejected by another family's (then
 // the other is usually rejected too, and both stay).
 //
-// The laws: each family's best first-stage member (largest score statistic); `none` is nested
-// in every law and the first stage decides it; a pair stays or leaves with its first effect's
-// family.
+// The laws: each family's kFamilyRepresentatives best first-stage members (largest score
+// statistics), and a family leaves only when every one of its laws is excluded by a law of
+// another family: when no candidate has the truth's form the family's best member by the local
+// score can be an approximation that another family's law explains, while a second member
+// (another variable) is not (the closed loop's depth-hardening friction: its family lost in 5 of
+// 10 loops with one representative, docs/detection-benchmark.md). Laws of one family are not
+// tested against each other, and c counts only the ordered pairs of different families. `none`
+// is nested in every law and the first stage decides it; a pair stays or leaves with its first
+// effect's family.
 #pragma once
 
 #include <Eigen/Dense>
@@ -76,6 +82,9 @@
 #include "diagnosis/diagnose.hpp"
 
 namespace ricochet::diagnosis::detail {
+
+/// Laws per family in the second stage (file comment).
+inline constexpr std::size_t kFamilyRepresentatives = 2;
 
 /// The second stage (file comment) at level `alpha` between `laws` (registered effects, one
 /// per family, of the families `families`), each added to `warm` (the base model with its

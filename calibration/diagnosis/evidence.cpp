@@ -99,12 +99,16 @@ std::string confidence_text(const LawConfidenceSet& cs) {
   if (cs.holds_none()) text += "; the law as it stands is in the set: perhaps nothing is missing";
   if (const auto& e = cs.encompassing) {
     std::string gone;
+    std::vector<Family> listed;  // a family with two representatives is named once
     for (std::size_t a = 0; a < e->laws.size(); ++a)
-      if (const int b = e->excluded_by[a]; b >= 0)
+      if (const int b = e->excluded_by[a];
+          b >= 0 && std::find(listed.begin(), listed.end(), e->families[a]) == listed.end()) {
+        listed.push_back(e->families[a]);
         gone += fmt::format("{}{} ({} explains what it leaves, t = {:.1f} > {:.2f})",
                             gone.empty() ? "" : ", ", family_name(e->families[a]),
                             e->laws[static_cast<std::size_t>(b)],
                             e->t[a][static_cast<std::size_t>(b)], e->critical);
+      }
     if (!gone.empty()) text += "; calibrated on the set, these families' laws leave it: " + gone;
   }
   return text + ".";

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <optional>
+#include <set>
 
 #include "common/progress.hpp"
 #include "diagnosis/confidence.hpp"
@@ -181,8 +182,9 @@ LawConfidenceSet confidence_set_of(const Diagnosis& d, const std::vector<std::st
   }
   const auto& use = d.baseline.base.use;
   LawConfidenceSet first = detail::law_confidence_set(dirs, cands, tests, registry, use, o.alpha);
-  // The second stage (encompassing.hpp), at the other half of alpha: each family's best member
-  // (members come best first; a pair goes with its first effect's family). Only once the first
+  // The second stage (encompassing.hpp), at the other half of alpha: each family's best
+  // members, kFamilyRepresentatives at most (members come best first; a pair goes with its
+  // first effect's family). Only once the first
   // stage has rejected the law as it stands: the stage tells apart laws that explain a departure
   // the data show. While `none` is in the set the set already says that perhaps nothing is
   // missing, and the calibrations cost what the diagnosis does (lab triangles, averaged over
@@ -190,18 +192,21 @@ LawConfidenceSet confidence_set_of(const Diagnosis& d, const std::vector<std::st
   std::vector<std::string> laws;
   std::vector<Family> families;
   for (const LawMember& m : first.members)
-    if (m.effects.size() == 1 &&
-        std::find(families.begin(), families.end(), m.family) == families.end()) {
+    if (m.effects.size() == 1 && std::count(families.begin(), families.end(), m.family) <
+                                     static_cast<std::ptrdiff_t>(detail::kFamilyRepresentatives)) {
       laws.push_back(m.effect);
       families.push_back(m.family);
     }
-  if (laws.size() < 2 || first.holds_none()) return first;
+  const auto distinct = std::set<Family>(families.begin(), families.end()).size();
+  if (distinct < 2 || first.holds_none()) return first;
   FamilyEncompassing enc =
       detail::encompassing_tests(warm, d.baseline.base.population, shape, set, laws, families,
                                  dirs.whiten, use, o.assess, o.alpha / 2, registry);
   std::vector<Family> excluded;
   for (std::size_t k = 0; k < laws.size(); ++k)
-    if (enc.excluded_by[k] >= 0) excluded.push_back(families[k]);
+    if (enc.excluded_by[k] >= 0 &&
+        std::find(excluded.begin(), excluded.end(), families[k]) == excluded.end())
+      excluded.push_back(families[k]);
   LawConfidenceSet out = excluded.empty() ? std::move(first)
                                           : detail::law_confidence_set(dirs, cands, tests, registry,
                                                                        use, o.alpha, excluded);

@@ -13,6 +13,7 @@
 
 #include "common/error.hpp"
 #include "diagnosis/discrimination.hpp"
+#include "diagnosis/encompassing.hpp"
 #include "diagnosis/signature.hpp"
 #include "fit/design.hpp"
 
@@ -123,7 +124,8 @@ ThrowDesign design_throws(const Model& base, const Shape& shape, const ImpactSet
   // The level the diagnosis's second stage tests each ordered pair of families at (ThrowDesign).
   const auto m = static_cast<double>(std::count_if(
       d.rivals.begin(), d.rivals.end(), [](const Rival& r) { return !r.effects.empty(); }));
-  d.test_level = m >= 2 ? options.alpha / (m * (m - 1)) : options.alpha;
+  const double r = static_cast<double>(detail::kFamilyRepresentatives);
+  d.test_level = m >= 2 ? options.alpha / (r * r * m * (m - 1)) : options.alpha;
   d.calibration_s = seconds_since(t0);
   const auto t1 = Clock::now();
   Assessment a;

@@ -55,7 +55,7 @@ struct DesignOptions {
   /// Candidate states (Sobol' points); 0 = max(1024, 4 x budget).
   std::size_t candidates = 0;
   /// Family-wise level behind the predicted power: with m rivals other than the base model alone,
-  /// each pair is tested at alpha / (m (m - 1)) (ThrowDesign::test_level).
+  /// each pair is tested at alpha / (r^2 m (m - 1)) (ThrowDesign::test_level).
   double alpha = 0.05;
   std::uint64_t seed = 1;        ///< of the uniform draw the plan is compared with
   std::size_t max_passes = 100;  ///< exchange passes at most (each swaps a state at most once)
@@ -99,10 +99,11 @@ struct ThrowDesign {
   double greedy_lambda = 0;  ///< the plan's criterion after the greedy stage, before exchanges
   std::size_t passes = 0, swaps = 0;
   double alpha = 0.05;
-  /// The level of each pair's test behind `power`: alpha / (m (m - 1)) for m >= 2 rivals other
-  /// than the base model alone, as a two-sided chi^2_1 level, i.e. the one-sided normal critical
-  /// value z(1 - (alpha / 2) / (m (m - 1))) of the diagnosis's second stage (encompassing.hpp,
-  /// run at alpha / 2 over every ordered pair of m families); alpha itself for m < 2.
+  /// The level of each pair's test behind `power`: alpha / (r^2 m (m - 1)) for m >= 2 rivals
+  /// other than the base model alone and r = kFamilyRepresentatives, as a two-sided chi^2_1
+  /// level, i.e. the one-sided normal critical value z(1 - (alpha / 2) / (r^2 m (m - 1))) of the
+  /// diagnosis's second stage (encompassing.hpp: alpha / 2 over the ordered pairs of laws of
+  /// different families, r laws per family at most); alpha itself for m < 2.
   double test_level = 0.05;
   std::uint64_t seed = 1;
   /// Wall times [s]: calibration of the rivals, predictions, selection, total.
