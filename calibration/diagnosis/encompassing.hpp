@@ -35,9 +35,9 @@
 //
 // The rule: law a leaves when some b has t_ab > c and t_ba <= c: b explains what a leaves, and a
 // does not explain what b leaves (the decision table of non-nested tests; when both reject,
-// neither law is the truth and both stay). c is the one-sided normal quantile at
-// 1 - alpha / (m (m - 1)) for m laws: Bonferroni over every ordered pair, so that the chance of
-// any false exclusion, not only the true law's, is at most alpha. The true law alone would need
+// neither law is the truth and both stay). c is the one-sided normal quantile at 1 - alpha / P,
+// P the ordered pairs of laws of different families: Bonferroni over every such pair, so that
+// the chance of any false exclusion, not only the true law's, is at most alpha. The true law alone would need
 // only its m - 1 rivals (1 - alpha / (m - 1)); that level was tried first, on the closed loop's
 // exploratory seeds (1-5, 37 diagnoses with this stage): it excluded the truth's family 7 times,
 // because the truth's forms are not the candidates' (the premise "the true law is among them"
