@@ -13,6 +13,7 @@
 #include "common/csv.hpp"
 #include "drop_analysis.hpp"
 #include "effects/registry.hpp"
+#include "rk4_penetration.hpp"
 
 namespace {
 
@@ -150,12 +151,7 @@ DropTrack kd_track(double v0, double d1, double k) {
       tr.vz.push_back(-v);
       tr.fcz.push_back(kMass * (kG - acc(z, v)));
     }
-    const double k1z = v, k1v = acc(z, v);
-    const double k2z = v + 0.5 * dt * k1v, k2v = acc(z + 0.5 * dt * k1z, k2z);
-    const double k3z = v + 0.5 * dt * k2v, k3v = acc(z + 0.5 * dt * k2z, k3z);
-    const double k4z = v + dt * k3v, k4v = acc(z + dt * k3z, k4z);
-    z += dt / 6 * (k1z + 2 * k2z + 2 * k3z + k4z);
-    v += dt / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
+    test::rk4_step(z, v, dt, acc);
     t += dt;
   }
   for (auto* c : {&tr.x, &tr.y, &tr.vx, &tr.vy, &tr.fcx, &tr.fcy, &tr.ke_grains})

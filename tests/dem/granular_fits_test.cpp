@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "granular_fits.hpp"
+#include "rk4_penetration.hpp"
 
 namespace {
 
@@ -35,12 +36,7 @@ Trajectory kd_rk4(double v0, double d1, double k_over_m, double dt_int, int ever
       tr.z.push_back(z + (noise_m > 0 ? n(rng) : 0.0));
     }
     auto a_of = [&](double zz, double vv) { return zz < 0 ? kG : acc(zz, vv); };
-    const double k1z = v, k1v = a_of(z, v);
-    const double k2z = v + 0.5 * dt_int * k1v, k2v = a_of(z + 0.5 * dt_int * k1z, k2z);
-    const double k3z = v + 0.5 * dt_int * k2v, k3v = a_of(z + 0.5 * dt_int * k2z, k3z);
-    const double k4z = v + dt_int * k3v, k4v = a_of(z + dt_int * k3z, k4z);
-    z += dt_int / 6 * (k1z + 2 * k2z + 2 * k3z + k4z);
-    v += dt_int / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
+    test::rk4_step(z, v, dt_int, a_of);
     t += dt_int;
   }
   return tr;
