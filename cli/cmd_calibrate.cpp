@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "cli_common.hpp"
+#include "common/clock.hpp"
 #include "common/error.hpp"
 #include "common/progress.hpp"
 #include "fit/fit.hpp"
@@ -210,8 +211,7 @@ void run(const CalibrateOptions& o) {
   if (o.population)
     pop =
         std::make_unique<fit::PopulationFit>(fit::calibrate_population(model, shape, set, options));
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double seconds = seconds_since(t0);
   const nlohmann::json summary = fit::summary_json(fits);
   if (store) store->write_summary(fits, pop.get(), seconds);
   if (!o.output.out.empty() && !h5) fit::write_csv(o.output.out, fits);

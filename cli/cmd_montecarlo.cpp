@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "cli_common.hpp"
+#include "common/clock.hpp"
 #include "common/error.hpp"
 #include "fit/fit.hpp"
 #include "fit/fit_io.hpp"
@@ -246,7 +247,7 @@ void run(const MonteCarloCliOptions& o) {
   }
   if (!o.output.out.empty() && !h5) uq::write_runs_csv(o.output.out, result);
   if (!o.figures.empty()) write_figures(o, result, measured.get(), calibrated_mc.get());
-  doc["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  doc["seconds"] = seconds_since(t0);
   doc["simulation_seconds"] = result.seconds;
   if (o.output.json) {
     print_json(doc);

@@ -12,6 +12,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/clock.hpp"
 #include "liggghts.hpp"
 
 namespace ricochet::dem {
@@ -101,8 +102,7 @@ BedFiles ensure_bed(const Decks& decks, const std::map<std::string, std::string>
       Liggghts lmp(comm, prefix + ".log", prefix + ".screen", vars);
       lmp.file(decks.bed_deck);
     }
-    if (wall_s)
-      *wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (wall_s) *wall_s = seconds_since(start);
     if (rank == 0) {
       // The parameters file goes last: its presence marks a complete bed.
       fs::rename(tmp + ".restart", prefix + ".restart");

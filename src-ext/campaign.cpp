@@ -10,6 +10,7 @@
 #include <memory>
 #include <set>
 
+#include "common/clock.hpp"
 #include "common/error.hpp"
 #include "common/h5.hpp"
 #include "common/progress.hpp"
@@ -191,7 +192,7 @@ CampaignSummary run_campaign(const CampaignDesign& design, const Decks& decks,
       rewrite_impact_set(options.out, summary.entries, design.name);
   }
   if (group != MPI_COMM_NULL) MPI_Comm_free(&group);
-  summary.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary.wall_s = seconds_since(start);
   return summary;
 }
 

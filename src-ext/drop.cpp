@@ -14,6 +14,7 @@
 #include <stdexcept>
 
 #include "chunk_run.hpp"
+#include "common/clock.hpp"
 #include "impact_run.hpp"
 #include "liggghts.hpp"
 
@@ -269,7 +270,7 @@ DropResult run_drop(const DropSpec& spec, const DropContext& ctx, MPI_Comm comm)
     r.steps = lmp.step() - first_step;
     r.sim_time_s = lmp.time_s();
   }
-  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.wall_s = seconds_since(start);
   r.cpu_s = process_cpu_s() - cpu_start;
   MPI_Allreduce(MPI_IN_PLACE, &r.cpu_s, 1, MPI_DOUBLE, MPI_SUM, comm);
   if (rank != 0) return r;
@@ -335,7 +336,7 @@ ReposeResult run_repose(const Decks& decks, const std::map<std::string, std::str
     geometry.r_max_m = r_max;
     profile = surface_profile(lmp, geometry, 2 * r_max);
   }
-  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.wall_s = seconds_since(start);
   for (std::size_t b = 0; b < profile.size(); ++b) {
     r.x_m.push_back((static_cast<double>(b) + 0.5) * 2 * r_max);
     r.h_m.push_back(profile[b]);

@@ -11,6 +11,7 @@
 #include <set>
 
 #include "campaign_store.hpp"
+#include "common/clock.hpp"
 #include "common/error.hpp"
 #include "fit/design.hpp"
 #include "report/plot.hpp"
@@ -305,7 +306,7 @@ GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const De
       }
     }
   }
-  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.seconds = seconds_since(start);
   return r;
 }
 

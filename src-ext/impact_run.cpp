@@ -1,5 +1,6 @@
 #include "impact_run.hpp"
 
+#include "common/clock.hpp"
 #include "frames.hpp"
 
 #include <sys/resource.h>
@@ -472,7 +473,7 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
     r.steps = lmp.step() - first_step;
     r.sim_time_s = lmp.time_s();
   }
-  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.wall_s = seconds_since(start);
   // CPU time summed over the instance's ranks: the cost in core-seconds, which the other load of
   // a shared machine does not inflate the way it inflates the wall time.
   r.cpu_s = process_cpu_s() - cpu_start;

@@ -9,6 +9,7 @@
 #include <set>
 
 #include "campaign.hpp"
+#include "common/clock.hpp"
 #include "common/error.hpp"
 #include "impact/impact_snapshot.hpp"
 #include "report/impact_picture.hpp"
@@ -144,7 +145,7 @@ UpscaleResult upscale(const std::string& campaign_h5, const Decks& decks, const 
     r.lab = *options.lab;
     r.lab_fits = fit::calibrate_releases(model, shape, r.lab, options.fit);
   }
-  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.seconds = seconds_since(start);
   return r;
 }
 

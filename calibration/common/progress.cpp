@@ -4,6 +4,8 @@
 
 #include <cstdio>
 
+#include "common/clock.hpp"
+
 namespace ricochet {
 
 Progress::Progress(std::string label, std::size_t total, bool enabled)
@@ -13,7 +15,9 @@ Progress::Progress(std::string label, std::size_t total, bool enabled)
       start_(std::chrono::steady_clock::now()),
       last_draw_(start_) {}
 
-Progress::~Progress() { finish(); }
+Progress::~Progress() {
+  finish();
+}
 
 void Progress::advance(std::size_t n) {
   if (!active_) return;
@@ -48,8 +52,7 @@ void Progress::finish() {
   if (!active_ || finished_) return;
   std::lock_guard lock(mutex_);
   finished_ = true;
-  const double elapsed =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  const double elapsed = seconds_since(start_);
   std::fprintf(stderr, "\r%s: %zu/%zu done in %.2f s\033[K\n", label_.c_str(), done_, total_,
                elapsed);
 }

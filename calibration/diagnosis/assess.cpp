@@ -11,6 +11,7 @@
 
 #include <omp.h>
 
+#include "common/clock.hpp"
 #include "diagnosis/synth.hpp"
 
 namespace ricochet::diagnosis {
@@ -87,10 +88,6 @@ namespace {
 Obs measured_of(const Impact& im) {
   return {im.vout[0], im.vout[1], im.vout[2], im.penetration.value_or(NAN),
           im.contact_duration.value_or(NAN)};
-}
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "common/clock.hpp"
 #include "diagnosis/diagnose.hpp"
 
 namespace ricochet::diagnosis {
@@ -100,7 +101,7 @@ Baseline compare(const Model& model_in, const Shape& shape, const ImpactSet& set
     }
     b.ks[k] = stats::ks_two_sample(meas, pred);
   }
-  b.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  b.seconds = seconds_since(t0);
   return b;
 }
 

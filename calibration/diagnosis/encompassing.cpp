@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 
+#include "common/clock.hpp"
 #include "diagnosis/rivals.hpp"
 
 namespace ricochet::diagnosis::detail {
@@ -221,7 +222,7 @@ FamilyEncompassing encompassing_tests(
   // and decide nothing.
   if (std::all_of(out.excluded_by.begin(), out.excluded_by.end(), [](int b) { return b >= 0; }))
     out.excluded_by.assign(m, -1);
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  out.seconds = seconds_since(t0);
   return out;
 }
 

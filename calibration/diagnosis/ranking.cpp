@@ -9,6 +9,7 @@
 #include <optional>
 #include <set>
 
+#include "common/clock.hpp"
 #include "common/progress.hpp"
 #include "diagnosis/confidence.hpp"
 #include "diagnosis/encompassing.hpp"
@@ -416,8 +417,7 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
   else
     d.unexplained = detail::unexplained_after(base, b.floor, b.adequacy, b.features, o.trends,
                                               "base model", &b.residual_trends);
-  d.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() + b.seconds;
+  d.seconds = seconds_since(t0) + b.seconds;
   return d;
 }
 

@@ -11,6 +11,7 @@
 #include <map>
 #include <stdexcept>
 
+#include "common/clock.hpp"
 #include "common/error.hpp"
 #include "diagnosis/discrimination.hpp"
 #include "diagnosis/encompassing.hpp"
@@ -36,9 +37,6 @@ WideBox box_of(const ImpactSet& set) {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 

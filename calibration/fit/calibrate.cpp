@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "common/clock.hpp"
 #include "common/error.hpp"
 #include "fit/design.hpp"
 #include "fit/fibers.hpp"
@@ -85,10 +86,6 @@ namespace {
 
 using detail::LocalResult;
 using detail::Problem;
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // Orientations of the marginal grid: midpoints of equal cells of [min, max].
 std::vector<double> alpha_grid(const AlphaOptions& a) {

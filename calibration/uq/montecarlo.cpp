@@ -6,6 +6,7 @@
 #include <nlopt.hpp>
 #include <stdexcept>
 
+#include "common/clock.hpp"
 #include "common/progress.hpp"
 #include "fit/design.hpp"
 #include "stats/stats.hpp"
@@ -115,7 +116,7 @@ MonteCarloResult simulate_runs(const Model& model, const Shape& shape,
     bar.advance(end - begin);
   }
   bar.finish();
-  res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  res.seconds = seconds_since(t0);
   return res;
 }
 
@@ -302,7 +303,7 @@ RangeFitResult calibrate_ranges(const Model& model, const Shape& shape, const Im
       {}, 0);
   out.comparison = compare_cdfs(res, measured);
   out.evaluations = ctx.evals;
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  out.seconds = seconds_since(t0);
   return out;
 }
 

@@ -8,6 +8,7 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "common/clock.hpp"
 #include "fit/design.hpp"
 
 namespace ricochet::uq {
@@ -160,7 +161,7 @@ SobolResult sobol_indices(const BatchFunction& f, const std::vector<ParameterInp
       }
   }
   lock.unlock();
-  res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  res.seconds = seconds_since(t0);
   return res;
 }
 
