@@ -225,7 +225,7 @@ void add_design_command(CLI::App& app) {
   check_range(sub, "--candidates", 0, 1e6);
   sub->add_option("--alpha", o->design.alpha,
                   "Family-wise level of the discrimination tests (the predicted power: each pair "
-                  "at alpha/(m(m-1)) for m rival laws other than none)")
+                  "at alpha/(4 m(m-1)) for m rival laws other than none, two laws per family)")
       ->capture_default_str();
   check_range(sub, "--alpha", 1e-6, 0.5);
   sub->add_option("--passes", o->design.max_passes, "Exchange passes at most")

@@ -140,15 +140,8 @@ void write_release(const ReconstructCliOptions& o, const kinematics::Reconstruct
   ImpactSet set;
   set.source = o.track;
   set.comments.push_back("ricochet reconstruct " + o.track + " (window " + r.window_method + ")");
-  Impact i;
-  i.id = o.id.empty() ? fs::path(o.track).stem().string() : o.id;
-  i.shape = o.shape;
-  i.vin = r.vin;
-  i.vout = r.vout;
-  i.sigma_vin = r.sigma_vin;
-  i.sigma_vout = r.sigma_vout;
-  i.contact_duration = r.contact_end_s - r.contact_start_s;
-  set.impacts.push_back(i);
+  set.impacts.push_back(
+      kinematics::to_impact(r, o.id.empty() ? fs::path(o.track).stem().string() : o.id, o.shape));
   write_impact_set(set, o.output.out);
 }
 

@@ -607,16 +607,10 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
                             rec.vin[kVy], rec.vout[kVy]);
     return r;
   }
+  r.impact = kinematics::to_impact(rec, spec.id, shape.name);
   Impact& im = r.impact;
-  im.id = spec.id;
-  im.shape = shape.name;
-  im.vin = rec.vin;
-  im.vout = rec.vout;
   im.alpha_in = spec.alpha_in_rad;
   im.penetration = r.penetration_max_m;
-  im.contact_duration = rec.contact_end_s - rec.contact_start_s;
-  im.sigma_vin = rec.sigma_vin;
-  im.sigma_vout = rec.sigma_vout;
   im.extra = {r.energy_dissipated_frac, r.crater_depth_m,
               r.crater_width_m,         r.v_start_direct[kVx],
               r.v_start_direct[kVy],    r.v_start_direct[kW],

@@ -25,8 +25,8 @@ constexpr double kMinMove = 0.1;
 struct Stacked {
   Eigen::VectorXd f, e;
   Eigen::MatrixXd G;
-  Eigen::MatrixXd own;   ///< the columns of G of the law's own effect (not the base model's)
-  std::vector<char> ok;  ///< per release: it rebounds under the law and its probes
+  std::vector<Eigen::Index> own;  ///< the columns of G of the law's own effect (not the base's)
+  std::vector<char> ok;           ///< per release: it rebounds under the law and its probes
 };
 
 Stacked stack(const Rival& r, const Model& base, const Shape& shape, const ImpactSet& set,
@@ -68,13 +68,9 @@ Stacked stack(const Rival& r, const Model& base, const Shape& shape, const Impac
     s.G.middleRows(row0, K) = s.ok[i] ? Eigen::MatrixXd(W * g) : Eigen::MatrixXd::Zero(K, g.cols());
   }
   const std::vector<std::string> shared = base.parameter_names();
-  std::vector<Eigen::Index> own;
   for (std::size_t c = 0; c < probes.size(); ++c)
     if (std::find(shared.begin(), shared.end(), r.model.spec(probes[c].index).name) == shared.end())
-      own.push_back(static_cast<Eigen::Index>(c));
-  s.own.resize(N, static_cast<Eigen::Index>(own.size()));
-  for (std::size_t c = 0; c < own.size(); ++c)
-    s.own.col(static_cast<Eigen::Index>(c)) = s.G.col(own[c]);
+      s.own.push_back(static_cast<Eigen::Index>(c));
   return s;
 }
 
@@ -92,7 +88,6 @@ void keep_common(std::vector<Stacked>& laws, Eigen::Index K) {
         s.f.segment(r, K).setZero();
         s.e.segment(r, K).setZero();
         s.G.middleRows(r, K).setZero();
-        s.own.middleRows(r, K).setZero();
       }
 }
 
@@ -106,8 +101,10 @@ void project_out(Eigen::VectorXd& d, const Eigen::MatrixXd& G) {
 double encompassing_statistic(const Stacked& a, const Stacked& b, Eigen::Index K) {
   Eigen::VectorXd d = b.f - a.f;
   project_out(d, b.G);  // the JA form: what b's own refit cannot take up (file comment)
-  Eigen::MatrixXd Z(d.size(), 1 + b.own.cols());
-  Z << d, b.own;
+  const auto own = static_cast<Eigen::Index>(b.own.size());
+  Eigen::MatrixXd Z(d.size(), 1 + own);
+  Z.col(0) = d;
+  for (Eigen::Index c = 0; c < own; ++c) Z.col(1 + c) = b.G.col(b.own[static_cast<std::size_t>(c)]);
   for (Eigen::Index c = 0; c < Z.cols(); ++c) {
     Eigen::VectorXd z = Z.col(c);
     project_out(z, a.G);
@@ -119,7 +116,8 @@ double encompassing_statistic(const Stacked& a, const Stacked& b, Eigen::Index K
   std::vector<Eigen::Index> keep;
   if (Z.col(0).squaredNorm() >= kMinMove) keep.push_back(0);
   for (Eigen::Index c = 1; c < Z.cols(); ++c)
-    if (Z.col(c).norm() > 1e-8 * b.own.col(c - 1).norm()) keep.push_back(c);
+    if (Z.col(c).norm() > 1e-8 * b.G.col(b.own[static_cast<std::size_t>(c - 1)]).norm())
+      keep.push_back(c);
   if (keep.empty()) return kNaN;
   // Per release, the score contributions u_i = Z_i^T e_i; robust (cluster) Wald s^T V^+ s.
   const auto q = static_cast<Eigen::Index>(keep.size());
@@ -145,7 +143,7 @@ double encompassing_statistic(const Stacked& a, const Stacked& b, Eigen::Index K
     ++rank;
   }
   // One degree of freedom keeps the sign of the non-nested move (the JA t itself).
-  if (rank == 1 && q == 1 && keep.front() == 0) return sum[0] / std::sqrt(V(0, 0));
+  if (q == 1 && keep.front() == 0) return sum[0] / std::sqrt(V(0, 0));
   const double upper = OT::DistFunc::pGamma(0.5 * rank, 0.5 * wald, true);  // P(chi^2 > wald)
   return upper > 0 ? OT::DistFunc::qNormal(upper, true) : 40.0;
 }

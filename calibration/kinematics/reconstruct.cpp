@@ -691,4 +691,16 @@ Reconstruction reconstruct(const Track& track, const ReconstructOptions& options
   return rec;
 }
 
+Impact to_impact(const Reconstruction& r, std::string id, std::string shape) {
+  Impact i;
+  i.id = std::move(id);
+  i.shape = std::move(shape);
+  i.vin = r.vin;
+  i.vout = r.vout;
+  i.sigma_vin = r.sigma_vin;
+  i.sigma_vout = r.sigma_vout;
+  i.contact_duration = r.contact_end_s - r.contact_start_s;
+  return i;
+}
+
 }  // namespace ricochet::kinematics

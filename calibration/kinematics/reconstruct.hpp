@@ -108,4 +108,10 @@ struct Reconstruction {
 /// the detection finds no contact.
 Reconstruction reconstruct(const Track& track, const ReconstructOptions& options = {});
 
+/// The reconstructed release in the impact-set schema: `id`, `shape`, V_in and V_out with their
+/// standard errors as the sigma columns, and the contact duration [s] (end - start of the
+/// window); nothing else is set. `ricochet reconstruct` and the resolved model's extraction both
+/// write their releases from it.
+Impact to_impact(const Reconstruction& r, std::string id, std::string shape);
+
 }  // namespace ricochet::kinematics
