@@ -47,15 +47,29 @@ namespace {
 const char* kStringColumns[] = {"id",      "status",   "message", "shape",
                                 "bed_key", "work_dir", "params"};
 
-// Serialises writers of one campaign file across processes (flock on PATH.lock).
+// Serialises access to one campaign file across processes (flock on PATH.lock): writers hold it
+// exclusively, readers shared. Readers need it too: HDF5 locks the file itself while it is open,
+// so a writer's H5Fopen fails outright (rather than waits) while another process reads, which is
+// how two groups of an MPI campaign collided when one group counted the index after its append.
+// flock locks belong to an open file description, so a process that holds the exclusive lock
+// must not take the shared one again (it would wait for itself): append_result reads through
+// read_index_unlocked.
 class FileLock {
  public:
-  explicit FileLock(const std::string& path) {
-    fd_ = ::open((path + ".lock").c_str(), O_RDWR | O_CREAT, 0644);
-    if (fd_ < 0) throw std::runtime_error("cannot create lock file " + path + ".lock");
-    ::flock(fd_, LOCK_EX);
+  enum class Kind { kExclusive, kShared };
+  explicit FileLock(const std::string& path, Kind kind = Kind::kExclusive) {
+    if (kind == Kind::kExclusive) {
+      fd_ = ::open((path + ".lock").c_str(), O_RDWR | O_CREAT, 0644);
+      if (fd_ < 0) throw std::runtime_error("cannot create lock file " + path + ".lock");
+    } else {
+      // A file no writer has locked (shipped data, a read-only folder) is read without a lock.
+      fd_ = ::open((path + ".lock").c_str(), O_RDONLY);
+      if (fd_ < 0) return;
+    }
+    ::flock(fd_, kind == Kind::kExclusive ? LOCK_EX : LOCK_SH);
   }
   ~FileLock() {
+    if (fd_ < 0) return;
     ::flock(fd_, LOCK_UN);
     ::close(fd_);
   }
@@ -221,7 +235,9 @@ std::string params_json(const ImpactSpec& spec, const ImpactResult& r) {
   return j.dump();
 }
 
-std::vector<CampaignEntry> read_campaign_index(const std::string& path) {
+namespace {
+
+std::vector<CampaignEntry> read_index_unlocked(const std::string& path) {
   std::vector<CampaignEntry> out;
   if (!fs::exists(path)) return out;
   h5::File f(path, h5::File::Mode::kRead);
@@ -252,8 +268,16 @@ std::vector<CampaignEntry> read_campaign_index(const std::string& path) {
   return out;
 }
 
+}  // namespace
+
+std::vector<CampaignEntry> read_campaign_index(const std::string& path) {
+  FileLock lock(path, FileLock::Kind::kShared);
+  return read_index_unlocked(path);
+}
+
 Track read_campaign_track(const std::string& path, const std::string& id) {
   if (!fs::exists(path)) throw std::runtime_error("no campaign file " + path);
+  FileLock lock(path, FileLock::Kind::kShared);
   h5::File f(path, h5::File::Mode::kRead);
   const std::string tg = "/dem/tracks/" + id;
   if (!f.exists(tg)) throw std::runtime_error(path + " has no track " + tg);
@@ -311,6 +335,6 @@ void append_result(const std::string& path, const ImpactResult& r, const ImpactS
     f.flush();
   }
   if (r.snapshot) write_snapshot(path, *r.snapshot);
-  rewrite_impact_set(path, read_campaign_index(path), design_name);
+  rewrite_impact_set(path, read_index_unlocked(path), design_name);
 }
 }  // namespace ricochet::dem

@@ -1,0 +1,76 @@
+// The campaign file shared by processes: the groups of an MPI campaign (and a session copying the
+// file of a running campaign) read it while another process appends. HDF5 refuses to open a file
+// for writing while another process has it open (it does not wait), so readers take the shared
+// lock on PATH.lock and writers the exclusive one. Before readers locked, a campaign of two
+// groups died in CI with "cannot open file" when one group counted the index just as the other
+// marked its next impact running.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <iostream>
+
+#include "campaign.hpp"
+
+namespace {
+
+using namespace ricochet;
+using namespace ricochet::dem;
+namespace fs = std::filesystem;
+
+constexpr int kAppends = 25;
+
+// The child appends kAppends impacts, each marked running first, as a campaign group does.
+[[noreturn]] void append_in_child(const std::string& path) {
+  try {
+    for (int i = 0; i < kAppends; ++i) {
+      ImpactSpec spec;
+      spec.id = "impact-" + std::to_string(i);
+      mark_running(path, spec.id, "work");
+      ImpactResult r;
+      r.id = spec.id;
+      r.status = "ok";
+      for (int k = 0; k < 50; ++k)
+        for (const auto& name : Track::column_names()) r.track.column(name)->push_back(1e-3 * k);
+      append_result(path, r, spec, "concurrency-test");
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "child: " << e.what() << "\n";
+    ::_exit(1);
+  }
+  ::_exit(0);
+}
+
+TEST(DemCampaignStore, ReaderAndWriterInTwoProcessesNeverCollide) {
+  const fs::path d =
+      fs::temp_directory_path() / ("dem-store-test-" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  const std::string path = (d / "campaign.h5").string();
+
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) append_in_child(path);
+
+  int reads = 0, failures = 0, status = 0;
+  std::string first_failure;
+  while (::waitpid(child, &status, WNOHANG) == 0) {
+    try {
+      read_campaign_index(path);
+      ++reads;
+    } catch (const std::exception& e) {
+      if (failures++ == 0) first_failure = e.what();
+    }
+  }
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "the writer failed (its message is on stderr)";
+  EXPECT_EQ(failures, 0) << first_failure;
+  EXPECT_GT(reads, 0);
+  const auto index = read_campaign_index(path);
+  ASSERT_EQ(index.size(), static_cast<std::size_t>(kAppends));
+  EXPECT_EQ(index.back().id, "impact-" + std::to_string(kAppends - 1));
+  fs::remove_all(d);
+}
+
+}  // namespace
