@@ -242,13 +242,18 @@ struct Detectable {
   Variable variable = Variable::kOther;
   std::string parameter, unit;  ///< its parameter and the parameter's SI unit
   double neutral = NAN;         ///< where the law does nothing
-  /// The change from neutral at 80 % power (signed: the side the law may take), whether or not
-  /// it lies within the bounds; infinite when no strength reaches it (t_ceiling too low).
+  /// The change from neutral at 80 % power (signed: the side the law may take), solved on the
+  /// engine within the bounds; beyond them the first-order change (infinite when t_ceiling is
+  /// too low for any strength).
   double change_80 = NAN;
   /// The score statistic's mean per unit change at small changes, and its ceiling (power.hpp):
-  /// at a change beta of the allowed sign, E[T] = |beta| t_per_unit / sqrt(1 + (|beta|
-  /// t_per_unit / t_ceiling)^2), and the power is Phi(E[T] - critical).
+  /// to first order, at a change beta of the allowed sign, E[T] = |beta| t_per_unit / sqrt(1 +
+  /// (|beta| t_per_unit / t_ceiling)^2), and the power is Phi(E[T] - critical).
   double t_per_unit = NAN, t_ceiling = NAN;
+  /// E[T] at finite changes from neutral, from the engine's predictions (power.hpp, "At a
+  /// finite strength"): (signed change in `unit`, E[T]) by increasing |change|, the points the
+  /// search for change_80 evaluated. The power at a change is Phi(E[T] - critical).
+  std::vector<std::pair<double, double>> t_curve;
   /// The parameter's value at 80 % power; NaN when that lies beyond its bounds (not detectable
   /// within them).
   double value = NAN;

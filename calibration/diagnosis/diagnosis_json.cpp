@@ -184,7 +184,9 @@ nlohmann::json to_json(const LawConfidenceSet& cs, const std::array<bool, kObser
 nlohmann::json to_json(const std::vector<Detectable>& rows,
                        const std::array<bool, kObservables>& use) {
   nlohmann::json out = nlohmann::json::array();
-  for (const Detectable& r : rows)
+  for (const Detectable& r : rows) {
+    nlohmann::json curve = nlohmann::json::array();  // [change, E[T]] pairs (power.hpp)
+    for (const auto& [change, t] : r.t_curve) curve.push_back({num(change), num(t)});
     out.push_back({{"family", family_name(r.family)},
                    {"variable", variable_name(r.variable)},
                    {"effect", r.effect},
@@ -195,12 +197,14 @@ nlohmann::json to_json(const std::vector<Detectable>& rows,
                    {"change_80", num(r.change_80)},
                    {"t_per_unit", num(r.t_per_unit)},
                    {"t_ceiling", num(r.t_ceiling)},
+                   {"t_curve", std::move(curve)},
                    {"law", r.law},
                    {"shift", to_json(r.shift, use)},
                    {"noise_units", num(r.noise_units)},
                    {"power", r.power},
                    {"level", num(r.level)},
                    {"critical_value", num(r.critical)}});
+  }
   return out;
 }
 

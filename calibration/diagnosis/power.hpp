@@ -21,9 +21,20 @@
 // the noncentrality of a score test, Cox & Hinkley 1974 sec. 9.3). Without the spread term
 // (beta_80 = (c + z_0.8) sigma_S / A, the first version) the predictions were measured to be
 // optimistic: predicted power 0.87-0.95 where the score test rejected in 3-40 % of the sets
-// (docs/detection-benchmark.md, "Power calibration"). Still not modelled: the whitening's own
-// growth with the law (the residual covariance includes it) and the law's curvature beyond the
-// linear change; the held-out route can only add power.
+// (docs/detection-benchmark.md, "Power calibration").
+// At a finite strength: the linear change beta s overstates a law whose effect saturates (an
+// inertial drag's F = c_d v^2 at the lab cylinder's mean state: V_out^y falls by 0.10 m/s at
+// c_d = 1000 kg/m and by 0.32 m/s, not 0.55, at 5000 kg/m; ricochet simulate), and with it the
+// power (the calibration study's drag cells: predicted mean T 2.0-3.9, measured 1.1-1.7). So the
+// strength is solved on the engine itself: the law at change beta adds g(beta), its predictions'
+// whitened and projected change (finite_change), to the residual; the contributions become
+// a_i(beta) = s_i . g_i(beta) (beta a_i to first order), and
+//   T(beta) = sum_i a_i(beta) / sqrt(sigma_S^2 + V(beta)),  V(beta) from the a_i(beta) as above,
+// solved for T(beta_80) = c + z_0.8 by bracketing from the linear beta_80 and bisection in
+// log beta (about 15 engine passes over the set per parameter). The points evaluated are
+// reported (Detectable::t_curve), so that the power at any other strength can be read off.
+// Still not modelled: the whitening's own growth with the law (the residual covariance
+// includes it) and the base parameters' nonlinear refit; the held-out route can only add power.
 // Per family the candidate whose law at beta_80 moves the predictions least, in noise units,
 // is reported, with its parameter value, its law and its change of the predictions in SI units.
 // What it assumes: the local (linear) model around the base fit, and the law's own form; a
@@ -42,12 +53,14 @@ namespace ricochet::diagnosis::detail {
 /// One row per testable parameter of every candidate, in the order of `names`. `names[h]`,
 /// `models[h]` (the warm model plus the candidate at neutral; none when it could not be
 /// composed) and `scores[h]` are the candidates as diagnose() tested them; `tests` their score
-/// tests; `alpha` the diagnosis's family-wise level.
+/// tests; `alpha` the diagnosis's family-wise level; `shape`, `set` and `o` (resolved on the
+/// set) those of the diagnosis, for the engine runs at finite strengths.
 std::vector<Detectable> detectable_candidates(
     const Directions& dirs, const std::vector<std::string>& names,
     const std::vector<std::optional<Model>>& models, const std::vector<Score>& scores,
     const stats::ScoreTests& tests, const EffectRegistry& registry,
-    const std::array<bool, kObservables>& use, double alpha);
+    const std::array<bool, kObservables>& use, double alpha, const Shape& shape,
+    const ImpactSet& set, const AssessOptions& o);
 
 /// The most detectable row of each family (a law within its bounds first, then the smallest
 /// change in noise units), in Family order.

@@ -384,8 +384,9 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
     if (c.error.empty()) c.evidence = detail::evidence_of(c, b, o);
   d.confidence_set =
       confidence_set_of(d, names, cand_models, scores, tests, dirs, warm, shape, set, registry, o);
-  d.detectable_candidates = detail::detectable_candidates(dirs, names, cand_models, scores, tests,
-                                                          registry, b.base.use, o.alpha);
+  d.detectable_candidates =
+      detail::detectable_candidates(dirs, names, cand_models, scores, tests, registry,
+                                    b.base.use, o.alpha, shape, set, o.assess);
   d.detectable = detail::minimum_detectable(d.detectable_candidates);
 
   // The verdict, from the ranking first (it never contradicts it).

@@ -140,6 +140,20 @@ Score score_of(const Directions& dirs, const Model& cand, const Shape& shape, co
   return out;
 }
 
+FiniteChange finite_change(const Directions& dirs, const Model& cand, const Shape& shape,
+                           const ImpactSet& set, const std::vector<double>& params,
+                           const std::vector<ObsPrediction>& p0, const AssessOptions& o) {
+  const auto p = predict_observables(cand, shape, params, set, o);
+  FiniteChange c{Eigen::VectorXd(static_cast<Eigen::Index>(dirs.rows.size())),
+                 dirs.proj * scaled_change(p, p0, set, dirs.rows, 1.0, dirs.whiten, o)};
+  for (std::size_t row = 0; row < dirs.rows.size(); ++row) {
+    const auto [i, k] = dirs.rows[row];
+    const double x = p[i].value[k] - p0[i].value[k];
+    c.raw[static_cast<Eigen::Index>(row)] = std::isfinite(x) ? x : 0.0;
+  }
+  return c;
+}
+
 std::vector<double> per_release_products(const Directions& dirs, const Eigen::VectorXd& x,
                                          const Eigen::VectorXd& y, std::size_t releases) {
   std::vector<double> out(releases, 0.0);

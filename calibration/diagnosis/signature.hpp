@@ -65,6 +65,17 @@ Score score_of(const Directions& dirs, const Model& cand, const Shape& shape, co
                const std::vector<std::size_t>& added, const AssessOptions& o, double probe_fraction,
                std::size_t hypothesis);
 
+/// The change of `cand`'s predictions from `p0` (its predictions at its own values, the
+/// candidate at neutral) to its predictions at `params`, laid out like `dirs.rows`: `raw` in SI
+/// units, `s` scaled, whitened and projected like ScoreDirection::s. What a law at a finite
+/// strength adds to the residual, without the linearisation of ScoreDirection (power.hpp).
+struct FiniteChange {
+  Eigen::VectorXd raw, s;
+};
+FiniteChange finite_change(const Directions& dirs, const Model& cand, const Shape& shape,
+                           const ImpactSet& set, const std::vector<double>& params,
+                           const std::vector<ObsPrediction>& p0, const AssessOptions& o);
+
 /// Per release, the sum over its rows (`dirs.rows`) of x_r y_r: a score's contributions u_i with
 /// (x, y) = (direction, residual), or a direction's own gain per unit change a_i = |s_i|^2 with
 /// x = y = s (power.hpp). `releases` entries.
