@@ -64,6 +64,21 @@ void check_range(CLI::App* sub, const std::string& name, double lo, double hi) {
       "in " + range));
 }
 
+void refuse_problems(const OptionProblems& problems, const OptionNames& names) {
+  if (problems.empty()) return;
+  const OptionProblem& first = problems.front();
+  std::string option = first.option;
+  for (const auto& [field, name] : names)
+    if (field == first.option) option = name;
+  throw InputError("<command line>", 0, option, first.message);
+}
+
+void show_range(CLI::App* sub, const std::string& name, const OptionRange& range) {
+  // A validator that accepts everything: CLI11 shows its description in --help.
+  sub->get_option(name)->check(
+      CLI::Validator([](std::string&) { return std::string(); }, "in " + range.text()));
+}
+
 void set_current_command(std::string command, const CLI::App* parser) {
   current_command() = {std::move(command), parser, std::nullopt, {}, false};
 }

@@ -4,8 +4,11 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "common/csv.hpp"  // CsvTable, write_text_file: the one CSV and text-file writer
+#include "common/option_problems.hpp"
 
 namespace ricochet::cli {
 
@@ -33,6 +36,20 @@ enum class JsonOut { kAccepted, kRefused };
 /// (a non-number: "NAME: 'V' is not a number") and exit status 2 (docs/commands/README.md,
 /// "Exit status"); --help shows "in [LO, HI]".
 void check_range(CLI::App* sub, const std::string& name, double lo, double hi);
+
+/// The command line's name of each library option it binds: {"assess.repeats", "--repeats"}.
+using OptionNames = std::vector<std::pair<std::string, std::string>>;
+
+/// Refuses the first of `problems` (a library options struct's problems(), common/
+/// option_problems.hpp): throws InputError("<command line>", 0, the option's command-line name
+/// from `names`, the library's message), exit status 2. The library decides the ranges; the
+/// command line only renames. A problem of a field `names` does not list keeps the library's
+/// name (the command line set it from no option of its own).
+void refuse_problems(const OptionProblems& problems, const OptionNames& names);
+
+/// Shows the library's range of the already declared option `name` in --help ("in [1, 20]"),
+/// as check_range does, without checking it: the library's problems() does (refuse_problems).
+void show_range(CLI::App* sub, const std::string& name, const OptionRange& range);
 
 /// Adds --json and --out to a subcommand.
 void add_output_options(CLI::App* sub, OutputOptions& options,
