@@ -38,22 +38,23 @@ struct CalibrateOptions {
 };
 
 Vel3 parse_sigma(const std::vector<double>& v) {
-  if (v.size() != 3 || !(v[0] > 0 && v[1] > 0 && v[2] > 0))
+  if (v.size() != 3)
     throw InputError("<command line>", 0, "--sigma",
-                     "expected three positive values SX,SY,SW (m/s, m/s, rad/s)");
+                     "expected three values SX,SY,SW (m/s, m/s, rad/s)");
   return {v[0], v[1], v[2]};
 }
+
+// The command line's names of the fit settings it binds (their ranges: FitOptions::problems).
+const OptionNames kFitNames = {{"starts", "--starts"},
+                               {"design_points", "--design-points"},
+                               {"sigma", "--sigma"},
+                               {"threshold_scale", "--threshold-scale"}};
 
 fit::FitOptions fit_options(const CalibrateOptions& o) {
   fit::FitOptions f = o.fit;
   f.engine.dt_s = o.model.engine_options().dt_s;
-  if (f.starts < 1) throw InputError("<command line>", 0, "--starts", "must be at least 1");
-  if (f.design_points < 0)
-    throw InputError("<command line>", 0, "--design-points", "must be >= 0 (0 = automatic)");
   f.intervals = !o.no_intervals;
   if (!o.sigma.empty()) f.sigma = parse_sigma(o.sigma);
-  if (!(f.threshold_scale > 0))
-    throw InputError("<command line>", 0, "--threshold-scale", "must be positive");
   if (o.alpha_mode == "fit")
     f.alpha.mode = fit::AlphaMode::kFit;
   else if (o.alpha_mode == "marginal")
@@ -66,6 +67,7 @@ fit::FitOptions fit_options(const CalibrateOptions& o) {
     f.alpha.min_rad = o.alpha_range_deg[0] * M_PI / 180.0;
     f.alpha.max_rad = o.alpha_range_deg[1] * M_PI / 180.0;
   }
+  refuse_problems(f.problems(), kFitNames);
   return f;
 }
 
@@ -243,7 +245,8 @@ void add_calibrate_command(CLI::App& app) {
   add_seed_option(sub, opts->fit.seed, "the start design");
   sub->add_option("--starts", opts->fit.starts, "BOBYQA runs per release")->capture_default_str();
   sub->add_option("--design-points", opts->fit.design_points,
-                  "Start design size (0 = 16 per fitted variable)")
+                  "Start design size besides the model's values (0 = 16 per fitted variable; "
+                  "-1 = none: a local refinement from the model's values)")
       ->capture_default_str();
   sub->add_option("--sigma", opts->sigma,
                   fmt::format("Measurement uncertainty of V_out SX,SY,SW (m/s, m/s, rad/s) for "
@@ -271,10 +274,11 @@ void add_calibrate_command(CLI::App& app) {
   add_threads_option(sub, opts->fit.threads);
   sub->add_flag("--resume", opts->resume, "Continue the run stored in --out FILE.h5");
   add_figures_option(sub, opts->figures);
-  check_range(sub, "--starts", 1, 1000);
-  check_range(sub, "--design-points", 0, 1e6);
-  check_range(sub, "--sigma", 1e-12, 1e6);
-  check_range(sub, "--threshold-scale", 1e-6, 1e6);
+  show_range(sub, "--starts", fit::FitOptions::kStarts);
+  show_range(sub, "--design-points", fit::FitOptions::kDesignPoints);
+  show_range(sub, "--sigma", fit::FitOptions::kSigma);
+  show_range(sub, "--threshold-scale", fit::FitOptions::kThresholdScale);
+  // In degrees here, the library's range in radians (FitOptions::kAlphaRad).
   check_range(sub, "--alpha-range", -180, 180);
   sub->callback([opts] { run(*opts); });
 }

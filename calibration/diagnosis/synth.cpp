@@ -12,15 +12,16 @@
 #include "common/paths.hpp"
 #include "fit/design.hpp"
 #include "fit/fit.hpp"
+#include "fit/lab_noise.hpp"
 
 namespace ricochet::diagnosis {
 
 NoiseSpec NoiseSpec::lab() {
   NoiseSpec s;
-  s.vin = {0.1, 0.1, 1.4};
-  s.vout = fit::FitOptions{}.sigma;  // {0.1, 0.1, 3.4}: the same Table 1 scale as calibration
-  s.penetration_m = 0.5e-3;
-  s.contact_duration_s = 1e-3;
+  s.vin = fit::LabNoise::vin;
+  s.vout = fit::LabNoise::vout;
+  s.penetration_m = fit::LabNoise::penetration_m;
+  s.contact_duration_s = fit::LabNoise::contact_duration_s;
   return s;
 }
 

@@ -36,12 +36,8 @@ struct NoiseSpec {
   double penetration_m = 0;       ///< of the maximum penetration [m]
   double contact_duration_s = 0;  ///< of the contact duration [s]
 
-  /// The lab's scale (docs/diagnosis.md, "Noise"): V_in and V_out from the differences between
-  /// the two operators' means in paper Table 1 (V_in: 0.1 m/s, 0.1 m/s, 1.4 rad/s; V_out: 0.1 m/s,
-  /// 0.1 m/s, 3.4 rad/s; the V_out values are fit::FitOptions::sigma); the contact duration from
-  /// the 400 frames/s camera (paper section 2.1): start and end each read to one frame, 1 ms;
-  /// the penetration from the pixel size, 0.5 mm. The last two are our estimates: the paper
-  /// measured neither.
+  /// The lab's scale (docs/diagnosis.md, "Noise"): fit::LabNoise (fit/lab_noise.hpp), the
+  /// uncertainties the calibration and the noise floor use too.
   static NoiseSpec lab();
   /// No noise: exact measurements.
   static NoiseSpec none() { return {}; }

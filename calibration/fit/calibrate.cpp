@@ -451,6 +451,7 @@ std::size_t design_dim(const Model& model, const Shape& shape, const Impact& imp
 
 ReleaseFit calibrate_release(const Model& model, const Shape& shape, const Impact& impact,
                              const FitOptions& options) {
+  require_valid(options.problems(), "fit::calibrate_release");
   const ParameterBox box(model, options.error);
   const std::vector<double> design =
       start_design(box, model, design_dim(model, shape, impact, options), options);
@@ -464,6 +465,7 @@ ReleaseFit calibrate_release(const Model& model, const Shape& shape, const Impac
 std::vector<ReleaseFit> calibrate_releases(const Model& model, const Shape& shape,
                                            const ImpactSet& set, const FitOptions& options,
                                            const ReleaseHooks& hooks) {
+  require_valid(options.problems(), "fit::calibrate_releases");
   const ParameterBox box(model, options.error);  // validates the model before threads start
   std::vector<ReleaseFit> out(set.size());
   std::vector<std::size_t> todo;
@@ -648,6 +650,7 @@ class PopulationProblem final : public Problem {
 PopulationFit calibrate_population(const Model& model, const Shape& shape, const ImpactSet& set,
                                    const FitOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
+  require_valid(options.problems(), "fit::calibrate_population");
   if (set.empty()) throw std::invalid_argument("calibrate_population: empty impact set");
   const ParameterBox box(model, options.error);
   const std::vector<double> design = start_design(box, model, box.size(), options);
@@ -696,6 +699,7 @@ PopulationFit calibrate_population(const Model& model, const Shape& shape, const
 
 HeldOut heldout_predictions(const Model& model, const Shape& shape, const ImpactSet& set,
                             std::size_t folds, const FitOptions& options) {
+  require_valid(options.problems(), "fit::heldout_predictions");
   if (folds < 2 || folds > set.size())
     throw std::invalid_argument("heldout_predictions: folds must be in [2, number of releases]");
   HeldOut out;

@@ -60,10 +60,12 @@
 #include <string>
 #include <vector>
 
+#include "common/option_problems.hpp"
 #include "effects/model.hpp"
 #include "engine/engine.hpp"
 #include "engine/shape.hpp"
 #include "fit/error.hpp"
+#include "fit/lab_noise.hpp"
 #include "impact/impact_set.hpp"
 
 namespace ricochet::fit {
@@ -140,26 +142,41 @@ struct FitOptions {
   std::uint64_t seed = 1;  ///< seed of the Latin hypercube start design
   int starts = 4;          ///< BOBYQA runs per fit, from the best design points
   /// Size of the start design besides the model's own values; 0 = 16 per fitted variable;
-  /// negative = none (a local refinement from the model's values).
+  /// -1 = none (a local refinement from the model's values).
   int design_points = 0;
   int max_evaluations = 300;  ///< per BOBYQA run
   double xtol = 1e-3;         ///< BOBYQA step tolerance, in units of the bound range
   AlphaOptions alpha;         ///< unknown incidence angle of non-disc blocks
   bool intervals = true;      ///< compute near-optimal intervals (identifiability)
   /// Measurement standard uncertainty of V_out {m/s, m/s, rad/s} when an impact has no
-  /// sigma_vout. Default: the differences between the two operators' means in paper Table 1
-  /// (0.1 m/s, 0.1 m/s, 3.4 rad/s), the paper's own estimate of the pointing error.
-  Vel3 sigma = {0.1, 0.1, 3.4};
+  /// sigma_vout: the lab's (LabNoise, paper Table 1). Each in [1e-12, 1e6].
+  Vel3 sigma = LabNoise::vout;
   /// Standard uncertainty of the maximum penetration [m] and of the contact duration [s] in
-  /// the near-optimal threshold when the error has those terms (noise_threshold): the lab-scale
-  /// estimates of diagnosis::NoiseSpec::lab() (pixel size 0.5 mm; one frame of the 400 frames/s
-  /// camera at each end, 1 ms).
-  double sigma_penetration_m = 0.5e-3;
-  double sigma_contact_duration_s = 1e-3;
-  double threshold_scale = 1.0;  ///< multiplies Delta (e.g. 4 for "two sigma")
+  /// the near-optimal threshold when the error has those terms (noise_threshold): the lab's
+  /// (LabNoise).
+  double sigma_penetration_m = LabNoise::penetration_m;
+  double sigma_contact_duration_s = LabNoise::contact_duration_s;
+  double threshold_scale = 1.0;  ///< multiplies Delta (e.g. 4 for "two sigma"); [1e-6, 1e6]
   /// Interval resolution, as a fraction of each parameter's bound range.
   double interval_resolution = 0.01;
   int threads = 0;  ///< OpenMP threads over releases (calibrate_releases) or batches; 0 = default
+
+  /// The allowed ranges (problems(); the command line shows them in --help). design_points: -1
+  /// is no design (see above), 1e6 bounds one engine batch; marginal points: one orientation is
+  /// no average; alpha.min_rad < alpha.max_rad, both within one turn.
+  static constexpr OptionRange kStarts{1, 1000};
+  static constexpr OptionRange kDesignPoints{-1, 1e6};
+  static constexpr OptionRange kMaxEvaluations{1, 1e9};
+  static constexpr OptionRange kUnitFraction{0, 1, true, true};  ///< xtol, interval_resolution
+  static constexpr OptionRange kMarginalPoints{2, 3600};
+  static constexpr OptionRange kAlphaRad{-M_PI, M_PI};
+  static constexpr OptionRange kSigma{1e-12, 1e6};  ///< every standard uncertainty
+  static constexpr OptionRange kThresholdScale{1e-6, 1e6};
+
+  /// The problems of these options (common/option_problems.hpp), empty when they are valid;
+  /// calibrate_release, calibrate_releases, calibrate_population and heldout_predictions call it
+  /// at their entry.
+  OptionProblems problems() const;
 };
 
 /// Result of one release's calibration.
