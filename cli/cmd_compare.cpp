@@ -21,10 +21,9 @@ namespace {
 void run(DiagnosisCliOptions& o) {
   require_out_extension(o.output, {".csv", ".h5", ".hdf5"});
   o.values.dt_s = o.model.dt_s;
-  diagnosis::DiagnoseOptions opt = diagnosis::make_options(o.values);
+  diagnosis::DiagnoseOptions opt = diagnose_options(o.values);
   const Model model = o.model.build_model();
   const auto in = diagnosis::load_inputs(o.data, o.shape_given ? o.model.shape : "", o.where);
-  opt.assess.folds = diagnosis::resolve_folds(o.values.folds, in.set.size());
   const diagnosis::Baseline b = diagnosis::compare(model, in.shape, in.set, opt);
   nlohmann::json doc = diagnosis::to_json(b, in.set);
   doc["data"] = o.data;

@@ -140,9 +140,8 @@ void run(DesignCliOptions& o) {
   if (!(o.model.dt_s > 0 && o.model.dt_s < 1e-3))
     throw InputError("<command line>", 0, "--dt", "time step must lie in (0, 1e-3) s");
   opt.assess.fit.engine.dt_s = o.model.dt_s;
-  if (o.orientations == 1)
-    throw InputError("<command line>", 0, "--orientations", "must be 0 (the default) or >= 2");
-  if (o.orientations > 0) opt.assess.fit.alpha.marginal_points = o.orientations;
+  if (o.orientations != 0) opt.assess.fit.alpha.marginal_points = o.orientations;
+  refuse_problems(opt.assess.problems(), {{"fit.alpha.marginal_points", "--orientations"}});
   if (opt.candidates > 0 && opt.candidates < opt.budget)
     throw InputError("<command line>", 0, "--candidates",
                      fmt::format("{} candidates cannot hold a budget of {} throws: give at least "
@@ -159,7 +158,6 @@ void run(DesignCliOptions& o) {
   if (names.empty()) {
     diagnosis::DiagnoseOptions dopt;
     dopt.assess = opt.assess;
-    dopt.assess.folds = diagnosis::resolve_folds(std::to_string(dopt.assess.folds), in.set.size());
     dopt.progress = !o.output.json;
     names = diagnosis::default_rivals(model, in.shape, in.set, dopt);
     if (names.size() < 2)
@@ -232,10 +230,13 @@ void add_design_command(CLI::App& app) {
       ->capture_default_str();
   check_range(sub, "--passes", 0, 10000);
   sub->add_option("--orientations", o->orientations,
-                  "Orientations averaged over for blocks without alpha_in (0: the default)")
+                  "Orientations averaged over for blocks without alpha_in, in " +
+                      fit::FitOptions::kMarginalPoints.text() + " (0: the default)")
       ->capture_default_str();
-  check_range(sub, "--orientations", 0, 3600);
-  add_seed_option(sub, o->seed, "the uniform draw compared with the plan and the calibrations");
+  add_seed_option(sub, o->seed,
+                  "every random draw: the uniform draw compared with the plan, the "
+                  "calibrations' start designs, the cross-validation's partitions and the "
+                  "score test's bootstrap of the diagnosis choosing the default rivals");
   add_threads_option(sub, o->threads);
   add_output_options(sub, o->output, JsonOut::kRefused);
   sub->get_option("--out")->required()->description(

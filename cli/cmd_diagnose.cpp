@@ -19,10 +19,9 @@ namespace {
 void run(DiagnosisCliOptions& o) {
   require_out_extension(o.output, {".csv", ".h5", ".hdf5"});
   o.values.dt_s = o.model.dt_s;
-  diagnosis::DiagnoseOptions opt = diagnosis::make_options(o.values);
+  diagnosis::DiagnoseOptions opt = diagnose_options(o.values);
   const Model model = o.model.build_model();  // loads plugins first: they become candidates
   const auto in = diagnosis::load_inputs(o.data, o.shape_given ? o.model.shape : "", o.where);
-  opt.assess.folds = diagnosis::resolve_folds(o.values.folds, in.set.size());
   opt.progress = !o.output.json;
   const diagnosis::Diagnosis d = diagnosis::diagnose(model, in.shape, in.set, opt);
   nlohmann::json doc = diagnosis::to_json(d);
@@ -87,7 +86,7 @@ void add_diagnose_command(CLI::App& app) {
       app, "diagnose",
       "Rank the catalog's effects (and plugins) missing from the model by the held-out error "
       "after adding each one and recalibrating; evidence in words",
-      {.alpha = "Family-wise error rate of the candidate tests (Holm)",
+      {.alpha = kDiagnosisAlphaHelp,
        .candidates = true,
        .release_fits = true,
        .intervals = true,

@@ -20,7 +20,7 @@ namespace {
 void run(DiagnosisCliOptions& o, int auto_rounds) {
   require_out_extension(o.output, {".csv", ".h5", ".hdf5"});
   o.values.dt_s = o.model.dt_s;
-  diagnosis::DiagnoseOptions opt = diagnosis::make_options(o.values);
+  diagnosis::DiagnoseOptions opt = diagnose_options(o.values);
   const std::vector<std::string> adds = o.model.add;
   ModelOptions base_options = o.model;
   base_options.add.clear();
@@ -37,7 +37,6 @@ void run(DiagnosisCliOptions& o, int auto_rounds) {
     throw InputError("<command line>", 0, "--add",
                      "give the effects of the ladder (--add NAME, repeatable) or --auto N");
   const auto in = diagnosis::load_inputs(o.data, o.shape_given ? o.model.shape : "", o.where);
-  opt.assess.folds = diagnosis::resolve_folds(o.values.folds, in.set.size());
   opt.assess.release_fits = opt.assess.release_fits && auto_rounds >= 0;
   opt.progress = !o.output.json;
   const diagnosis::Ladder l =
@@ -98,7 +97,8 @@ void add_ladder_command(CLI::App& app) {
       app, "ladder",
       "Recalibrate a ladder of models (base, + effect, + another, ...) and show the in-sample "
       "and held-out error falling towards the noise floor",
-      {.alpha = "--auto: family-wise error rate of the candidate tests (Holm)",
+      {.alpha = "--auto: the family-wise error rate of each round's candidate tests (as "
+                "diagnose --alpha)",
        .features = true,
        .write_model = true},
       [auto_rounds](CLI::App* sub) {

@@ -29,21 +29,20 @@ struct ReportCliOptions {
   ModelOptions model;
   diagnosis::OptionValues values;
   OutputOptions output;
-  std::string title = "Ricochet validation report";
-  int rounds = 2;
+  diagnosis::ReportOptions report;  ///< --rounds, --title: their defaults are the library's
   bool shape_given = false;
 };
 
 void run(ReportCliOptions& o) {
   require_extension("--out", o.output.out, {".html", ".htm"});
   o.values.dt_s = o.model.dt_s;
-  diagnosis::ReportOptions ro;
+  diagnosis::ReportOptions ro = o.report;
   ro.diagnose = diagnosis::make_options(o.values);
   ro.diagnose.progress = !o.output.json;
-  ro.diagnose.assess.folds = diagnosis::resolve_folds(o.values.folds, 1000000);
-  ro.rounds = o.rounds;
-  ro.title = o.title;
-  if (o.rounds < 0) throw InputError("<command line>", 0, "--rounds", "must be >= 0");
+  OptionNames names = {{"rounds", "--rounds"}};
+  for (const auto& [field, name] : diagnosis_option_names())
+    names.emplace_back("diagnose." + field, name);
+  refuse_problems(ro.problems(), names);
   if (!o.labels.empty() && o.labels.size() != o.data.size())
     throw InputError("<command line>", 0, "--label",
                      "give one label per DATA file (" + std::to_string(o.data.size()) + ")");
@@ -106,15 +105,14 @@ void add_report_command(CLI::App& app) {
       ->check(CLI::ExistingFile);
   add_where_option(sub, o->where, "the releases of each DATA");
   add_model_options(sub, o->model);
-  sub->add_option("--rounds", o->rounds, "Effects the automatic ladder may add")
+  sub->add_option("--rounds", o->report.rounds,
+                  "Effects the automatic ladder may add (rounds of diagnosis after the first)")
       ->capture_default_str();
-  sub->add_option("--title", o->title, "Title of the page")->capture_default_str();
-  add_diagnosis_options(
-      sub, o->values,
-      {.alpha = "Family-wise error rate of the candidate tests (Holm)", .intervals = true});
+  show_range(sub, "--rounds", diagnosis::ReportOptions::kRounds);
+  sub->add_option("--title", o->report.title, "Title of the page")->capture_default_str();
+  add_diagnosis_options(sub, o->values, {.alpha = kDiagnosisAlphaHelp, .intervals = true});
   add_output_options(sub, o->output, JsonOut::kRefused);
   sub->get_option("--out")->required()->description("The HTML file to write");
-  check_range(sub, "--rounds", 0, 20);
   sub->callback([o, sub] {
     o->shape_given = sub->get_option("--shape")->count() > 0;
     run(*o);

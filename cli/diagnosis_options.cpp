@@ -7,15 +7,23 @@
 
 namespace ricochet::cli {
 
+using diagnosis::AssessOptions;
+using diagnosis::DiagnoseOptions;
+
 void add_diagnosis_options(CLI::App* sub, diagnosis::OptionValues& v,
                            const DiagnosisOptionSet& set) {
-  sub->add_option("--folds", v.folds, "k of the k-fold held-out error, or loro")
+  sub->add_option("--folds", v.folds,
+                  "k of the k-fold held-out error, at least 2 (at most the number of releases: "
+                  "more are clamped to it), or loro (leave one release out)")
       ->capture_default_str();
-  add_seed_option(sub, v.seed, "the calibration start designs");
+  add_seed_option(sub, v.seed,
+                  "every random draw: the calibrations' start designs, the cross-validation's "
+                  "partitions into folds and the score test's multiplier bootstrap");
   sub->add_option("--repeats", v.repeats,
                   "Partitions of the repeated k-fold held-out error (each a different random "
                   "split into folds)")
       ->capture_default_str();
+  show_range(sub, "--repeats", AssessOptions::kRepeats);
   if (set.alpha) {
     sub->add_option("--alpha", v.alpha, set.alpha)->capture_default_str();
     sub->add_option("--screen", v.screen,
@@ -43,15 +51,29 @@ void add_diagnosis_options(CLI::App* sub, diagnosis::OptionValues& v,
                   "eq7 (the paper's)")
       ->capture_default_str();
   sub->add_option("--orientations", v.orientations,
-                  "Orientations averaged over for blocks without alpha_in (0: the default)")
+                  "Orientations averaged over for blocks without alpha_in, in " +
+                      fit::FitOptions::kMarginalPoints.text() + " (0: the default)")
       ->capture_default_str();
   add_threads_option(sub, v.threads);
-  check_range(sub, "--repeats", 1, 1000);
   if (set.alpha) {
-    check_range(sub, "--alpha", 1e-6, 0.5);
-    check_range(sub, "--screen", 0, 1e4);
+    show_range(sub, "--alpha", DiagnoseOptions::kAlpha);
+    show_range(sub, "--screen", DiagnoseOptions::kScreen);
   }
-  check_range(sub, "--orientations", 0, 3600);
+}
+
+const OptionNames& diagnosis_option_names() {
+  static const OptionNames names = {{"alpha", "--alpha"},
+                                    {"screen", "--screen"},
+                                    {"assess.folds", "--folds"},
+                                    {"assess.repeats", "--repeats"},
+                                    {"assess.fit.alpha.marginal_points", "--orientations"}};
+  return names;
+}
+
+diagnosis::DiagnoseOptions diagnose_options(const diagnosis::OptionValues& values) {
+  diagnosis::DiagnoseOptions o = diagnosis::make_options(values);
+  refuse_problems(o.problems(), diagnosis_option_names());
+  return o;
 }
 
 CLI::App* add_diagnosis_command(CLI::App& app, const std::string& name,

@@ -26,6 +26,12 @@ struct DiagnosisOptionSet {
   bool write_model = false;   ///< --write-model
 };
 
+/// The help of --alpha on diagnose and report (ladder prefixes "--auto: ").
+inline constexpr const char* kDiagnosisAlphaHelp =
+    "Family-wise error rate of the candidate tests: alpha / 2 for the score test (step-down "
+    "max-T), alpha / 2 for the held-out test (Holm); the confidence set of laws is at level "
+    "alpha / 2 too";
+
 /// What `compare`, `diagnose` and `ladder` read from their command line.
 struct DiagnosisCliOptions {
   std::string data;   ///< the impact set (.csv, .h5)
@@ -49,6 +55,15 @@ CLI::App* add_diagnosis_command(CLI::App& app, const std::string& name,
 /// Declares the diagnosis options of `set` on `sub`, writing into `values`.
 void add_diagnosis_options(CLI::App* sub, diagnosis::OptionValues& values,
                            const DiagnosisOptionSet& set);
+
+/// The command line's names of the DiagnoseOptions fields these options set, for
+/// refuse_problems (cli_common.hpp).
+const OptionNames& diagnosis_option_names();
+
+/// The library's options from the values given (diagnosis::make_options), refused under the
+/// command line's option names when DiagnoseOptions::problems() finds any (exit status 2,
+/// before any work).
+diagnosis::DiagnoseOptions diagnose_options(const diagnosis::OptionValues& values);
 
 /// Prints "wrote FILE" for every figure and for the --out file (when given).
 void print_written(const std::vector<std::string>& figures, const std::string& out);

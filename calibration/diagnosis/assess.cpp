@@ -295,9 +295,12 @@ NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const d
       }
     }
     f.description =
-        std::string(declared ? "declared measurement uncertainties (sigma columns)"
-                             : "the paper's Table 1 operator scale (V_out 0.1 m/s, 0.1 m/s, "
-                               "3.4 rad/s; V_in 0.1 m/s, 0.1 m/s, 1.4 rad/s)") +
+        (declared
+             ? std::string("declared measurement uncertainties (sigma columns)")
+             : fmt::format("the paper's Table 1 operator scale (V_out {:g} m/s, {:g} m/s, "
+                           "{:g} rad/s; V_in {:g} m/s, {:g} m/s, {:g} rad/s)",
+                           fit::LabNoise::vout[0], fit::LabNoise::vout[1], fit::LabNoise::vout[2],
+                           fit::LabNoise::vin[0], fit::LabNoise::vin[1], fit::LabNoise::vin[2])) +
         ", plus the V_in uncertainty propagated through the calibrated model" +
         (any_spread ? ", plus the spread of the prediction over the unknown block orientation"
                     : "");
@@ -446,6 +449,7 @@ Model nominal_start(const Model& model) {
 
 Assessment assess(const Model& model_in, const Shape& shape, const ImpactSet& set,
                   const AssessOptions& options, const Assessment* warm) {
+  require_valid(options.problems(), "diagnosis::assess");
   const AssessOptions o = resolve_scale(set, options);
   // The parameters every fit below calibrates (the fit module decides the same way).
   const Model model = calibration_model_for(model_in, set, o);
@@ -484,8 +488,7 @@ Assessment assess(const Model& model_in, const Shape& shape, const ImpactSet& se
       throw std::invalid_argument("assess: the warm assessment is of another set");
     a.cv = warm->cv;
   } else {
-    a.cv = make_cv_design(n, std::clamp<std::size_t>(o.folds, 2, n),
-                          std::max<std::size_t>(1, o.repeats), o.fit.seed);
+    a.cv = make_cv_design(n, o.folds_for(n), o.repeats, o.fit.seed);
   }
   a.folds = a.cv.folds;
   const std::size_t R = a.cv.repeats;

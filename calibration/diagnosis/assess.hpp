@@ -38,8 +38,8 @@
 //    (and orientation): the pooled within-group variance of the measured outputs;
 //  - otherwise the declared uncertainties (sigma_vout, sigma_vin columns; sigma_penetration and
 //    sigma_contact_duration extra columns) when present;
-//  - otherwise the paper's Table 1 operator scale (fit::FitOptions::sigma for V_out; 0.1 m/s,
-//    0.1 m/s, 1.4 rad/s for V_in).
+//  - otherwise the paper's Table 1 operator scale (fit::LabNoise: fit::FitOptions::sigma for
+//    V_out, sigma_vin below for V_in).
 // In the last two cases the floor is sum_k (sigma_out_k^2 + sigma_prop_k^2 + s_alpha_k^2) / d_k^2
 // where sigma_prop is the V_in uncertainty propagated through the calibrated model (finite
 // differences: the model is run from a measured, hence noisy, incident state) and s_alpha^2
@@ -56,6 +56,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -97,7 +98,10 @@ struct AssessOptions {
     f.alpha.marginal_points = 6;
     return f;
   }();
-  std::size_t folds = 5;  ///< k of the k-fold held-out error (clamped to n)
+  /// k of the k-fold held-out error, at least 2; kLeaveOneOut: one fold per release. Resolved
+  /// on a set of n releases by folds_for(n), the one place the clamp to n is decided.
+  std::size_t folds = 5;
+  static constexpr std::size_t kLeaveOneOut = std::numeric_limits<std::size_t>::max();
   /// Default kSetMean (docs/diagnosis.md, "Error"): with the paper's own denominators a
   /// release whose measured V_out^y is small, and noisy, is weighted up by its own noise, and
   /// the population calibration is biased (a synthetic set's true kv = 0.15 was calibrated to
@@ -107,11 +111,12 @@ struct AssessOptions {
   /// Use penetration / contact duration terms when every release of the set has them (then
   /// fit.error.penetration / contact_duration are switched on; their floors are d_h, d_T).
   bool use_features = true;
-  /// V_in uncertainty when the set declares none: paper Table 1 operator scale.
-  Vel3 sigma_vin = {0.1, 0.1, 1.4};
-  /// Penetration / duration uncertainties when the set declares none (our estimates of a lab
-  /// measurement; docs/diagnosis.md).
-  double sigma_penetration_m = 0.5e-3, sigma_contact_duration_s = 1e-3;
+  /// V_in uncertainty when the set declares none: the lab's (fit::LabNoise, paper Table 1).
+  Vel3 sigma_vin = fit::LabNoise::vin;
+  /// Penetration / duration uncertainties when the set declares none: the lab's (fit::LabNoise,
+  /// our estimates of a lab measurement; docs/diagnosis.md).
+  double sigma_penetration_m = fit::LabNoise::penetration_m,
+         sigma_contact_duration_s = fit::LabNoise::contact_duration_s;
   /// BOBYQA runs of the full-set population fit (the population objective is multimodal in mu:
   /// sliding and sticking contacts; the fit module's default of 4 misses the better basin on
   /// some sets).
@@ -159,7 +164,25 @@ struct AssessOptions {
   /// a subset (a fold's training releases) can be resolved on its own releases.
   std::optional<fit::ErrorOptions> unresolved_error;
   bool release_intervals = true;  ///< with identifiability intervals
+
+  /// The folds of a set of n >= 2 releases: `folds` clamped to [2, n] (a k above n cannot deal
+  /// a release into every fold; kLeaveOneOut thus gives n).
+  std::size_t folds_for(std::size_t n) const;
+
+  /// The allowed ranges (problems(); the command line shows them in --help). folds: at least 2
+  /// (one fold is no held-out error); repeats: the range docs/commands/diagnose.md documents
+  /// (each repeat costs one more fit per fold); every count of starts as fit::FitOptions::kStarts.
+  static constexpr OptionRange kRepeats{1, 20};
+
+  /// The problems of these options (common/option_problems.hpp; fit's prefixed "fit."), empty
+  /// when they are valid; assess() calls it at its entry.
+  OptionProblems problems() const;
 };
+
+/// Parses the command line's text of AssessOptions::folds: an integer, or "loro" (leave one
+/// release out: AssessOptions::kLeaveOneOut). Throws InputError naming `option` for any other
+/// text; the range is problems()'s.
+std::size_t parse_folds(const std::string& text, const std::string& option = "--folds");
 
 /// The options with the error floors of `scale` resolved on `set` (fit.error.floor and the
 /// contact floors). Every function below resolves its options on the set it is given; callers

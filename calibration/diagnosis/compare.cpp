@@ -61,6 +61,7 @@ DiagnoseOptions resolve_scale(const ImpactSet& set, const DiagnoseOptions& optio
 
 Baseline compare(const Model& model_in, const Shape& shape, const ImpactSet& set,
                  const DiagnoseOptions& options, const Assessment* previous) {
+  require_valid(options.problems(), "diagnosis::compare");
   const DiagnoseOptions o = resolve_scale(set, options);
   // kn calibrated too when the set's contact features enter the error (assess.hpp).
   const Model model = calibration_model_for(model_in, set, o.assess);

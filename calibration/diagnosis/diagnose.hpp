@@ -97,6 +97,19 @@ struct DiagnoseOptions {
   /// value towards the other bound.
   double probe_fraction = 0.1;
   bool progress = true;  ///< progress bar on a terminal
+
+  /// The allowed ranges (problems(); the command line shows them in --help): alpha is a
+  /// probability, the level of a test (0 and 1 would test nothing); screen at most 1000, far
+  /// above the registry's candidates (each costs a leak-free calibration); the probe step a
+  /// fraction of the range.
+  static constexpr OptionRange kAlpha{0, 1, true, true};
+  static constexpr OptionRange kScreen{0, 1000};
+  static constexpr OptionRange kScoreDraws{1, 1e9};
+  static constexpr OptionRange kProbeFraction{0, 1, true, false};
+
+  /// The problems of these options (common/option_problems.hpp; assess's prefixed "assess."),
+  /// empty when they are valid; compare, diagnose, ladder and auto_ladder call it at their entry.
+  OptionProblems problems() const;
 };
 
 /// Errors over a subset of releases (a regime).

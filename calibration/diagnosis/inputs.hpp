@@ -16,9 +16,11 @@ namespace ricochet::diagnosis {
 /// DiagnoseOptions / AssessOptions (the one place each is decided, with its reason), so that the
 /// command line and a program calling the library run the same analysis.
 struct OptionValues {
-  /// Number of folds, or "loro" (leave one release out).
+  /// Number of folds, or "loro" (leave one release out): the text parse_folds reads.
   std::string folds = std::to_string(AssessOptions{}.folds);
-  std::uint64_t seed = AssessOptions{}.fit.seed;  ///< seed of the calibration's start designs
+  /// Seed of every random draw of the analysis: the calibrations' start designs, the
+  /// cross-validation's partitions (CvDesign) and the score test's multiplier bootstrap.
+  std::uint64_t seed = AssessOptions{}.fit.seed;
   double alpha = DiagnoseOptions{}.alpha;         ///< family-wise error rate
   std::size_t repeats = AssessOptions{}.repeats;  ///< repeated k-fold partitions
   std::size_t screen = DiagnoseOptions{}.screen;  ///< generated laws calibrated
@@ -35,11 +37,10 @@ struct OptionValues {
   double dt_s = AssessOptions{}.fit.engine.dt_s;  ///< engine time step [s]
 };
 
-/// Builds DiagnoseOptions; throws InputError naming the option for a bad value.
+/// Builds DiagnoseOptions from the values; throws InputError naming the option for a value
+/// that does not parse (--folds, --error, --dt). The ranges are DiagnoseOptions::problems()'s:
+/// the caller checks them (the command line under its own option names).
 DiagnoseOptions make_options(const OptionValues& values);
-
-/// Resolves the number of folds for a set of n releases ("loro" = n; clamped to [2, n]).
-std::size_t resolve_folds(const std::string& folds, std::size_t n);
 
 /// An impact set restricted to one shape, and that shape.
 struct Inputs {

@@ -16,6 +16,7 @@ using detail::registry_of;
 
 Ladder ladder(const Model& model, const Shape& shape, const ImpactSet& set,
               const std::vector<std::string>& adds, const DiagnoseOptions& options) {
+  require_valid(options.problems(), "diagnosis::ladder");
   const DiagnoseOptions o = resolve_scale(set, options);
   Ladder l;
   const EffectRegistry& registry = registry_of(o);
@@ -60,6 +61,7 @@ Ladder ladder(const Model& model, const Shape& shape, const ImpactSet& set,
 
 Ladder auto_ladder(const Model& model, const Shape& shape, const ImpactSet& set, int max_rounds,
                    const DiagnoseOptions& o, const Diagnosis* first) {
+  require_valid(o.problems(), "diagnosis::auto_ladder");
   Ladder l;
   Model current = model;
   // The previous round's best candidate, calibrated leak-free split by split: the next round's

@@ -224,6 +224,7 @@ Diagnosis diagnose(const Model& model, const Shape& shape, const ImpactSet& set,
 
 Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, const ImpactSet& set,
                    const DiagnoseOptions& options) {
+  require_valid(options.problems(), "diagnosis::diagnose");
   const DiagnoseOptions o = resolve_scale(set, options);
   const auto t0 = std::chrono::steady_clock::now();
   Diagnosis d;

@@ -337,14 +337,13 @@ void ladder_section(report::HtmlPage& page, const ReportSection& s) {
 
 std::vector<ReportSection> analyse(const std::vector<ReportInput>& inputs, const Model& model,
                                    const ReportOptions& o) {
+  require_valid(o.problems(), "diagnosis::analyse");
   std::vector<ReportSection> out;
   for (const auto& in : inputs) {
     ReportSection s;
     s.input = in;
-    DiagnoseOptions opt = o.diagnose;
-    opt.assess.folds = std::min<std::size_t>(opt.assess.folds, in.set.size());
-    s.diagnosis = diagnose(model, in.shape, in.set, opt);
-    s.ladder = auto_ladder(model, in.shape, in.set, o.rounds, opt, &s.diagnosis);
+    s.diagnosis = diagnose(model, in.shape, in.set, o.diagnose);
+    s.ladder = auto_ladder(model, in.shape, in.set, o.rounds, o.diagnose, &s.diagnosis);
     s.headline = headline_of(s);
     s.conclusion = conclusion_of(s);
     if (in.lab) {

@@ -33,6 +33,12 @@ struct ReportOptions {
   DiagnoseOptions diagnose;
   int rounds = 2;  ///< at most this many effects added by the automatic ladder
   std::string title = "Ricochet validation report";
+
+  /// The allowed range of rounds (problems(); the command line shows it in --help).
+  static constexpr OptionRange kRounds{0, 20};
+  /// The problems of these options (diagnose's prefixed "diagnose."), empty when they are
+  /// valid; analyse() calls it at its entry.
+  OptionProblems problems() const;
 };
 
 /// Results of one analysed set (also returned as JSON by `ricochet report --json`).
