@@ -28,8 +28,7 @@ namespace fs = std::filesystem;
 
 struct FitOptions {
   std::string data, where, split, figures;
-  std::uint64_t seed = 1;
-  std::size_t replicates = 100;
+  transfer::FitSampling sampling;  ///< --seed, --replicates: their defaults are the library's
   OutputOptions output;
 };
 
@@ -83,7 +82,7 @@ Split split_fits(const FitOptions& o, const ImpactSet& set) {
     if (sub.empty())
       throw InputError("<command line>", 0, "--split",
                        "no release with " + cond + " in the selection");
-    split.parts.push_back(transfer::analyse_fit(sub, join + cond, o.seed, o.replicates));
+    split.parts.push_back(transfer::analyse_fit(sub, join + cond, o.sampling));
   }
   return split;
 }
@@ -115,12 +114,11 @@ std::vector<std::string> write_fit_figures(const FitOptions& o, const transfer::
 
 void run_fit(const FitOptions& o) {
   require_out_extension(o.output, {".csv", ".h5", ".hdf5"});
-  if (o.replicates == 0)
-    throw InputError("<command line>", 0, "--replicates", "must be at least 1");
+  refuse_problems(o.sampling.problems(), {{"replicates", "--replicates"}});
   const ImpactSet all = read_impact_set(o.data);
   const ImpactSet set = filter_nonempty(all, o.where, o.data);
   if (set.empty()) throw InputError(o.data, 0, "id", "the impact set has no release");
-  const transfer::FitReport main = transfer::analyse_fit(set, o.where, o.seed, o.replicates);
+  const transfer::FitReport main = transfer::analyse_fit(set, o.where, o.sampling);
   const Split split = split_fits(o, set);
   const std::vector<std::string> figures =
       o.figures.empty() ? std::vector<std::string>{} : write_fit_figures(o, main, split);
@@ -273,13 +271,14 @@ void add_transfer_command(CLI::App& app) {
   fit->add_option("--split", fo->split,
                   "Also fit the subsets FEATURE<VALUE and FEATURE>=VALUE, e.g. vin_x=3.5 (paper "
                   "Fig. 12)");
-  add_seed_option(fit, fo->seed, "the predicted samples used by the KS comparison");
-  fit->add_option("--replicates", fo->replicates,
+  add_seed_option(fit, fo->sampling.seed,
+                  "the predicted samples of the KS comparison and the figures");
+  fit->add_option("--replicates", fo->sampling.replicates,
                   "Predicted rebounds per release for the KS comparison and the figures")
       ->capture_default_str();
+  show_range(fit, "--replicates", transfer::FitSampling::kReplicates);
   add_figures_option(fit, fo->figures, "SVG CDF figures (paper Figs. 11-12)");
   add_output_options(fit, fo->output);
-  check_range(fit, "--replicates", 1, 1e7);
   fit->callback([fo] { run_fit(*fo); });
 
   auto po = std::make_shared<PredictOptions>();

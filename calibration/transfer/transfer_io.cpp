@@ -48,13 +48,19 @@ std::string where_clause(const std::string& where) {
 
 }  // namespace
 
-FitReport analyse_fit(const ImpactSet& set, const std::string& where, std::uint64_t seed,
-                      std::size_t replicates) {
+OptionProblems FitSampling::problems() const {
+  OptionProblems p;
+  check_range(p, "replicates", static_cast<double>(replicates), kReplicates);
+  return p;
+}
+
+FitReport analyse_fit(const ImpactSet& set, const std::string& where, const FitSampling& sampling) {
+  require_valid(sampling.problems(), "transfer::analyse_fit");
   FitReport r;
   r.where = where;
   r.n = set.size();
-  r.seed = seed;
-  r.replicates = replicates;
+  r.seed = sampling.seed;
+  r.replicates = sampling.replicates;
   r.diagonal = fit_diagonal(set);
   try {
     r.full = fit_full(set);
@@ -68,7 +74,7 @@ FitReport analyse_fit(const ImpactSet& set, const std::string& where, std::uint6
   }
   r.in = incident(set);
   r.out = reflected(set);
-  r.predicted = sample_reflected(r.diagonal.model, r.in, replicates, seed);
+  r.predicted = sample_reflected(r.diagonal.model, r.in, r.replicates, r.seed);
   r.ks = compare_distributions(r.out, r.predicted);
   return r;
 }

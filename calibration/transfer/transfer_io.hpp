@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "common/option_problems.hpp"
 #include "impact/impact_set.hpp"
 #include "transfer/transfer.hpp"
 
@@ -31,10 +32,23 @@ struct FitReport {
   std::size_t replicates = 0;            ///< predicted rebounds per release
 };
 
+/// How `transfer fit` samples Eq. 2 for its KS comparison and its figures.
+struct FitSampling {
+  std::uint64_t seed = 1;        ///< of the predicted samples
+  std::size_t replicates = 100;  ///< predicted rebounds per release
+  /// The allowed range of replicates (problems(); the command line shows it in --help): one
+  /// rebound per release at least; 1e7 bounds the samples held in memory.
+  static constexpr OptionRange kReplicates{1, 1e7};
+  /// The problems of these options (common/option_problems.hpp), empty when they are valid;
+  /// analyse_fit calls it at its entry.
+  OptionProblems problems() const;
+};
+
 /// Fits Eq. 2, the full matrix and their leave-one-out comparison on `set`, samples
-/// `replicates` rebounds per release with `seed`, and compares them with the measured V_out.
-FitReport analyse_fit(const ImpactSet& set, const std::string& where, std::uint64_t seed,
-                      std::size_t replicates);
+/// `sampling.replicates` rebounds per release with `sampling.seed`, and compares them with the
+/// measured V_out.
+FitReport analyse_fit(const ImpactSet& set, const std::string& where,
+                      const FitSampling& sampling = {});
 
 /// JSON of one fit: "where", "n", "A", "dA", "moments", "full" (or null and
 /// "full_unavailable"), "loo" (or null and "loo_unavailable"), "ks".
