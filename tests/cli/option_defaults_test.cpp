@@ -10,10 +10,13 @@
 #include "diagnosis/diagnose.hpp"
 #include "diagnosis/inputs.hpp"
 #include "diagnosis/synth.hpp"
+#include "diagnosis/throw_design.hpp"
+#include "diagnosis/validation_report.hpp"
 #include "engine/engine.hpp"
 #include "fit/fit.hpp"
 #include "kinematics/reconstruct.hpp"
 #include "support/program_test.hpp"
+#include "transfer/transfer_io.hpp"
 #include "uq/montecarlo.hpp"
 #include "uq/sobol.hpp"
 #if RICOCHET_HAVE_LIGGGHTS
@@ -79,6 +82,17 @@ TEST_F(OptionDefaults, DiagnosisCommandsShowTheDiagnosisDefaults) {
   }
   expect("diagnose", "--alpha", d.alpha);
   expect("diagnose", "--screen", static_cast<double>(d.screen));
+  expect("report", "--alpha", d.alpha);
+  expect("ladder", "--alpha", d.alpha);
+  expect("report", "--rounds", diagnosis::ReportOptions{}.rounds);
+  const diagnosis::DesignOptions de;
+  expect("design", "--budget", static_cast<double>(de.budget));
+  expect("design", "--candidates", static_cast<double>(de.candidates));
+  expect("design", "--alpha", de.alpha);
+  expect("design", "--passes", static_cast<double>(de.max_passes));
+  expect("design", "--seed", static_cast<double>(de.seed));
+  expect("design", "--orientations", de.assess.fit.alpha.marginal_points);
+  expect("design", "--threads", de.assess.fit.threads);
   // The command line's values, before any parse, build the library's options unchanged.
   const diagnosis::DiagnoseOptions made = diagnosis::make_options(diagnosis::OptionValues{});
   EXPECT_EQ(made.assess.fit.alpha.marginal_points, a.fit.alpha.marginal_points);
@@ -92,6 +106,13 @@ TEST_F(OptionDefaults, DiagnosisCommandsShowTheDiagnosisDefaults) {
   EXPECT_EQ(made.assess.release_intervals, a.release_intervals);
   EXPECT_EQ(made.assess.use_features, a.use_features);
   EXPECT_EQ(made.assess.fit.engine.dt_s, a.fit.engine.dt_s);
+  EXPECT_EQ(made.assess.folds, a.folds);
+}
+
+TEST_F(OptionDefaults, TransferFitShowsItsLibraryDefaults) {
+  const transfer::FitSampling s;
+  expect("transfer fit", "--seed", static_cast<double>(s.seed));
+  expect("transfer fit", "--replicates", static_cast<double>(s.replicates));
 }
 
 TEST_F(OptionDefaults, UncertaintyCommandsShowTheUqDefaults) {
