@@ -24,12 +24,18 @@
 # - Across sessions: a session copies the file so far to data/resolved/stiffness-plateau.h5 and
 #   commits it; a new work tree without results/plateau/ resumes from that copy (the beds are
 #   built again from their seeds).
+# - PLATEAU_DESIGN (environment, default stiffness-plateau): the design's name in
+#   liggghts-inputs/campaigns/. stiffness-plateau-1.5e10 is the first design plus the 1.5e10 Pa
+#   level (the rule's pre-registered consequence): it continues the same campaign file, its first
+#   63 impacts found done. A design not pinned yet is pinned beside the program on its first start.
 # When the campaign ends the script prints the status counts; the table and figure of
 # docs/resolved-model.md are made from the file afterwards.
 set -uo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 OUT=$ROOT/results/plateau
-DESIGN=$ROOT/liggghts-inputs/campaigns/stiffness-plateau.toml
+NAME=${PLATEAU_DESIGN:-stiffness-plateau}
+DESIGN=$ROOT/liggghts-inputs/campaigns/$NAME.toml
+[ -f "$DESIGN" ] || { echo "no design $DESIGN" >&2; exit 2; }
 mkdir -p "$OUT"
 LOG=$OUT/campaign.log
 
@@ -40,19 +46,22 @@ if ! flock -n 9; then
 fi
 
 {
-  echo "== $(date '+%F %T') stiffness-plateau: start (pid $$, host $(hostname))"
+  echo "== $(date '+%F %T') $NAME: start (pid $$, host $(hostname))"
   PIN=$OUT/pinned
   if [ ! -x "$PIN/ricochet" ] || [ ! -d "$PIN/liggghts-inputs" ]; then
     rm -rf "$PIN.tmp" && mkdir -p "$PIN.tmp"
     flock /tmp/ricochet-build.lock cp "$ROOT/build/cli/ricochet" "$PIN.tmp/ricochet"
     cp -r "$ROOT/liggghts-inputs" "$PIN.tmp/liggghts-inputs"
-    cp "$DESIGN" "$PIN.tmp/stiffness-plateau.toml"
+    cp "$DESIGN" "$PIN.tmp/$NAME.toml"
     (cd "$ROOT" && git rev-parse HEAD && git status --short -- src-ext liggghts-inputs cli) \
       > "$PIN.tmp/source-state.txt" 2>&1
     rm -rf "$PIN" && mv "$PIN.tmp" "$PIN"
     echo "pinned the program and the decks in $PIN"
   fi
-  if ! cmp -s "$DESIGN" "$PIN/stiffness-plateau.toml"; then
+  if [ ! -f "$PIN/$NAME.toml" ]; then
+    cp "$DESIGN" "$PIN/$NAME.toml"
+    echo "pinned the design $NAME"
+  elif ! cmp -s "$DESIGN" "$PIN/$NAME.toml"; then
     echo "note: $DESIGN differs from the pinned copy; running the pinned design"
   fi
   # A new work tree (the next session's) resumes from the impacts shipped so far.
@@ -63,12 +72,12 @@ fi
   fi
   cd "$OUT" || exit 1   # cache_dir and work_dir of the design are relative to this folder
   mpirun --oversubscribe --allow-run-as-root -np 1 "$PIN/ricochet" dem campaign \
-    "$PIN/stiffness-plateau.toml" --decks "$PIN/liggghts-inputs" \
+    "$PIN/$NAME.toml" --decks "$PIN/liggghts-inputs" \
     --out "$OUT/stiffness-plateau.h5" --retry-crashed
   rc=$?
   echo "== $(date '+%F %T') stiffness-plateau: campaign command ended with status $rc"
   if [ "$rc" -eq 0 ]; then
-    "$PIN/ricochet" dem campaign "$PIN/stiffness-plateau.toml" --decks "$PIN/liggghts-inputs" \
+    "$PIN/ricochet" dem campaign "$PIN/$NAME.toml" --decks "$PIN/liggghts-inputs" \
       --out "$OUT/stiffness-plateau.h5" --json 2>/dev/null \
       | python3 -c "import json,sys; d=json.load(sys.stdin); print('status counts:', d['status_counts'])" \
       || true

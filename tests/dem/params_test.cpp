@@ -294,6 +294,31 @@ TEST(Design, StiffnessPlateauDesign) {
   EXPECT_EQ(d.impacts[62].id, "E1.5e9-T22-s2");
 }
 
+// Its pre-registered consequence (the rule failed at 1.5e9 Pa): the same 63 impacts, identical,
+// then the 1.5e10 Pa level on the same states and seeds in the same order, so that the campaign
+// file of the first resumes with them done and every 1.5e10 impact pairs with a 1.5e9 one.
+TEST(Design, StiffnessPlateauExtensionKeepsTheFirstCampaign) {
+  const fs::path dir = fs::path(RICOCHET_SOURCE_DIR) / "liggghts-inputs/campaigns";
+  const auto first = read_campaign_design((dir / "stiffness-plateau.toml").string(), decks());
+  const auto ext =
+      read_campaign_design((dir / "stiffness-plateau-1.5e10.toml").string(), decks());
+  ASSERT_EQ(ext.impacts.size(), 84u);
+  EXPECT_EQ(ext.name, first.name);
+  for (std::size_t k = 0; k < 63; ++k) {
+    EXPECT_EQ(ext.impacts[k].id, first.impacts[k].id);
+    EXPECT_EQ(spec_json(ext.impacts[k]), spec_json(first.impacts[k])) << first.impacts[k].id;
+  }
+  for (std::size_t k = 0; k < 21; ++k) {
+    const auto& a = first.impacts[42 + k];  // the 1.5e9 level
+    const auto& b = ext.impacts[63 + k];
+    EXPECT_EQ(b.id, "E1.5e10-" + a.id.substr(std::string("E1.5e9-").size()));
+    EXPECT_DOUBLE_EQ(std::stod(b.params.bed.at("E_grain_Pa")), 1.5e10);
+    EXPECT_EQ(b.seed, a.seed);
+    EXPECT_EQ(b.vin, a.vin);
+    EXPECT_EQ(b.shape, a.shape);
+  }
+}
+
 // The example designs shipped with the decks are valid and mean what their comments say.
 TEST(Design, ShippedCampaignDesigns) {
   const fs::path dir = fs::path(RICOCHET_SOURCE_DIR) / "liggghts-inputs/campaigns";
