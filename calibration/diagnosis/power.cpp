@@ -143,6 +143,7 @@ std::vector<Detectable> detectable_candidates(
       // A few fixed points as well, so that the curve answers at any strength within the
       // bounds (the power of a given law, e.g. in the calibration study), not only near beta_80.
       for (int e = 0; e <= 6; e += 2) curve.t(curve.range() * std::ldexp(1.0, -e));
+      const std::vector<std::pair<double, double>> points = curve.points();
       const int side = curve.side();
       const std::size_t j = dir.parameter;
       const double neutral = m.values()[j];
@@ -171,14 +172,14 @@ std::vector<Detectable> detectable_candidates(
       } else {
         // Beyond the bounds the linear strength is all there is to say how far (NaN value).
         d.change_80 = side * linear;
-        const double at_bound = curve.points().empty() ? NAN : curve.points().back().second;
+        const double at_bound = points.empty() ? NAN : points.back().second;
         d.law = fmt::format(
             "not detectable within its bounds [{:.4g}, {:.4g}] {}: at the bound its statistic's "
             "mean reaches {:.3g}, below {:.3g}",
             m.lower(j), m.upper(j), d.unit, at_bound, k);
         d.shift = Obs{NAN, NAN, NAN, NAN, NAN};
       }
-      d.t_curve = curve.points();
+      d.t_curve = points;
       rows.push_back(std::move(d));
     }
   }

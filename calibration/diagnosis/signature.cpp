@@ -112,20 +112,11 @@ Score score_of(const Directions& dirs, const Model& cand, const Shape& shape, co
     const double step = probe_fraction * (toward - params[j]);
     if (step == 0) continue;
     params[j] += step;
-    const auto p = predict_observables(cand, shape, params, set, o);
-    const Eigen::VectorXd s =
-        dirs.proj * scaled_change(p, p0, set, dirs.rows, step, dirs.whiten, o);
+    FiniteChange change = finite_change(dirs, cand, shape, set, params, p0, o, step);
+    const Eigen::VectorXd s = change.s;
     if (s.norm() == 0) continue;
-    ScoreDirection dir{j, s, Eigen::VectorXd(static_cast<Eigen::Index>(dirs.rows.size())),
-                       at_lower   ? 1
-                       : at_upper ? -1
-                                  : 0};
-    for (std::size_t row = 0; row < dirs.rows.size(); ++row) {
-      const auto [i, k] = dirs.rows[row];
-      const double x = (p[i].value[k] - p0[i].value[k]) / step;
-      dir.raw[static_cast<Eigen::Index>(row)] = std::isfinite(x) ? x : 0.0;
-    }
-    out.directions.push_back(std::move(dir));
+    out.directions.push_back(
+        ScoreDirection{j, s, std::move(change.raw), at_lower ? 1 : at_upper ? -1 : 0});
     // Sign convention: positive when moving the parameter from neutral into its bounds moves
     // the predictions towards the measurements (the change is per unit step, so a negative
     // step flips it).
@@ -142,13 +133,14 @@ Score score_of(const Directions& dirs, const Model& cand, const Shape& shape, co
 
 FiniteChange finite_change(const Directions& dirs, const Model& cand, const Shape& shape,
                            const ImpactSet& set, const std::vector<double>& params,
-                           const std::vector<ObsPrediction>& p0, const AssessOptions& o) {
+                           const std::vector<ObsPrediction>& p0, const AssessOptions& o,
+                           double step) {
   const auto p = predict_observables(cand, shape, params, set, o);
   FiniteChange c{Eigen::VectorXd(static_cast<Eigen::Index>(dirs.rows.size())),
-                 dirs.proj * scaled_change(p, p0, set, dirs.rows, 1.0, dirs.whiten, o)};
+                 dirs.proj * scaled_change(p, p0, set, dirs.rows, step, dirs.whiten, o)};
   for (std::size_t row = 0; row < dirs.rows.size(); ++row) {
     const auto [i, k] = dirs.rows[row];
-    const double x = p[i].value[k] - p0[i].value[k];
+    const double x = (p[i].value[k] - p0[i].value[k]) / step;
     c.raw[static_cast<Eigen::Index>(row)] = std::isfinite(x) ? x : 0.0;
   }
   return c;

@@ -66,15 +66,17 @@ Score score_of(const Directions& dirs, const Model& cand, const Shape& shape, co
                std::size_t hypothesis);
 
 /// The change of `cand`'s predictions from `p0` (its predictions at its own values, the
-/// candidate at neutral) to its predictions at `params`, laid out like `dirs.rows`: `raw` in SI
-/// units, `s` scaled, whitened and projected like ScoreDirection::s. What a law at a finite
-/// strength adds to the residual, without the linearisation of ScoreDirection (power.hpp).
+/// candidate at neutral) to its predictions at `params`, divided by `step`, laid out like
+/// `dirs.rows`: `raw` in SI units, `s` scaled, whitened and projected. With `step` the probe's
+/// parameter step it is ScoreDirection's change per unit (score_of); with step 1, what a law at
+/// a finite strength adds to the residual, without that linearisation (power.hpp).
 struct FiniteChange {
   Eigen::VectorXd raw, s;
 };
 FiniteChange finite_change(const Directions& dirs, const Model& cand, const Shape& shape,
                            const ImpactSet& set, const std::vector<double>& params,
-                           const std::vector<ObsPrediction>& p0, const AssessOptions& o);
+                           const std::vector<ObsPrediction>& p0, const AssessOptions& o,
+                           double step = 1.0);
 
 /// Per release, the sum over its rows (`dirs.rows`) of x_r y_r: a score's contributions u_i with
 /// (x, y) = (direction, residual), or a direction's own gain per unit change a_i = |s_i|^2 with
