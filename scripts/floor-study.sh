@@ -19,7 +19,7 @@ wide:depth_friction_exp:1.0 wide:rankine_plough:20568.2 wide:rankine_plough:4113
 wide:spin_rolling:1.95847 wide:two:0.979235"
 for cell in $CELLS; do
   IFS=: read -r design fam s <<< "$cell"
-  for seed in $(seq 8301 8310); do
+  for seed in ${FLOOR_SEEDS:-$(seq 8301 8310)}; do
     grep -q "^$design	$fam	$s	$seed	" "$TSV" && continue
     f=$OUT/sets/$design-$fam-$s-$seed
     z=$("$T" --family "$fam" --strength "$s" --n 40 --design "$design" --seed "$seed" \
