@@ -271,6 +271,11 @@ std::vector<CampaignEntry> read_index_unlocked(const std::string& path) {
 }  // namespace
 
 std::vector<CampaignEntry> read_campaign_index(const std::string& path) {
+  // The data file is looked for before the lock file: a writer creates PATH.lock before PATH
+  // and never removes it, so a file seen here has its lock file (or is one that no writer ever
+  // locked). The other order left a window: no lock file yet, so no lock taken, then the
+  // writer's new file opened while it wrote (CI, 2026-11-28: "cannot open file" once in 559).
+  if (!fs::exists(path)) return {};
   FileLock lock(path, FileLock::Kind::kShared);
   return read_index_unlocked(path);
 }
