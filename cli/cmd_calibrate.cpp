@@ -48,7 +48,8 @@ Vel3 parse_sigma(const std::vector<double>& v) {
 const OptionNames kFitNames = {{"starts", "--starts"},
                                {"design_points", "--design-points"},
                                {"sigma", "--sigma"},
-                               {"threshold_scale", "--threshold-scale"}};
+                               {"threshold_scale", "--threshold-scale"},
+                               {"engine.dt_s", "--dt"}};
 
 fit::FitOptions fit_options(const CalibrateOptions& o) {
   fit::FitOptions f = o.fit;

@@ -137,11 +137,10 @@ void run(DesignCliOptions& o) {
   opt.seed = o.seed;
   opt.assess.fit.seed = o.seed;
   opt.assess.fit.threads = o.threads;
-  if (!(o.model.dt_s > 0 && o.model.dt_s < 1e-3))
-    throw InputError("<command line>", 0, "--dt", "time step must lie in (0, 1e-3) s");
   opt.assess.fit.engine.dt_s = o.model.dt_s;
   if (o.orientations != 0) opt.assess.fit.alpha.marginal_points = o.orientations;
-  refuse_problems(opt.assess.problems(), {{"fit.alpha.marginal_points", "--orientations"}});
+  refuse_problems(opt.assess.problems(),
+                  {{"fit.alpha.marginal_points", "--orientations"}, {"fit.engine.dt_s", "--dt"}});
   if (opt.candidates > 0 && opt.candidates < opt.budget)
     throw InputError("<command line>", 0, "--candidates",
                      fmt::format("{} candidates cannot hold a budget of {} throws: give at least "

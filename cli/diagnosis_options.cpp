@@ -66,7 +66,8 @@ const OptionNames& diagnosis_option_names() {
                                     {"screen", "--screen"},
                                     {"assess.folds", "--folds"},
                                     {"assess.repeats", "--repeats"},
-                                    {"assess.fit.alpha.marginal_points", "--orientations"}};
+                                    {"assess.fit.alpha.marginal_points", "--orientations"},
+                                    {"assess.fit.engine.dt_s", "--dt"}};
   return names;
 }
 

@@ -1,5 +1,6 @@
 #include "model_options.hpp"
 
+#include "cli_common.hpp"
 #include "common/error.hpp"
 
 namespace ricochet::cli {
@@ -13,6 +14,7 @@ void add_model_options(CLI::App* sub, ModelOptions& o, bool with_shape) {
     sub->add_option("--shape", o.shape, "cylinder, triangle, or a shape file (.toml)")
         ->capture_default_str();
   sub->add_option("--dt", o.dt_s, "Time step [s]")->capture_default_str();
+  show_range(sub, "--dt", EngineOptions::kDt);
 }
 
 Model ModelOptions::build_model() const {
@@ -43,9 +45,8 @@ Model ModelOptions::build_model() const {
 
 EngineOptions ModelOptions::engine_options() const {
   EngineOptions o;
-  if (!(dt_s > 0.0 && dt_s < 1e-3))
-    throw InputError("<command line>", 0, "--dt", "time step must lie in (0, 1e-3) s");
   o.dt_s = dt_s;
+  refuse_problems(o.problems(), {{"dt_s", "--dt"}});
   return o;
 }
 

@@ -4,7 +4,7 @@
 //   --set NAME=VALUE  set a parameter (repeatable), bounds checked
 //   --plugin LIB      load user effects from a shared library (repeatable)
 //   --shape S         cylinder | triangle | shape file (.toml)
-//   --dt S            time step [s]
+//   --dt S            time step [s], in EngineOptions::kDt
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -25,6 +25,8 @@ struct ModelOptions {
   /// Loads plugins, reads the model file, adds effects, applies --set. Errors name the option.
   Model build_model() const;
   Shape build_shape() const { return Shape::resolve(shape); }
+  /// The engine's options with --dt; refuses (exit 2, refuse_problems) a --dt outside the
+  /// engine's range, EngineOptions::kDt.
   EngineOptions engine_options() const;
 };
 

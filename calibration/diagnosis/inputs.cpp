@@ -12,8 +12,6 @@ DiagnoseOptions make_options(const OptionValues& v) {
   o.assess.folds = parse_folds(v.folds);
   o.assess.fit.seed = v.seed;
   o.assess.fit.threads = v.threads;
-  if (!(v.dt_s > 0 && v.dt_s < 1e-3))
-    throw InputError("<command line>", 0, "--dt", "time step must lie in (0, 1e-3) s");
   o.assess.fit.engine.dt_s = v.dt_s;
   o.alpha = v.alpha;
   o.assess.repeats = v.repeats;

@@ -38,8 +38,9 @@ struct OptionValues {
 };
 
 /// Builds DiagnoseOptions from the values; throws InputError naming the option for a value
-/// that does not parse (--folds, --error, --dt). The ranges are DiagnoseOptions::problems()'s:
-/// the caller checks them (the command line under its own option names).
+/// that does not parse (--folds, --error). The ranges (the time step's too) are
+/// DiagnoseOptions::problems()'s: the caller checks them (the command line under its own option
+/// names).
 DiagnoseOptions make_options(const OptionValues& values);
 
 /// An impact set restricted to one shape, and that shape.

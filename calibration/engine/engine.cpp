@@ -677,8 +677,11 @@ void dispatch(const Layout& layout, const Shape& shape, const EngineOptions& opt
     run_block<false, false>(layout, shape, options, cases, params, broadcast, results, trace);
 }
 
+// `consumer` names the entry point in the refusal of bad options (require_valid).
 void validate(const Model& model, const Shape& shape, const EngineOptions& options,
-              std::span<const CollisionCase> cases, std::span<const double> params) {
+              std::span<const CollisionCase> cases, std::span<const double> params,
+              const char* consumer) {
+  require_valid(options.problems(), consumer);
   const auto check_dt = [&](std::span<const double> row) {
     const double limit = critical_time_step(model, shape, row);
     if (options.dt_s > limit)
@@ -687,7 +690,6 @@ void validate(const Model& model, const Shape& shape, const EngineOptions& optio
                                   " s of the model's stiffest spring; use a smaller --dt");
   };
   const std::size_t P = model.parameter_count();
-  if (!(options.dt_s > 0.0)) throw std::invalid_argument("time step dt must be > 0");
   if (!(shape.mass_kg > 0.0 && shape.inertia_kgm2 > 0.0 && shape.rounding_radius_m > 0.0))
     throw std::invalid_argument("shape '" + shape.name + "' needs mass, inertia and radius > 0");
   if (params.size() != P && params.size() != P * cases.size())
@@ -727,7 +729,7 @@ CollisionResult simulate(const Model& model, const Shape& shape, const Collision
                          Trace* trace) {
   if (params.empty()) params = model.values();
   std::span<const CollisionCase> cases(&collision, 1);
-  validate(model, shape, options, cases, params);
+  validate(model, shape, options, cases, params, "simulate");
   const Layout layout(model);
   CollisionResult result;
   dispatch(layout, shape, options, cases, params, true, &result, trace);
@@ -739,7 +741,7 @@ std::vector<CollisionResult> simulate_batch(const Model& model, const Shape& sha
                                             std::span<const double> params,
                                             const EngineOptions& options) {
   if (params.empty()) params = model.values();
-  validate(model, shape, options, cases, params);
+  validate(model, shape, options, cases, params, "simulate_batch");
   const Layout layout(model);
   const std::size_t P = model.parameter_count();
   const bool broadcast = params.size() == P && !(cases.size() == 1 && P == 0);

@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "common/option_problems.hpp"
 #include "effects/model.hpp"
 #include "engine/shape.hpp"
 #include "impact/impact_set.hpp"
@@ -43,6 +44,17 @@ struct EngineOptions {
   bool skip_flights = true;
   std::size_t lanes = 64;  ///< collisions integrated together (SoA width)
   int threads = 0;         ///< OpenMP threads for batches, 0 = default
+
+  /// The allowed ranges (problems(); the command line shows kDt in --help). dt_s: below 1e-3 s,
+  /// a lab contact (5-20 ms) still spans 5 steps or more; the model's own stability limit
+  /// depends on its parameters and is checked against them by simulate and simulate_batch
+  /// (critical_time_step). max_time_s: 100 s is 1e7 steps at the default step, thousands of
+  /// times the longest lab contact, and bounds the cost of a rebound that never ends.
+  static constexpr OptionRange kDt{0, 1e-3, true, true};
+  static constexpr OptionRange kMaxTime{0, 100, true, false};
+  /// The problems of these options (common/option_problems.hpp), empty when they are valid;
+  /// simulate and simulate_batch call it at their entry.
+  OptionProblems problems() const;
 };
 
 /// The engine settings of the bulk runs on lab-scale collisions (calibration, Monte Carlo, Sobol,
@@ -96,6 +108,8 @@ struct Trace {
 double critical_time_step(const Model& model, const Shape& shape, std::span<const double> params);
 
 /// Runs one collision with parameter values `params` (model order; empty = model.values()).
+/// Options with problems (EngineOptions::problems) are refused with InputError before any step;
+/// simulate_batch does the same.
 CollisionResult simulate(const Model& model, const Shape& shape, const CollisionCase& collision,
                          std::span<const double> params = {}, const EngineOptions& options = {},
                          Trace* trace = nullptr);

@@ -19,6 +19,7 @@ OptionProblems FitOptions::problems() const {
   check_range(p, "sigma_penetration_m", sigma_penetration_m, kSigma);
   check_range(p, "sigma_contact_duration_s", sigma_contact_duration_s, kSigma);
   check_range(p, "threshold_scale", threshold_scale, kThresholdScale);
+  append_nested(p, "engine", engine.problems());
   return p;
 }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <random>
 
+#include "common/error.hpp"
 #include "engine/effect_checks.hpp"
 
 namespace ricochet {
@@ -293,9 +294,25 @@ TEST(Engine, RejectsBadInput) {
   EXPECT_THROW(simulate(m, Shape::cylinder(), kLabMean, p), std::out_of_range);
   EXPECT_THROW(simulate(m, Shape::cylinder(), kLabMean, std::vector<double>{0.1}),
                std::invalid_argument);
+  // Options out of their range are refused by name (EngineOptions::problems), batch or not.
   EngineOptions o;
   o.dt_s = 0;
-  EXPECT_THROW(simulate(m, Shape::cylinder(), kLabMean, {}, o), std::invalid_argument);
+  try {
+    (void)simulate(m, Shape::cylinder(), kLabMean, {}, o);
+    ADD_FAILURE() << "simulate accepted dt_s = 0";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "dt_s");
+    EXPECT_NE(e.detail().find("outside (0, 0.001)"), std::string::npos) << e.what();
+  }
+  o.dt_s = EngineOptions::kDt.hi;  // the bound is open
+  EXPECT_THROW(
+      (void)simulate_batch(m, Shape::cylinder(), std::vector<CollisionCase>{kLabMean}, {}, o),
+      InputError);
+  o = {};
+  o.max_time_s = 0;
+  EXPECT_THROW(
+      (void)simulate_batch(m, Shape::cylinder(), std::vector<CollisionCase>{kLabMean}, {}, o),
+      InputError);
   // A rolling spring too stiff for the step is refused, not integrated into garbage.
   Model stiff = Model::paper();
   stiff.set("kr", 1e10);
