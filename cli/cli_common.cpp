@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <filesystem>
 #include <optional>
 
@@ -74,9 +75,33 @@ void refuse_problems(const OptionProblems& problems, const OptionNames& names) {
 }
 
 void show_range(CLI::App* sub, const std::string& name, const OptionRange& range) {
-  // A validator that accepts everything: CLI11 shows its description in --help.
-  sub->get_option(name)->check(
-      CLI::Validator([](std::string&) { return std::string(); }, "in " + range.text()));
+  // A validator CLI11 shows in --help. It refuses a non-number with check_range's message rather
+  // than CLI11's conversion error, and a negative number for an unsigned option: CLI11 would wrap
+  // it into a huge value (-5 into 1.8e19) before the library saw it.
+  CLI::Option* option = sub->get_option(name);
+  const bool is_unsigned = option->get_type_name().starts_with("UINT");
+  option->check(CLI::Validator(
+      [range, is_unsigned](std::string& text) -> std::string {
+        double v = 0;
+        if (!CLI::detail::lexical_cast(text, v)) return "'" + text + "' is not a number";
+        if (is_unsigned && v < 0) return "value " + text + " is outside " + range.text();
+        return {};
+      },
+      "in " + range.text()));
+}
+
+OptionRange degrees(const OptionRange& radians) {
+  OptionRange d = radians;
+  d.lo = radians.lo * 180 / M_PI;
+  d.hi = radians.hi * 180 / M_PI;
+  return d;
+}
+
+void refuse_degrees(const std::string& name, const std::vector<double>& values,
+                    const OptionRange& radians) {
+  OptionProblems problems;
+  for (double v : values) check_range(problems, name, v, degrees(radians));
+  refuse_problems(problems, {});
 }
 
 void set_current_command(std::string command, const CLI::App* parser) {

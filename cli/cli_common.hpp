@@ -49,7 +49,18 @@ void refuse_problems(const OptionProblems& problems, const OptionNames& names);
 
 /// Shows the library's range of the already declared option `name` in --help ("in [1, 20]"),
 /// as check_range does, without checking it: the library's problems() does (refuse_problems).
+/// A value that is not a number, or a negative one for an unsigned option (CLI11 would wrap it),
+/// stops the parse as check_range's does.
 void show_range(CLI::App* sub, const std::string& name, const OptionRange& range);
+
+/// A library's range of an angle in radians (FitOptions::kAlphaRad, ...) in degrees, the unit of
+/// the command line's angle options: the same bounds, converted here rather than restated.
+OptionRange degrees(const OptionRange& radians);
+
+/// Refuses (as refuse_problems) the first of `values` [deg] of option `name` outside
+/// degrees(`radians`): "value -200 is outside [-180, 180]" in the option's own unit.
+void refuse_degrees(const std::string& name, const std::vector<double>& values,
+                    const OptionRange& radians);
 
 /// Adds --json and --out to a subcommand.
 void add_output_options(CLI::App* sub, OutputOptions& options,

@@ -49,7 +49,9 @@ const OptionNames kFitNames = {{"starts", "--starts"},
                                {"design_points", "--design-points"},
                                {"sigma", "--sigma"},
                                {"threshold_scale", "--threshold-scale"},
-                               {"engine.dt_s", "--dt"}};
+                               {"engine.dt_s", "--dt"},
+                               {"alpha.min_rad", "--alpha-range"},
+                               {"alpha.max_rad", "--alpha-range"}};
 
 fit::FitOptions fit_options(const CalibrateOptions& o) {
   fit::FitOptions f = o.fit;
@@ -65,6 +67,7 @@ fit::FitOptions fit_options(const CalibrateOptions& o) {
   if (!o.alpha_range_deg.empty()) {
     if (o.alpha_range_deg.size() != 2 || !(o.alpha_range_deg[0] < o.alpha_range_deg[1]))
       throw InputError("<command line>", 0, "--alpha-range", "expected LO,HI in degrees, LO < HI");
+    refuse_degrees("--alpha-range", o.alpha_range_deg, fit::FitOptions::kAlphaRad);
     f.alpha.min_rad = o.alpha_range_deg[0] * M_PI / 180.0;
     f.alpha.max_rad = o.alpha_range_deg[1] * M_PI / 180.0;
   }
@@ -279,8 +282,7 @@ void add_calibrate_command(CLI::App& app) {
   show_range(sub, "--design-points", fit::FitOptions::kDesignPoints);
   show_range(sub, "--sigma", fit::FitOptions::kSigma);
   show_range(sub, "--threshold-scale", fit::FitOptions::kThresholdScale);
-  // In degrees here, the library's range in radians (FitOptions::kAlphaRad).
-  check_range(sub, "--alpha-range", -180, 180);
+  show_range(sub, "--alpha-range", degrees(fit::FitOptions::kAlphaRad));
   sub->callback([opts] { run(*opts); });
 }
 

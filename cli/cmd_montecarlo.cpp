@@ -86,7 +86,16 @@ std::vector<uq::ParameterInput> build_inputs(const MonteCarloCliOptions& o, cons
   return inputs;
 }
 
-// The uq module's options with the command line's time step, progress, --vin and --alpha-range.
+// The command line's names of the uq options it binds (their ranges: the options' problems()).
+const OptionNames kMonteCarloNames = {{"runs", "--n"},
+                                      {"alpha_min_rad", "--alpha-range"},
+                                      {"alpha_max_rad", "--alpha-range"},
+                                      {"engine.dt_s", "--dt"}};
+const OptionNames kRangeFitNames = {{"mc.runs", "--range-runs"},
+                                    {"max_evaluations", "--range-evaluations"}};
+
+// The uq module's options with the command line's time step, progress, --vin and --alpha-range,
+// refused (exit 2) where the module would refuse them.
 uq::MonteCarloOptions mc_options(const MonteCarloCliOptions& o, const std::optional<Vel3>& vin) {
   uq::MonteCarloOptions mc = o.mc;
   mc.engine.dt_s = o.model.engine_options().dt_s;
@@ -95,10 +104,28 @@ uq::MonteCarloOptions mc_options(const MonteCarloCliOptions& o, const std::optio
   if (!o.alpha_range_deg.empty()) {
     if (o.alpha_range_deg.size() != 2 || !(o.alpha_range_deg[0] < o.alpha_range_deg[1]))
       throw InputError("<command line>", 0, "--alpha-range", "expected LO,HI in degrees, LO < HI");
+    refuse_degrees("--alpha-range", o.alpha_range_deg, uq::MonteCarloOptions::kAlphaRad);
     mc.alpha_min_rad = o.alpha_range_deg[0] * M_PI / 180.0;
     mc.alpha_max_rad = o.alpha_range_deg[1] * M_PI / 180.0;
   }
+  refuse_problems(mc.problems(), kMonteCarloNames);
   return mc;
+}
+
+// The range fit's options (--calibrate-ranges): the Monte Carlo's with the range fit's own runs,
+// checked with the others even when the range fit is not asked for.
+uq::RangeFitOptions range_fit_options(const MonteCarloCliOptions& o,
+                                      const uq::MonteCarloOptions& mc) {
+  uq::RangeFitOptions rf = o.range;
+  rf.mc = mc;
+  rf.mc.runs = o.range.mc.runs;
+  rf.mc.progress = false;
+  if (o.distance == "ks")
+    rf.distance = uq::RangeFitOptions::Distance::kKolmogorovSmirnov;
+  else if (o.distance != "cvm")
+    throw InputError("<command line>", 0, "--distance", "expected 'cvm' or 'ks'");
+  refuse_problems(rf.problems(), kRangeFitNames);
+  return rf;
 }
 
 // The runs, appended to (and resumed from) the HDF5 store when there is one.
@@ -125,15 +152,7 @@ uq::MonteCarloResult run_runs(const Model& model, const Shape& shape,
 std::unique_ptr<uq::MonteCarloResult> calibrate_ranges(
     const MonteCarloCliOptions& o, const Model& model, const Shape& shape,
     const ImpactSet& measured, const std::vector<uq::ParameterInput>& inputs,
-    const uq::MonteCarloOptions& mc, nlohmann::json& doc) {
-  uq::RangeFitOptions rf = o.range;
-  rf.mc = mc;
-  rf.mc.runs = o.range.mc.runs;
-  rf.mc.progress = false;
-  if (o.distance == "ks")
-    rf.distance = uq::RangeFitOptions::Distance::kKolmogorovSmirnov;
-  else if (o.distance != "cvm")
-    throw InputError("<command line>", 0, "--distance", "expected 'cvm' or 'ks'");
+    const uq::MonteCarloOptions& mc, const uq::RangeFitOptions& rf, nlohmann::json& doc) {
   const uq::RangeFitResult fitr = uq::calibrate_ranges(model, shape, measured, inputs, rf);
   uq::MonteCarloOptions check = mc;
   check.seed = mc.seed + 1;
@@ -195,7 +214,6 @@ void run(const MonteCarloCliOptions& o) {
   const std::optional<Vel3> vin = o.vin.empty() ? std::nullopt : std::optional(parse_vin(o.vin));
   const Model model = o.model.build_model();
   const Shape shape = o.model.build_shape();
-  if (o.mc.runs < 2) throw InputError("<command line>", 0, "--n", "needs at least 2 runs");
   if (!o.vin.empty() && !o.incident.empty())
     throw InputError("<command line>", 0, "--vin", "give either --vin or --incident, not both");
   const bool h5 = !o.output.out.empty() && !o.output.out.ends_with(".csv");
@@ -204,6 +222,7 @@ void run(const MonteCarloCliOptions& o) {
     throw InputError("<command line>", 0, "--resume", "needs --out FILE.h5 (the file to continue)");
   const std::vector<uq::ParameterInput> inputs = build_inputs(o, model);
   uq::MonteCarloOptions mc = mc_options(o, vin);
+  const uq::RangeFitOptions rf = range_fit_options(o, mc);
   ImpactSet incident;
   if (!o.incident.empty()) {
     incident =
@@ -242,7 +261,7 @@ void run(const MonteCarloCliOptions& o) {
   }
   std::unique_ptr<uq::MonteCarloResult> calibrated_mc;
   if (o.calibrate_ranges) {
-    calibrated_mc = calibrate_ranges(o, model, shape, *measured, inputs, mc, doc);
+    calibrated_mc = calibrate_ranges(o, model, shape, *measured, inputs, mc, rf, doc);
     if (store) store->write_json("range_fit", doc["range_fit"]);
   }
   if (!o.output.out.empty() && !h5) uq::write_runs_csv(o.output.out, result);
@@ -266,6 +285,7 @@ void add_montecarlo_command(CLI::App& app) {
   add_output_options(sub, opts->output);
   add_input_options(sub, opts->inputs);
   sub->add_option("--n", opts->mc.runs, "Number of runs")->capture_default_str();
+  show_range(sub, "--n", uq::MonteCarloOptions::kRuns);
   add_seed_option(sub, opts->mc.seed, "the runs' random numbers");
   add_vin_option(sub, opts->vin,
                  "Fixed incident state (default " + format_vin(uq::MonteCarloOptions{}.vin) + ")");
@@ -294,10 +314,9 @@ void add_montecarlo_command(CLI::App& app) {
   sub->add_flag("--resume", opts->resume, "Continue the run stored in --out FILE.h5");
   sub->add_flag("--no-progress", opts->no_progress, "No progress bar");
   add_figures_option(sub, opts->figures);
-  check_range(sub, "--n", 1, 1e9);
-  check_range(sub, "--alpha-range", -180, 180);
-  check_range(sub, "--range-runs", 1, 1e8);
-  check_range(sub, "--range-evaluations", 1, 1e7);
+  show_range(sub, "--alpha-range", degrees(uq::MonteCarloOptions::kAlphaRad));
+  show_range(sub, "--range-runs", uq::MonteCarloOptions::kRuns);
+  show_range(sub, "--range-evaluations", uq::RangeFitOptions::kMaxEvaluations);
   sub->callback([opts] { run(*opts); });
 }
 

@@ -62,25 +62,24 @@ void print_text(const uq::SobolResult& r) {
 
 void run(const SobolCliOptions& o) {
   const Vel3 vin = o.vin.empty() ? kDefaultVin : parse_vin(o.vin);
-  const Model model = o.model.build_model();
-  const Shape shape = o.model.build_shape();
-  const std::vector<uq::ParameterInput> inputs = o.inputs.build(model);
-  if (inputs.size() < 2)
-    throw InputError("<command line>", 0, "--range",
-                     "Sobol indices need at least two varied parameters");
-  if (o.sobol.base_size < 16)
-    throw InputError("<command line>", 0, "--n", "base size must be at least 16");
-  if (!(o.sobol.confidence > 0 && o.sobol.confidence < 1))
-    throw InputError("<command line>", 0, "--confidence", "must lie in (0, 1)");
-  require_out_extension(o.output, {".h5", ".hdf5"});
   uq::SobolOptions so = o.sobol;
   try {
     so.estimator = uq::parse_estimator(o.estimator);
   } catch (const std::exception& e) {
     throw InputError("<command line>", 0, "--estimator", e.what());
   }
+  refuse_problems(
+      so.problems(),
+      {{"base_size", "--n"}, {"bootstrap", "--bootstrap"}, {"confidence", "--confidence"}});
   EngineOptions engine = o.engine;
   engine.dt_s = o.model.engine_options().dt_s;
+  require_out_extension(o.output, {".h5", ".hdf5"});
+  const Model model = o.model.build_model();
+  const Shape shape = o.model.build_shape();
+  const std::vector<uq::ParameterInput> inputs = o.inputs.build(model);
+  if (inputs.size() < 2)
+    throw InputError("<command line>", 0, "--range",
+                     "Sobol indices need at least two varied parameters");
   const uq::SobolResult r =
       uq::collision_sobol(model, shape, inputs, vin, o.alpha_deg * M_PI / 180.0, so, engine);
   nlohmann::json settings = {{"base_size", so.base_size}, {"seed", so.seed},
@@ -125,10 +124,9 @@ void add_sobol_command(CLI::App& app) {
   sub->add_option("--alpha", opts->alpha_deg, "Orientation of non-disc blocks [deg]");
   add_threads_option(sub, opts->engine.threads);
   add_figures_option(sub, opts->figures);
-  check_range(sub, "--n", 1, 1e8);
-  // Percentile intervals need resamples; OpenTURNS refuses a bootstrap size of 0 at run time.
-  check_range(sub, "--bootstrap", 2, 1e6);
-  check_range(sub, "--confidence", 0.5, 0.9999);
+  show_range(sub, "--n", uq::SobolOptions::kBaseSize);
+  show_range(sub, "--bootstrap", uq::SobolOptions::kBootstrap);
+  show_range(sub, "--confidence", uq::SobolOptions::kConfidence);
   check_range(sub, "--alpha", -360, 360);
   sub->callback([opts] { run(*opts); });
 }

@@ -126,6 +126,7 @@ MonteCarloResult run_monte_carlo(const Model& model, const Shape& shape,
                                  const std::vector<ParameterInput>& inputs,
                                  const MonteCarloOptions& options, const ChunkCallback& on_chunk,
                                  std::size_t first_run) {
+  require_valid(options.problems(), "uq::run_monte_carlo");
   check_inputs(model, inputs);
   if (options.incident && options.incident->empty())
     throw std::invalid_argument("no incident state to resample (empty data set)");
@@ -141,6 +142,7 @@ MonteCarloResult run_monte_carlo(const Model& model, const Shape& shape,
 MonteCarloResult run_monte_carlo(const Model& model, const Shape& shape,
                                  const std::vector<ParameterInput>& inputs,
                                  const MonteCarloOptions& options, const RandomDraws& draws) {
+  require_valid(options.problems(), "uq::run_monte_carlo");
   check_inputs(model, inputs);
   return simulate_runs(
       model, shape, inputs, options, draws,
@@ -206,6 +208,7 @@ RangeFitResult calibrate_ranges(const Model& model, const Shape& shape, const Im
                                 const std::vector<ParameterInput>& start,
                                 const RangeFitOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
+  require_valid(options.problems(), "uq::calibrate_ranges");
   check_inputs(model, start);
   if (start.empty()) throw std::invalid_argument("calibrate_ranges: no parameter to vary");
   const std::size_t V = start.size();

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "common/option_problems.hpp"
 #include "effects/model.hpp"
 #include "engine/engine.hpp"
 #include "engine/shape.hpp"
@@ -40,6 +41,16 @@ struct MonteCarloOptions {
   double alpha_min_rad = -M_PI / 3, alpha_max_rad = M_PI / 3;
   std::size_t chunk = 5000;  ///< runs per engine call / progress step / HDF5 append
   bool progress = true;      ///< progress bar on stderr (only when it is a terminal)
+
+  /// The allowed ranges (problems(); the command line shows them in --help, kAlphaRad in
+  /// degrees). runs: two at least, or the reflected velocities have no standard deviation; 1e9
+  /// bounds the random numbers drawn before the first run. alpha_min_rad < alpha_max_rad, both
+  /// within half a turn of 0.
+  static constexpr OptionRange kRuns{2, 1e9};
+  static constexpr OptionRange kAlphaRad{-M_PI, M_PI};
+  /// The problems of these options (common/option_problems.hpp), empty when they are valid;
+  /// run_monte_carlo calls it at its entry.
+  OptionProblems problems() const;
 };
 
 /// All runs of a Monte Carlo, row per run.
@@ -68,8 +79,9 @@ RandomDraws draw(std::size_t runs, std::size_t varied, std::size_t incident_pool
                  std::uint64_t seed);
 
 /// Runs the Monte Carlo. Parameters not listed in `inputs` keep their model values. Throws
-/// std::invalid_argument for an unknown parameter name (listing the model's) or a distribution
-/// outside the parameter's declared bounds. `first_run` > 0 resumes: runs before it are not
+/// InputError for options with problems (MonteCarloOptions::problems), std::invalid_argument for
+/// an unknown parameter name (listing the model's) or a distribution outside the parameter's
+/// declared bounds. `first_run` > 0 resumes: runs before it are not
 /// simulated (their rows stay zero in the result) and `on_chunk(begin, end, result)` is called
 /// for the new chunks only.
 using ChunkCallback =
@@ -110,6 +122,13 @@ struct RangeFitOptions {
   enum class Distance { kCramerVonMises, kKolmogorovSmirnov } distance = Distance::kCramerVonMises;
   int max_evaluations = 300;
   double xtol = 1e-3;  ///< in units of each parameter's bound range
+
+  /// The allowed ranges (problems(); the command line shows them in --help): mc's are the Monte
+  /// Carlo's (MonteCarloOptions::problems); 1e7 evaluations bound the search's time.
+  static constexpr OptionRange kMaxEvaluations{1, 1e7};
+  static constexpr OptionRange kXtol{0, 1, true, true};
+  /// The problems of these options, mc's prefixed "mc."; calibrate_ranges calls it at its entry.
+  OptionProblems problems() const;
 };
 struct RangeFitResult {
   std::vector<ParameterInput> ranges;  ///< calibrated uniform ranges

@@ -72,8 +72,8 @@ SobolResult sobol_indices(const BatchFunction& f, const std::vector<ParameterInp
                           const std::vector<std::string>& outputs, const SobolOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   const std::size_t d = inputs.size(), p = outputs.size(), N = options.base_size;
+  require_valid(options.problems(), "uq::sobol_indices");
   if (d < 2) throw std::invalid_argument("Sobol indices need at least two varied inputs");
-  if (N < 16) throw std::invalid_argument("Sobol base size must be at least 16");
   // The design (and, below, OpenTURNS' own bootstrap) draw from OpenTURNS' global generator.
   std::unique_lock<std::mutex> lock(fit::openturns_rng_mutex());
   OT::RandomGenerator::SetSeed(options.seed);
@@ -169,6 +169,9 @@ SobolResult collision_sobol(const Model& model, const Shape& shape,
                             const std::vector<ParameterInput>& inputs, const Vel3& vin,
                             double alpha_rad, const SobolOptions& options,
                             const EngineOptions& engine) {
+  OptionProblems problems = options.problems();
+  append_nested(problems, "engine", engine.problems());
+  require_valid(problems, "uq::collision_sobol");
   std::vector<std::size_t> index;
   for (const auto& in : inputs) index.push_back(model.index(in.name));
   const std::size_t P = model.parameter_count(), d = inputs.size();

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "common/option_problems.hpp"
 #include "effects/model.hpp"
 #include "engine/engine.hpp"
 #include "engine/shape.hpp"
@@ -36,7 +37,18 @@ struct SobolOptions {
   std::uint64_t seed = 1;
   SobolEstimator estimator = SobolEstimator::kSaltelli;
   std::size_t bootstrap = 200;  ///< bootstrap resamples for the intervals
-  double confidence = 0.95;
+  double confidence = 0.95;     ///< level of the bootstrap percentile intervals
+
+  /// The allowed ranges (problems(); the command line shows them in --help). base_size: 16 at
+  /// least for the estimators' rows, 1e8 bounds the design held in memory; bootstrap: a
+  /// percentile interval needs two resamples at least (OpenTURNS refuses none); confidence: a
+  /// level, strictly between 0 and 1.
+  static constexpr OptionRange kBaseSize{16, 1e8};
+  static constexpr OptionRange kBootstrap{2, 1e6};
+  static constexpr OptionRange kConfidence{0, 1, true, true};
+  /// The problems of these options (common/option_problems.hpp), empty when they are valid;
+  /// sobol_indices and collision_sobol call it at their entry.
+  OptionProblems problems() const;
 };
 
 /// An index with its bootstrap interval.
@@ -69,7 +81,8 @@ SobolResult sobol_indices(const BatchFunction& f, const std::vector<ParameterInp
 
 /// The collision model: outputs vx, vy, w of V_out for the incident state `vin` (orientation
 /// `alpha_rad` for non-disc blocks) when the `inputs` parameters vary (others at model values).
-/// Runs go to simulate_batch (parallel, vectorised) in one call.
+/// Runs go to simulate_batch (parallel, vectorised) in one call. Options with problems (the
+/// engine's prefixed "engine.") are refused with InputError before the design is drawn.
 SobolResult collision_sobol(const Model& model, const Shape& shape,
                             const std::vector<ParameterInput>& inputs, const Vel3& vin,
                             double alpha_rad, const SobolOptions& options,
