@@ -30,7 +30,8 @@ struct SynthCliOptions {
   std::vector<std::string> box;
 };
 
-// --box NAME=LO:HI (repeatable), NAME in vin_x, vin_y, win.
+// --box NAME=LO:HI (repeatable), NAME in vin_x, vin_y, win. The box's rules (LO <= HI, vin_y
+// below 0) are WideBox::problems()'s, refused with the other options.
 void parse_box(const std::vector<std::string>& items, diagnosis::WideBox& box) {
   for (const auto& item : items) {
     const auto eq = item.find('='), colon = item.find(':');
@@ -44,14 +45,12 @@ void parse_box(const std::vector<std::string>& items, diagnosis::WideBox& box) {
     char* e2 = nullptr;
     const std::string a = item.substr(eq + 1, colon - eq - 1), b = item.substr(colon + 1);
     const double lo = std::strtod(a.c_str(), &e1), hi = std::strtod(b.c_str(), &e2);
-    if (a.empty() || b.empty() || *e1 != '\0' || *e2 != '\0' || !(lo < hi))
-      fail("LO and HI must be numbers with LO < HI");
+    if (a.empty() || b.empty() || *e1 != '\0' || *e2 != '\0') fail("LO and HI must be numbers");
     if (name == "vin_x")
       box.vin_x = {lo, hi};
-    else if (name == "vin_y") {
-      if (!(hi < 0)) fail("vin_y must stay negative (falling block)");
+    else if (name == "vin_y")
       box.vin_y = {lo, hi};
-    } else if (name == "win")
+    else if (name == "win")
       box.win = {lo, hi};
     else
       fail("unknown name '" + name + "' (known: vin_x, vin_y, win)");
@@ -77,13 +76,24 @@ void parse_features(const std::string& text, diagnosis::SynthOptions& s) {
   }
 }
 
+// The command line's names of the synth options it binds (their ranges: SynthOptions::problems).
+const OptionNames kSynthNames = {{"n", "--n"},
+                                 {"scatter", "--scatter"},
+                                 {"noise.vin", "--noise"},
+                                 {"noise.vout", "--noise"},
+                                 {"noise.penetration_m", "--noise"},
+                                 {"noise.contact_duration_s", "--noise"},
+                                 {"wide.vin_x", "--box"},
+                                 {"wide.vin_y", "--box"},
+                                 {"wide.win", "--box"},
+                                 {"engine.dt_s", "--dt"}};
+
 void run(const SynthCliOptions& o) {
   require_extension("--out", o.output.out, {".csv", ".h5", ".hdf5"});
   if (!o.truth.empty()) require_extension("--truth", o.truth, {".json"});
   const Model truth = o.model.build_model();
   const Shape shape = o.model.build_shape();
   diagnosis::SynthOptions s = o.synth;
-  if (s.n == 0) throw InputError("<command line>", 0, "--n", "must be at least 1");
   if (o.design == "lab")
     s.design = diagnosis::Design::kLab;
   else if (o.design == "wide")
@@ -91,18 +101,13 @@ void run(const SynthCliOptions& o) {
   else
     throw InputError("<command line>", 0, "--design", "'" + o.design + "': use lab or wide");
   s.noise = diagnosis::NoiseSpec::parse(o.noise, "--noise");
-  if (s.design == diagnosis::Design::kLab)
-    s.incident = o.incident.empty()
-                     ? diagnosis::lab_incident_states(shape)
-                     : filter_nonempty(read_impact_set(o.incident), o.where, o.incident);
   for (const auto& item : o.scatter) {
     const auto eq = item.find('=');
     char* end = nullptr;
     const std::string num = eq == std::string::npos ? "" : item.substr(eq + 1);
     const double sd = std::strtod(num.c_str(), &end);
-    if (eq == std::string::npos || num.empty() || *end != '\0' || !(sd >= 0))
-      throw InputError("<command line>", 0, "--scatter",
-                       "'" + item + "': expected NAME=SD with SD >= 0");
+    if (eq == std::string::npos || num.empty() || *end != '\0')
+      throw InputError("<command line>", 0, "--scatter", "'" + item + "': expected NAME=SD");
     const std::string name = item.substr(0, eq);
     try {
       (void)truth.index(name);
@@ -116,6 +121,12 @@ void run(const SynthCliOptions& o) {
   if (!o.box.empty() && s.design != diagnosis::Design::kWide)
     throw InputError("<command line>", 0, "--box", "the box applies to --design wide only");
   s.engine.dt_s = o.model.engine_options().dt_s;
+  refuse_problems(s.problems(), kSynthNames);
+  // The measured states are read once the options are known to be valid.
+  if (s.design == diagnosis::Design::kLab)
+    s.incident = o.incident.empty()
+                     ? diagnosis::lab_incident_states(shape)
+                     : filter_nonempty(read_impact_set(o.incident), o.where, o.incident);
 
   const diagnosis::SynthResult r = diagnosis::synthesize(truth, shape, s);
   write_impact_set(r.set, o.output.out);
@@ -149,6 +160,7 @@ void add_synth_command(CLI::App& app) {
       "into the data");
   add_model_options(sub, o->model);
   sub->add_option("--n", o->synth.n, "Number of releases")->capture_default_str();
+  show_range(sub, "--n", diagnosis::SynthOptions::kN);
   add_seed_option(sub, o->synth.seed, "every random draw");
   sub->add_option("--design", o->design,
                   "lab: resample and perturb measured incident states; wide: uniform over "
@@ -167,7 +179,8 @@ void add_synth_command(CLI::App& app) {
                   "data of the shape)");
   add_where_option(sub, o->where, "the releases of --incident");
   sub->add_option("--scatter", o->scatter,
-                  "Per-release scatter of a truth parameter, NAME=SD (repeatable)");
+                  "Per-release scatter of a truth parameter, NAME=SD with SD in " +
+                      diagnosis::SynthOptions::kSigma.text() + " (repeatable)");
   sub->add_option("--features", o->features,
                   "Features written: any of alpha_in,penetration,contact_duration, or none (as "
                   "the paper's lab data)")
@@ -177,7 +190,6 @@ void add_synth_command(CLI::App& app) {
   add_threads_option(sub, o->synth.engine.threads);
   add_output_options(sub, o->output, JsonOut::kRefused);
   sub->get_option("--out")->required();
-  check_range(sub, "--n", 1, 1e7);
   sub->callback([o] { run(*o); });
 }
 

@@ -50,8 +50,7 @@ NoiseSpec NoiseSpec::parse(const std::string& text, const std::string& option) {
     char* end = nullptr;
     const std::string num = item.substr(eq + 1);
     const double v = std::strtod(num.c_str(), &end);
-    if (num.empty() || *end != '\0' || !std::isfinite(v) || v < 0)
-      fail("'" + num + "' is not a non-negative number");
+    if (num.empty() || *end != '\0' || !std::isfinite(v)) fail("'" + num + "' is not a number");
     if (name == "vin_x")
       s.vin[kVx] = v;
     else if (name == "vin_y")
@@ -79,6 +78,8 @@ NoiseSpec NoiseSpec::parse(const std::string& text, const std::string& option) {
     }
   }
   if (first) fail("empty noise specification");
+  if (const OptionProblems p = s.problems(); !p.empty())
+    fail(p.front().option + ": " + p.front().message);
   return s;
 }
 
@@ -88,6 +89,50 @@ nlohmann::json NoiseSpec::to_json() const {
           {"penetration_m", penetration_m},
           {"contact_duration_s", contact_duration_s},
           {"units", "vin, vout: m/s, m/s, rad/s"}};
+}
+
+OptionProblems NoiseSpec::problems() const {
+  OptionProblems p;
+  for (double s : vin) check_range(p, "vin", s, kSigma);
+  for (double s : vout) check_range(p, "vout", s, kSigma);
+  check_range(p, "penetration_m", penetration_m, kSigma);
+  check_range(p, "contact_duration_s", contact_duration_s, kSigma);
+  return p;
+}
+
+OptionProblems WideBox::problems() const {
+  OptionProblems p;
+  // A range of one point is a component held fixed: a set's own span (box_of) can be one.
+  const auto check = [&](const char* name, const std::array<double, 2>& r) {
+    if (!(std::isfinite(r[0]) && std::isfinite(r[1]) && r[0] <= r[1]))
+      p.push_back({name, fmt::format("{} [{:g}, {:g}] is empty: expected LO <= HI, both finite",
+                                     name, r[0], r[1])});
+  };
+  check("vin_x", vin_x);
+  check("vin_y", vin_y);
+  check("win", win);
+  if (!(vin_y[1] < 0))
+    p.push_back({"vin_y", fmt::format("vin_y [{:g}, {:g}] reaches {:g}: it must stay below 0 (y "
+                                      "is up: the block falls onto the ground)",
+                                      vin_y[0], vin_y[1], vin_y[1])});
+  return p;
+}
+
+OptionProblems SynthOptions::problems() const {
+  OptionProblems p;
+  check_range(p, "n", static_cast<double>(n), kN);
+  append_nested(p, "noise", noise.problems());
+  // The parameter's name is in the message: the field is the list.
+  for (const auto& [name, sd] : scatter)
+    if (!kSigma.contains(sd))
+      p.push_back({"scatter", fmt::format("{}: value {} is outside {}", name, sd, kSigma.text())});
+  check_range(p, "alpha_range_rad", alpha_range_rad[0], kAlphaRad);
+  check_range(p, "alpha_range_rad", alpha_range_rad[1], kAlphaRad);
+  if (!(alpha_range_rad[0] < alpha_range_rad[1]))
+    p.push_back({"alpha_range_rad", "expected min < max"});
+  append_nested(p, "wide", wide.problems());
+  append_nested(p, "engine", engine.problems());
+  return p;
 }
 
 const char* design_name(Design design) {
@@ -120,21 +165,14 @@ std::uint64_t round_seed(std::uint64_t seed, std::uint64_t round) {
 }  // namespace
 
 SynthResult synthesize(const Model& truth, const Shape& shape, const SynthOptions& o) {
-  if (o.n == 0) throw std::invalid_argument("synth: the number of releases must be positive");
+  require_valid(o.problems(), "diagnosis::synthesize");
   if (o.design == Design::kLab && o.incident.empty())
     throw std::invalid_argument("synth: the lab design needs measured incident states");
-  for (int k = 0; k < 3; ++k)
-    if (!(o.noise.vin[k] >= 0) || !(o.noise.vout[k] >= 0))
-      throw std::invalid_argument("synth: negative noise");
-  if (!(o.noise.penetration_m >= 0) || !(o.noise.contact_duration_s >= 0))
-    throw std::invalid_argument("synth: negative noise");
 
   const std::size_t P = truth.parameter_count();
   std::vector<std::size_t> scatter_index;
-  for (const auto& [name, sd] : o.scatter) {
+  for (const auto& [name, sd] : o.scatter)
     scatter_index.push_back(truth.index(name));  // throws for an unknown name
-    if (!(sd >= 0)) throw std::invalid_argument("synth: negative scatter for " + name);
-  }
   const std::size_t dim = kScatter + 2 * o.scatter.size();
 
   // Silverman's bandwidth of the smoothed bootstrap, per component.

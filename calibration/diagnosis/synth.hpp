@@ -21,6 +21,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/option_problems.hpp"
 #include "effects/model.hpp"
 #include "engine/engine.hpp"
 #include "engine/shape.hpp"
@@ -48,6 +49,11 @@ struct NoiseSpec {
   /// Throws InputError (file "<command line>", field `option`) for a malformed spec.
   static NoiseSpec parse(const std::string& text, const std::string& option = "--noise");
   nlohmann::json to_json() const;
+
+  /// The allowed range of every standard uncertainty (problems()): none is negative (0: exact).
+  static constexpr OptionRange kSigma{0, INFINITY, false, true};
+  /// The problems of this noise (common/option_problems.hpp), empty when it is valid.
+  OptionProblems problems() const;
 };
 
 /// How incident states are drawn.
@@ -64,6 +70,12 @@ struct WideBox {
   std::array<double, 2> vin_x{1.5, 6.0};    ///< [m/s]
   std::array<double, 2> vin_y{-5.0, -1.0};  ///< [m/s]
   std::array<double, 2> win{-90.0, 0.0};    ///< [rad/s]
+
+  /// The problems of this box (common/option_problems.hpp), empty when it is valid: each range
+  /// {LO, HI} finite with LO <= HI (LO = HI holds that component fixed), and vin_y's HI below 0
+  /// (y is up: the block falls onto the ground). synthesize and design_throws
+  /// (throw_design.hpp) call it at their entry.
+  OptionProblems problems() const;
 };
 
 struct SynthOptions {
@@ -88,6 +100,17 @@ struct SynthOptions {
   /// Engine settings of the truth runs: the calibration's (bulk_engine_options).
   EngineOptions engine = bulk_engine_options();
   std::string id_prefix = "S";  ///< release ids: S001, S002, ...
+
+  /// The allowed ranges (problems(); the command line shows kN in --help): one release at
+  /// least, 1e7 bounds the set held in memory; a scatter SD is a standard deviation (kSigma);
+  /// the orientation range lies within half a turn of 0, its min below its max.
+  static constexpr OptionRange kN{1, 1e7};
+  static constexpr OptionRange kSigma = NoiseSpec::kSigma;
+  static constexpr OptionRange kAlphaRad{-M_PI, M_PI};
+  /// The problems of these options (common/option_problems.hpp), empty when they are valid;
+  /// noise's, wide's and engine's prefixed by the member ("wide.vin_y"). synthesize calls it at
+  /// its entry.
+  OptionProblems problems() const;
 };
 
 struct SynthResult {
@@ -98,8 +121,10 @@ struct SynthResult {
   nlohmann::json truth;
 };
 
-/// Generates the set (see the file comment). Throws std::invalid_argument for inconsistent
-/// options (n = 0, lab design without incident states, unknown scatter parameter, negative noise).
+/// Generates the set (see the file comment). Throws InputError for options with problems
+/// (SynthOptions::problems: n = 0, negative noise or scatter, an empty box, ...), and
+/// std::invalid_argument for a lab design without incident states or an unknown scatter
+/// parameter (the truth model's).
 SynthResult synthesize(const Model& truth, const Shape& shape, const SynthOptions& options);
 
 /// The lab's measured incident states for a shape: data/lab/cylinders.csv or triangles.csv

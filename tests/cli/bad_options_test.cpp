@@ -65,7 +65,7 @@ const std::vector<BadCase> kCases = {
     {"sobol --confidence 1.5", "field '--confidence': value 1.5 is outside (0, 1)"},
     {"sobol --n 0", "--n"},
     {"sobol --bootstrap 0", "field '--bootstrap': value 0 is outside [2, 1e+06]"},
-    {"synth --n 0", "--n: value 0 is outside [1, 1e+07]"},
+    {"synth --n 0 --out s.csv", "field '--n': value 0 is outside [1, 1e+07]"},
     {"compare " + kCyl + " --repeats 0", "field '--repeats': value 0 is outside [1, 20]"},
     {"compare " + kCyl + " --orientations -1", "--orientations"},
     {"diagnose " + kCyl + " --alpha 2", "field '--alpha': value 2 is outside (0, 1)"},

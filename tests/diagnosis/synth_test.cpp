@@ -172,7 +172,7 @@ TEST(Synth, NoiseSpecParsing) {
 
 TEST(Synth, BadOptionsAreRefused) {
   SynthOptions o = wide(0, 1);
-  EXPECT_THROW(synthesize(Model::paper(), Shape::cylinder(), o), std::invalid_argument);
+  EXPECT_THROW(synthesize(Model::paper(), Shape::cylinder(), o), InputError);
   o.n = 3;
   o.scatter = {{"nope", 0.1}};
   EXPECT_THROW(synthesize(Model::paper(), Shape::cylinder(), o), std::invalid_argument);
