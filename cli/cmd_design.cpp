@@ -46,15 +46,20 @@ void parse_range(const std::string& text, diagnosis::WideBox& box, std::array<bo
     range = &box.win, k = kW;
   else
     throw bad("unknown component '" + name + "'; use vin_x [m/s], vin_y [m/s] or win [rad/s]");
-  if (!(lo < hi)) throw bad("expected A < B");
-  if (k == kVy && !(hi < 0))
-    throw bad("vin_y must stay below 0 (y is up: the block falls onto the ground)");
   if (given[k]) throw bad(name + " is given twice");
   given[k] = true;
   *range = {lo, hi};
 }
 
 namespace {
+
+// The command line's names of the design options it binds (their ranges: DesignOptions::problems).
+const OptionNames kDesignNames = {{"budget", "--budget"},
+                                  {"candidates", "--candidates"},
+                                  {"alpha", "--alpha"},
+                                  {"max_passes", "--passes"},
+                                  {"assess.fit.alpha.marginal_points", "--orientations"},
+                                  {"assess.fit.engine.dt_s", "--dt"}};
 
 struct DesignCliOptions {
   std::string data;
@@ -139,13 +144,10 @@ void run(DesignCliOptions& o) {
   opt.assess.fit.threads = o.threads;
   opt.assess.fit.engine.dt_s = o.model.dt_s;
   if (o.orientations != 0) opt.assess.fit.alpha.marginal_points = o.orientations;
-  refuse_problems(opt.assess.problems(),
-                  {{"fit.alpha.marginal_points", "--orientations"}, {"fit.engine.dt_s", "--dt"}});
-  if (opt.candidates > 0 && opt.candidates < opt.budget)
-    throw InputError("<command line>", 0, "--candidates",
-                     fmt::format("{} candidates cannot hold a budget of {} throws: give at least "
-                                 "the budget, or 0 (the default: max(1024, 4 x budget))",
-                                 opt.candidates, opt.budget));
+  refuse_problems(opt.problems(), kDesignNames);
+  // The box's rules (WideBox::problems) on the ranges given; the others are the set's own.
+  refuse_problems(given_box.problems(),
+                  {{"vin_x", "--range"}, {"vin_y", "--range"}, {"win", "--range"}});
   const Model model = o.model.build_model();
   const auto in = diagnosis::load_inputs(o.data, o.shape_given ? o.model.shape : "", o.where);
   diagnosis::WideBox box = diagnosis::box_of(in.set);
@@ -208,7 +210,7 @@ void add_design_command(CLI::App& app) {
   add_where_option(sub, o->where, "the releases of SET");
   add_model_options(sub, o->model);
   sub->add_option("--budget", o->design.budget, "New throws to plan")->capture_default_str();
-  check_range(sub, "--budget", 1, 10000);
+  show_range(sub, "--budget", diagnosis::DesignOptions::kBudget);
   sub->add_option("--range", o->ranges,
                   "Box of the new incident states, NAME=A:B with NAME vin_x [m/s], vin_y [m/s] or "
                   "win [rad/s] (repeatable); a component not given spans SET's own range");
@@ -217,17 +219,18 @@ void add_design_command(CLI::App& app) {
                   "(ricochet effects), or a+b; default: none plus the laws the diagnosis keeps")
       ->delimiter(',');
   sub->add_option("--candidates", o->design.candidates,
-                  "Candidate states (Sobol' points in the box); 0: max(1024, 4 x budget)")
+                  "Candidate states (Sobol' points in the box), at least the budget; 0: "
+                  "max(1024, 4 x budget)")
       ->capture_default_str();
-  check_range(sub, "--candidates", 0, 1e6);
+  show_range(sub, "--candidates", diagnosis::DesignOptions::kCandidates);
   sub->add_option("--alpha", o->design.alpha,
                   "Family-wise level of the discrimination tests (the predicted power: each pair "
                   "at alpha/(4 m(m-1)) for m rival laws other than none, two laws per family)")
       ->capture_default_str();
-  check_range(sub, "--alpha", 1e-6, 0.5);
+  show_range(sub, "--alpha", diagnosis::DesignOptions::kAlpha);
   sub->add_option("--passes", o->design.max_passes, "Exchange passes at most")
       ->capture_default_str();
-  check_range(sub, "--passes", 0, 10000);
+  show_range(sub, "--passes", diagnosis::DesignOptions::kPasses);
   sub->add_option("--orientations", o->orientations,
                   "Orientations averaged over for blocks without alpha_in, in " +
                       fit::FitOptions::kMarginalPoints.text() + " (0: the default)")

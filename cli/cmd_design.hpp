@@ -11,9 +11,9 @@ namespace ricochet::cli {
 
 void add_design_command(CLI::App& app);
 
-/// Parses one --range value NAME=A:B (NAME in vin_x, vin_y, win; SI units, A < B; vin_y's B
-/// below 0: the block falls onto the ground) into `box`. Throws InputError(field "--range")
-/// naming the value and the rule it breaks.
+/// Parses one --range value NAME=A:B (NAME in vin_x, vin_y, win; SI units) into `box`. Throws
+/// InputError(field "--range") naming the value for a malformed one, an unknown name or a name
+/// given twice; the box's rules (A <= B, vin_y's B below 0) are WideBox::problems()'s.
 void parse_range(const std::string& text, diagnosis::WideBox& box, std::array<bool, 3>& given);
 
 }  // namespace ricochet::cli

@@ -94,17 +94,36 @@ bool subset_of(const std::vector<std::string>& a, const std::vector<std::string>
 
 }  // namespace
 
+OptionProblems DesignOptions::problems() const {
+  OptionProblems p;
+  check_range(p, "budget", static_cast<double>(budget), kBudget);
+  check_range(p, "candidates", static_cast<double>(candidates), kCandidates);
+  if (candidates > 0 && candidates < budget)
+    p.push_back({"candidates", fmt::format("{} candidates cannot hold a budget of {} throws: give "
+                                           "at least the budget, or 0 (the default: max(1024, "
+                                           "4 x budget))",
+                                           candidates, budget)});
+  check_range(p, "alpha", alpha, kAlpha);
+  check_range(p, "max_passes", static_cast<double>(max_passes), kPasses);
+  check_range(p, "indistinguishable_lambda", indistinguishable_lambda, kIndistinguishable);
+  check_range(p, "budget_power", budget_power, kPower);
+  append_nested(p, "assess", assess.problems());
+  return p;
+}
+
 ThrowDesign design_throws(const Model& base, const Shape& shape, const ImpactSet& set,
                           const std::vector<std::vector<std::string>>& rival_effects,
                           const WideBox& box, const DesignOptions& options) {
+  require_valid(options.problems(), "diagnosis::design_throws");
+  OptionProblems box_problems;
+  append_nested(box_problems, "box", box.problems());
+  require_valid(box_problems, "diagnosis::design_throws");
   const auto t0 = Clock::now();
   const EffectRegistry& registry = options.registry ? *options.registry : EffectRegistry::global();
   const AssessOptions o = resolve_scale(set, options.assess);
   const std::size_t n = set.size(), budget = options.budget;
   const std::size_t K =
       options.candidates > 0 ? options.candidates : std::max<std::size_t>(1024, 4 * budget);
-  if (budget < 1) throw std::invalid_argument("design_throws: budget must be >= 1");
-  if (K < budget) throw std::invalid_argument("design_throws: fewer candidates than the budget");
   if (rival_effects.size() < 2) throw std::invalid_argument("design_throws: two rivals at least");
 
   ThrowDesign d;

@@ -64,6 +64,21 @@ struct DesignOptions {
   /// Pairs whose own best plan of `budget` throws stays below this power are beyond the budget.
   double budget_power = 0.5;
   const EffectRegistry* registry = nullptr;  ///< nullptr = EffectRegistry::global()
+
+  /// The allowed ranges (problems(); the command line shows them in --help). budget: one throw
+  /// at least, 1e4 bounds the selection's exchange passes over the plan; candidates: 0 (the
+  /// default size) or at least the budget, 1e6 bounds the predictions held in memory; alpha: a
+  /// family-wise error rate, at most 0.5 (beyond, the tests err more often than not), at least
+  /// 1e-6 (each pair's level divides it again by r^2 m (m - 1)); a power lies in [0, 1].
+  static constexpr OptionRange kBudget{1, 1e4};
+  static constexpr OptionRange kCandidates{0, 1e6};
+  static constexpr OptionRange kAlpha{1e-6, 0.5};
+  static constexpr OptionRange kPasses{0, 1e4};
+  static constexpr OptionRange kIndistinguishable{0, INFINITY, false, true};
+  static constexpr OptionRange kPower{0, 1};
+  /// The problems of these options (common/option_problems.hpp), empty when they are valid;
+  /// assess's prefixed "assess.". design_throws calls it at its entry.
+  OptionProblems problems() const;
 };
 
 /// One pair of rivals on one design.
@@ -110,7 +125,9 @@ struct ThrowDesign {
   double calibration_s = 0, prediction_s = 0, selection_s = 0, seconds = 0;
 };
 
-/// The design (file comment). `rivals`: the effects of each rival (parse_rivals).
+/// The design (file comment). `rivals`: the effects of each rival (parse_rivals). Options with
+/// problems (DesignOptions::problems) and a box with problems (WideBox::problems) are refused
+/// with InputError before any calibration.
 ThrowDesign design_throws(const Model& base, const Shape& shape, const ImpactSet& set,
                           const std::vector<std::vector<std::string>>& rivals, const WideBox& box,
                           const DesignOptions& options);

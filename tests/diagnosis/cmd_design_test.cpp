@@ -30,14 +30,13 @@ TEST_F(CmdDesign, BadOptionsExitTwoNamingTheOption) {
     std::string args, says;
   };
   const std::vector<Case> cases = {
-      {base + " --range vin_y=-1:-5", "--range"},            // A >= B
-      {base + " --range vin_y=-1:-1", "expected A < B"},     // empty
+      {base + " --range vin_y=-1:-5", "expected LO <= HI"},  // A > B: empty
       {base + " --range speed=1:2", "unknown component"},    // not a component
       {base + " --range vin_y=-2:1", "below 0"},             // the block must fall
       {base + " --range vin_x=1", "expected NAME=A:B"},      // malformed
       {base + " --range vin_x=a:2", "not a finite number"},  // not a number
-      {base + " --budget 0", "--budget: value 0 is outside [1, 10000]"},
-      {base + " --budget 10001", "--budget: value 10001 is outside [1, 10000]"},
+      {base + " --budget 0", "field '--budget': value 0 is outside [1, 10000]"},
+      {base + " --budget 10001", "field '--budget': value 10001 is outside [1, 10000]"},
       {base + " --budget 50 --candidates 10", "--candidates"},
       {base + " --alpha 0.9", "--alpha"},
       {"design " + kCyl + " --rivals none,bogus" + out, "unknown rival 'bogus'"},
