@@ -50,6 +50,7 @@ std::map<std::string, std::array<double, 3>> lab_scales(const std::vector<std::s
 }
 
 void run(const PairedCliOptions& o) {
+  refuse_problems(o.paired.problems(), {{"level", "--level"}, {"margin", "--margin"}});
   require_out_extension(o.output, {".csv"});
   if (o.base == o.against)
     throw InputError("<command line>", 0, "--against", "the same prefix as --base");
@@ -92,10 +93,10 @@ void add_paired_command(CLI::App& app) {
   sub->add_option("--margin", options->paired.margin,
                   "A component also holds when |mean difference| is below this, in lab sd")
       ->capture_default_str();
-  check_range(sub, "--margin", 0, 100);
+  show_range(sub, "--margin", stats::PairedOptions::kMargin);
   sub->add_option("--level", options->paired.level, "Confidence level of the t interval")
       ->capture_default_str();
-  check_range(sub, "--level", 0.5, 0.999);
+  show_range(sub, "--level", stats::PairedOptions::kLevel);
   add_where_option(sub, options->where, "the releases of DATA");
   add_output_options(sub, options->output);
   sub->callback([options] { run(*options); });

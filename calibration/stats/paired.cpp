@@ -43,6 +43,13 @@ PairedComponent component(const std::vector<double>& d, const PairedOptions& o) 
 
 }  // namespace
 
+OptionProblems PairedOptions::problems() const {
+  OptionProblems p;
+  check_range(p, "level", level, kLevel);
+  check_range(p, "margin", margin, kMargin);
+  return p;
+}
+
 std::array<double, 3> vout_std(const ImpactSet& set) {
   if (set.empty()) throw InputError(set.source, 0, "shape", "no release to take a scale from");
   const Table2 t = table2(set, set.source, "");
@@ -53,10 +60,9 @@ PairedComparison paired_comparison(const ImpactSet& set, const std::string& base
                                    const std::string& other,
                                    const std::map<std::string, std::array<double, 3>>& scale,
                                    const PairedOptions& options) {
+  require_valid(options.problems(), "stats::paired_comparison");
   if (base.empty() || other.empty() || base == other)
     throw std::invalid_argument("paired_comparison: two different, non-empty prefixes");
-  if (!(options.level > 0 && options.level < 1) || !(options.margin >= 0))
-    throw std::invalid_argument("paired_comparison: level in (0, 1), margin >= 0");
   PairedComparison out;
   out.base = base;
   out.other = other;

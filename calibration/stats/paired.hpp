@@ -25,13 +25,23 @@
 #include <string>
 #include <vector>
 
+#include "common/option_problems.hpp"
 #include "impact/impact_set.hpp"
 
 namespace ricochet::stats {
 
 struct PairedOptions {
-  double level = 0.95;   ///< of the t interval, in (0, 1)
-  double margin = 0.25;  ///< in scale units, >= 0
+  double level = 0.95;   ///< of the t interval
+  double margin = 0.25;  ///< in scale units
+
+  /// The allowed ranges (problems(); the command line shows them in --help): a level strictly
+  /// between 0 and 1 (the t quantile's domain); a margin is a distance, any non-negative one
+  /// (0: the interval alone decides).
+  static constexpr OptionRange kLevel{0, 1, true, true};
+  static constexpr OptionRange kMargin{0, INFINITY, false, true};
+  /// The problems of these options (common/option_problems.hpp), empty when they are valid;
+  /// paired_comparison calls it at its entry.
+  OptionProblems problems() const;
 };
 
 /// One V_out component over the pairs (differences in scale units).
@@ -66,8 +76,9 @@ std::array<double, 3> vout_std(const ImpactSet& set);
 
 /// The comparison (file comment). `scale` maps a shape name to its scales; a paired impact of a
 /// shape it lacks, or a scale that is not positive, throws InputError(set.source, 0, "shape",
-/// ...) naming the shape. Throws std::invalid_argument for equal or empty prefixes or options out
-/// of range, InputError(set.source, 0, "id", ...) when no pair is found.
+/// ...) naming the shape. Throws InputError for options with problems (PairedOptions::problems),
+/// std::invalid_argument for equal or empty prefixes, InputError(set.source, 0, "id", ...) when
+/// no pair is found.
 PairedComparison paired_comparison(const ImpactSet& set, const std::string& base,
                                    const std::string& other,
                                    const std::map<std::string, std::array<double, 3>>& scale,

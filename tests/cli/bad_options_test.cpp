@@ -39,7 +39,7 @@ const std::string kPlateau =
 const std::vector<BadCase> kCases = {
     {"stats " + kCyl + " --bogus 1", "--bogus"},
     {"paired " + kPlateau + " --base E1.5e7- --against E1.5e8- --margin -1",
-     "--margin: value -1 is outside [0, 100]"},
+     "field '--margin': value -1 is outside [0, inf)"},
     {"paired " + kPlateau + " --base E1.5e7- --against E1.5e7-", "--against"},
     {"paired " + kPlateau + " --base X- --against Y-", "no pair of ids"},
     {"paired " + kPlateau + " --base E1.5e7- --against E1.5e8- --lab " + kCyl, "triangle"},

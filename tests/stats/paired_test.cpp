@@ -88,7 +88,7 @@ TEST(Paired, AnIdBelongsToTheLongestPrefixItStartsWith) {
 TEST(Paired, BadInputNamesWhatIsWrong) {
   const ImpactSet s = four_pairs();
   EXPECT_THROW(paired_comparison(s, "A-", "A-", kScale), std::invalid_argument);
-  EXPECT_THROW(paired_comparison(s, "A-", "B-", kScale, {1.5, 0.25}), std::invalid_argument);
+  EXPECT_THROW(paired_comparison(s, "A-", "B-", kScale, {1.5, 0.25}), InputError);
   try {
     paired_comparison(s, "A-", "B-", {{"cylinder", {0.5, 0.2, 10.0}}});
     FAIL() << "no scale for the triangles";
