@@ -2,6 +2,8 @@
 // Eq. 2, Table 3, Figs. 11-12), the full 3x3 matrix and their comparison.
 // See docs/commands/transfer.md for the options, the JSON keys and the equations.
 
+#include <fmt/format.h>
+
 #include <cctype>
 #include <filesystem>
 #include <iostream>
@@ -156,8 +158,7 @@ void run_fit(const FitOptions& o) {
 
 struct PredictOptions {
   std::string vin, incident, model, from, where, figures;
-  std::optional<std::size_t> n;
-  std::uint64_t seed = 0;
+  transfer::PredictSampling sampling;  ///< --seed, --n: their defaults are the library's
   OutputOptions output;
 };
 
@@ -210,16 +211,15 @@ void run_predict(const PredictOptions& o) {
   if (o.model.empty() == o.from.empty())
     throw InputError("<command line>", 0, "--model",
                      "give exactly one of --model FIT.h5 and --from DATA");
-  if (o.n && *o.n == 0) throw InputError("<command line>", 0, "--n", "must be at least 1");
+  refuse_problems(o.sampling.problems(), {{"replicates", "--n"}});
 
   transfer::PredictReport r;
-  r.seed = o.seed;
   load_model(o, r);
   const ImpactSet incident_set = load_incident(o, given_vin, r);
-  r.replicates = o.n.value_or(o.vin.empty() ? 1 : 1000);
-  r.samples = transfer::sample_reflected(r.model, r.vin, r.replicates, o.seed);
-  // A reflected vertical velocity that is not upwards is possible when A_yy + dA_yy > 0.
-  for (const Vel3& s : r.samples) r.nonphysical_vy += s[kVy] <= 0;
+  transfer::sample_predictions(r,
+                               given_vin ? transfer::PredictIncidents::kGivenState
+                                         : transfer::PredictIncidents::kMeasuredSet,
+                               o.sampling);
   const std::vector<Vel3> measured = transfer::reflected(incident_set);
   if (!incident_set.empty()) r.ks = transfer::compare_distributions(measured, r.samples);
 
@@ -290,9 +290,13 @@ void add_transfer_command(CLI::App& app) {
   predict->add_option("--model", po->model, "Model written by `transfer fit --out FIT.h5`");
   predict->add_option("--from", po->from, "Fit Eq. 2 on this impact set instead of --model");
   add_where_option(predict, po->where, "the releases of --from and --incident");
-  predict->add_option(
-      "--n", po->n, "Rebounds per incident velocity (default 1000 with --vin, 1 with --incident)");
-  add_seed_option(predict, po->seed, "the random stream (required)")->required();
+  predict->add_option("--n", po->sampling.replicates,
+                      fmt::format("Rebounds per incident velocity (default {} with --vin, {} with "
+                                  "--incident)",
+                                  transfer::PredictSampling::kGivenStateReplicates,
+                                  transfer::PredictSampling::kMeasuredSetReplicates));
+  show_range(predict, "--n", transfer::PredictSampling::kReplicates);
+  add_seed_option(predict, po->sampling.seed, "the random stream (required)")->required();
   add_figures_option(predict, po->figures, "an SVG CDF figure (with --incident)");
   add_output_options(predict, po->output);
   predict->callback([po] { run_predict(*po); });

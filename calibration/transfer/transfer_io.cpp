@@ -288,6 +288,28 @@ void write_cdf_figure(const std::string& path, const std::string& title,
   report::render(fig, path);
 }
 
+std::size_t PredictSampling::replicates_for(PredictIncidents incidents) const {
+  return replicates.value_or(incidents == PredictIncidents::kGivenState ? kGivenStateReplicates
+                                                                        : kMeasuredSetReplicates);
+}
+
+OptionProblems PredictSampling::problems() const {
+  OptionProblems p;
+  if (replicates) check_range(p, "replicates", static_cast<double>(*replicates), kReplicates);
+  return p;
+}
+
+void sample_predictions(PredictReport& r, PredictIncidents incidents,
+                        const PredictSampling& sampling) {
+  require_valid(sampling.problems(), "transfer::sample_predictions");
+  r.seed = sampling.seed;
+  r.replicates = sampling.replicates_for(incidents);
+  r.samples = sample_reflected(r.model, r.vin, r.replicates, r.seed);
+  // A reflected vertical velocity that is not upwards is possible when A_yy + dA_yy > 0.
+  r.nonphysical_vy = 0;
+  for (const Vel3& s : r.samples) r.nonphysical_vy += s[kVy] <= 0;
+}
+
 json to_json(const PredictReport& r) {
   json doc;
   doc["seed"] = r.seed;

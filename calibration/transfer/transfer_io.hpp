@@ -85,6 +85,38 @@ struct PredictReport {
   std::size_t nonphysical_vy = 0;            ///< samples with V_out^y <= 0
 };
 
+/// Where `transfer predict`'s incident states come from.
+enum class PredictIncidents {
+  kGivenState,   ///< one state given (--vin): its reflected distribution is what is asked for
+  kMeasuredSet,  ///< the measured states of a set (--incident), each with its measured rebound
+};
+
+/// How `transfer predict` samples Eq. 2.
+struct PredictSampling {
+  std::uint64_t seed = 0;  ///< of the random stream (the command line requires it)
+  /// Predicted rebounds per incident state; unset: replicates_for's default.
+  std::optional<std::size_t> replicates;
+  /// The defaults: a given state's distribution is drawn with many rebounds; each state of a
+  /// measured set with one, so that the predicted sample is as large as the measured one it is
+  /// compared with (KS).
+  static constexpr std::size_t kGivenStateReplicates = 1000;
+  static constexpr std::size_t kMeasuredSetReplicates = 1;
+  /// The allowed range of replicates (problems(); the command line shows it in --help): transfer
+  /// fit's, the same samples held in memory.
+  static constexpr OptionRange kReplicates = FitSampling::kReplicates;
+  /// The replicates asked for, or the default of `incidents`.
+  std::size_t replicates_for(PredictIncidents incidents) const;
+  /// The problems of these options (common/option_problems.hpp), empty when they are valid;
+  /// sample_predictions calls it at its entry.
+  OptionProblems problems() const;
+};
+
+/// Samples `sampling.replicates_for(incidents)` rebounds of `report.model` per incident state
+/// of `report.vin` with `sampling.seed`: fills report.samples, replicates, seed and
+/// nonphysical_vy. Options with problems are refused with InputError before any draw.
+void sample_predictions(PredictReport& report, PredictIncidents incidents,
+                        const PredictSampling& sampling);
+
 /// JSON keys: "seed", "model", "incidents", "replicates", "n_samples", "summary",
 /// "nonphysical_vy", "ks" (with measurements), "samples" (null above 10,000).
 nlohmann::json to_json(const PredictReport& report);
