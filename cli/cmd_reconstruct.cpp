@@ -247,8 +247,9 @@ void add_reconstruct_command(CLI::App& app) {
   sub->add_option("--pixel-size", o->pixel_size, "Pixel size [m/px] for px columns");
   sub->add_flag("--y-down", o->y_down, "Image coordinates: y grows downwards (negated on reading)");
   sub->add_option("--window", o->window, "Contact window T0,T1 [s] (default: detected)");
-  auto* g =
-      sub->add_option("--gravity", o->gravity, "Gravity imposed in y(t) [m/s^2] (default 9.81)");
+  auto* g = sub->add_option("--gravity", o->gravity,
+                            fmt::format("Gravity imposed in y(t) [m/s^2] (default {:g})",
+                                        kinematics::ReconstructOptions{}.gravity_mps2.value_or(0)));
   auto* fg =
       sub->add_flag("--free-gravity", o->free_gravity, "Fit the quadratic coefficient of y(t)");
   g->excludes(fg);

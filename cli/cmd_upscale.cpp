@@ -35,7 +35,7 @@ struct UpscaleCliOptions {
   /// --lab-noise: the lab's measurement noise on V_out (m/s, m/s, rad/s), added to the resolved
   /// values before the KS test (stats::ks_with_measurement_noise); empty = not done.
   std::vector<double> lab_noise;
-  std::size_t lab_noise_draws = 400;
+  std::size_t lab_noise_draws = stats::LabGapOptions{}.noise_draws;
   /// --seed, --starts and --threads write into fit: their defaults are the fit module's.
   fit::FitOptions fit = dem::UpscaleOptions{}.fit;
   bool no_intervals = !fit::FitOptions{}.intervals;
