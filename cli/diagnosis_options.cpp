@@ -30,6 +30,11 @@ void add_diagnosis_options(CLI::App* sub, diagnosis::OptionValues& v,
                     "At most this many candidates are calibrated (held-out error) after the score "
                     "test: those it supports, at least the best")
         ->capture_default_str();
+    sub->add_option("--adequate-z", v.adequate_z,
+                    "The verdict is adequate only if every family's weakest detectable law "
+                    "(80 % power) changes the predictions by at most this noncentrality z; "
+                    "otherwise inconclusive (docs/diagnosis.md, Verdict)")
+        ->capture_default_str();
     sub->add_flag("--no-pairs", v.no_pairs,
                   "Do not try pairs of candidates when no single one is enough");
   }
@@ -58,12 +63,14 @@ void add_diagnosis_options(CLI::App* sub, diagnosis::OptionValues& v,
   if (set.alpha) {
     show_range(sub, "--alpha", DiagnoseOptions::kAlpha);
     show_range(sub, "--screen", DiagnoseOptions::kScreen);
+    show_range(sub, "--adequate-z", DiagnoseOptions::kAdequateZ);
   }
 }
 
 const OptionNames& diagnosis_option_names() {
   static const OptionNames names = {{"alpha", "--alpha"},
                                     {"screen", "--screen"},
+                                    {"adequate_z", "--adequate-z"},
                                     {"assess.folds", "--folds"},
                                     {"assess.repeats", "--repeats"},
                                     {"assess.fit.alpha.marginal_points", "--orientations"},

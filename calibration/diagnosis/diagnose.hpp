@@ -96,6 +96,12 @@ struct DiagnoseOptions {
   /// Probe step of the signature test, as a fraction of the parameter's range from its neutral
   /// value towards the other bound.
   double probe_fraction = 0.1;
+  /// The verdict `adequate` needs the power to back it (issue 31, 5b): every family's weakest
+  /// detectable law (Diagnosis::detectable) must have z_80 <= adequate_z, i.e. a law of any
+  /// family whose change of the predictions has noncentrality adequate_z would be detected with
+  /// 80 % power. Otherwise a set within its floor gets `inconclusive`. 5 is the issue's own
+  /// yardstick ("an effect with oracle z >= 5 must not be called adequate"); it is not tuned.
+  double adequate_z = 5.0;
   bool progress = true;  ///< progress bar on a terminal
 
   /// The allowed ranges (problems(); the command line shows them in --help): alpha is a
@@ -106,6 +112,7 @@ struct DiagnoseOptions {
   static constexpr OptionRange kScreen{0, 1000};
   static constexpr OptionRange kScoreDraws{1, 1e9};
   static constexpr OptionRange kProbeFraction{0, 1, true, false};
+  static constexpr OptionRange kAdequateZ{0, 1e3, true, false};
 
   /// The problems of these options (common/option_problems.hpp; assess's prefixed "assess."),
   /// empty when they are valid; compare, diagnose, ladder and auto_ladder call it at their entry.
@@ -275,6 +282,11 @@ struct Detectable {
   /// strength, per observable (m/s, m/s, rad/s, m, s; NaN where unused).
   Obs shift{};
   double noise_units = NAN;  ///< the same change, whitened: RMS per release in noise sd
+  /// The same change as a noncentrality: the norm over the whole set of the whitened change,
+  /// projected off the base parameters (noise_units x sqrt(releases)). The diagnosis's analogue
+  /// of the independent oracle's z (docs/detection-benchmark.md), with the set's pooled
+  /// whitening where the oracle has each release's true covariance. NaN beyond the bounds.
+  double z_80 = NAN;
   double power = 0.8;
   double level = NAN;     ///< the family-wise level of the test (alpha / 2, the score route)
   double critical = NAN;  ///< the max-T critical value the diagnosis uses at that level
@@ -282,7 +294,10 @@ struct Detectable {
 
 struct Diagnosis {
   Baseline baseline;
-  std::string verdict;                 ///< "adequate" | "scatter" | "missing physics"
+  /// "missing physics" | "scatter" | "adequate" (within the floor, and every family visible at
+  /// z_80 <= DiagnoseOptions::adequate_z) | "inconclusive" (within the floor, but some family
+  /// is not: these data could hide a law of it; `underpowered` says which)
+  std::string verdict;
   std::vector<Candidate> ranking;      ///< best first (candidates that were calibrated)
   std::vector<Screened> screened_out;  ///< candidates tested but not calibrated
   /// The laws these data cannot tell apart from the best one (issue 31, item 1).
@@ -290,6 +305,11 @@ struct Diagnosis {
   /// Per family, the weakest law the set would detect (80 % power at the diagnosis's own
   /// family-wise critical value); printed with every `adequate` and `scatter` verdict.
   std::vector<Detectable> detectable;
+  /// The families of `detectable` whose weakest detectable law has z_80 above
+  /// DiagnoseOptions::adequate_z or none within its bounds; they make a verdict within the
+  /// floor `inconclusive` instead of `adequate`.
+  std::vector<Family> underpowered;
+  double adequate_z = NAN;  ///< DiagnoseOptions::adequate_z of this diagnosis
   /// The same for every tested candidate parameter (JSON `minimum_detectable_by_candidate`):
   /// the power of the test of a named law at any strength (power calibration,
   /// docs/detection-benchmark.md).

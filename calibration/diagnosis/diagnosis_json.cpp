@@ -201,6 +201,7 @@ nlohmann::json to_json(const std::vector<Detectable>& rows,
                    {"law", r.law},
                    {"shift", to_json(r.shift, use)},
                    {"noise_units", num(r.noise_units)},
+                   {"z_80", num(r.z_80)},
                    {"power", r.power},
                    {"level", num(r.level)},
                    {"critical_value", num(r.critical)}});
@@ -220,7 +221,11 @@ nlohmann::json to_json(const Diagnosis& d) {
                         {"p_value", num(s.p_value)},
                         {"p_adjusted", num(s.p_adjusted)}});
   const nlohmann::json cs = to_json(d.confidence_set, b.base.use);
+  nlohmann::json underpowered = nlohmann::json::array();
+  for (Family f : d.underpowered) underpowered.push_back(family_name(f));
   return {{"verdict", d.verdict},
+          {"underpowered_families", underpowered},
+          {"adequate_z", num(d.adequate_z)},
           {"confidence_set", cs["members"]},
           {"confidence_set_detail", cs},
           {"minimum_detectable", to_json(d.detectable, b.base.use)},

@@ -141,7 +141,7 @@ std::string detectable_text(const std::vector<Detectable>& rows, std::size_t rel
 std::string summary_of(const Diagnosis& d, const DiagnoseOptions& o) {
   std::string text = verdict_text(d, o);
   if (const std::string s = confidence_text(d.confidence_set); !s.empty()) text += " " + s;
-  if (d.verdict == "adequate" || d.verdict == "scatter")
+  if (d.verdict != "missing physics")
     if (const std::string s =
             detectable_text(d.detectable, d.baseline.base.heldout.per_release.size());
         !s.empty())
@@ -187,11 +187,29 @@ std::string verdict_text(const Diagnosis& d, const DiagnoseOptions& o) {
         floor_text, d.family_size,
         b.scatter.computed ? b.scatter.description
                            : std::string("spread of the ground's parameters between releases"));
+  if (d.verdict == "inconclusive") {
+    std::string blind;
+    for (const Detectable& r : d.detectable)
+      if (std::find(d.underpowered.begin(), d.underpowered.end(), r.family) != d.underpowered.end())
+        blind += fmt::format("{}{} ({})", blind.empty() ? "" : ", ", family_name(r.family),
+                             std::isfinite(r.z_80) ? fmt::format("z {:.1f}", r.z_80)
+                                                   : std::string("not within its bounds"));
+    return fmt::format(
+        "Inconclusive: held-out error {:.4g} is within the noise floor {:.4g} ({}; threshold "
+        "{:.4g}) and no candidate of {} is supported, but these data could hide a law of {}: "
+        "the weakest law of each of these families they would detect with 80 % power changes "
+        "the predictions by more than z = {:.3g} (a noncentrality, the whitened change over "
+        "the set), which `adequate` requires. Throws chosen by `ricochet design` would see "
+        "more.",
+        base.heldout.error.mean, b.floor.value.mean, b.floor.source, b.adequacy.threshold,
+        d.family_size, blind, o.adequate_z);
+  }
   return fmt::format(
       "The model is adequate: held-out error {:.4g} is within the noise floor {:.4g} ({}; "
-      "threshold {:.4g}); no candidate of {} is supported.",
+      "threshold {:.4g}); no candidate of {} is supported, and a law of every family changing "
+      "the predictions by z = {:.3g} would have been detected with 80 % power.",
       base.heldout.error.mean, b.floor.value.mean, b.floor.source, b.adequacy.threshold,
-      d.family_size);
+      d.family_size, o.adequate_z);
 }
 
 std::vector<std::string> unexplained_after(const Assessment& a, const NoiseFloor& floor,

@@ -16,6 +16,7 @@ DiagnoseOptions make_options(const OptionValues& v) {
   o.alpha = v.alpha;
   o.assess.repeats = v.repeats;
   o.screen = v.screen;
+  o.adequate_z = v.adequate_z;
   o.pairs = !v.no_pairs;
   o.candidates = v.candidates;
   o.assess.release_fits = !v.no_release_fits;

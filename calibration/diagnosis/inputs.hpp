@@ -21,10 +21,11 @@ struct OptionValues {
   /// Seed of every random draw of the analysis: the calibrations' start designs, the
   /// cross-validation's partitions (CvDesign) and the score test's multiplier bootstrap.
   std::uint64_t seed = AssessOptions{}.fit.seed;
-  double alpha = DiagnoseOptions{}.alpha;         ///< family-wise error rate
-  std::size_t repeats = AssessOptions{}.repeats;  ///< repeated k-fold partitions
-  std::size_t screen = DiagnoseOptions{}.screen;  ///< generated laws calibrated
-  bool no_pairs = !DiagnoseOptions{}.pairs;       ///< skip the pair search
+  double alpha = DiagnoseOptions{}.alpha;            ///< family-wise error rate
+  std::size_t repeats = AssessOptions{}.repeats;     ///< repeated k-fold partitions
+  std::size_t screen = DiagnoseOptions{}.screen;     ///< generated laws calibrated
+  double adequate_z = DiagnoseOptions{}.adequate_z;  ///< power gate of `adequate`
+  bool no_pairs = !DiagnoseOptions{}.pairs;          ///< skip the pair search
   std::vector<std::string> candidates;
   bool no_release_fits = !AssessOptions{}.release_fits;    ///< skip per-release calibration
   bool no_intervals = !AssessOptions{}.release_intervals;  ///< per-release fits without intervals

@@ -48,6 +48,7 @@ OptionProblems DiagnoseOptions::problems() const {
   check_range(p, "screen", static_cast<double>(screen), kScreen);
   check_range(p, "score_draws", static_cast<double>(score_draws), kScoreDraws);
   check_range(p, "probe_fraction", probe_fraction, kProbeFraction);
+  check_range(p, "adequate_z", adequate_z, kAdequateZ);
   append_nested(p, "assess", assess.problems());
   return p;
 }

@@ -18,8 +18,16 @@ class StrengthCurve {
   StrengthCurve(const Directions& dirs, const ScoreDirection& dir, const Model& m,
                 const Shape& shape, const ImpactSet& set, const std::vector<ObsPrediction>& p0,
                 const AssessOptions& o, double sigma_s, double dof)
-      : dirs_(dirs), dir_(dir), m_(m), shape_(shape), set_(set), p0_(p0), o_(o),
-        sigma_s_(sigma_s), dof_(dof), side_(dir.allowed != 0 ? dir.allowed : 1) {}
+      : dirs_(dirs),
+        dir_(dir),
+        m_(m),
+        shape_(shape),
+        set_(set),
+        p0_(p0),
+        o_(o),
+        sigma_s_(sigma_s),
+        dof_(dof),
+        side_(dir.allowed != 0 ? dir.allowed : 1) {}
 
   int side() const { return side_; }
   /// How far the parameter may move from neutral on its allowed side.
@@ -84,9 +92,8 @@ class StrengthCurve {
   }
   std::vector<std::pair<double, double>> points() const {
     auto p = points_;
-    std::sort(p.begin(), p.end(), [](const auto& x, const auto& y) {
-      return std::fabs(x.first) < std::fabs(y.first);
-    });
+    std::sort(p.begin(), p.end(),
+              [](const auto& x, const auto& y) { return std::fabs(x.first) < std::fabs(y.first); });
     return p;
   }
 
@@ -167,7 +174,8 @@ std::vector<Detectable> detectable_candidates(
         std::vector<double> values = m.values();
         values[j] = value;
         d.law = law_of(m, values, {names[h]}, registry);
-        d.noise_units = g.s.norm() / std::sqrt(n);
+        d.z_80 = g.s.norm();
+        d.noise_units = d.z_80 / std::sqrt(n);
         d.shift = rms_per_observable(dirs, g.raw, use);
       } else {
         // Beyond the bounds the linear strength is all there is to say how far (NaN value).

@@ -307,11 +307,12 @@ void diagnosis_section(report::HtmlPage& page, const ReportSection& s) {
   std::vector<std::vector<std::string>> power_rows;
   for (const Detectable& r : d.detectable) {
     power_rows.push_back({std::string(family_name(r.family)), r.effect, r.law,
-                          std::isfinite(r.value) ? detail::observables_text(r.shift, 3) : "-"});
+                          std::isfinite(r.value) ? detail::observables_text(r.shift, 3) : "-",
+                          std::isfinite(r.z_80) ? fmt::format("{:.1f}", r.z_80) : "-"});
   }
-  if (!power_rows.empty() && (d.verdict == "adequate" || d.verdict == "scatter"))
+  if (!power_rows.empty() && d.verdict != "missing physics")
     page.table({"family", "most detectable law", "weakest law detected (80 % power)",
-                "its change of the predictions (RMS)"},
+                "its change of the predictions (RMS)", "as a noncentrality z"},
                power_rows, "What this set could have detected");
   page.labelled("What it cannot explain", "");
   page.list(d.unexplained);
@@ -400,8 +401,9 @@ std::size_t write_report(const std::vector<ReportSection>& sections, const Model
       "score-test screen) is added at its neutral value, recalibrated split by split and ranked "
       "by its penalised held-out error; supported when its drop passes the corrected "
       "resampled t-test under Holm's family-wise control at 0.05 and exceeds the penalty for "
-      "the added parameters. Verdicts: adequate, scatter (release-to-release spread of the "
-      "parameters, no deterministic trend), missing physics.",
+      "the added parameters. Verdicts: adequate (within the floor, and a law of every family "
+      "would have been seen at z 5), inconclusive (within the floor, but not so), scatter "
+      "(release-to-release spread of the parameters, no deterministic trend), missing physics.",
   });
 
   for (std::size_t i = 0; i < sections.size(); ++i) {

@@ -123,6 +123,8 @@ TEST_F(LibraryRanges, EveryBoundIsTheLibrarysAndShownInHelp) {
       {"diagnose", "diagnose " + kCyl, "--alpha", DiagnoseOptions::kAlpha, 1, false},
       {"diagnose", "diagnose " + kCyl, "--screen", DiagnoseOptions::kScreen, 1, true,
        "diagnose " + kMissing},
+      {"diagnose", "diagnose " + kCyl, "--adequate-z", DiagnoseOptions::kAdequateZ, 1, false,
+       "diagnose " + kMissing},
       {"ladder", "ladder " + kCyl + " --add rate_restitution", "--repeats", AssessOptions::kRepeats,
        1, true, "ladder " + kMissing + " --add rate_restitution"},
       {"report", on(report, kCyl), "--rounds", ReportOptions::kRounds, 1, false,

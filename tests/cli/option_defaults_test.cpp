@@ -125,6 +125,7 @@ void OptionDefaults::diagnosis() {
   for (const std::string command : {"diagnose", "ladder", "report"}) {
     expect(command, "--alpha", d.alpha);
     expect(command, "--screen", static_cast<double>(d.screen));
+    expect(command, "--adequate-z", d.adequate_z);
   }
   const diagnosis::ReportOptions r;
   expect("report", "--rounds", r.rounds);
@@ -148,6 +149,7 @@ void OptionDefaults::diagnosis() {
   EXPECT_EQ(made.assess.scale, a.scale);
   EXPECT_EQ(made.alpha, d.alpha);
   EXPECT_EQ(made.screen, d.screen);
+  EXPECT_EQ(made.adequate_z, d.adequate_z);
   EXPECT_EQ(made.pairs, d.pairs);
   EXPECT_EQ(made.assess.release_fits, a.release_fits);
   EXPECT_EQ(made.assess.release_intervals, a.release_intervals);

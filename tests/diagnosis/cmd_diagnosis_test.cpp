@@ -77,7 +77,16 @@ TEST_F(CmdDiagnosis, SynthWritesTheSchemaAndKeepsTheTruthApart) {
   else if (verdict == "missing physics")
     EXPECT_FALSE(doc["unnamed_structure"].empty());
   else
-    EXPECT_TRUE(verdict == "adequate" || verdict == "scatter") << verdict;
+    EXPECT_TRUE(verdict == "adequate" || verdict == "inconclusive" || verdict == "scatter")
+        << verdict;
+  // `adequate` is backed by power (issue 31, 5b): every family's weakest detectable law at
+  // z_80 <= adequate_z; otherwise the families that are not are listed.
+  bool all_visible = true;
+  for (const auto& r : doc["minimum_detectable"])
+    all_visible = all_visible && r["z_80"].is_number() &&
+                  r["z_80"].get<double>() <= doc["adequate_z"].get<double>();
+  if (verdict == "adequate") EXPECT_TRUE(all_visible);
+  if (verdict == "inconclusive") EXPECT_FALSE(doc["underpowered_families"].empty());
   // The family: every candidate, calibrated (ranking) or only score-tested (screened_out):
   // the 5 catalog effects and the 40 generated laws.
   EXPECT_EQ(doc["family_size"].get<std::size_t>(), 45u);
