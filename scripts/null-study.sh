@@ -33,13 +33,13 @@ python3 - "$TSV" > "$OUT/summary.md" <<'PY'
 import csv, math, sys
 from study_stats import wilson_text as wilson
 rows = list(csv.DictReader(open(sys.argv[1]), delimiter="\t"))
-print("| ground scatter | sets | anything supported (false alarm) | verdict scatter | verdict adequate | verdict missing physics | none in the confidence set |")
-print("| :-- | --: | :-- | :-- | :-- | :-- | :-- |")
+print("| ground scatter | sets | anything supported (false alarm) | verdict scatter | verdict adequate | verdict inconclusive | verdict missing physics | none in the confidence set |")
+print("| :-- | --: | :-- | :-- | :-- | :-- | :-- | :-- |")
 for sc in ("narrow", "lab"):
     rs = [r for r in rows if r["scatter"] == sc]; n = len(rs)
     if not n: continue
     v = lambda x: wilson(sum(r["verdict"] == x for r in rs), n)
-    print("| %s | %d | %s | %s | %s | %s | %s |" % (sc, n, wilson(sum(r["supported"] == "yes" for r in rs), n),
-          v("scatter"), v("adequate"), v("missing physics"), wilson(sum(r["none_in_set"] == "yes" for r in rs), n)))
+    print("| %s | %d | %s | %s | %s | %s | %s | %s |" % (sc, n, wilson(sum(r["supported"] == "yes" for r in rs), n),
+          v("scatter"), v("adequate"), v("inconclusive"), v("missing physics"), wilson(sum(r["none_in_set"] == "yes" for r in rs), n)))
 PY
 cat "$OUT/summary.md"
