@@ -1,0 +1,176 @@
+// Sparse regression over groups (stats/sparse_regression.hpp): STLSQ's exact recovery, the
+// leak-free held-out prediction, recovery of a sparse law through collinear terms, group
+// scatter and noise, and no discovery in noise.
+#include "stats/sparse_regression.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <random>
+#include <string>
+
+#include "common/error.hpp"
+
+namespace ricochet::stats {
+namespace {
+
+// Eight terms of two contact-like variables per sample, u in (0, 1) (a penetration) and v (a
+// speed): u, u^1.5, u^2, v, v|v|, u v^2, u v, u [v > 0] (a loading-branch switch). u, u^1.5 and
+// u^2 are strongly collinear, as the penetration powers of a contact are.
+constexpr std::size_t kTerms = 8;
+struct Data {
+  std::vector<double> x, y;
+  std::vector<std::size_t> group;
+  SparseDesign design() const { return {x, kTerms, y, group}; }
+};
+
+void add_sample(Data& d, double u, double v, std::size_t g, double y) {
+  const double row[kTerms] = {u,     std::pow(u, 1.5), u * u, v, v * std::abs(v), u * v * v,
+                              u * v, v > 0 ? u : 0.0};
+  d.x.insert(d.x.end(), row, row + kTerms);
+  d.y.push_back(y);
+  d.group.push_back(g);
+}
+
+// `groups` releases of `samples` each along a contact-like path (u rises and falls, v changes
+// sign at the deepest point). The response: a * u^1.5 + b * v|v|, each coefficient scattered
+// from group to group by `scatter` (relative sd), plus noise of sd `noise`.
+Data contact_data(std::uint64_t seed, double a, double b, double scatter, double noise,
+                  std::size_t groups = 30, std::size_t samples = 40) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> n01(0, 1);
+  std::uniform_real_distribution<double> speed(0.5, 2.0);
+  Data d;
+  for (std::size_t g = 0; g < groups; ++g) {
+    const double v0 = speed(rng);
+    const double ag = a * (1 + scatter * n01(rng)), bg = b * (1 + scatter * n01(rng));
+    for (std::size_t k = 0; k < samples; ++k) {
+      const double s = M_PI * (static_cast<double>(k) + 0.5) / static_cast<double>(samples);
+      const double u = 0.5 * v0 * std::sin(s), v = v0 * std::cos(s);
+      add_sample(d, u, v, g, ag * std::pow(u, 1.5) + bg * v * std::abs(v) + noise * n01(rng));
+    }
+  }
+  return d;
+}
+
+TEST(SparseRegression, StlsqRecoversANoiselessSparseLawExactly) {
+  const Data d = contact_data(1, 2.0, -0.5, 0.0, 0.0);
+  const std::vector<double> c = stlsq(d.design(), 0.05, 25);
+  for (std::size_t j = 0; j < kTerms; ++j) {
+    const double truth = j == 1 ? 2.0 : j == 4 ? -0.5 : 0.0;
+    EXPECT_NEAR(c[j], truth, 1e-9) << "term " << j;
+  }
+  // Without the threshold, least squares spreads nothing either (the law is in the span), but
+  // with noise it would: the threshold is what makes the fit sparse.
+  const std::vector<double> all = stlsq(d.design(), 0.0, 25);
+  EXPECT_NEAR(all[1], 2.0, 1e-6);
+}
+
+TEST(SparseRegression, AHeldOutPredictionIgnoresItsOwnGroupsResponse) {
+  Data d = contact_data(2, 2.0, -0.5, 0.1, 0.05, 12);
+  const std::vector<std::size_t> fold = {0, 1, 2, 0, 1, 2, 0, 1, 2, 0, 1, 2};
+  const std::vector<double> before = heldout_predictions(d.design(), 0.05, fold, 25);
+  for (std::size_t i = 0; i < d.y.size(); ++i)
+    if (d.group[i] == 4) d.y[i] = 100.0 + 50.0 * std::sin(static_cast<double>(i));
+  const std::vector<double> after = heldout_predictions(d.design(), 0.05, fold, 25);
+  std::size_t changed_elsewhere = 0;
+  for (std::size_t i = 0; i < d.y.size(); ++i) {
+    if (d.group[i] == 4)
+      EXPECT_EQ(before[i], after[i]) << "sample " << i << " saw its own group";
+    else
+      changed_elsewhere += before[i] != after[i];
+  }
+  EXPECT_GT(changed_elsewhere, 0u) << "group 4 trains the other folds' fits";
+}
+
+// Recovery over fixed seeds: the law's two terms among eight, three of them collinear
+// powers of u, with 10 % group-to-group scatter of both coefficients and noise. Counted, not
+// required seed by seed. Over seeds 101-160 (SPARSE_DEBUG=1 runs them and prints each fit) the
+// exact support was found in 56 of 60, and the 95 % bootstrap interval covered the true
+// coefficients in 53 (u^1.5) and 57 (v|v|) of 60: the interval is that of the law at the
+// chosen threshold, and selection makes it short of its level where the support wavers between
+// the collinear powers (post-selection inference, Berk et al. 2013, Ann. Stat. 41:802). The
+// thresholds below are those rates' lower ends on 10 seeds.
+TEST(SparseRegression, FindsTheTrueTermsThroughCollinearityScatterAndNoise) {
+  std::size_t exact = 0, covered_a = 0, covered_b = 0;
+  for (std::uint64_t seed = 101; seed <= (std::getenv("SPARSE_DEBUG") ? 160 : 110); ++seed) {
+    const Data d = contact_data(seed, 2.0, -0.5, 0.10, 0.02);
+    SparseOptions o;
+    o.seed = seed;
+    const SparseResult r = sparse_regression(d.design(), o);
+    bool ok = true;
+    for (std::size_t j = 0; j < kTerms; ++j) ok = ok && r.active[j] == (j == 1 || j == 4);
+    exact += ok;
+    covered_a += r.lo[1] <= 2.0 && 2.0 <= r.hi[1];
+    covered_b += r.lo[4] <= -0.5 && -0.5 <= r.hi[4];
+    std::string line = "seed " + std::to_string(seed) + " tau " + std::to_string(r.tau) + ":";
+    for (std::size_t j = 0; j < kTerms; ++j)
+      line += " " + std::to_string(r.coef[j]) + " [" + std::to_string(r.lo[j]) + ", " +
+              std::to_string(r.hi[j]) + "] in " + std::to_string(r.inclusion[j]) + ";";
+    RecordProperty("seed" + std::to_string(seed), line);
+    if (std::getenv("SPARSE_DEBUG")) printf("%s\n", line.c_str());
+    EXPECT_LT(r.cv_error[0], r.cv_error_empty) << seed;
+  }
+  EXPECT_GE(exact, 8u);
+  EXPECT_GE(covered_a, 6u);
+  EXPECT_GE(covered_b, 8u);
+}
+
+// Noise only (with the same group structure): the empty model must be chosen in most seeds.
+TEST(SparseRegression, FindsNothingInNoise) {
+  std::size_t empty = 0;
+  for (std::uint64_t seed = 201; seed <= 220; ++seed) {
+    const Data d = contact_data(seed, 0.0, 0.0, 0.0, 0.05);
+    SparseOptions o;
+    o.seed = seed;
+    o.bootstrap = 0;
+    const SparseResult r = sparse_regression(d.design(), o);
+    empty += std::isinf(r.tau);
+  }
+  EXPECT_GE(empty, 17u) << "false discoveries in " << 20 - empty << " of 20 noise sets";
+}
+
+TEST(SparseRegression, SameSeedSameResult) {
+  const Data d = contact_data(3, 2.0, -0.5, 0.1, 0.02, 10);
+  SparseOptions o;
+  o.bootstrap = 50;
+  const SparseResult a = sparse_regression(d.design(), o), b = sparse_regression(d.design(), o);
+  EXPECT_EQ(a.coef, b.coef);
+  EXPECT_EQ(a.lo, b.lo);
+  EXPECT_EQ(a.inclusion, b.inclusion);
+}
+
+TEST(SparseRegression, RefusesBadDesignsAndOptionsByName) {
+  Data d = contact_data(4, 1.0, 1.0, 0.0, 0.01, 3, 5);
+  auto field_of = [](const SparseDesign& design, const SparseOptions& o) -> std::string {
+    try {
+      (void)sparse_regression(design, o);
+    } catch (const InputError& e) {
+      return e.field();
+    }
+    return "accepted";
+  };
+  SparseDesign bad = d.design();
+  bad.x = bad.x.subspan(1);
+  EXPECT_EQ(field_of(bad, {}), "x");
+  bad = d.design();
+  bad.group = bad.group.subspan(1);
+  EXPECT_EQ(field_of(bad, {}), "group");
+  const std::vector<std::size_t> one(d.y.size(), 7);
+  bad = d.design();
+  bad.group = one;
+  EXPECT_EQ(field_of(bad, {}), "group");
+  d.y[2] = NAN;
+  EXPECT_EQ(field_of(d.design(), {}), "y");
+  d.y[2] = 0;
+  SparseOptions o;
+  o.tau_min = 2;
+  EXPECT_EQ(field_of(d.design(), o), "tau_max");
+  o = {};
+  o.level = 1;
+  EXPECT_EQ(field_of(d.design(), o), "level");
+}
+
+}  // namespace
+}  // namespace ricochet::stats
