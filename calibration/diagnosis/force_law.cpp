@@ -52,9 +52,9 @@ const std::vector<ForceTerm>& force_terms() {
       {"branch_spring", C::kNormal, "c h sign(-v_n)", "N/m",
        "hysteresis: stiffer loading than unloading (Walton & Braun 1986)",
        [](const ContactSample& s) { return s.loading ? s.h_m : -s.h_m; }},
-      {"ploughing", C::kTangential, "-c sign(v_t) h^2", "N/m^2",
+      {"ploughing", C::kTangential, "-c sign(v_x) h^2", "N/m^2",
        "Rankine passive earth pressure (c = K_p gamma L / 2)",
-       [](const ContactSample& s) { return -sgn(s.vt_mps) * s.h_m * s.h_m; }},
+       [](const ContactSample& s) { return -sgn(s.vx_mps) * s.h_m * s.h_m; }},
       {"depth_friction_force", C::kTangential, "-c sign(v_t) h", "N/m", "",
        [](const ContactSample& s) { return -sgn(s.vt_mps) * s.h_m; }},
       {"tangential_viscous", C::kTangential, "-c v_t", "N s/m", "viscous damping",
@@ -87,7 +87,7 @@ std::vector<ComponentLaw> discover_force_law(const std::vector<ReleaseResidual>&
     for (std::size_t i = 0; i < rel.samples.size(); ++i) {
       const ContactSample& s = rel.samples[i];
       if (!std::isfinite(s.h_m) || !std::isfinite(s.vn_mps) || !std::isfinite(s.vt_mps) ||
-          !std::isfinite(s.omega_radps))
+          !std::isfinite(s.vx_mps) || !std::isfinite(s.omega_radps))
         throw InputError(kWhere, 0, "samples",
                          fmt::format("release {}, sample {}: a state is not finite", r, i));
     }

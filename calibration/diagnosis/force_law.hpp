@@ -16,7 +16,9 @@
 //               -v_n|v_n| (Poncelet / Katsuragi-Durian inertial drag, coefficient m/d1 [kg/m]),
 //               -v_n (viscous), -h v_n|v_n| (depth-growing drag), h sign(-v_n) (hysteresis:
 //               a stiffer loading than unloading branch, Walton & Braun 1986)
-//   tangential: -sign(v_t) h^2 (Rankine passive ploughing, per unit pressure and length),
+//   tangential: -sign(v_x) h^2 (Rankine passive ploughing against the centre's motion, as the
+//               catalog's `ploughing` effect: the sand ahead moves with the block, not with
+//               the contact point's slip),
 //               -sign(v_t) h, -v_t (viscous), -v_t|v_t| (inertial)
 //   moment:     -sign(omega) h, -omega
 // The selection is stats::sparse_regression (best subset by leak-free cross-validation over
@@ -38,6 +40,7 @@ struct ContactSample {
   double h_m = 0;          ///< penetration, >= 0
   double vn_mps = 0;       ///< normal velocity of the contact point, < 0 into the ground
   double vt_mps = 0;       ///< sliding velocity of the contact point
+  double vx_mps = 0;       ///< the block centre's velocity along the tangent (what ploughs)
   double omega_radps = 0;  ///< the block's angular velocity
   bool loading = false;    ///< the penetration grows at this sample
 };

@@ -306,7 +306,8 @@ bool names_family(Family f, const std::string& candidate) {
   return false;
 }
 
-Rebound collide(const std::array<double, 3>& vin, const Ground& g, const Numerics& num) {
+Rebound collide(const std::array<double, 3>& vin, const Ground& g, const Numerics& num,
+                std::vector<TraceSample>* trace, long trace_every) {
   const double dt = num.dt;
   // The disc starts 0.1 micrometre above the ground with V_in (paper Fig. 14: a positive,
   // almost zero gap).
@@ -337,10 +338,12 @@ Rebound collide(const std::array<double, 3>& vin, const Ground& g, const Numeric
       fn = dh >= 0 ? fn + num.kn * dh : std::min(fn, en2 * num.kn * h);
       fn = std::max(fn, 0.0);
       double normal = fn;
+      double hidden_n = 0, hidden_t = 0;
       // Katsuragi & Durian (2007): m z'' = m g - k z - (m/d1) z'^2 while penetrating.
-      if (has(g, Family::kKdDrag) && vy < 0) normal += s * kDragRef * vy * vy;
+      if (has(g, Family::kKdDrag) && vy < 0) hidden_n += s * kDragRef * vy * vy;
       // A drag whose coefficient grows with depth: c_hv h v_y^2 while penetrating.
-      if (has(g, Family::kDepthSpeedDrag) && vy < 0) normal += s * kDepthSpeedRef * h * vy * vy;
+      if (has(g, Family::kDepthSpeedDrag) && vy < 0) hidden_n += s * kDepthSpeedRef * h * vy * vy;
+      normal += hidden_n;
       const double l = kRadius - h;  // centre to the contact point on the ground surface
       const double vt = vx + w * l;  // slip of the contact point
       double mu = g.mu;
@@ -356,9 +359,18 @@ Rebound collide(const std::array<double, 3>& vin, const Ground& g, const Numeric
       fx += ft;
       // Rankine passive earth pressure 1/2 K_p gamma h^2 L against the horizontal motion.
       if (has(g, Family::kRankinePlough))
-        fx -= (vx > 0 ? 1.0 : vx < 0 ? -1.0 : 0.0) * s * kPloughRef * h * h;
+        hidden_t = -(vx > 0 ? 1.0 : vx < 0 ? -1.0 : 0.0) * s * kPloughRef * h * h;
+      fx += hidden_t;
       fy += normal;
       tq += l * ft + mom;
+      if (trace && i % trace_every == 0) {
+        const bool additive = !has(g, Family::kCrspRestitution) &&
+                              !has(g, Family::kYieldRestitution) &&
+                              !has(g, Family::kDepthFrictionExp) &&
+                              !has(g, Family::kSlipSpinFriction) && !has(g, Family::kSpinRolling);
+        trace->push_back({i * dt, h, vy, vt, vx, w, dh > 0, normal, ft + hidden_t, l * ft + mom,
+                          additive ? hidden_n : NAN, additive ? hidden_t : NAN});
+      }
     } else {
       fn = ft = mom = 0;
       // End of contact: out of the ground with the centre rising, so the ballistic clearance

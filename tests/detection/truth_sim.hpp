@@ -195,8 +195,23 @@ struct Rebound {
   double peak_overlap = 0;       ///< largest h [m] (not an observable of the sets)
   double duration = 0;           ///< first touch to end of contact [s]
 };
+/// One sample of a collision's time series while in contact (issue 33: the force-residual
+/// discovery's data). The contact point's state and the forces on the block (contact frame:
+/// normal up, tangent +x; moment counter-clockwise), and the hidden law's additive force, the
+/// residual a perfect model of the paper's law would leave: the Katsuragi-Durian and depth-speed
+/// drags (normal) and the Rankine ploughing (tangential). Families that modify a coefficient
+/// (restitution, friction, rolling resistance) add no separable force: NaN there.
+struct TraceSample {
+  double t_s = 0, h_m = 0, vn_mps = 0, vt_mps = 0, vx_mps = 0, omega_radps = 0;
+  bool loading = false;
+  double fn_N = 0, ft_N = 0, moment_Nm = 0;
+  double hidden_fn_N = 0, hidden_ft_N = 0;
+};
+
+/// `trace`: when given, the contact's samples every `trace_every` steps are appended.
 Rebound collide(const std::array<double, 3>& vin, const Ground& ground,
-                const Numerics& numerics = {});
+                const Numerics& numerics = {}, std::vector<TraceSample>* trace = nullptr,
+                long trace_every = 100);
 
 /// The engine's step and stiffnesses (calibration/engine: dt 1e-5 s, kn = kt = 1e7 N/m,
 /// kr = 1e8 N m/rad; the paper's values), for sets that differ from it only in the integrator,

@@ -1,0 +1,121 @@
+// The force-residual discovery (diagnosis/force_law.hpp) on the independent simulator's time
+// series (truth_sim.hpp: another integrator, step and stiffness than the engine's), issue 33
+// item 4's first cut. The residual is the hidden law's additive force along each release's own
+// path (TraceSample::hidden_*), what a perfect model of the paper's law would leave, plus white
+// force noise of sd 50 N (an assumption: about 0.1 % of the ~50 kN peak contact force, not a
+// measured track noise). The hidden forms are not the library's exact terms: the
+// Katsuragi-Durian and depth-speed drags act only while the block penetrates (the library's
+// drags act both ways). (A first version of the library's ploughing opposed the contact
+// point's slip; on these sets it found the Rankine force in 4 of 10, since a back-spinning
+// block slips against its motion; it now opposes the centre's velocity, as the catalog's
+// `ploughing` effect does.) Recovery is the truth's family among the selected terms; 30 releases on
+// the wide design per set, seeds 1-10 (exploration: the rates below are what this first cut gives,
+// not tuned).
+#include <gtest/gtest.h>
+
+#include <random>
+#include <set>
+#include <string>
+
+#include "diagnosis/force_law.hpp"
+#include "truth_sim.hpp"
+
+namespace ricochet::truth {
+namespace {
+
+using diagnosis::ContactSample;
+using diagnosis::ReleaseResidual;
+
+constexpr double kForceNoiseN = 50.0;
+
+std::vector<ReleaseResidual> traced_set(Family f, double strength, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> vx(1.5, 6.0), vy(-5.0, -1.0), w(-90.0, 0.0);
+  std::normal_distribution<double> noise(0.0, kForceNoiseN);
+  std::vector<ReleaseResidual> out;
+  for (int i = 0; i < 30; ++i) {
+    const std::array<double, 3> vin = {vx(rng), vy(rng), w(rng)};
+    std::vector<TraceSample> trace;
+    const Ground g{0.16, 0.35, 0.16, f, strength};
+    (void)collide(vin, g, Numerics{}, &trace, 100);
+    ReleaseResidual r;
+    for (const TraceSample& t : trace) {
+      ContactSample s;
+      s.h_m = t.h_m;
+      s.vn_mps = t.vn_mps;
+      s.vt_mps = t.vt_mps;
+      s.vx_mps = t.vx_mps;
+      s.omega_radps = t.omega_radps;
+      s.loading = t.loading;
+      r.samples.push_back(s);
+      r.residual.push_back({t.hidden_fn_N + noise(rng), t.hidden_ft_N + noise(rng), NAN});
+    }
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+// The selected terms of each component, by name.
+std::set<std::string> selected(const std::vector<diagnosis::ComponentLaw>& laws) {
+  std::set<std::string> s;
+  for (const auto& law : laws)
+    for (const auto& t : law.terms)
+      if (t.selected) s.insert(std::string(t.term->name));
+  return s;
+}
+
+struct Case {
+  Family family;
+  double strength;
+  std::set<std::string> family_terms;  // the terms of the truth's family
+  std::size_t required;                // of 10 seeds
+};
+
+class ForceDiscovery : public ::testing::TestWithParam<Case> {};
+
+TEST_P(ForceDiscovery, TheHiddenForceFamilyIsFound) {
+  const Case& c = GetParam();
+  std::size_t found = 0;
+  std::string laws;
+  for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+    stats::SparseOptions o;
+    o.seed = seed;
+    o.bootstrap = 0;
+    const auto result = diagnosis::discover_force_law(traced_set(c.family, c.strength, seed), o);
+    const auto s = selected(result);
+    bool hit = false;
+    for (const auto& name : c.family_terms) hit = hit || s.count(name);
+    found += hit;
+    for (const auto& law : result)
+      laws += "seed " + std::to_string(seed) + " " +
+              std::string(diagnosis::component_name(law.component)) + ": " + law.text + "\n";
+  }
+  RecordProperty("found", std::to_string(found));
+  EXPECT_GE(found, c.required) << laws;
+}
+
+// Strengths: the Katsuragi-Durian drag at its lab scale (m/d1 = 40 kg/m, s = 1); the depth-speed
+// drag at s = 1 (40 kg/m at 3 mm); the Rankine ploughing at the wide design's detection-study
+// strength (20,568 x the unit-weight reference: 1.4 kN at 2 mm).
+INSTANTIATE_TEST_SUITE_P(
+    HiddenForces, ForceDiscovery,
+    ::testing::Values(Case{Family::kKdDrag, 1.0, {"inertial_drag", "viscous", "depth_drag"}, 8},
+                      Case{Family::kDepthSpeedDrag, 1.0, {"depth_drag", "inertial_drag"}, 8},
+                      Case{Family::kRankinePlough, 20568.2, {"ploughing"}, 8}),
+    [](const ::testing::TestParamInfo<Case>& i) { return family_name(i.param.family); });
+
+// No hidden force: nothing may be found in most sets (the residual is the noise alone).
+TEST(ForceDiscoveryNull, NothingIsFoundWithoutAHiddenForce) {
+  std::size_t clean = 0;
+  for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+    stats::SparseOptions o;
+    o.seed = seed;
+    o.bootstrap = 0;
+    clean += selected(diagnosis::discover_force_law(traced_set(Family::kNone, 0, seed), o)).empty();
+  }
+  RecordProperty("clean", std::to_string(clean));
+  EXPECT_GE(clean, 8u);
+}
+
+}  // namespace
+}  // namespace ricochet::truth
