@@ -223,7 +223,7 @@ void run(const CalibrateOptions& o) {
   if (!o.output.out.empty() && !h5) fit::write_csv(o.output.out, fits);
   if (!o.figures.empty()) {
     std::filesystem::create_directories(o.figures);
-    uq::figure_parameter_cdfs(fits, uq::paper_ranges(),
+    uq::figure_parameter_cdfs(fits, uq::paper_ranges(model),
                               o.figures + "/calibrate_parameters_cdf.svg");
     if (options.intervals) uq::figure_intervals(fits, o.figures + "/calibrate_intervals.svg");
     uq::figure_fit_quality(fits, o.figures + "/calibrate_fit.svg");

@@ -39,7 +39,7 @@ nlohmann::json describe(const Effect& e) {
     q["neutral"] = std::isnan(p.neutral) ? nlohmann::json(nullptr) : nlohmann::json(p.neutral);
     j["parameters"].push_back(q);
   }
-  j["generated"] = e.signature().generated;
+  j["generated"] = e.generated();
   j["meaning"] = std::string(e.signature().meaning);
   j["state"] = nlohmann::json::array();
   for (const auto& s : e.state())
@@ -94,9 +94,9 @@ void write_catalog_csv(const std::vector<const Effect*>& list, const std::string
   for (const Effect* e : list)
     for (const auto& p : e->parameters())
       t.row({std::string(e->name()), std::string(stage_name(e->stage())),
-             e->signature().generated ? "1" : "0", std::string(p.name), std::string(p.unit),
-             number(p.lower), number(p.upper), number(p.nominal), number(p.neutral),
-             p.calibrated ? "1" : "0", std::string(p.description)});
+             e->generated() ? "1" : "0", std::string(p.name), std::string(p.unit), number(p.lower),
+             number(p.upper), number(p.nominal), number(p.neutral), p.calibrated ? "1" : "0",
+             std::string(p.description)});
   t.write(path);
 }
 
@@ -128,7 +128,7 @@ void run(const EffectsOptions& o) {
   // Without a NAME the generated family is one paragraph, not 40 entries (its JSON lists all).
   std::size_t generated = 0;
   for (const Effect* e : list) {
-    if (o.name.empty() && e->signature().generated) {
+    if (o.name.empty() && e->generated()) {
       ++generated;
       continue;
     }

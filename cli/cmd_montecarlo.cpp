@@ -174,15 +174,16 @@ std::unique_ptr<uq::MonteCarloResult> calibrate_ranges(
   return calibrated_mc;
 }
 
-void write_figures(const MonteCarloCliOptions& o, const uq::MonteCarloResult& result,
-                   const ImpactSet* measured, const uq::MonteCarloResult* calibrated_mc) {
+void write_figures(const MonteCarloCliOptions& o, const Model& model,
+                   const uq::MonteCarloResult& result, const ImpactSet* measured,
+                   const uq::MonteCarloResult* calibrated_mc) {
   std::filesystem::create_directories(o.figures);
   std::vector<std::pair<std::string, const uq::MonteCarloResult*>> extra;
   if (calibrated_mc) extra.push_back({"calibrated ranges", calibrated_mc});
   uq::figure_reflected_cdfs(result, measured, o.figures + "/montecarlo_cdf.svg",
                             o.fitted.empty() ? "uniform ranges" : "fitted distributions", extra);
   if (!o.fitted.empty())
-    uq::figure_parameter_cdfs(fit::read_release_fits(o.fitted), uq::paper_ranges(),
+    uq::figure_parameter_cdfs(fit::read_release_fits(o.fitted), uq::paper_ranges(model),
                               o.figures + "/montecarlo_parameters_cdf.svg");
 }
 
@@ -265,7 +266,7 @@ void run(const MonteCarloCliOptions& o) {
     if (store) store->write_json("range_fit", doc["range_fit"]);
   }
   if (!o.output.out.empty() && !h5) uq::write_runs_csv(o.output.out, result);
-  if (!o.figures.empty()) write_figures(o, result, measured.get(), calibrated_mc.get());
+  if (!o.figures.empty()) write_figures(o, model, result, measured.get(), calibrated_mc.get());
   doc["seconds"] = seconds_since(t0);
   doc["simulation_seconds"] = result.seconds;
   if (o.output.json) {

@@ -26,9 +26,8 @@ std::vector<uq::ParameterInput> InputOptions::build(const Model& model) const {
   };
   for (std::size_t i : model.calibrated_indices()) {
     const std::string name(model.spec(i).name);
-    const auto p = uq::paper_ranges().find(name);
-    put(name,
-        p != uq::paper_ranges().end() ? p->second : std::make_pair(model.lower(i), model.upper(i)));
+    const auto p = uq::paper_range(model.spec(i).role);
+    put(name, p ? *p : std::make_pair(model.lower(i), model.upper(i)));
   }
   for (const auto& text : ranges) {
     const auto [name, r] = uq::parse_range(text, "--range");

@@ -171,13 +171,17 @@ std::string katsuragi_durian_text(const KatsuragiDurianOutcome& kd) {
 InertialDragComparison compare_inertial_drag(const KatsuragiDurianFit& f, double D_sphere_m,
                                              double rho_bulk_kgm3) {
   InertialDragComparison c;
-  // The catalog's cd = m / d1 [kg/m]: its bounds as the effect declares them.
+  // The catalog's cd = m / d1 [kg/m]: the bounds of the built-in drag coefficient
+  // (ParameterRole::kDragCoefficient), as its effect declares them.
+  const ParameterSpec* cd = nullptr;
   const EffectRegistry catalog = EffectRegistry::with_builtins();
-  const Effect& drag = catalog.get("inertial_drag");
-  const auto params = drag.parameters();
-  const auto cd = std::find_if(params.begin(), params.end(),
-                               [](const ParameterSpec& p) { return p.name == "cd"; });
-  if (cd == params.end()) throw std::logic_error("inertial_drag declares no parameter cd");
+  for (const Effect* e : catalog.all())
+    for (const ParameterSpec& p : e->parameters())
+      if (p.role == ParameterRole::kDragCoefficient) {
+        if (cd) throw std::logic_error("two built-in effects declare a drag coefficient");
+        cd = &p;
+      }
+  if (!cd) throw std::logic_error("no built-in effect declares a drag coefficient");
   c.cd_lower_kg_per_m = cd->lower;
   c.cd_upper_kg_per_m = cd->upper;
   // Katsuragi & Durian 2007: m / d1 and k scale with rho_g x the projectile's projected area

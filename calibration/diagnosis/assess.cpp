@@ -423,13 +423,12 @@ fit::PopulationFit refine_warm(const Model& start, const Shape& shape, const Imp
                                const fit::FitOptions& options) {
   Model held = start;
   bool any = false;
-  for (const Effect* e : start.effects())
-    for (std::string_view name : e->signature().contact_identified) {
-      const std::size_t i = held.index(name);
-      if (!held.calibrated(i)) continue;
-      held.set_bounds(name, held.values()[i], held.values()[i]);
-      any = true;
-    }
+  for (std::size_t i = 0; i < start.parameter_count(); ++i) {
+    if (start.spec(i).identified_by != IdentifiedBy::kContactFeatures || !held.calibrated(i))
+      continue;
+    held.set_bounds(start.spec(i).name, held.values()[i], held.values()[i]);
+    any = true;
+  }
   if (!any) return fit::calibrate_population(start, shape, set, options);
   const fit::PopulationFit first = fit::calibrate_population(held, shape, set, options);
   Model released = start;

@@ -331,7 +331,7 @@ struct Assessment {
 /// A local refinement (`options`: typically one start and no design, AssessOptions::
 /// fold_warm_*) of a warm model: a base model calibrated on these releases plus an added effect,
 /// from `start`'s values. When the fit calibrates parameters that the contact features identify
-/// (Signature::contact_identified: kn, with penetration or contact duration in the error), it
+/// (IdentifiedBy::kContactFeatures: kn, with penetration or contact duration in the error), it
 /// runs first with those held at their start values, then with all released from that optimum;
 /// otherwise it is one fit::calibrate_population. Why: kn is pinned by penetration and duration
 /// to a few percent in log(kn) (a 0.01-wide valley of the unit box, coupled to e_n^2 through the

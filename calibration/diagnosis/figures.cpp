@@ -140,8 +140,7 @@ std::vector<NamedFigure> compare_figures(const Baseline& b, const ImpactSet& set
     for (std::size_t i = 0; i < n; ++i) y.push_back(a.heldout.residual[i][k] * plot_scale(k));
     for (const auto& feat : b.features) {
       Panel p;
-      const Trend* t =
-          find_trend(b.residual_trends, std::string("residual ") + kObservableNames[k], feat.name);
+      const Trend* t = find_trend(b.residual_trends, residual_quantity(k), feat.name);
       p.title = t && std::isfinite(t->r) ? fmt::format("r = {:.2f}, p = {:.2g}", t->r, t->p) : "";
       p.xlabel = feat.label;
       p.ylabel = fmt::format("residual [{}]", plot_unit(k));
@@ -177,7 +176,7 @@ std::vector<NamedFigure> compare_figures(const Baseline& b, const ImpactSet& set
           (ok ? xi : xn).push_back(feat.values[i]);
           (ok ? yi : yn).push_back(b.release_fits[i].params[c]);
         }
-        const Trend* t = find_trend(b.parameter_trends, "param " + name, feat.name);
+        const Trend* t = find_trend(b.parameter_trends, parameter_quantity(name), feat.name);
         Panel p;
         p.title = t && std::isfinite(t->r) ? fmt::format("r = {:.2f}, p = {:.2g}", t->r, t->p) : "";
         p.xlabel = feat.label;

@@ -68,11 +68,10 @@ struct Judge {
     try {
       for (const auto& e : effects) {
         const Effect& eff = registry.get(e);
-        const Signature sig = eff.signature();
-        c.generated = c.generated || sig.generated;
-        c.contact_bias = c.contact_bias || sig.contact_bias;
+        c.generated = c.generated || eff.generated();
+        c.contact_bias = c.contact_bias || eff.signature().contact_bias;
         c.meaning += (c.meaning.empty() ? "" : " and ") + detail::meaning_of(eff);
-        for (auto& s : detail::signature_matches(eff, b)) c.signature_trends.push_back(s);
+        for (auto& s : detail::signature_matches(eff, warm, b)) c.signature_trends.push_back(s);
       }
       std::vector<std::size_t> added;
       const Model cand = candidate_model(warm, effects, registry, added, c.added_parameters);

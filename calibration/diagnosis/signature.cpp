@@ -68,25 +68,23 @@ Directions base_directions(const Model& warm, const Shape& shape, const ImpactSe
   for (std::size_t c = 0; c < probes.size(); ++c)
     d.X.col(static_cast<Eigen::Index>(c)) =
         scaled_change(probes[c].predictions, p0, set, d.rows, probes[c].step, d.whiten, o);
-  // Nuisance directions (Signature::nuisance): a fixed parameter moved by half its value,
-  // towards the inside of its bounds; only on velocities, since a set with penetration or
+  // Nuisance directions (IdentifiedBy::kContactFeatures): a fixed parameter moved by half its
+  // value, towards the inside of its bounds; only on velocities, since a set with penetration or
   // contact duration does identify the stiffness.
   const bool velocities_only = !base.use[kObsPenetration] && !base.use[kObsDuration];
-  for (const Effect* e : warm.effects())
-    for (std::string_view name :
-         velocities_only ? e->signature().nuisance : std::span<const std::string_view>{}) {
-      const std::size_t j = warm.index(name);
-      if (warm.calibrated(j)) continue;  // already a column
-      std::vector<double> params = warm.values();
-      double step = 0.5 * params[j];
-      if (params[j] + step > warm.upper(j)) step = -step / 1.5;
-      if (step == 0) continue;
-      const double relative = step / params[j];  // per unit relative change: a column of O(1)
-      params[j] += step;
-      const auto p = predict_observables(warm, shape, params, set, o);
-      d.X.conservativeResize(Eigen::NoChange, d.X.cols() + 1);
-      d.X.col(d.X.cols() - 1) = scaled_change(p, p0, set, d.rows, relative, d.whiten, o);
-    }
+  for (std::size_t j = 0; velocities_only && j < warm.parameter_count(); ++j) {
+    if (warm.spec(j).identified_by != IdentifiedBy::kContactFeatures) continue;
+    if (warm.calibrated(j)) continue;  // already a column
+    std::vector<double> params = warm.values();
+    double step = 0.5 * params[j];
+    if (params[j] + step > warm.upper(j)) step = -step / 1.5;
+    if (step == 0) continue;
+    const double relative = step / params[j];  // per unit relative change: a column of O(1)
+    params[j] += step;
+    const auto p = predict_observables(warm, shape, params, set, o);
+    d.X.conservativeResize(Eigen::NoChange, d.X.cols() + 1);
+    d.X.col(d.X.cols() - 1) = scaled_change(p, p0, set, d.rows, relative, d.whiten, o);
+  }
   const Eigen::Index N = d.X.rows();
   d.proj = Eigen::MatrixXd::Identity(N, N);
   if (d.X.cols() > 0) {
@@ -115,8 +113,10 @@ Score score_of(const Directions& dirs, const Model& cand, const Shape& shape, co
     FiniteChange change = finite_change(dirs, cand, shape, set, params, p0, o, step);
     const Eigen::VectorXd s = change.s;
     if (s.norm() == 0) continue;
-    out.directions.push_back(
-        ScoreDirection{j, s, std::move(change.raw), at_lower ? 1 : at_upper ? -1 : 0});
+    out.directions.push_back(ScoreDirection{j, s, std::move(change.raw),
+                                            at_lower   ? 1
+                                            : at_upper ? -1
+                                                       : 0});
     // Sign convention: positive when moving the parameter from neutral into its bounds moves
     // the predictions towards the measurements (the change is per unit step, so a negative
     // step flips it).
@@ -203,13 +203,25 @@ std::string meaning_of(const Effect& effect) {
   return s.meaning.empty() ? std::string(effect.summary()) : std::string(s.meaning);
 }
 
-std::vector<std::string> signature_matches(const Effect& effect, const Baseline& b) {
+std::vector<std::string> signature_matches(const Effect& effect, const Model& base,
+                                           const Baseline& b) {
   std::vector<std::string> out;
+  const auto cite = [&](const std::vector<Trend>& pool, const std::string& quantity,
+                        ImpactFeature feature) {
+    const Trend* t = find_trend(pool, quantity, std::string(feature_name(feature)));
+    if (t && t->significant) out.push_back(describe(*t));
+  };
   for (const SignatureTrend& st : effect.signature().trends) {
-    const std::string q(st.quantity), f(st.feature);
-    const std::vector<Trend>& pool =
-        q.rfind("param", 0) == 0 ? b.parameter_trends : b.residual_trends;
-    if (const Trend* t = find_trend(pool, q, f); t && t->significant) out.push_back(describe(*t));
+    const ExpectedTrend e = parse_trend(st);  // the registry refused any other word
+    if (e.quantity != TrendQuantity::kParameter) {
+      cite(b.residual_trends, std::string(quantity_name(e.quantity)), e.feature);
+      continue;
+    }
+    // "param <role>": the base model's parameters of that role (their per-release trends exist
+    // for the calibrated ones only).
+    for (std::size_t j = 0; j < base.parameter_count(); ++j)
+      if (base.spec(j).role == e.parameter)
+        cite(b.parameter_trends, parameter_quantity(std::string(base.spec(j).name)), e.feature);
   }
   return out;
 }

@@ -9,8 +9,8 @@
 // score, where each observable counts by its signal-to-noise ratio, not by its error
 // denominator, and the correlation of V_out^x and omega_out residuals that the ground's
 // friction scatter makes is not counted twice) and projected off the columns of X (and off the
-// nuisance parameters' directions, Signature::nuisance: fixed parameters such as kn that
-// rebound velocities do not identify, moved by half their value). A candidate's
+// nuisance parameters' directions, IdentifiedBy::kContactFeatures: fixed parameters such as kn
+// that rebound velocities do not identify, moved by half their value). A candidate's
 // direction s (the change of the whitened predictions when one added parameter moves from neutral
 // by `probe_fraction` of its range), projected the same way, gives
 //   - the correlation r = z.s / (|z| |s|): how much of the residual the effect could explain
@@ -108,7 +108,9 @@ bool left_neutral(const Model& model, std::span<const double> values,
 std::string meaning_of(const Effect& effect);
 
 /// The effect's declared signature trends that are significant in the base model's residual and
-/// parameter trends, as sentences.
-std::vector<std::string> signature_matches(const Effect& effect, const Baseline& b);
+/// parameter trends, as sentences. `base`: the model the trends were computed on, whose
+/// parameters of the role a trend names ("param restitution") are its calibrated quantities.
+std::vector<std::string> signature_matches(const Effect& effect, const Model& base,
+                                           const Baseline& b);
 
 }  // namespace ricochet::diagnosis::detail

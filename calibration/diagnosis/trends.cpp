@@ -13,29 +13,32 @@ std::vector<Feature> impact_features(const ImpactSet& set,
                                      const std::vector<double>& alpha_fitted) {
   const std::size_t n = set.size();
   std::vector<Feature> out;
-  auto add = [&](std::string name, std::string label, bool simulated, auto value) {
-    Feature f{std::move(name), std::move(label), simulated, std::vector<double>(n)};
+  // Named in the signature vocabulary's words (effects/effect.hpp), which effects declare.
+  auto add = [&](ImpactFeature feature, std::string label, bool simulated, auto value) {
+    Feature f{std::string(feature_name(feature)), std::move(label), simulated,
+              std::vector<double>(n)};
     for (std::size_t i = 0; i < n; ++i) f.values[i] = value(i);
     out.push_back(std::move(f));
   };
   const auto& im = set.impacts;
-  add("speed_in", "|V_in| [m/s]", false,
+  using F = ImpactFeature;
+  add(F::kSpeedIn, "|V_in| [m/s]", false,
       [&](std::size_t i) { return std::hypot(im[i].vin[0], im[i].vin[1]); });
-  add("abs_vin_y", "|V_in^y| [m/s]", false, [&](std::size_t i) { return std::fabs(im[i].vin[1]); });
-  add("vin_x", "V_in^x [m/s]", false, [&](std::size_t i) { return im[i].vin[0]; });
-  add("win", "omega_in [rad/s]", false, [&](std::size_t i) { return im[i].vin[2]; });
+  add(F::kAbsVinY, "|V_in^y| [m/s]", false, [&](std::size_t i) { return std::fabs(im[i].vin[1]); });
+  add(F::kVinX, "V_in^x [m/s]", false, [&](std::size_t i) { return im[i].vin[0]; });
+  add(F::kWin, "omega_in [rad/s]", false, [&](std::size_t i) { return im[i].vin[2]; });
   // Incidence angle of the velocity below the horizontal (90 deg = vertical fall).
-  add("impact_angle", "incidence angle of V_in [deg]", false,
+  add(F::kImpactAngle, "incidence angle of V_in [deg]", false,
       [&](std::size_t i) { return std::atan2(-im[i].vin[1], im[i].vin[0]) * 180.0 / M_PI; });
   const bool has_alpha = !im.empty() && std::all_of(im.begin(), im.end(), [](const Impact& x) {
     return x.alpha_in.has_value();
   });
   if (has_alpha) {
-    add("alpha_in", "alpha_in [deg]", false,
+    add(F::kAlphaIn, "alpha_in [deg]", false,
         [&](std::size_t i) { return *im[i].alpha_in * 180.0 / M_PI; });
   } else if (alpha_fitted.size() == n && std::any_of(alpha_fitted.begin(), alpha_fitted.end(),
                                                      [](double a) { return std::isfinite(a); })) {
-    add("alpha_in", "alpha_in (fitted per release) [deg]", true,
+    add(F::kAlphaIn, "alpha_in (fitted per release) [deg]", true,
         [&](std::size_t i) { return alpha_fitted[i] * 180.0 / M_PI; });
   }
   const bool has_h = !im.empty() && std::all_of(im.begin(), im.end(), [](const Impact& x) {
@@ -45,16 +48,16 @@ std::vector<Feature> impact_features(const ImpactSet& set,
     return x.contact_duration.has_value();
   });
   if (has_h)
-    add("penetration", "penetration [mm]", false,
+    add(F::kPenetration, "penetration [mm]", false,
         [&](std::size_t i) { return *im[i].penetration * 1e3; });
   else if (insample.size() == n)
-    add("penetration", "penetration (simulated) [mm]", true,
+    add(F::kPenetration, "penetration (simulated) [mm]", true,
         [&](std::size_t i) { return insample[i].value[kObsPenetration] * 1e3; });
   if (has_t)
-    add("contact_duration", "contact duration [ms]", false,
+    add(F::kContactDuration, "contact duration [ms]", false,
         [&](std::size_t i) { return *im[i].contact_duration * 1e3; });
   else if (insample.size() == n)
-    add("contact_duration", "contact duration (simulated) [ms]", true,
+    add(F::kContactDuration, "contact duration (simulated) [ms]", true,
         [&](std::size_t i) { return insample[i].value[kObsDuration] * 1e3; });
   return out;
 }
@@ -119,11 +122,13 @@ std::vector<Trend> residual_trends(const ErrorReport& report,
     for (std::size_t i = 0; i < y.size(); ++i) y[i] = report.residual[i][k];
     for (const auto& f : features) {
       // The residual of a measured feature against the same feature is trivially correlated.
-      if ((k == kObsPenetration && f.name == "penetration" && !f.simulated) ||
-          (k == kObsDuration && f.name == "contact_duration" && !f.simulated))
+      if ((k == kObsPenetration && f.name == feature_name(ImpactFeature::kPenetration) &&
+           !f.simulated) ||
+          (k == kObsDuration && f.name == feature_name(ImpactFeature::kContactDuration) &&
+           !f.simulated))
         continue;
-      out.push_back(correlate(std::string("residual ") + kObservableNames[k],
-                              std::string(kObservableLabels[k]) + " residual", f, y, o));
+      out.push_back(correlate(residual_quantity(k), std::string(kObservableLabels[k]) + " residual",
+                              f, y, o));
     }
   }
   control_family({&out}, o.alpha);
@@ -143,10 +148,26 @@ std::vector<Trend> parameter_trends(const std::vector<fit::ReleaseFit>& fits,
       if (ok) y[i] = fits[i].params[c];
     }
     for (const auto& f : features)
-      out.push_back(correlate("param " + name, "calibrated " + name, f, y, o));
+      out.push_back(correlate(parameter_quantity(name), "calibrated " + name, f, y, o));
   }
   control_family({&out}, o.alpha);
   return out;
+}
+
+// The signature vocabulary lists the residuals in the observables' order.
+static_assert(static_cast<int>(TrendQuantity::kResidualVx) == kObsVx &&
+              static_cast<int>(TrendQuantity::kResidualVy) == kObsVy &&
+              static_cast<int>(TrendQuantity::kResidualW) == kObsW &&
+              static_cast<int>(TrendQuantity::kResidualPenetration) == kObsPenetration &&
+              static_cast<int>(TrendQuantity::kResidualContactDuration) == kObsDuration &&
+              kResidualQuantityCount == kObservables);
+
+std::string residual_quantity(int observable) {
+  return std::string(quantity_name(static_cast<TrendQuantity>(observable)));
+}
+
+std::string parameter_quantity(const std::string& name) {
+  return std::string(quantity_name(TrendQuantity::kParameter)) + " " + name;
 }
 
 void control_family(const std::vector<std::vector<Trend>*>& groups, double alpha) {

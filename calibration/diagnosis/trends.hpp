@@ -27,8 +27,7 @@ namespace ricochet::diagnosis {
 
 /// One feature of every release of a set.
 struct Feature {
-  std::string name;  ///< key: speed_in, abs_vin_y, vin_x, win, impact_angle, alpha_in,
-                     ///< penetration, contact_duration
+  std::string name;  ///< key: a word of the signature vocabulary (feature_name, effect.hpp)
   std::string
       label;  ///< for text and figures, e.g. "|V_in^y| [m/s]", "penetration (simulated) [m]"
   bool simulated = false;  ///< from the calibrated model, not measured
@@ -42,9 +41,15 @@ std::vector<Feature> impact_features(const ImpactSet& set,
                                      const std::vector<ObsPrediction>& insample,
                                      const std::vector<double>& alpha_fitted = {});
 
+/// The quantity of the residual trends of observable k (kObsVx, ...): "residual vy", a word of
+/// the signature vocabulary (quantity_name, effects/effect.hpp).
+std::string residual_quantity(int observable);
+/// The quantity of the per-release trends of the calibrated parameter `name`: "param en2".
+std::string parameter_quantity(const std::string& name);
+
 /// One correlation.
 struct Trend {
-  std::string quantity;  ///< "residual vy", "param en2"
+  std::string quantity;  ///< residual_quantity() or parameter_quantity(), e.g. "param en2"
   std::string label;     ///< "V_out^y residual", "calibrated en2"
   std::string feature;   ///< Feature::name
   std::string feature_label;

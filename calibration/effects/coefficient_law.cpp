@@ -32,6 +32,11 @@ constexpr std::array<std::string_view, 5> kVarNames = {"approach_speed", "slip_s
                                                        "penetration", "incidence_angle"};
 constexpr std::array<std::string_view, 2> kFormNames = {"linear", "power"};
 constexpr std::array<std::string_view, 4> kCoefSymbols = {"k_n", "e_n^2", "mu", "mu_R"};
+// The role of the paper's parameter that each coefficient multiplies: a signature trend names the
+// base model's calibrated parameter by it ("param restitution").
+constexpr std::array<ParameterRole, 4> kCoefRoles = {
+    ParameterRole::kNormalStiffness, ParameterRole::kRestitution, ParameterRole::kFrictionCap,
+    ParameterRole::kRollingCap};
 
 // The factor's range, and the floor of x in the power form relative to x_ref.
 constexpr double kFactorMin = 0.02, kFactorMax = 50.0, kFloor = 1e-3;
@@ -285,8 +290,9 @@ class CoefficientLaw final : public Effect {
     // Signature: the calibrated coefficient drifts with the matching feature, and the residuals
     // the coefficient drives.
     const std::string feature(vt.feature);
-    trends_.push_back({"param " + cn, feature});
-    if (v == Var::kApproach) trends_.push_back({"param " + cn, "speed_in"});
+    const std::string param = "param " + std::string(role_name(kCoefRoles[static_cast<int>(c)]));
+    trends_.push_back({param, feature});
+    if (v == Var::kApproach) trends_.push_back({param, "speed_in"});
     if (c == Coef::kEn2) trends_.push_back({"residual vy", feature});
     if (c == Coef::kMu || c == Coef::kMuR) {
       trends_.push_back({"residual vx", feature});
@@ -321,7 +327,14 @@ class CoefficientLaw final : public Effect {
   std::span<const StateSpec> state() const override {
     return holds_state() ? std::span<const StateSpec>(state_) : std::span<const StateSpec>();
   }
-  Signature signature() const override { return {meaning_, sig_, coef_ == Coef::kKn, true}; }
+  Signature signature() const override { return {meaning_, sig_, coef_ == Coef::kKn}; }
+  bool generated() const override { return true; }
+  // A stiffness law's factor (its secant, for a law in h) stays within the clamp; a linear law
+  // with c <= 0 never raises it, nor does any law at its neutral 0.
+  double max_stiffness_factor(std::span<const double> v, double) const override {
+    if (coef_ != Coef::kKn || v.empty() || v[0] == 0.0) return 1.0;
+    return form_ == Form::kLinear && v[0] < 0.0 ? 1.0 : kFactorMax;
+  }
 
   std::string law(std::span<const double> values) const override {
     const LawVariable& vi = kVars[static_cast<int>(var_)];

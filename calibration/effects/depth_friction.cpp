@@ -2,7 +2,9 @@
 // hardening / scarring laws of rockfall codes (RAMMS::ROCKFALL scarring; Lu et al. 2019):
 //   mu_eff = mu * (1 + a_mu * h).
 // Signature: per-release calibrated mu trends with penetration depth.
-#include "effects/builtin.hpp"
+#include <memory>
+
+#include "effects/effect.hpp"
 
 namespace ricochet::effects {
 namespace {
@@ -14,7 +16,7 @@ constexpr ParameterSpec kParams[] = {
 // Signature: the residual and parameter trends of this family (docs/effects/depth_friction.md,
 // "Signature in residuals", which gives the physical reasoning and the literature).
 constexpr SignatureTrend kSignature[] = {
-    {"param mu", "penetration"},
+    {"param friction_cap", "penetration"},
     {"residual vx", "penetration"},
     {"residual w", "penetration"},
 };

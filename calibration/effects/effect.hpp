@@ -5,17 +5,28 @@
 // depth-hardening friction, penetration-dependent stiffness) are further effects. A model is an
 // ordered composition of effects (effects/model.hpp); no law is ever a copy of another.
 //
-// An effect is one class in one file (effects/<name>.cpp) that declares
+// An effect is one class in one file (effects/<name>.cpp) that declares everything the rest of
+// the toolkit knows about it:
 //  - its parameters: name, SI unit, bounds, nominal value, neutral value (where it does nothing),
-//  - its per-contact state (history variables, cleared by the engine when contact is lost),
-//  - its equation and reference (shown by `ricochet effects` and in docs/effects/<name>.md),
+//    role (a stiffness, a friction cap, a restitution, ...) and what in an impact set identifies
+//    it: the engine, the fit, the diagnosis and the uncertainty module ask for roles, never for
+//    names;
+//  - its per-contact state (history variables, cleared by the engine when contact is lost);
+//  - its equation and reference (shown by `ricochet effects` and in docs/effects/<name>.md);
+//  - its stage, its kind (what the law changes and what it depends on), its signature (what its
+//    absence looks like, in the words of the signature vocabulary below), whether it is one of
+//    the engine's inlined laws (fused_law) and how stiff it can make the contact
+//    (max_stiffness_factor);
 // and implements apply(), which adds forces and moments at one contact slot for a batch of lanes.
+// The registry (effects/registry.hpp) checks the declaration when it stores the effect, plugins
+// included.
 //
 // Batches: the engine integrates many collisions at once ("lanes"), structure-of-arrays, so that
 // apply() is a plain loop over lanes that the compiler vectorises. Write apply() branch-free
 // (use ternaries), with no allocation and no virtual calls inside the loop.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <span>
@@ -24,7 +35,49 @@
 
 namespace ricochet {
 
+/// What a parameter is to the rest of the toolkit. The stable time step (critical_time_step)
+/// reads the stiffnesses, the engine's fused kernel the paper's six parameters, the fit's
+/// identifiability statements the caps, the diagnosis the calibrated parameters its signature
+/// trends name ("param restitution"), the Monte Carlo the paper's ranges: all by role.
+enum class ParameterRole {
+  kOther = 0,            ///< none of the roles below
+  kNormalStiffness,      ///< a normal contact stiffness [N/m] (the paper's kn)
+  kTangentialStiffness,  ///< a tangential spring [N/m] (kt)
+  kRollingStiffness,     ///< a rolling spring [N m/rad] (kr)
+  kRestitution,          ///< the normal energy restitution e_n^2 [-] (en2)
+  kFrictionCap,          ///< a Coulomb cap mu fn on the tangential force [-] (mu)
+  kRollingCap,           ///< a cap mu_R l fn on the rolling moment [-] (muR)
+  kDragCoefficient,      ///< a drag force growing with the speed squared, m/d1 [kg/m]
+};
+inline constexpr std::size_t kParameterRoleCount = 8;
+/// "other", "normal_stiffness", "tangential_stiffness", "rolling_stiffness", "restitution",
+/// "friction_cap", "rolling_cap", "drag_coefficient": the words of `ricochet effects` and of
+/// signature trends ("param restitution").
+std::string_view role_name(ParameterRole role);
+
+/// What in an impact set identifies a parameter's value. It decides, for every effect alike,
+/// which parameters a fit calibrates beyond the flagged ones (fit::calibration_model) and
+/// which fixed ones the diagnosis's score test projects off (diagnosis/signature.hpp).
+enum class IdentifiedBy {
+  /// The rebound velocities (Eq. 7): fitted whenever ParameterSpec::calibrated says so.
+  kRebound = 0,
+  /// Only the contact features (maximum penetration, contact duration): fixed by default; a fit
+  /// whose error compares those features calibrates it within its bounds, and on a set of
+  /// velocities only the score test projects its direction off, so that a wrong value does not
+  /// read as missing physics. The paper's kn (docs/diagnosis.md, "Which stiffnesses the contact
+  /// features identify").
+  kContactFeatures,
+  /// Nothing the impact sets measure: a numerical or reference constant, fixed unless a model
+  /// file says otherwise (the paper's kt and kr, hertz_stiffness's h_ref).
+  kNothing,
+};
+inline constexpr std::size_t kIdentifiedByCount = 3;
+/// "rebound", "contact_features", "nothing".
+std::string_view identified_by_name(IdentifiedBy by);
+
 /// A parameter of an effect. Names are unique within a model (the registry checks this).
+/// Plugins written before roles existed still compile: the last two fields default to
+/// {kOther, kRebound}.
 struct ParameterSpec {
   std::string_view name;         ///< e.g. "en2"; used in TOML files, --set, JSON, HDF5
   std::string_view unit;         ///< SI unit, "-" for dimensionless
@@ -34,6 +87,8 @@ struct ParameterSpec {
   double neutral;                ///< value at which the effect does nothing; NaN if none
   bool calibrated;               ///< fitted by calibration by default (stiffnesses are not)
   std::string_view description;  ///< one line, shown in listings
+  ParameterRole role = ParameterRole::kOther;           ///< what the parameter is (ParameterRole)
+  IdentifiedBy identified_by = IdentifiedBy::kRebound;  ///< what identifies it (IdentifiedBy)
 };
 
 /// A per-contact history variable of an effect (e.g. the incremental normal force).
@@ -94,17 +149,58 @@ inline double hold_max_approach(double& v0, double vn, double active) {
   return v0;
 }
 
-/// One trend that the diagnosis expects when this effect is missing from a model: a quantity of
-/// the base model (a held-out residual or a per-release calibrated parameter) against an impact
-/// feature (diagnosis/trends.hpp).
-///   quantity: "residual vx" | "residual vy" | "residual w" | "residual penetration" |
-///             "residual contact_duration" | "param <name>" (a calibrated base parameter)
-///   feature:  speed_in | abs_vin_y | vin_x | win | impact_angle | alpha_in | penetration |
-///             contact_duration
+/// The signature vocabulary: what the diagnosis computes trends of (diagnosis/trends.hpp), one
+/// quantity of the base model against one impact feature. Effects declare their trends in its
+/// words (SignatureTrend); the registry parses them when it stores the effect and refuses a
+/// word outside it, naming the word and listing the known ones.
+///
+/// Quantities: the held-out residual (measured - predicted) of an observable, or a per-release
+/// calibrated parameter of the base model, named by its role.
+enum class TrendQuantity {
+  kResidualVx = 0,           ///< "residual vx"
+  kResidualVy,               ///< "residual vy"
+  kResidualW,                ///< "residual w"
+  kResidualPenetration,      ///< "residual penetration"
+  kResidualContactDuration,  ///< "residual contact_duration"
+  kParameter,                ///< "param <role>", e.g. "param restitution" (role_name)
+};
+inline constexpr std::size_t kResidualQuantityCount = 5;
+/// The word of a residual quantity ("residual vy"); "param" for kParameter.
+std::string_view quantity_name(TrendQuantity quantity);
+
+/// Impact features: measured on the set, or simulated by the calibrated model where the set
+/// lacks them (penetration, contact duration, alpha_in).
+enum class ImpactFeature {
+  kSpeedIn = 0,      ///< "speed_in": |V_in| [m/s]
+  kAbsVinY,          ///< "abs_vin_y": |V_in^y| [m/s]
+  kVinX,             ///< "vin_x": V_in^x [m/s]
+  kWin,              ///< "win": omega_in [rad/s]
+  kImpactAngle,      ///< "impact_angle": incidence angle of V_in below the horizontal [deg]
+  kAlphaIn,          ///< "alpha_in": the block's orientation at impact [deg]
+  kPenetration,      ///< "penetration": the maximum penetration [mm]
+  kContactDuration,  ///< "contact_duration": the contact duration [ms]
+};
+inline constexpr std::size_t kImpactFeatureCount = 8;
+std::string_view feature_name(ImpactFeature feature);
+
+/// One trend that the diagnosis expects when this effect is missing from a model, declared in
+/// words: quantity "residual vx" | "residual vy" | "residual w" | "residual penetration" |
+/// "residual contact_duration" | "param <role>" (a calibrated base parameter of that role, e.g.
+/// "param restitution"); feature one of feature_name()'s words.
 struct SignatureTrend {
   std::string_view quantity;
   std::string_view feature;
 };
+
+/// A SignatureTrend parsed into the vocabulary's enums.
+struct ExpectedTrend {
+  TrendQuantity quantity = TrendQuantity::kResidualVx;
+  ParameterRole parameter = ParameterRole::kOther;  ///< for kParameter: the parameter's role
+  ImpactFeature feature = ImpactFeature::kSpeedIn;
+};
+/// Parses a declared trend. Throws std::invalid_argument "unknown signature quantity 'X'; known
+/// quantities: ..." or "unknown signature feature 'X'; known features: ...".
+ExpectedTrend parse_trend(const SignatureTrend& trend);
 
 /// What an effect stands for and what its absence looks like (its signature): the diagnosis
 /// tests these trends and cites them as evidence; each built-in's page in docs/effects/ gives
@@ -114,21 +210,6 @@ struct Signature {
   std::span<const SignatureTrend> trends;  ///< empty for the paper's own law
   /// Contact features (penetration, duration) are biased when the effect is missing.
   bool contact_bias = false;
-  /// A member of a generated family (effects/coefficient_law.hpp) rather than a hand-written
-  /// catalog effect: the diagnosis screens these before calibrating them.
-  bool generated = false;
-  /// Parameters of this effect that are held fixed and that rebound velocities do not identify,
-  /// so that a wrong value must not read as missing physics: on a set of velocities only, the
-  /// score test projects their directions off with the calibrated ones
-  /// (diagnosis/signature.hpp). The paper's kn is one: a numerical stiffness that sets the
-  /// contact's duration and penetration, not the rebound.
-  std::span<const std::string_view> nuisance = {};
-  /// Parameters of this effect, fixed by default, that the contact features (maximum
-  /// penetration, contact duration) identify: a fit whose error compares those features
-  /// calibrates them too, within their bounds (fit::calibration_model, the one place that
-  /// decides). The paper's kn is one; kt and kr are not (docs/diagnosis.md, "Which stiffnesses
-  /// the contact features identify").
-  std::span<const std::string_view> contact_identified = {};
 };
 
 /// What an effect's law changes (issue 31): the diagnosis's confidence set names these families,
@@ -170,6 +251,22 @@ struct LawKind {
   Variable variable = Variable::kOther;
 };
 
+/// The engine's inlined laws (engine/paper_kernel.hpp): a model that holds all three, on flat
+/// ground, runs in the fused kernel, which computes these equations itself instead of calling
+/// apply(). An effect that declares one computes exactly that per-lane equation in its apply(),
+/// declares the parameters of its roles once each and keeps the force in its first state
+/// variable (the registry checks the roles and the state; the test
+/// Engine.FusedKernelIsTheGenericPathBitForBit the bits).
+enum class FusedLaw {
+  kNone = 0,         ///< called through apply()
+  kPaperNormal,      ///< NormalLaw::force: kNormalStiffness, kRestitution; state fn [N]
+  kPaperTangential,  ///< TangentialLaw::force: kTangentialStiffness, kFrictionCap; state ft [N]
+  kPaperRolling,     ///< RollingLaw::moment: kRollingStiffness, kRollingCap; state M [N m]
+};
+inline constexpr std::size_t kFusedLawCount = 4;
+/// The two parameter roles a fused law reads, in the order of its equation's arguments.
+std::array<ParameterRole, 2> fused_law_roles(FusedLaw law);
+
 /// Interface of a physical effect. Implementations are stateless (all history lives in the
 /// engine's state arrays), so one instance serves every thread.
 class Effect {
@@ -189,6 +286,23 @@ class Effect {
   /// What the law changes and what it depends on (LawKind). Every effect declares it, plugins
   /// included: the diagnosis groups the laws it cannot tell apart by family (issue 31).
   virtual LawKind kind() const = 0;
+  /// A member of a generated family (effects/coefficient_law.hpp) rather than a hand-written
+  /// effect: the diagnosis screens these before calibrating them, and listings and error
+  /// messages give the family by its pattern rather than 40 names.
+  virtual bool generated() const { return false; }
+  /// Which inlined law of the engine this effect is (FusedLaw); kNone for every other effect.
+  virtual FusedLaw fused_law() const { return FusedLaw::kNone; }
+  /// The largest factor [-] by which this effect multiplies the normal loading stiffness
+  /// (ContactBatch::kn_factor) at any penetration up to `max_penetration_m` [m], given its
+  /// parameter values `values` (declaration order). critical_time_step multiplies the model's
+  /// normal stiffness by the product over its effects. Default 1: the effect does not stiffen
+  /// the contact (a factor below 1 only lengthens the stable step, so it need not be declared).
+  virtual double max_stiffness_factor(std::span<const double> values,
+                                      double max_penetration_m) const {
+    (void)values;
+    (void)max_penetration_m;
+    return 1.0;
+  }
   /// The effect as a law with numbers and units, e.g.
   /// "mu_R = mu_R0 (1 + c |omega|), c = 0.012 s/rad". `values`: this effect's parameters in
   /// declaration order. Default: equation() followed by "name = value unit" for each parameter.

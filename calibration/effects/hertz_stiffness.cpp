@@ -5,16 +5,19 @@
 //   Phi(h) = kn h ((1 - beta) + (2/3) beta sqrt(h / h_ref)),
 // so a full cycle still returns exactly e_n^2 of the stored energy (Eq. 4 holds for any beta).
 // Signature: contact duration and penetration change, rebound velocities barely.
+#include <algorithm>
 #include <cmath>
+#include <memory>
 
-#include "effects/builtin.hpp"
+#include "effects/effect.hpp"
 
 namespace ricochet::effects {
 namespace {
 
 constexpr ParameterSpec kParams[] = {
     {"beta", "-", 0.0, 1.0, 0.0, 0.0, true, "weight of the Hertz-like sqrt(h) stiffness"},
-    {"h_ref", "m", 1e-4, 0.05, 2e-3, NAN, false, "penetration at which kn_eff = kn"},
+    {"h_ref", "m", 1e-4, 0.05, 2e-3, NAN, false, "penetration at which kn_eff = kn",
+     ParameterRole::kOther, IdentifiedBy::kNothing},
 };
 
 // Signature: the residual and parameter trends of this family (docs/effects/hertz_stiffness.md,
@@ -43,6 +46,13 @@ class HertzStiffness final : public Effect {
     return {"a normal stiffness growing with penetration (Hertz-like bearing)", kSignature, true};
   }
   std::span<const ParameterSpec> parameters() const override { return kParams; }
+  // The loading factor grows without bound with sqrt(h / h_ref): at the deepest penetration
+  // the engine's stable step must still hold (critical_time_step).
+  double max_stiffness_factor(std::span<const double> v, double max_penetration_m) const override {
+    const double beta = v[0], h_ref = v[1];
+    const double r = std::sqrt(max_penetration_m / h_ref);
+    return std::max(1.0, (1.0 - beta) + beta * r);
+  }
 
   void apply(const ContactBatch& c, const double* const* p, double* const*) const override {
     const double* __restrict beta = p[0];

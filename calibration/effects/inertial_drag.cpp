@@ -4,13 +4,16 @@
 //   fn += cd * vn^2   while the contact point moves into the ground (vn < 0), else 0.
 // It only ever opposes penetration, so it is dissipative.
 // Signature: translational residuals trend with |V_in|^2; penetration saturates with speed.
-#include "effects/builtin.hpp"
+#include <memory>
+
+#include "effects/effect.hpp"
 
 namespace ricochet::effects {
 namespace {
 
 constexpr ParameterSpec kParams[] = {
-    {"cd", "kg/m", 0.0, 5000.0, 0.0, 0.0, true, "drag coefficient m/d1 (0 = no drag)"},
+    {"cd", "kg/m", 0.0, 5000.0, 0.0, 0.0, true, "drag coefficient m/d1 (0 = no drag)",
+     ParameterRole::kDragCoefficient},
 };
 
 // Signature: the residual and parameter trends of this family (docs/effects/inertial_drag.md,
@@ -19,7 +22,7 @@ constexpr SignatureTrend kSignature[] = {
     {"residual vy", "speed_in"},
     {"residual vx", "speed_in"},
     {"residual penetration", "speed_in"},
-    {"param en2", "speed_in"},
+    {"param restitution", "speed_in"},
 };
 
 class InertialDrag final : public Effect {

@@ -2,14 +2,15 @@
 // the "Avalanche" law of Rockable). The printed Eq. 3 lost the h of the unloading branch; the
 // form below is the one whose cycle returns exactly e_n^2 of the stored energy (Eq. 4).
 #include "effects/normal.hpp"
-#include "effects/builtin.hpp"
+
+#include <memory>
 
 namespace ricochet::effects {
 namespace {
 
 // kn: the paper's 1e7 N/m (section 4.1) by default, fixed on rebound velocities (they hardly
 // depend on it) and calibrated when the data have penetration or contact duration
-// (Signature::contact_identified). Bounds 1e5-1e9 N/m: the penetration of the lab cylinder
+// (IdentifiedBy::kContactFeatures). Bounds 1e5-1e9 N/m: the penetration of the lab cylinder
 // (13.9 kg) at the lab's 2.3 m/s normal speed, about v_n sqrt(m / kn) (a linear spring's
 // quarter period), then spans 2.7 cm to 0.27 mm, and the loading quarter period
 // (pi / 2) sqrt(m / kn) 18 ms to 0.19 ms: wider than any sand bed seen (the resolved LIGGGHTS
@@ -18,12 +19,12 @@ namespace {
 // critical_time_step is 1.4e-4 s there). The fit searches it in log(kn) (fit/fit.hpp: bounds
 // spanning two decades or more).
 constexpr ParameterSpec kParams[] = {
-    {"kn", "N/m", 1e5, 1e9, 1e7, NAN, false, "normal stiffness (loading)"},
-    {"en2", "-", 0.0, 1.0, 0.15, NAN, true, "normal energy restitution e_n^2"},
+    {"kn", "N/m", 1e5, 1e9, 1e7, NAN, false, "normal stiffness (loading)",
+     ParameterRole::kNormalStiffness, IdentifiedBy::kContactFeatures},
+    {"en2", "-", 0.0, 1.0, 0.15, NAN, true, "normal energy restitution e_n^2",
+     ParameterRole::kRestitution},
 };
 constexpr StateSpec kState[] = {{"fn", "N"}};
-constexpr std::string_view kNuisance[] = {"kn"};
-constexpr std::string_view kContactIdentified[] = {"kn"};
 
 class Normal final : public Effect {
  public:
@@ -40,10 +41,8 @@ class Normal final : public Effect {
   }
   Stage stage() const override { return Stage::kNormal; }
   LawKind kind() const override { return {Family::kRestitution, Variable::kNone}; }
-  Signature signature() const override {
-    return {
-        "the paper's normal contact law (Eq. 3)", {}, false, false, kNuisance, kContactIdentified};
-  }
+  Signature signature() const override { return {"the paper's normal contact law (Eq. 3)", {}}; }
+  FusedLaw fused_law() const override { return FusedLaw::kPaperNormal; }
   std::span<const ParameterSpec> parameters() const override { return kParams; }
   std::span<const StateSpec> state() const override { return kState; }
 

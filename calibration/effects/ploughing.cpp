@@ -10,8 +10,9 @@
 // Signature: V_out^x residual trends with penetration depth and block shape / orientation.
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
-#include "effects/builtin.hpp"
+#include "effects/effect.hpp"
 
 namespace ricochet::effects {
 namespace {
@@ -26,8 +27,8 @@ constexpr double kVelocityEpsilon = 0.01;  // m/s
 // "Signature in residuals", which gives the physical reasoning and the literature).
 constexpr SignatureTrend kSignature[] = {
     {"residual vx", "penetration"},
-    {"param mu", "penetration"},
-    {"param muR", "penetration"},
+    {"param friction_cap", "penetration"},
+    {"param rolling_cap", "penetration"},
 };
 
 class Ploughing final : public Effect {

@@ -5,7 +5,9 @@
 //   e_n^2_eff = e_n^2 / (1 + kv * v0)^2,   v0 = largest approach speed of this contact so far.
 // Signature in residuals: V_out^y residual and per-release e_n^2 trend with |V_in^y|.
 
-#include "effects/builtin.hpp"
+#include <memory>
+
+#include "effects/effect.hpp"
 
 namespace ricochet::effects {
 namespace {
@@ -20,8 +22,8 @@ constexpr StateSpec kState[] = {{"v0", "m/s"}};
 // "Signature in residuals", which gives the physical reasoning and the literature).
 constexpr SignatureTrend kSignature[] = {
     {"residual vy", "abs_vin_y"},
-    {"param en2", "abs_vin_y"},
-    {"param en2", "speed_in"},
+    {"param restitution", "abs_vin_y"},
+    {"param restitution", "speed_in"},
 };
 
 class RateRestitution final : public Effect {

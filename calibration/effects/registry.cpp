@@ -2,71 +2,79 @@
 
 #include <dlfcn.h>
 
-#include <array>
 #include <cmath>
-#include <cstdio>
+#include <memory>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
-#include "effects/builtin.hpp"
 #include "effects/coefficient_law.hpp"
 
 namespace ricochet {
+namespace effects {
+// The factories of the built-in effects, one per file (builtin_effects.def).
+#define RICOCHET_EFFECT(file) std::unique_ptr<Effect> make_##file();
+#define RICOCHET_EFFECT_FAMILY(file, factory) std::vector<std::unique_ptr<Effect>> factory();
+#include "effects/builtin_effects.def"
+#undef RICOCHET_EFFECT
+#undef RICOCHET_EFFECT_FAMILY
+}  // namespace effects
 
-std::string_view family_name(Family family) {
-  static constexpr std::array<std::string_view, kFamilyCount> kNames = {
-      "none",      "restitution", "sliding_friction", "rolling_resistance",
-      "stiffness", "drag",        "ploughing",        "other"};
-  return kNames[static_cast<std::size_t>(family)];
+namespace {
+
+[[noreturn]] void refuse(const std::string& effect, const std::string& why) {
+  throw std::invalid_argument("effect '" + effect + "': " + why);
 }
 
-std::string_view variable_name(Variable variable) {
-  static constexpr std::array<std::string_view, kVariableCount> kNames = {
-      "none", "impact_speed", "normal_speed",    "penetration",
-      "spin", "slip_speed",   "incidence_angle", "other"};
-  return kNames[static_cast<std::size_t>(variable)];
+// An enum value outside its table: a plugin built against a newer header, or a cast.
+template <class E>
+void check_enum(const std::string& effect, E value, std::size_t count, const char* what) {
+  if (static_cast<std::size_t>(value) >= count)
+    refuse(effect, std::string("declares ") + what + " " +
+                       std::to_string(static_cast<long long>(value)) + ", which is unknown");
 }
 
-std::string_view stage_name(Stage stage) {
-  switch (stage) {
-    case Stage::kCoefficient:
-      return "coefficient";
-    case Stage::kNormal:
-      return "normal";
-    case Stage::kTangential:
-      return "tangential";
-    case Stage::kRolling:
-      return "rolling";
-    case Stage::kBody:
-      return "body";
+void check_parameters(const std::string& name, std::span<const ParameterSpec> params) {
+  for (std::size_t i = 0; i < params.size(); ++i) {
+    const auto& p = params[i];
+    const std::string pn(p.name);
+    for (std::size_t j = 0; j < i; ++j)
+      if (params[j].name == p.name) refuse(name, "declares parameter '" + pn + "' twice");
+    if (!(p.lower <= p.nominal && p.nominal <= p.upper))
+      refuse(name, "nominal value of '" + pn + "' lies outside its bounds");
+    if (!std::isnan(p.neutral) && !(p.lower <= p.neutral && p.neutral <= p.upper))
+      refuse(name, "neutral value of '" + pn + "' lies outside its bounds");
+    check_enum(name, p.role, kParameterRoleCount, ("the role of '" + pn + "'").c_str());
+    check_enum(name, p.identified_by, kIdentifiedByCount, ("what identifies '" + pn + "'").c_str());
   }
-  return "?";
 }
 
-std::string Effect::law(std::span<const double> values) const {
-  std::string out(equation());
-  const auto specs = parameters();
-  for (std::size_t i = 0; i < specs.size() && i < values.size(); ++i) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.4g", values[i]);
-    out += (i == 0 ? ", " : ", ") + std::string(specs[i].name) + " = " + buf;
-    if (specs[i].unit != "-") out += " " + std::string(specs[i].unit);
+// The engine's fused kernel reads a fused law's two parameters by role and its force from its
+// first state variable (FusedLaw).
+void check_fused_law(const std::string& name, const Effect& effect) {
+  const FusedLaw law = effect.fused_law();
+  check_enum(name, law, kFusedLawCount, "fused law");
+  if (law == FusedLaw::kNone) return;
+  for (ParameterRole role : fused_law_roles(law)) {
+    std::size_t n = 0;
+    for (const auto& p : effect.parameters()) n += p.role == role ? 1 : 0;
+    if (n != 1)
+      refuse(name, "its fused law needs exactly one parameter of role " +
+                       std::string(role_name(role)) + ", not " + std::to_string(n));
   }
-  return out;
+  if (effect.state().empty()) refuse(name, "its fused law keeps its force in a state variable");
 }
+
+}  // namespace
 
 EffectRegistry EffectRegistry::with_builtins() {
   EffectRegistry r;
-  // The paper's law, then the catalog of candidate missing physics, one per family.
-  r.add(effects::make_normal());
-  r.add(effects::make_tangential());
-  r.add(effects::make_rolling());
-  r.add(effects::make_rate_restitution());
-  r.add(effects::make_inertial_drag());
-  r.add(effects::make_ploughing());
-  r.add(effects::make_depth_friction());
-  r.add(effects::make_hertz_stiffness());
-  // The generated family: every coefficient as a linear or power function of a variable.
-  for (auto& law : effects::make_coefficient_laws()) r.add(std::move(law));
+#define RICOCHET_EFFECT(file) r.add(effects::make_##file());
+#define RICOCHET_EFFECT_FAMILY(file, factory) \
+  for (auto& e : effects::factory()) r.add(std::move(e));
+#include "effects/builtin_effects.def"
+#undef RICOCHET_EFFECT
+#undef RICOCHET_EFFECT_FAMILY
   return r;
 }
 
@@ -87,19 +95,20 @@ void EffectRegistry::check_and_store(std::shared_ptr<const Effect> effect) {
   const std::string name(effect->name());
   if (name.empty()) throw std::invalid_argument("an effect must have a name");
   if (contains(name)) throw std::invalid_argument("effect '" + name + "' is already registered");
-  const auto params = effect->parameters();
-  for (std::size_t i = 0; i < params.size(); ++i) {
-    const auto& p = params[i];
-    for (std::size_t j = 0; j < i; ++j)
-      if (params[j].name == p.name)
-        throw std::invalid_argument("effect '" + name + "' declares parameter '" +
-                                    std::string(p.name) + "' twice");
-    if (!(p.lower <= p.nominal && p.nominal <= p.upper))
-      throw std::invalid_argument("effect '" + name + "': nominal value of '" +
-                                  std::string(p.name) + "' lies outside its bounds");
-    if (!std::isnan(p.neutral) && !(p.lower <= p.neutral && p.neutral <= p.upper))
-      throw std::invalid_argument("effect '" + name + "': neutral value of '" +
-                                  std::string(p.name) + "' lies outside its bounds");
+  check_enum(name, effect->stage(), kStageCount, "stage");
+  const LawKind kind = effect->kind();
+  check_enum(name, kind.family, kFamilyCount, "family");
+  check_enum(name, kind.variable, kVariableCount, "variable");
+  check_parameters(name, effect->parameters());
+  check_fused_law(name, *effect);
+  // The signature in the vocabulary's words: a misspelt word would otherwise make a trend
+  // that the diagnosis never finds.
+  for (const SignatureTrend& t : effect->signature().trends) {
+    try {
+      (void)parse_trend(t);
+    } catch (const std::invalid_argument& e) {
+      refuse(name, std::string("signature: ") + e.what());
+    }
   }
   effects_.push_back(std::move(effect));
 }
@@ -111,7 +120,7 @@ const Effect& EffectRegistry::get(std::string_view name) const {
   std::string known;
   bool generated = false;
   for (const auto& e : effects_) {
-    if (e->signature().generated) {
+    if (e->generated()) {
       generated = true;
       continue;
     }
@@ -148,7 +157,11 @@ void EffectRegistry::load_plugin(const std::string& path) {
   if (!fn)
     throw std::runtime_error(path + ": plugin has no entry point " +
                              std::string(kPluginEntryPoint));
-  fn(*this);
+  try {
+    fn(*this);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(path + ": plugin refused: " + e.what());
+  }
 }
 
 }  // namespace ricochet

@@ -1,6 +1,8 @@
-// The explicit registry of effects: name -> Effect. Built-ins are listed in registry.cpp; users
-// add their own with add() in their program, or with load_plugin() from the command line
-// (`ricochet ... --plugin libmyeffect.so`), without touching the engine (docs/tutorial-effect.md).
+// The explicit registry of effects: name -> Effect. Built-ins are listed in one table,
+// effects/builtin_effects.def; users add their own with add() in their program, or with
+// load_plugin() from the command line (`ricochet ... --plugin libmyeffect.so`), without touching
+// the engine (docs/tutorial-effect.md). Every effect's declaration is checked when it is stored,
+// built-ins and plugins alike.
 #pragma once
 
 #include <memory>
@@ -20,8 +22,12 @@ class EffectRegistry {
   /// The process-wide registry used by the command-line tools (built-ins plus plugins).
   static EffectRegistry& global();
 
-  /// Adds an effect. Throws std::invalid_argument if its name is taken, if a parameter name is
-  /// declared twice, or if a nominal value lies outside its bounds.
+  /// Adds an effect. Throws std::invalid_argument "effect 'X': ..." if its name is taken or
+  /// empty, if a parameter name is declared twice, if a nominal or neutral value lies outside
+  /// its bounds, if a declared enum value (stage, family, variable, role, what identifies a
+  /// parameter, fused law) is unknown, if a fused law lacks its parameter roles or its state, or
+  /// if a signature trend uses a word outside the signature vocabulary (the message names the
+  /// word and lists the known ones; effect.hpp, parse_trend).
   void add(std::unique_ptr<Effect> effect);
   /// Adds an effect owned by the caller, who keeps it alive as long as this registry and the
   /// models built from it (used by check_effect_invariants()).
@@ -35,7 +41,8 @@ class EffectRegistry {
 
   /// Loads a shared library that defines
   ///   extern "C" void ricochet_register_effects(ricochet::EffectRegistry&);
-  /// and calls it. Throws std::runtime_error naming the file on failure.
+  /// and calls it. Throws std::runtime_error naming the file on failure, including an effect
+  /// that add() refuses ("PATH: plugin refused: effect 'X': ...").
   void load_plugin(const std::string& path);
 
  private:

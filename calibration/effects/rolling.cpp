@@ -2,14 +2,17 @@
 // Eq. 6). l is the distance from the contact point to the axis through the centre of mass
 // (paper section 4.1), supplied by the engine as ContactBatch::lever.
 #include "effects/rolling.hpp"
-#include "effects/builtin.hpp"
+
+#include <memory>
 
 namespace ricochet::effects {
 namespace {
 
 constexpr ParameterSpec kParams[] = {
-    {"kr", "N m/rad", 1e5, 1e10, 1e8, NAN, false, "rolling stiffness"},
-    {"muR", "-", 0.0, 2.0, 0.16, NAN, true, "rolling-resistance coefficient"},
+    {"kr", "N m/rad", 1e5, 1e10, 1e8, NAN, false, "rolling stiffness",
+     ParameterRole::kRollingStiffness, IdentifiedBy::kNothing},
+    {"muR", "-", 0.0, 2.0, 0.16, NAN, true, "rolling-resistance coefficient",
+     ParameterRole::kRollingCap},
 };
 constexpr StateSpec kState[] = {{"M", "N m"}};
 
@@ -28,6 +31,7 @@ class Rolling final : public Effect {
   Stage stage() const override { return Stage::kRolling; }
   LawKind kind() const override { return {Family::kRollingResistance, Variable::kNone}; }
   Signature signature() const override { return {"the paper's rolling resistance (Eq. 6)", {}}; }
+  FusedLaw fused_law() const override { return FusedLaw::kPaperRolling; }
   std::span<const ParameterSpec> parameters() const override { return kParams; }
   std::span<const StateSpec> state() const override { return kState; }
 

@@ -2,14 +2,17 @@
 // Eq. 5). mu "includes friction and other dissipation mechanisms acting in the tangential
 // direction" (paper section 4.1).
 #include "effects/tangential.hpp"
-#include "effects/builtin.hpp"
+
+#include <memory>
 
 namespace ricochet::effects {
 namespace {
 
 constexpr ParameterSpec kParams[] = {
-    {"kt", "N/m", 1e5, 1e9, 1e7, NAN, false, "tangential stiffness"},
-    {"mu", "-", 0.0, 2.0, 0.23, NAN, true, "friction coefficient (Coulomb cap)"},
+    {"kt", "N/m", 1e5, 1e9, 1e7, NAN, false, "tangential stiffness",
+     ParameterRole::kTangentialStiffness, IdentifiedBy::kNothing},
+    {"mu", "-", 0.0, 2.0, 0.23, NAN, true, "friction coefficient (Coulomb cap)",
+     ParameterRole::kFrictionCap},
 };
 constexpr StateSpec kState[] = {{"ft", "N"}};
 
@@ -28,6 +31,7 @@ class Tangential final : public Effect {
   Stage stage() const override { return Stage::kTangential; }
   LawKind kind() const override { return {Family::kSlidingFriction, Variable::kNone}; }
   Signature signature() const override { return {"the paper's tangential friction (Eq. 5)", {}}; }
+  FusedLaw fused_law() const override { return FusedLaw::kPaperTangential; }
   std::span<const ParameterSpec> parameters() const override { return kParams; }
   std::span<const StateSpec> state() const override { return kState; }
 

@@ -188,10 +188,11 @@ class LaneBatch {
       const Effect& eff = *layout_.effects[e];
       FusedEffect& f = a.effects[e];
       f.effect = &eff;
-      f.kind = eff.name() == "normal"       ? FusedEffect::kNormal
-               : eff.name() == "tangential" ? FusedEffect::kTangential
-               : eff.name() == "rolling"    ? FusedEffect::kRolling
-                                            : FusedEffect::kOther;
+      const FusedLaw law = eff.fused_law();
+      f.kind = law == FusedLaw::kPaperNormal       ? FusedEffect::kNormal
+               : law == FusedLaw::kPaperTangential ? FusedEffect::kTangential
+               : law == FusedLaw::kPaperRolling    ? FusedEffect::kRolling
+                                                   : FusedEffect::kOther;
       f.nparams = static_cast<int>(eparams_[e].size());
       f.nstate = static_cast<int>(layout_.state_count[e]);
       if (f.nparams > detail::kFusedMaxEffectArrays || f.nstate > detail::kFusedMaxEffectArrays)
@@ -201,11 +202,18 @@ class LaneBatch {
         for (int k = 0; k < f.nstate; ++k) f.state[s][k] = estate_[e * V_ + s][k];
       if (f.kind == FusedEffect::kOther) continue;
       ++found[f.kind];
-      const double* p0 = eparams_[e][0];
-      const double* p1 = eparams_[e][1];
-      if (f.kind == FusedEffect::kNormal) a.kn = p0, a.en2 = p1;
-      if (f.kind == FusedEffect::kTangential) a.kt = p0, a.mu = p1;
-      if (f.kind == FusedEffect::kRolling) a.kr = p0, a.muR = p1;
+      // The law's two parameters by their declared roles (the registry checked that each
+      // appears once).
+      const std::array<ParameterRole, 2> roles = fused_law_roles(law);
+      const double* p[2] = {nullptr, nullptr};
+      const auto specs = eff.parameters();
+      for (std::size_t k = 0; k < specs.size(); ++k)
+        for (int r = 0; r < 2; ++r)
+          if (specs[k].role == roles[r]) p[r] = eparams_[e][k];
+      if (!p[0] || !p[1]) return;
+      if (f.kind == FusedEffect::kNormal) a.kn = p[0], a.en2 = p[1];
+      if (f.kind == FusedEffect::kTangential) a.kt = p[0], a.mu = p[1];
+      if (f.kind == FusedEffect::kRolling) a.kr = p[0], a.muR = p[1];
       for (std::size_t s = 0; s < V_; ++s) {
         double* state = estate_[e * V_ + s][0];
         (f.kind == FusedEffect::kNormal       ? a.slot[s].fn
@@ -712,15 +720,32 @@ void validate(const Model& model, const Shape& shape, const EngineOptions& optio
 double critical_time_step(const Model& model, const Shape& shape, std::span<const double> params) {
   const double rb = shape.bounding_radius();
   const double m_eff = 1.0 / (1.0 / shape.mass_kg + rb * rb / shape.inertia_kgm2);
+  // Coefficient effects may stiffen the normal contact (hertz_stiffness, a generated law of kn):
+  // their largest loading factor at a penetration up to the block's bounding radius, which no
+  // rebound reaches.
+  double kn_factor = 1.0;
+  const auto& effects = model.effects();
+  for (std::size_t e = 0; e < effects.size(); ++e) {
+    const std::size_t first = model.offset(e);
+    kn_factor *= effects[e]->max_stiffness_factor(
+        params.subspan(first, effects[e]->parameters().size()), rb);
+  }
   double omega = 0.0;
-  const auto stiffness = [&](const char* name) {
-    for (std::size_t i = 0; i < model.parameter_count(); ++i)
-      if (model.spec(i).name == name) return params[i];
-    return 0.0;
-  };
-  omega = std::max(omega, std::sqrt(stiffness("kn") / m_eff));
-  omega = std::max(omega, std::sqrt(stiffness("kt") / m_eff));
-  omega = std::max(omega, std::sqrt(stiffness("kr") / shape.inertia_kgm2));
+  for (std::size_t i = 0; i < model.parameter_count(); ++i) {
+    switch (model.spec(i).role) {
+      case ParameterRole::kNormalStiffness:
+        omega = std::max(omega, std::sqrt(params[i] * kn_factor / m_eff));
+        break;
+      case ParameterRole::kTangentialStiffness:
+        omega = std::max(omega, std::sqrt(params[i] / m_eff));
+        break;
+      case ParameterRole::kRollingStiffness:
+        omega = std::max(omega, std::sqrt(params[i] / shape.inertia_kgm2));
+        break;
+      default:
+        break;
+    }
+  }
   return omega > 0.0 ? 2.0 / omega : INFINITY;
 }
 

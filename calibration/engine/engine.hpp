@@ -102,9 +102,13 @@ struct Trace {
   std::vector<double> t, x, y, theta, vx, vy, w, fn, ft, moment, h;
 };
 
-/// Stability limit of the explicit integration [s]: 2 / omega_max over the model's springs
-/// kn, kt (on the smallest effective mass of a contact point, 1 / (1/m + R_b^2 / I)) and kr
-/// (on I). Parameters absent from the model are ignored. simulate() refuses a larger dt.
+/// Stability limit of the explicit integration [s]: 2 / omega_max over the model's springs, found
+/// by their declared roles (ParameterRole): normal and tangential stiffnesses on the smallest
+/// effective mass of a contact point, 1 / (1/m + R_b^2 / I), rolling stiffnesses on I. A normal
+/// stiffness counts with the product of the effects' max_stiffness_factor() at a penetration up
+/// to the bounding radius R_b (hertz_stiffness, a generated law of kn). `params`: the model's
+/// full parameter vector. A model without springs has no limit (infinity). simulate() refuses a
+/// larger dt.
 double critical_time_step(const Model& model, const Shape& shape, std::span<const double> params);
 
 /// Runs one collision with parameter values `params` (model order; empty = model.values()).

@@ -60,8 +60,9 @@ ErrorOptions with_contact_terms(const ErrorOptions& error, const ImpactSet& set)
 Model calibration_model(const Model& model, const ErrorOptions& error) {
   Model m = model;
   if (!uses_contact_terms(error)) return m;
-  for (const Effect* e : model.effects())
-    for (std::string_view name : e->signature().contact_identified) m.set_calibrated(name, true);
+  for (std::size_t i = 0; i < model.parameter_count(); ++i)
+    if (model.spec(i).identified_by == IdentifiedBy::kContactFeatures)
+      m.set_calibrated(model.spec(i).name, true);
   return m;
 }
 
@@ -365,7 +366,8 @@ std::vector<ParameterInterval> intervals_of(Problem& problem, const LocalResult&
     }
     if (j < box.size())
       detail::classify(
-          iv, ui.hi_at_bound && insensitive_up(problem, best, j, options.interval_resolution));
+          iv, ui.hi_at_bound && insensitive_up(problem, best, j, options.interval_resolution),
+          model.spec(box.index[j]).role);
     else
       classify_angle(iv);
     out.push_back(std::move(iv));

@@ -4,11 +4,11 @@
 // What is calibrated: the parameters of calibration_model(model, options.error): those of the
 // Model flagged calibrated (Model::calibrated_indices(), the paper's law: en2, mu, muR), plus,
 // when the error compares the maximum penetration or the contact duration (ErrorOptions), the
-// parameters that effects declare identified by those features (Signature::
-// contact_identified: the paper's kn), within the model's calibration bounds (Model::lower/
-// upper). Every other parameter stays at its model value (the paper's kt, kr; and kn on rebound
-// velocities alone, which hardly depend on it). Which stiffnesses the features identify was
-// measured on sets of an independent simulator (docs/diagnosis.md, "Which stiffnesses the
+// parameters that effects declare identified by those features (ParameterSpec::identified_by
+// = IdentifiedBy::kContactFeatures: the paper's kn), within the model's calibration bounds
+// (Model::lower/ upper). Every other parameter stays at its model value (the paper's kt, kr; and kn
+// on rebound velocities alone, which hardly depend on it). Which stiffnesses the features identify
+// was measured on sets of an independent simulator (docs/diagnosis.md, "Which stiffnesses the
 // contact features identify"): kn identified (population fits of 40 releases with lab-like
 // noise: +4 % +- 9 % over 5 sets with one constant denominator per contact term, fit/error.hpp;
 // +18 % with denominators that followed each release's reading); kt and kr not (their
@@ -85,10 +85,11 @@ ErrorOptions with_contact_terms(const ErrorOptions& error, const ImpactSet& set)
 
 /// The model a fit with `error` calibrates: THE decision of which parameters are fitted (file
 /// comment). `model` itself when `error` compares rebound velocities only; otherwise `model`
-/// with every parameter an effect declares in Signature::contact_identified (the normal
-/// stiffness kn) flagged calibrated too. Idempotent. Every fit function applies it; callers
-/// that enumerate the calibrated parameters themselves (the diagnosis, the calibrate command's
-/// output) apply it to the model they hold, so that both see the same parameters.
+/// with every parameter that its effect declares identified by the contact features
+/// (IdentifiedBy::kContactFeatures: the normal stiffness kn) flagged calibrated too. Idempotent.
+/// Every fit function applies it; callers that enumerate the calibrated parameters themselves (the
+/// diagnosis, the calibrate command's output) apply it to the model they hold, so that both see the
+/// same parameters.
 Model calibration_model(const Model& model, const ErrorOptions& error);
 
 /// Whether a parameter with calibration bounds [lower, upper] is searched in log(value):

@@ -239,16 +239,18 @@ std::string num(double v) {
   return fmt::format("{:.3g}", v);
 }
 
-// Why a parameter stops mattering, for the paper's capped laws.
-std::string cap_reason(const std::string& name) {
-  if (name == "mu") return "the contact sticks: the friction cap mu*fn is never reached";
-  if (name == "muR") return "the rolling moment never reaches its cap muR*l*fn";
+// Why a parameter stops mattering: a cap that is never reached, or no dependence at all.
+std::string cap_reason(const std::string& name, ParameterRole role) {
+  if (role == ParameterRole::kFrictionCap)
+    return "the contact sticks: the friction cap " + name + "*fn is never reached";
+  if (role == ParameterRole::kRollingCap)
+    return "the rolling moment never reaches its cap " + name + "*l*fn";
   return "the rebound does not depend on " + name + " there";
 }
 
 }  // namespace
 
-void classify(ParameterInterval& iv, bool insensitive_at_upper) {
+void classify(ParameterInterval& iv, bool insensitive_at_upper, ParameterRole role) {
   const std::string unit = iv.unit.empty() || iv.unit == "-" ? "" : " " + iv.unit;
   if (!iv.lo_at_bound && !iv.hi_at_bound) {
     iv.status = Identifiability::kIdentified;
@@ -259,7 +261,7 @@ void classify(ParameterInterval& iv, bool insensitive_at_upper) {
                    ", upper bound not identified (fits within the noise threshold up to the "
                    "bound " +
                    num(iv.bound_hi) + ")";
-    if (insensitive_at_upper) iv.statement += ": " + cap_reason(iv.name);
+    if (insensitive_at_upper) iv.statement += ": " + cap_reason(iv.name, role);
   } else if (!iv.hi_at_bound) {
     iv.status = Identifiability::kUpperBoundOnly;
     iv.statement = iv.name + " <= " + num(iv.hi) + unit +

@@ -76,8 +76,10 @@ std::vector<UnitInterval> near_optimal_intervals(Problem& problem, const LocalRe
                                                  std::vector<double>& inside_points, double xtol);
 
 /// Classification and verdict text of an interval in physical units. `insensitive_at_upper`:
-/// the rebound at the optimum does not change when the parameter goes to its upper bound (its
-/// cap is never reached), which the verdict then says.
-void classify(ParameterInterval& interval, bool insensitive_at_upper);
+/// the rebound at the optimum does not change when the parameter goes to its upper bound, which
+/// the verdict then says, in the words of the parameter's declared `role` (a friction or
+/// rolling cap that is never reached).
+void classify(ParameterInterval& interval, bool insensitive_at_upper,
+              ParameterRole role = ParameterRole::kOther);
 
 }  // namespace ricochet::fit::detail

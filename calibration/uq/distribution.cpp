@@ -84,10 +84,24 @@ bool Distribution::is_uniform() const {
   return impl_->uniform;
 }
 
-const std::map<std::string, std::pair<double, double>>& paper_ranges() {
-  static const std::map<std::string, std::pair<double, double>> r = {
-      {"en2", {0.05, 0.25}}, {"mu", {0.0, 0.6}}, {"muR", {0.0, 0.3}}};
-  return r;
+std::optional<std::pair<double, double>> paper_range(ParameterRole role) {
+  switch (role) {
+    case ParameterRole::kRestitution:
+      return std::make_pair(0.05, 0.25);
+    case ParameterRole::kFrictionCap:
+      return std::make_pair(0.0, 0.6);
+    case ParameterRole::kRollingCap:
+      return std::make_pair(0.0, 0.3);
+    default:
+      return std::nullopt;
+  }
+}
+
+std::map<std::string, std::pair<double, double>> paper_ranges(const Model& model) {
+  std::map<std::string, std::pair<double, double>> out;
+  for (std::size_t i = 0; i < model.parameter_count(); ++i)
+    if (const auto r = paper_range(model.spec(i).role)) out[std::string(model.spec(i).name)] = *r;
+  return out;
 }
 
 std::pair<std::string, std::pair<double, double>> parse_range(const std::string& text,

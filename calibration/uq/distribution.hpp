@@ -1,14 +1,17 @@
 // Input distributions of model parameters for Monte Carlo and Sobol analyses (paper section
-// 4.3, Eq. 8, Fig. 15). OpenTURNS does the work; this header exposes only std types.
+// 4.3, Eq. 8, Fig. 15). OpenTURNS does the work and stays out of this header.
 #pragma once
 
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "effects/model.hpp"
 
 namespace ricochet::uq {
 
@@ -40,9 +43,13 @@ struct ParameterInput {
   Distribution distribution;
 };
 
-/// The paper's uniform ranges (section 4.3): e_n^2 in [0.05, 0.25], mu in [0, 0.6],
-/// mu_R in [0, 0.3], for the parameters of that name.
-const std::map<std::string, std::pair<double, double>>& paper_ranges();
+/// The paper's uniform range (section 4.3) of a parameter of this role: e_n^2 in [0.05, 0.25]
+/// (kRestitution), mu in [0, 0.6] (kFrictionCap), mu_R in [0, 0.3] (kRollingCap); none for the
+/// other roles.
+std::optional<std::pair<double, double>> paper_range(ParameterRole role);
+/// The paper's ranges of `model`'s parameters that have one (paper_range), by parameter name:
+/// {en2, mu, muR} for the paper's law.
+std::map<std::string, std::pair<double, double>> paper_ranges(const Model& model = Model::paper());
 
 /// The paper's incident state of the Monte Carlo (section 4.3): mean of Operator #2's cylinders,
 /// V_in = (2.9 m/s, -2.3 m/s, -65 rad/s).

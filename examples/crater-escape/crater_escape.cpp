@@ -38,8 +38,8 @@ constexpr StateSpec kState[] = {{"v0", "m/s"}};
 
 constexpr SignatureTrend kSignature[] = {
     {"residual vy", "abs_vin_y"},
-    {"param en2", "abs_vin_y"},
-    {"param en2", "penetration"},
+    {"param restitution", "abs_vin_y"},
+    {"param restitution", "penetration"},
 };
 
 class CraterEscape final : public Effect {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 
 #include "diagnosis/assess.hpp"
 #include "diagnosis/signature.hpp"
@@ -308,29 +309,38 @@ TEST(Assess, CrossValidationDesignIsAPartitionPerRepeat) {
 
 // Effect knowledge lives in the effects (issue 10): every registered effect says what it stands
 // for, and every candidate (an effect outside the paper's law) which residuals or calibrated
-// parameters it should move, against which features the diagnosis computes.
+// parameters it should move, against which features the diagnosis computes: its words parse
+// (the registry refused any other), a parameter trend names a role the paper's law has, and
+// every feature is one that impact_features() computes.
 TEST(Signatures, EveryRegisteredEffectDeclaresOne) {
   const Model paper = Model::paper();
-  const std::vector<std::string> quantities = {"residual vx", "residual vy", "residual w",
-                                               "residual penetration", "residual contact_duration"};
-  const std::vector<std::string> features = {"speed_in",    "abs_vin_y",       "vin_x",
-                                             "win",         "impact_angle",    "alpha_in",
-                                             "penetration", "contact_duration"};
+  ImpactSet set;
+  Impact im;
+  im.vin = {2.9, -2.3, -65.0};
+  im.alpha_in = 0.1;
+  im.penetration = 3e-3;
+  im.contact_duration = 1e-2;
+  set.impacts = {im, im};
+  std::set<std::string> computed;
+  for (const Feature& f : impact_features(set, {})) computed.insert(f.name);
+  // The vocabulary and the features the diagnosis computes are the same words.
+  EXPECT_EQ(computed.size(), kImpactFeatureCount);
+  for (std::size_t i = 0; i < kImpactFeatureCount; ++i)
+    EXPECT_TRUE(computed.count(std::string(feature_name(static_cast<ImpactFeature>(i)))));
   for (const Effect* e : EffectRegistry::global().all()) {
     const Signature s = e->signature();
     EXPECT_FALSE(s.meaning.empty()) << e->name();
     if (paper.has_effect(e->name())) continue;
     EXPECT_FALSE(s.trends.empty()) << e->name();
     for (const auto& t : s.trends) {
-      const std::string q(t.quantity), f(t.feature);
-      const bool param = q.rfind("param ", 0) == 0;
-      EXPECT_TRUE(param || std::find(quantities.begin(), quantities.end(), q) != quantities.end())
-          << e->name() << ": " << q;
-      if (param) {
-        EXPECT_NO_THROW((void)paper.index(q.substr(6))) << e->name() << ": " << q;
-      }
-      EXPECT_NE(std::find(features.begin(), features.end(), f), features.end())
-          << e->name() << ": " << f;
+      const ExpectedTrend x = parse_trend(t);
+      EXPECT_TRUE(computed.count(std::string(feature_name(x.feature))))
+          << e->name() << ": " << t.feature;
+      if (x.quantity != TrendQuantity::kParameter) continue;
+      bool found = false;
+      for (std::size_t j = 0; j < paper.parameter_count(); ++j)
+        found = found || paper.spec(j).role == x.parameter;
+      EXPECT_TRUE(found) << e->name() << ": " << t.quantity;
     }
   }
 }

@@ -66,7 +66,7 @@ std::vector<std::string> catalog() {
   std::vector<std::string> out;
   const Model paper = Model::paper();
   for (const auto& n : EffectRegistry::global().names())
-    if (!paper.has_effect(n) && !EffectRegistry::global().get(n).signature().generated)
+    if (!paper.has_effect(n) && !EffectRegistry::global().get(n).generated())
       out.push_back(n);
   return out;
 }

@@ -22,7 +22,7 @@ namespace {
 std::vector<std::string> generated() {
   std::vector<std::string> out;
   for (const auto& n : EffectRegistry::global().names())
-    if (EffectRegistry::global().get(n).signature().generated) out.push_back(n);
+    if (EffectRegistry::global().get(n).generated()) out.push_back(n);
   return out;
 }
 
@@ -78,11 +78,15 @@ TEST(CoefficientLaws, EveryCombinationIsRegisteredWithItsDeclarations) {
                           (coefficient == "kn" && variable.name == "penetration");
         EXPECT_EQ(e.state().size(), held ? 1u : 0u);
         const Signature sig = e.signature();
-        EXPECT_TRUE(sig.generated);
+        EXPECT_TRUE(e.generated());
         EXPECT_EQ(sig.contact_bias, coefficient == "kn");
         EXPECT_FALSE(std::string(sig.meaning).empty());
         ASSERT_FALSE(sig.trends.empty());
-        EXPECT_EQ(sig.trends[0].quantity, "param " + std::string(coefficient));
+        // The calibrated coefficient, named by the role of the paper's parameter it multiplies.
+        const ExpectedTrend first = parse_trend(sig.trends[0]);
+        EXPECT_EQ(first.quantity, TrendQuantity::kParameter);
+        EXPECT_EQ(Model::paper().spec(Model::paper().index(coefficient)).role, first.parameter)
+            << e.name();
         EXPECT_EQ(sig.trends[0].feature, feature.at(std::string(variable.name)));
         EXPECT_TRUE(contains(std::string(e.reference()), "Brynjarsdottir"));
         EXPECT_FALSE(std::string(e.equation()).empty());

@@ -1,7 +1,7 @@
 // Data-driven tests: one file per effect in tests/engine/effects/<name>.toml, run by this one
 // program (the LAMMPS force-style test pattern). Every registered effect must have a test file
 // and a documentation page docs/effects/<name>.md. The generated coefficient laws
-// (Signature::generated) share one page, docs/effects/coefficient_law.md, and one file,
+// (Effect::generated()) share one page, docs/effects/coefficient_law.md, and one file,
 // tests/engine/effects/coefficient_law.toml, whose entries each name their effect: every
 // generated law needs a case there.
 //
@@ -145,7 +145,7 @@ std::vector<std::string> registered(bool generated) {
   std::vector<std::string> out;
   const EffectRegistry r = EffectRegistry::with_builtins();
   for (const auto& n : r.names())
-    if (r.get(n).signature().generated == generated) out.push_back(n);
+    if (r.get(n).generated() == generated) out.push_back(n);
   return out;
 }
 

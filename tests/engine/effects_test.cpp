@@ -76,6 +76,92 @@ TEST(Effects, UnknownNameListsKnownNames) {
   }
 }
 
+// What the registry checks when it stores an effect, whoever wrote it: one declaration that it
+// cannot read is enough to refuse the effect, with a message naming what is wrong.
+class Declared final : public Effect {
+ public:
+  std::string_view name() const override { return "declared"; }
+  std::string_view summary() const override { return "a declaration under test"; }
+  std::string_view equation() const override { return "fn += 0"; }
+  std::string_view reference() const override { return "a test"; }
+  Stage stage() const override { return Stage::kNormal; }
+  LawKind kind() const override { return kind_; }
+  std::span<const ParameterSpec> parameters() const override { return params_; }
+  std::span<const StateSpec> state() const override { return state_; }
+  Signature signature() const override { return {"a test", trends_}; }
+  FusedLaw fused_law() const override { return fused_; }
+  void apply(const ContactBatch&, const double* const*, double* const*) const override {}
+
+  std::vector<ParameterSpec> params_ = {{"k", "N/m", 0, 1, 0.5, NAN, false, "a stiffness"},
+                                        {"e", "-", 0, 1, 0.5, NAN, true, "a restitution"}};
+  std::vector<StateSpec> state_ = {{"fn", "N"}};
+  std::vector<SignatureTrend> trends_;
+  FusedLaw fused_ = FusedLaw::kNone;
+  LawKind kind_ = {Family::kOther, Variable::kOther};
+};
+
+// The message of the std::invalid_argument that `f` throws, or "accepted".
+template <class F>
+std::string refusal_of(F f) {
+  try {
+    f();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+
+std::string refusal(const Declared& effect) {
+  EffectRegistry r;
+  const std::string what = refusal_of([&] { r.add_borrowed(effect); });
+  EXPECT_EQ(r.contains("declared"), what == "accepted");
+  return what;
+}
+
+TEST(Registry, RefusesADeclarationItCannotRead) {
+  EXPECT_EQ(refusal(Declared{}), "accepted");
+  Declared fused;  // the fused kernel would read its kn and e_n^2 by role
+  fused.fused_ = FusedLaw::kPaperNormal;
+  EXPECT_NE(refusal(fused).find("needs exactly one parameter of role normal_stiffness, not 0"),
+            std::string::npos)
+      << refusal(fused);
+  fused.params_[0].role = ParameterRole::kNormalStiffness;
+  fused.params_[1].role = ParameterRole::kRestitution;
+  EXPECT_EQ(refusal(fused), "accepted");
+  fused.state_.clear();
+  EXPECT_NE(refusal(fused).find("state variable"), std::string::npos) << refusal(fused);
+
+  Declared word;
+  word.trends_ = {{"residual vy", "abs_vin_y"}, {"residual v", "speed_in"}};
+  EXPECT_NE(refusal(word).find("effect 'declared': signature: unknown signature quantity "
+                               "'residual v'; known quantities: residual vx, residual vy"),
+            std::string::npos)
+      << refusal(word);
+  word.trends_ = {{"param friction_cap", "penetration"}};
+  EXPECT_EQ(refusal(word), "accepted");
+
+  Declared cast;  // an enum value this build does not know (a plugin built against a newer one)
+  cast.params_[1].role = static_cast<ParameterRole>(kParameterRoleCount);
+  EXPECT_NE(refusal(cast).find("declares the role of 'e' 8, which is unknown"), std::string::npos)
+      << refusal(cast);
+  cast = Declared{};
+  cast.kind_.family = static_cast<Family>(kFamilyCount);
+  EXPECT_NE(refusal(cast).find("family"), std::string::npos) << refusal(cast);
+}
+
+// A parameter trend names a role, not a parameter: "param en2" is refused with the known words.
+TEST(Registry, AParameterTrendNamesARoleNotAName) {
+  EXPECT_EQ(parse_trend({"param restitution", "speed_in"}).parameter, ParameterRole::kRestitution);
+  const std::string msg = refusal_of([] { (void)parse_trend({"param en2", "speed_in"}); });
+  EXPECT_NE(msg.find("unknown signature quantity 'param en2'; known quantities: residual vx"),
+            std::string::npos)
+      << msg;
+  EXPECT_NE(msg.find("param <role> with role in {normal_stiffness, tangential_stiffness"),
+            std::string::npos)
+      << msg;
+  EXPECT_NE(refusal_of([] { (void)parse_trend({"param other", "speed_in"}); }), "accepted");
+}
+
 TEST(Effects, ModelCompositionRules) {
   EXPECT_THROW(Model::from_names({"tangential", "rolling"}), std::invalid_argument);  // no normal
   EXPECT_THROW(Model::from_names({"normal", "normal"}), std::invalid_argument);

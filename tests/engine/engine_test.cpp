@@ -321,6 +321,41 @@ TEST(Engine, RejectsBadInput) {
   EXPECT_GT(critical_time_step(m, Shape::cylinder(), m.values()), 1e-5);
 }
 
+// The stable step reads the springs by role and counts what stiffens them: hertz_stiffness at
+// beta = 1 multiplies kn by sqrt(h / h_ref), sqrt(R_b / h_ref) at the deepest penetration
+// counted (the bounding radius R_b), and a generated power law of kn by up to its clamp (50).
+// The tangential and rolling springs are softened so that the normal one sets the limit, 2 /
+// sqrt(factor kn / m_eff) (engine.hpp). A step between the limits with and without the
+// stiffening effect is integrated without it and refused with it.
+TEST(Engine, CriticalTimeStepCountsWhatStiffensTheContact) {
+  const Shape shape = Shape::cylinder();
+  const double rb = shape.bounding_radius();
+  const double m_eff = 1.0 / (1.0 / shape.mass_kg + rb * rb / shape.inertia_kgm2);
+  const auto limit = [&](double factor) { return 2.0 / std::sqrt(factor * 1e7 / m_eff); };
+  const auto soft = [](Model m) {
+    m.set("kt", 1e5);
+    m.set("kr", 1e5);
+    return m;
+  };
+  Model hertz = soft(Model::paper().with_effect("hertz_stiffness", true));
+  hertz.set("h_ref", 1e-4);
+  const double plain = critical_time_step(hertz, shape, hertz.values());
+  hertz.set("beta", 1.0);
+  const double stiff = critical_time_step(hertz, shape, hertz.values());
+  EXPECT_NEAR(stiff, limit(std::sqrt(rb / 1e-4)), 1e-12 * stiff);
+  EXPECT_LT(stiff, 0.5 * plain);
+  EngineOptions between;
+  between.dt_s = std::sqrt(stiff * plain);
+  EXPECT_THROW(simulate(hertz, shape, kLabMean, {}, between), std::invalid_argument);
+  hertz.set("beta", 0.0);
+  EXPECT_NO_THROW(simulate(hertz, shape, kLabMean, {}, between));
+
+  Model law = soft(Model::paper().with_effect("kn_penetration_power", true));
+  EXPECT_EQ(critical_time_step(law, shape, law.values()), plain);
+  law.set("p_kn_h", 1.0);
+  EXPECT_NEAR(critical_time_step(law, shape, law.values()), limit(50.0), 1e-12 * limit(50.0));
+}
+
 TEST(Engine, TimeoutIsReportedNotHidden) {
   Model m = Model::paper();
   m.set("en2", 0.0);  // no elastic return: the block cannot leave the ground

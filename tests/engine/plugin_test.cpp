@@ -3,6 +3,7 @@
 // way `ricochet --plugin` loads them, so that neither can rot.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -53,6 +54,40 @@ TEST(UserEffectPlugin, WorksFromTheCommandLine) {
   const auto j = nlohmann::json::parse(out);
   EXPECT_EQ(j["model"]["parameters"]["kg"], 1.0);
   EXPECT_GT(j["vout"][1].get<double>(), 0.9);
+}
+
+// A plugin is checked like a built-in when it registers: a signature word outside the
+// vocabulary is refused, the error names the plugin, the effect, the word and the known words,
+// and the effect is not registered. The command line says the same and exits with status 2.
+TEST(PluginRegistration, AMisspeltSignatureWordIsRefused) {
+  EffectRegistry registry = EffectRegistry::with_builtins();
+  try {
+    registry.load_plugin(RICOCHET_MISSPELT_PLUGIN_PATH);
+    ADD_FAILURE() << "the plugin was accepted";
+  } catch (const std::runtime_error& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find(RICOCHET_MISSPELT_PLUGIN_PATH), std::string::npos) << msg;
+    EXPECT_NE(msg.find("effect 'misspelt_signature'"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("unknown signature feature 'speed'"), std::string::npos) << msg;
+    for (std::size_t i = 0; i < kImpactFeatureCount; ++i)
+      EXPECT_NE(msg.find(std::string(feature_name(static_cast<ImpactFeature>(i)))),
+                std::string::npos)
+          << msg;
+  }
+  EXPECT_FALSE(registry.contains("misspelt_signature"));
+
+  const std::string cmd =
+      std::string(RICOCHET_BIN) + " effects --plugin " + RICOCHET_MISSPELT_PLUGIN_PATH + " 2>&1";
+  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(cmd.c_str(), "r"), pclose);
+  ASSERT_TRUE(pipe);
+  std::string out;
+  char buf[4096];
+  while (std::fgets(buf, sizeof buf, pipe.get())) out += buf;
+  const int status = pclose(pipe.release());
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 2) << status << "\n" << out;
+  EXPECT_NE(out.find("unknown signature feature 'speed'; known features: speed_in"),
+            std::string::npos)
+      << out;
 }
 
 // crater_escape: e_n^2_eff = e_n^2 v0^2 / (v0^2 + vc2). Without gravity, a head-on impact without

@@ -183,14 +183,23 @@ TEST(Identifiability, ClassificationFollowsTheBoundFlags) {
   ParameterInterval a = make(false, false), b = make(false, true), c = make(true, false),
                     d = make(true, true);
   detail::classify(a, false);
-  detail::classify(b, true);
+  detail::classify(b, true, ParameterRole::kFrictionCap);
   detail::classify(c, false);
   detail::classify(d, false);
+  // The reason comes from the declared role, not from the name.
+  ParameterInterval e = make(false, true);
+  detail::classify(e, true, ParameterRole::kOther);
+  EXPECT_EQ(e.statement.find("sticks"), std::string::npos) << e.statement;
+  e = make(false, true);
+  e.name = "muR";
+  detail::classify(e, true, ParameterRole::kRollingCap);
+  EXPECT_NE(e.statement.find("never reaches its cap muR*l*fn"), std::string::npos) << e.statement;
   EXPECT_EQ(a.status, Identifiability::kIdentified);
   EXPECT_EQ(a.statement, "mu in [0.31, 0.9]");
   EXPECT_EQ(b.status, Identifiability::kLowerBoundOnly);
   EXPECT_EQ(b.statement.rfind("mu >= 0.31, upper bound not identified", 0), 0u) << b.statement;
-  EXPECT_NE(b.statement.find("the contact sticks"), std::string::npos) << b.statement;
+  EXPECT_NE(b.statement.find("the contact sticks: the friction cap mu*fn"), std::string::npos)
+      << b.statement;
   EXPECT_EQ(c.status, Identifiability::kUpperBoundOnly);
   EXPECT_EQ(c.statement.rfind("mu <= 0.9, lower bound not identified", 0), 0u) << c.statement;
   EXPECT_EQ(d.status, Identifiability::kNotIdentified);
