@@ -1,4 +1,5 @@
-// `ricochet effects [NAME]`: the registry of physical effects (docs/commands/effects.md).
+// `ricochet effects [NAME]`: the registry of physical effects (docs/commands/effects.md);
+// `--markdown`, the catalog page docs/effects/README.md.
 #include <fmt/format.h>
 
 #include <cmath>
@@ -8,6 +9,7 @@
 #include "cli_common.hpp"
 #include "common/csv.hpp"
 #include "common/error.hpp"
+#include "effects/catalog.hpp"
 #include "effects/coefficient_law.hpp"
 #include "effects/registry.hpp"
 
@@ -18,6 +20,7 @@ struct EffectsOptions {
   OutputOptions output;
   std::string name;
   std::vector<std::string> plugins;
+  bool markdown = false;
 };
 
 nlohmann::json describe(const Effect& e) {
@@ -35,12 +38,22 @@ nlohmann::json describe(const Effect& e) {
                         {"upper", p.upper},
                         {"nominal", p.nominal},
                         {"calibrated", p.calibrated},
-                        {"description", std::string(p.description)}};
+                        {"description", std::string(p.description)},
+                        {"role", std::string(role_name(p.role))},
+                        {"identified_by", std::string(identified_by_name(p.identified_by))}};
     q["neutral"] = std::isnan(p.neutral) ? nlohmann::json(nullptr) : nlohmann::json(p.neutral);
     j["parameters"].push_back(q);
   }
+  const Signature sig = e.signature();
   j["generated"] = e.generated();
-  j["meaning"] = std::string(e.signature().meaning);
+  j["meaning"] = std::string(sig.meaning);
+  j["family"] = std::string(family_name(e.kind().family));
+  j["variable"] = std::string(variable_name(e.kind().variable));
+  j["signature"] = nlohmann::json::array();
+  for (const SignatureTrend& t : sig.trends)
+    j["signature"].push_back(
+        {{"quantity", std::string(t.quantity)}, {"feature", std::string(t.feature)}});
+  j["contact_bias"] = sig.contact_bias;
   j["state"] = nlohmann::json::array();
   for (const auto& s : e.state())
     j["state"].push_back({{"name", std::string(s.name)}, {"unit", std::string(s.unit)}});
@@ -110,6 +123,12 @@ void run(const EffectsOptions& o) {
       throw InputError(p, 0, "--plugin", e.what());
     }
   }
+  if (o.markdown) {
+    if (!o.name.empty())
+      throw InputError("<command line>", 0, "--markdown", "lists the whole catalog: drop NAME");
+    std::fputs(effects::catalog_markdown(registry).c_str(), stdout);
+    return;
+  }
   std::vector<const Effect*> list;
   if (o.name.empty()) {
     list = registry.all();
@@ -155,6 +174,11 @@ void add_effects_command(CLI::App& app) {
   sub->add_option("NAME", opts->name, "Show one effect in detail");
   sub->add_option("--plugin", opts->plugins, "Load user effects from a shared library");
   add_output_options(sub, opts->output);
+  sub->add_flag("--markdown", opts->markdown,
+                "Print the catalog as Markdown, the page docs/effects/README.md (with --plugin, "
+                "the plugins' effects too)")
+      ->excludes("--json")
+      ->excludes("--out");
   sub->callback([opts] { run(*opts); });
 }
 

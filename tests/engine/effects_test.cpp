@@ -4,11 +4,13 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "common/error.hpp"
+#include "effects/catalog.hpp"
 #include "effects/model.hpp"
 #include "effects/registry.hpp"
 #include "engine/effect_checks.hpp"
@@ -160,6 +162,35 @@ TEST(Registry, AParameterTrendNamesARoleNotAName) {
             std::string::npos)
       << msg;
   EXPECT_NE(refusal_of([] { (void)parse_trend({"param other", "speed_in"}); }), "accepted");
+}
+
+// docs/effects/README.md is `ricochet effects --markdown`: regenerate it after changing an
+// effect's declaration (build/cli/ricochet effects --markdown > docs/effects/README.md).
+TEST(EffectCatalog, CommittedPageIsTheGeneratedOne) {
+  std::ifstream in(std::string(RICOCHET_SOURCE_DIR) + "/docs/effects/README.md");
+  ASSERT_TRUE(in) << "docs/effects/README.md is missing";
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string generated = effects::catalog_markdown(EffectRegistry::with_builtins());
+  // Line by line, so that a failure shows the first stale line rather than two whole pages.
+  std::istringstream committed(text.str()), fresh(generated);
+  std::string a, b;
+  for (int line = 1; std::getline(fresh, b); ++line) {
+    const bool more = static_cast<bool>(std::getline(committed, a));
+    if (!more || a != b) {
+      ADD_FAILURE() << "docs/effects/README.md line " << line
+                    << " differs from `ricochet effects --markdown` (regenerate it):\n  committed: "
+                    << (more ? a : "<end of file>") << "\n  generated: " << b;
+      break;
+    }
+  }
+  EXPECT_TRUE(text.str() == generated) << "regenerate docs/effects/README.md";
+  // The page is the declarations, not a copy of them: every built-in's row and its roles.
+  EXPECT_NE(generated.find("| hertz_stiffness | coefficient | stiffness | penetration |"),
+            std::string::npos);
+  EXPECT_NE(generated.find("`kn` [N/m] 100000 to 1e+09, normal_stiffness, fixed (identified by "
+                           "contact_features)"),
+            std::string::npos);
 }
 
 TEST(Effects, ModelCompositionRules) {
