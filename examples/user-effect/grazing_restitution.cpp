@@ -1,8 +1,8 @@
 // A user-written effect, compiled as a plugin: angle-dependent restitution for grazing impacts
-// (family 6 of ../../docs/effects/README.md). Beladjine et al. (2007, Phys. Rev. E 75, 061305)
-// measured that grains hitting a granular bed at a grazing angle rebound with a larger
-// restitution than head-on ones. Written with the impact angle theta of each contact, taken at
-// the contact's onset (tan theta = |vn| / |vt|):
+// (a restitution law in the incidence angle, which the built-in catalog does not hold). Beladjine
+// et al. (2007, Phys. Rev. E 75, 061305) measured that grains hitting a granular bed at a grazing
+// angle rebound with a larger restitution than head-on ones. Written with the impact angle theta of
+// each contact, taken at the contact's onset (tan theta = |vn| / |vt|):
 //   e_n^2_eff = e_n^2 * (1 + kg * cos^2(theta))     (clamped at 1 by the `normal` effect)
 // kg = 0 recovers the paper's law.
 //
@@ -21,6 +21,10 @@ constexpr ricochet::ParameterSpec kParams[] = {
     {"kg", "-", 0.0, 5.0, 0.0, 0.0, true, "grazing gain of e_n^2 (0 = angle-independent)"},
 };
 constexpr ricochet::StateSpec kState[] = {{"cos2", "-"}};
+// What the diagnosis should see when the effect is missing: the calibrated e_n^2 and the
+// V_out^y residual trending with the incidence angle (words of docs/effects/README.md).
+constexpr ricochet::SignatureTrend kTrends[] = {{"param restitution", "impact_angle"},
+                                                {"residual vy", "impact_angle"}};
 
 class GrazingRestitution final : public ricochet::Effect {
  public:
@@ -39,6 +43,7 @@ class GrazingRestitution final : public ricochet::Effect {
   ricochet::LawKind kind() const override {
     return {ricochet::Family::kRestitution, ricochet::Variable::kIncidenceAngle};
   }
+  ricochet::Signature signature() const override { return {"grazing restitution", kTrends}; }
   std::span<const ricochet::ParameterSpec> parameters() const override { return kParams; }
   std::span<const ricochet::StateSpec> state() const override { return kState; }
 
