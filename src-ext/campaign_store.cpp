@@ -35,7 +35,7 @@ const std::vector<std::string>& campaign_value_names() {
          {"wall_s", "cpu_s", "steps", "grains", "block_spheres", "dt_s", "sim_time_s",
           "rayleigh_fraction", "hertz_fraction", "force_contact_start_s", "force_contact_end_s",
           "energy_dissipated_J", "window_start_s", "window_end_s", "points_before", "points_after",
-          "penetration_max_m"})
+          "penetration_max_m", "block_mass_kg"})
       n.push_back(s);
     return n;
   }();
@@ -104,7 +104,8 @@ std::vector<double> entry_values(const ImpactResult& r) {
         r.ok() ? r.energy_dissipated_J : kNaN, r.ok() ? r.reconstruction.contact_start_s : kNaN,
         r.ok() ? r.reconstruction.contact_end_s : kNaN,
         r.ok() ? static_cast<double>(r.reconstruction.points_before) : kNaN,
-        r.ok() ? static_cast<double>(r.reconstruction.points_after) : kNaN, r.penetration_max_m})
+        r.ok() ? static_cast<double>(r.reconstruction.points_after) : kNaN, r.penetration_max_m,
+        r.block_mass_kg})
     v[k++] = x;
   return v;
 }
@@ -116,7 +117,9 @@ std::string join(const std::vector<std::string>& v) {
 }
 
 // Index datasets are appended one after the other: a run killed between two appends leaves them
-// with different lengths. Truncate to the shortest so that they line up again.
+// with different lengths. Truncate to the shortest so that they line up again. An index written
+// before the last value columns existed (campaign_value_names() only grows at its end, e.g.
+// block_mass_kg) is widened, its rows padded with NaN, so that a resumed campaign appends to it.
 void repair_index(h5::File& f) {
   if (!f.exists("/dem/index/id")) return;
   std::size_t n = std::numeric_limits<std::size_t>::max();
@@ -124,6 +127,12 @@ void repair_index(h5::File& f) {
   const auto values = f.exists("/dem/index/values") ? f.read_doubles("/dem/index/values", &dims)
                                                     : std::vector<double>{};
   const std::size_t columns = campaign_value_names().size();
+  const std::size_t width = dims.size() > 1 ? dims[1] : columns;
+  if (width > columns)
+    throw std::runtime_error(fmt::format(
+        "{}: /dem/index/values has {} columns, more than the {} this ricochet knows: the file was "
+        "written by a newer version",
+        f.path(), width, columns));
   n = std::min(n, dims.empty() ? 0 : dims[0]);
   std::map<std::string, std::vector<std::string>> strings;
   for (const char* c : kStringColumns) {
@@ -131,12 +140,17 @@ void repair_index(h5::File& f) {
     strings[c] = f.exists(p) ? f.read_strings(p) : std::vector<std::string>{};
     n = std::min(n, strings[c].size());
   }
-  bool aligned = dims.empty() ? n == 0 : dims[0] == n;
+  bool aligned = (dims.empty() ? n == 0 : dims[0] == n) && width == columns;
   for (const auto& [c, s] : strings) aligned = aligned && s.size() == n;
   if (aligned) return;
   f.remove("/dem/index");
   if (n == 0) return;
-  f.append_rows("/dem/index/values", std::span<const double>(values.data(), n * columns), columns);
+  std::vector<double> rows(n * columns, kNaN);
+  for (std::size_t i = 0; i < n; ++i)
+    std::copy_n(values.begin() + static_cast<long>(i * width), width,
+                rows.begin() + static_cast<long>(i * columns));
+  f.append_rows("/dem/index/values", rows, columns);
+  f.set_attr("/dem/index/values", "columns", join(campaign_value_names()));
   for (auto& [c, s] : strings) {
     s.resize(n);
     f.append_strings("/dem/index/" + c, s);
@@ -263,6 +277,8 @@ std::vector<CampaignEntry> read_index_unlocked(const std::string& path) {
     e.params = s["params"][i];
     e.values.assign(values.begin() + static_cast<long>(i * columns),
                     values.begin() + static_cast<long>((i + 1) * columns));
+    // An index from before the last value columns existed: those read as NaN.
+    e.values.resize(std::max(e.values.size(), campaign_value_names().size()), kNaN);
     out.push_back(std::move(e));
   }
   return out;
@@ -280,49 +296,22 @@ std::vector<CampaignEntry> read_campaign_index(const std::string& path) {
   return read_index_unlocked(path);
 }
 
-Track read_campaign_track(const std::string& path, const std::string& id) {
+BlockTrack read_campaign_track(const std::string& path, const std::string& id) {
   if (!fs::exists(path)) throw std::runtime_error("no campaign file " + path);
   FileLock lock(path, FileLock::Kind::kShared);
-  h5::File f(path, h5::File::Mode::kRead);
-  const std::string tg = "/dem/tracks/" + id;
-  if (!f.exists(tg)) throw std::runtime_error(path + " has no track " + tg);
-  std::vector<std::size_t> dims;
-  const auto rows = f.read_doubles(tg, &dims);
-  std::vector<std::string> columns;
-  if (f.has_attr(tg, "columns")) {
-    const std::string text = f.attr_string(tg, "columns");
-    std::size_t a = 0;
-    while (a <= text.size()) {
-      const auto b = std::min(text.find(',', a), text.size());
-      columns.push_back(text.substr(a, b - a));
-      a = b + 1;
-    }
-  } else {
-    // Written before the attribute: the first campaigns' twelve columns.
-    columns.assign(Track::column_names().begin(), Track::column_names().begin() + 12);
-  }
-  if (dims.size() != 2 || dims[1] != columns.size())
-    throw std::runtime_error(fmt::format("{}: {} does not have the {} columns its attribute names",
-                                         path, tg, columns.size()));
-  return Track::from_rows(rows, columns);
+  return read_block_track(path, id);
 }
 
 void append_result(const std::string& path, const ImpactResult& r, const ImpactSpec& spec,
                    const std::string& design_name) {
   FileLock lock(path);
+  // The track first: an index row never points at a missing track.
+  if (r.track.size() > 0) write_block_track(path, r.id, r.track);
   {
     h5::File f(path, h5::File::Mode::kReadWrite);
     f.set_attr("/dem", "schema", "ricochet-dem-campaign-1");
     f.set_attr("/dem", "design", design_name);
     repair_index(f);
-    // The track first: an index row never points at a missing track.
-    const std::string tg = "/dem/tracks/" + r.id;
-    if (r.track.size() > 0) {
-      const auto rows = r.track.rows();
-      f.write(tg, rows, {r.track.size(), Track::column_names().size()});
-      f.set_attr(tg, "columns", join(Track::column_names()));
-      f.set_attr(tg, "frame", "paper: x flight direction, y up, omega > 0 counter-clockwise");
-    }
     const auto values = entry_values(r);
     f.append_rows("/dem/index/values", values, values.size());
     f.set_attr("/dem/index/values", "columns", join(campaign_value_names()));

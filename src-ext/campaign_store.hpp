@@ -30,10 +30,11 @@ void append_result(const std::string& path, const ImpactResult& result, const Im
 /// Reads the index of a campaign file (empty when the file or the index does not exist).
 std::vector<CampaignEntry> read_campaign_index(const std::string& path);
 
-/// Reads the track of impact `id` (/dem/tracks/ID) by the names of its `columns` attribute, so
-/// that files written before a column existed (12 columns: no torque, no overlap) read with that
-/// column NaN. Throws std::runtime_error when the file has no such track.
-Track read_campaign_track(const std::string& path, const std::string& id);
+/// Reads the track of impact `id` (/dem/tracks/ID) under the file's shared lock, with the
+/// library's reader (impact/block_track.hpp: by the names of its `columns` attribute, so that
+/// files written before a column existed read with that column NaN). Throws std::runtime_error
+/// when the file does not exist, InputError when it has no such track or a malformed one.
+BlockTrack read_campaign_track(const std::string& path, const std::string& id);
 
 /// JSON record of a spec (shape, vin, alpha, seed, overrides).
 std::string spec_json(const ImpactSpec& spec);

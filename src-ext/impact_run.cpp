@@ -81,7 +81,7 @@ double process_cpu_s() {
 
 // Nearest record to each frame time t0 + k / fps (the camera samples the motion; it does not
 // average it).
-kinematics::Track frames(const Track& tr, double fps) {
+kinematics::Track frames(const BlockTrack& tr, double fps) {
   kinematics::Track out;
   out.source = "LIGGGHTS block track";
   if (tr.size() == 0) return out;
@@ -112,14 +112,6 @@ std::map<std::string, std::string> bed_overrides(const ImpactSpec& spec) {
   return bed;
 }
 
-const std::vector<std::string>& Track::column_names() {
-  static const std::vector<std::string> names = {
-      "t[s]",        "x[m]",         "y[m]",        "theta[rad]",      "vx[m/s]",
-      "vy[m/s]",     "w[rad/s]",     "fcx[N]",      "fcy[N]",          "penetration[m]",
-      "ke_block[J]", "ke_grains[J]", "torque[N*m]", "overlap_d_max[-]"};
-  return names;
-}
-
 namespace {
 
 // A column name without its unit: "torque[N*m]" -> "torque".
@@ -140,55 +132,16 @@ void unwrap_theta(std::vector<double>& theta) {
   }
 }
 
-// Every column as long as t, NaN where a source had none.
-void pad_columns(Track& tr) {
-  for (const auto& name : Track::column_names()) {
-    auto* c = tr.column(name);
-    c->resize(tr.t.size(), kNaN);
-  }
-}
-
 }  // namespace
 
-namespace {
-
-// The member holding column `name` (with or without its unit); nullptr for an unknown name.
-std::vector<double> Track::*track_member(const std::string& name) {
-  static const std::vector<std::pair<std::string, std::vector<double> Track::*>> members = {
-      {"t", &Track::t},
-      {"x", &Track::x},
-      {"y", &Track::y},
-      {"theta", &Track::theta},
-      {"vx", &Track::vx},
-      {"vy", &Track::vy},
-      {"w", &Track::w},
-      {"fcx", &Track::fcx},
-      {"fcy", &Track::fcy},
-      {"penetration", &Track::penetration},
-      {"ke_block", &Track::ke_block},
-      {"ke_grains", &Track::ke_grains},
-      {"torque", &Track::torque},
-      {"overlap_d_max", &Track::overlap_d_max}};
-  const std::string bare = bare_name(name);
-  for (const auto& [n, m] : members)
-    if (n == bare) return m;
-  return nullptr;
-}
-
-}  // namespace
-
-std::vector<double>* Track::column(const std::string& name) {
-  const auto m = track_member(name);
-  return m ? &(this->*m) : nullptr;
-}
-
-Track Track::read(const std::string& path) {
+BlockTrack read_deck_track(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot read the block track " + path);
-  Track tr;
+  BlockTrack tr;
   // Columns of the file: from its title line, else the layout before the title named them
   // (twelve columns; a thirteenth is the torque).
-  std::vector<std::string> names(column_names().begin(), column_names().begin() + 13);
+  const auto& all = BlockTrack::column_names();
+  std::vector<std::string> names(all.begin(), all.begin() + 13);
   std::string line;
   bool titled = false;
   while (std::getline(in, line)) {
@@ -221,39 +174,10 @@ Track Track::read(const std::string& path) {
         col->resize(row, kNaN);
         col->push_back(v[c]);
       }
-    pad_columns(tr);
+    tr.pad();
   }
-  pad_columns(tr);
+  tr.pad();
   unwrap_theta(tr.theta);
-  return tr;
-}
-
-std::vector<double> Track::rows() const {
-  std::vector<const std::vector<double>*> cols;
-  for (const auto& name : column_names()) cols.push_back(&(this->*track_member(name)));
-  std::vector<double> out;
-  out.reserve(size() * cols.size());
-  for (std::size_t i = 0; i < size(); ++i)
-    for (const auto* c : cols) out.push_back(i < c->size() ? (*c)[i] : kNaN);
-  return out;
-}
-
-Track Track::from_rows(const std::vector<double>& rows, const std::vector<std::string>& columns) {
-  if (columns.empty() || rows.size() % columns.size() != 0)
-    throw std::invalid_argument("track: the data is not a whole number of rows of " +
-                                std::to_string(columns.size()) + " columns");
-  Track tr;
-  const std::size_t n = rows.size() / columns.size();
-  bool has_t = false;
-  for (std::size_t c = 0; c < columns.size(); ++c) {
-    auto* col = tr.column(columns[c]);
-    if (!col) continue;
-    has_t = has_t || col == &tr.t;
-    col->resize(n);
-    for (std::size_t i = 0; i < n; ++i) (*col)[i] = rows[i * columns.size() + c];
-  }
-  if (!has_t) throw std::invalid_argument("track: no t column");
-  pad_columns(tr);
   return tr;
 }
 
@@ -418,6 +342,7 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
     // The restart carries the bed's step count on: count the impact's own steps.
     const long first_step = lmp.step();
     block_mass = lmp.number("block_mass_kg").value_or(0);
+    if (block_mass > 0) r.block_mass_kg = block_mass;
     t_max = lmp.number("t_max_s").value_or(0);
     const long chunk = static_cast<long>(lmp.number("chunk_steps").value_or(100));
     const long expected = bed.grains + r.block_spheres;
@@ -493,7 +418,8 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
 
   // ---- Extraction (rank 0 of the instance reads the deck's track file)
   try {
-    r.track = Track::read(out + ".track.txt");
+    r.track = read_deck_track(out + ".track.txt");
+    r.track.block_mass_kg = r.block_mass_kg;
   } catch (const std::exception& e) {
     if (r.ok()) {
       r.status = "extraction_failed";
@@ -511,7 +437,7 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
         r.track.overlap_d_max[i] = overlaps[k].second;
     }
   }
-  const Track& tr = r.track;
+  const BlockTrack& tr = r.track;
   for (double p : tr.penetration) r.penetration_max_m = std::max(r.penetration_max_m, p);
   if (r.status == "no_rebound")
     r.message = fmt::format(

@@ -6,6 +6,7 @@
 #include <mpi.h>
 
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -15,6 +16,7 @@
 #include "bed.hpp"
 #include "common/progress.hpp"
 #include "engine/shape.hpp"
+#include "impact/block_track.hpp"
 #include "impact/impact_set.hpp"
 #include "impact/impact_snapshot.hpp"
 #include "impact_spec.hpp"
@@ -26,35 +28,12 @@ namespace ricochet::dem {
 /// Bed overrides of a spec including its replica seed (the bed's cache key).
 std::map<std::string, std::string> bed_overrides(const ImpactSpec& spec);
 
-/// The block state recorded by the deck (paper frame), one row per record (at most
-/// `record_dt_s` apart, impact/setup.in).
-///
-/// Columns: the first twelve as since the first campaigns (t, x, y, theta, vx, vy, w, fcx, fcy,
-/// penetration, ke_block, ke_grains), then `torque`, the contact torque on the block about its
-/// centre of mass (paper frame: counter-clockwise > 0; the slab's block, like fcx and fcy), and
-/// `overlap_d_max`, the largest overlap over diameter of the grain contacts (grain-grain and
-/// grain-block pairs; d the smaller sphere's diameter) at that record, which the driver adds
-/// (ricochet::dem::OverlapProbe; NaN when the deck ran without it). Tracks written before a column
-/// existed read it as NaN: every reader goes by column name.
-struct Track {
-  std::vector<double> t, x, y, theta, vx, vy, w, fcx, fcy, penetration, ke_block, ke_grains;
-  std::vector<double> torque, overlap_d_max;
-  static const std::vector<std::string>& column_names();  ///< with units, e.g. "t[s]"
-  std::size_t size() const { return t.size(); }
-  /// Reads ${out}.track.txt (fix print output) by the names of its title line ("# t[s] x[m]
-  /// ..."; without one, the twelve legacy columns, then torque); a column the file does not
-  /// have is NaN. theta is unwrapped.
-  static Track read(const std::string& path);
-  /// Row-major copy (size() x column_names().size()) for HDF5.
-  std::vector<double> rows() const;
-  /// The inverse of rows() for any subset and order of columns, given by name (`columns`, as in
-  /// the `columns` attribute of /dem/tracks/ID, with or without units): missing columns are
-  /// NaN, unknown ones are ignored. theta is taken as stored. Throws std::invalid_argument when
-  /// the sizes disagree or there is no t column.
-  static Track from_rows(const std::vector<double>& rows, const std::vector<std::string>& columns);
-  /// Column `name` ("t", "torque" or "torque[N*m]", ...); nullptr for an unknown name.
-  std::vector<double>* column(const std::string& name);
-};
+/// Reads the deck's block track ${out}.track.txt (fix print output, impact/setup.in: one record
+/// at most `record_dt_s` apart) by the names of its title line ("# t[s] x[m] ..."; without one,
+/// the twelve legacy columns, then torque); a column the file does not have is NaN, and so is
+/// overlap_d_max, which the driver adds (ricochet::dem::OverlapProbe). theta is unwrapped. A
+/// line cut by a crash is skipped. Throws std::runtime_error when the file cannot be read.
+BlockTrack read_deck_track(const std::string& path);
 
 struct ImpactResult {
   std::string id;
@@ -66,8 +45,11 @@ struct ImpactResult {
 
   Impact impact;  ///< the impact-set row (meaningful when ok())
   kinematics::Reconstruction reconstruction;
-  Track track;
-  double force_contact_start_s = -1, force_contact_end_s = -1;  ///< DEM contact-force window
+  /// The block's records (paper frame; its force and torque are the slab block's, whose mass is
+  /// block_mass_kg, also stored with the track).
+  BlockTrack track;
+  double block_mass_kg = std::numeric_limits<double>::quiet_NaN();  ///< the simulated block [kg]
+  double force_contact_start_s = -1, force_contact_end_s = -1;      ///< DEM contact-force window
   double penetration_max_m = 0;
   double energy_dissipated_J = 0;     ///< lab-length block: (KE + PE) lost over the contact
   double energy_dissipated_frac = 0;  ///< over the block's kinetic energy at first contact

@@ -3,6 +3,7 @@
 #include <hdf5.h>
 
 #include <cstdlib>
+#include <fstream>
 #include <stdexcept>
 #include <unordered_set>
 #include <utility>
@@ -101,6 +102,15 @@ std::string parent_of(const std::string& path) {
 }
 
 }  // namespace
+
+bool is_hdf5(const std::string& path) {
+  // The signature at offset 0 (HDF5 file format specification, "Format Signature"); files with
+  // a user block put it at 512, 1024, ..., which Ricochet never writes.
+  std::ifstream in(path, std::ios::binary);
+  char magic[8] = {};
+  in.read(magic, 8);
+  return in && std::string(magic, 8) == "\x89HDF\r\n\x1a\n";
+}
 
 File::File(const std::string& path, Mode mode) : path_(path) {
   switch (mode) {

@@ -14,6 +14,11 @@
 
 namespace ricochet::h5 {
 
+/// Whether `path` is a readable file that starts with the HDF5 signature (a CSV, a missing file
+/// or a folder is not). Readers of optional groups (tracks, the impact picture) ask this first,
+/// so that a CSV impact set simply has none.
+bool is_hdf5(const std::string& path);
+
 class File {
  public:
   enum class Mode { kRead, kReadWrite, kTruncate };

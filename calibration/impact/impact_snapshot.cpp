@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <fstream>
 #include <stdexcept>
 
 #include "common/h5.hpp"
@@ -40,13 +39,6 @@ void read_table(const h5::File& file, const std::string& dset,
     for (std::size_t c = 0; c < w; ++c) columns[c]->push_back(rows[w * i + c]);
 }
 
-bool is_hdf5(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  char magic[8] = {};
-  in.read(magic, 8);
-  return in && std::string(magic, 8) == "\x89HDF\r\n\x1a\n";
-}
-
 }  // namespace
 
 void write_snapshot(const std::string& path, const ImpactSnapshot& s) {
@@ -76,7 +68,7 @@ void write_snapshot(const std::string& path, const ImpactSnapshot& s) {
 }
 
 std::optional<ImpactSnapshot> read_snapshot(const std::string& path) {
-  if (!is_hdf5(path)) return std::nullopt;
+  if (!h5::is_hdf5(path)) return std::nullopt;
   h5::File file(path, h5::File::Mode::kRead);
   if (!file.exists(kGroup)) return std::nullopt;
   ImpactSnapshot s;

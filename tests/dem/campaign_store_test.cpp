@@ -32,7 +32,8 @@ constexpr int kAppends = 25;
       r.id = spec.id;
       r.status = "ok";
       for (int k = 0; k < 50; ++k)
-        for (const auto& name : Track::column_names()) r.track.column(name)->push_back(1e-3 * k);
+        for (const auto& name : BlockTrack::column_names())
+          r.track.column(name)->push_back(1e-3 * k);
       append_result(path, r, spec, "concurrency-test");
     }
   } catch (const std::exception& e) {
@@ -43,8 +44,7 @@ constexpr int kAppends = 25;
 }
 
 TEST(DemCampaignStore, ReaderAndWriterInTwoProcessesNeverCollide) {
-  const fs::path d =
-      fs::temp_directory_path() / ("dem-store-test-" + std::to_string(::getpid()));
+  const fs::path d = fs::temp_directory_path() / ("dem-store-test-" + std::to_string(::getpid()));
   fs::remove_all(d);
   fs::create_directories(d);
   const std::string path = (d / "campaign.h5").string();

@@ -117,11 +117,11 @@ TEST(DemEndToEnd, OneImpactThroughLiggghtsExtractionAndHdf5) {
   std::vector<std::size_t> dims;
   const auto track = f.read_doubles("/dem/tracks/e2e", &dims);
   ASSERT_EQ(dims.size(), 2u);
-  EXPECT_EQ(dims[1], Track::column_names().size());
+  EXPECT_EQ(dims[1], BlockTrack::column_names().size());
   EXPECT_EQ(dims[0], r.track.size());
   // The contact torque and the grains' largest overlap are recorded at every record, and the
   // records are at most record_dt_s (0.2 ms) apart.
-  const Track back = read_campaign_track(h5, "e2e");
+  const BlockTrack back = read_campaign_track(h5, "e2e");
   ASSERT_EQ(back.size(), r.track.size());
   double torque_max = 0, overlap_max = 0;
   for (std::size_t i = 0; i < back.size(); ++i) {
@@ -133,6 +133,9 @@ TEST(DemEndToEnd, OneImpactThroughLiggghtsExtractionAndHdf5) {
   }
   EXPECT_GT(torque_max, 0.0);
   EXPECT_GT(overlap_max, 0.0);
+  // The slab's block mass goes with its force: on the track and in the index.
+  EXPECT_GT(r.block_mass_kg, 0.0);
+  EXPECT_DOUBLE_EQ(back.block_mass_kg, r.block_mass_kg);
   EXPECT_LT(overlap_max, 0.3);  // (measured: 0.14 of d under the block on this bed)
   // Before the first contact (free flight) the torque is zero: gravity acts at the centre of mass.
   EXPECT_EQ(back.torque[0], 0.0);

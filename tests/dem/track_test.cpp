@@ -1,10 +1,12 @@
-// The block track's columns without LIGGGHTS: the deck's text file (with and without its title
-// line, before and after the torque column), the HDF5 track of a campaign file read by its
-// `columns` attribute (a 12-column file written before the torque and overlap columns existed,
-// and a new one), and append_result's round trip.
+// The block track without LIGGGHTS: the deck's text file (with and without its title line, before
+// and after the torque column), append_result's round trip through the library's writer and
+// reader (impact/block_track.hpp; tests/impact/block_track_test.cpp covers the reader's rules),
+// with the slab block's mass on the track and in the index, and a campaign index written before
+// block_mass_kg existed, widened when a resumed campaign appends to it.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -27,19 +29,6 @@ fs::path temp_dir(const std::string& name) {
   return d;
 }
 
-TEST(DemTrack, ColumnNamesKeepTheFirstTwelveAndAddTorqueAndOverlap) {
-  const auto& n = Track::column_names();
-  ASSERT_EQ(n.size(), 14u);
-  EXPECT_EQ(n[0], "t[s]");
-  EXPECT_EQ(n[11], "ke_grains[J]");
-  EXPECT_EQ(n[12], "torque[N*m]");
-  EXPECT_EQ(n[13], "overlap_d_max[-]");
-  Track tr;
-  for (const auto& name : n) EXPECT_NE(tr.column(name), nullptr) << name;
-  EXPECT_EQ(tr.column("torque"), &tr.torque);
-  EXPECT_EQ(tr.column("nonsense[m]"), nullptr);
-}
-
 TEST(DemTrack, TextFileIsReadByItsTitleLine) {
   const fs::path d = temp_dir("text");
   {
@@ -51,7 +40,7 @@ TEST(DemTrack, TextFileIsReadByItsTitleLine) {
     f << "0.002 0.103 0.198 -0.065 2.9 -2.31 -65 5 40 0.001 9.5 0.1 1.25\n";
     f << "0.003 0.106 0.196 6.1 2.9 -2.32 -64";  // cut
   }
-  const Track a = Track::read((d / "new.track.txt").string());
+  const BlockTrack a = read_deck_track((d / "new.track.txt").string());
   ASSERT_EQ(a.size(), 2u);
   EXPECT_DOUBLE_EQ(a.torque[1], 1.25);
   EXPECT_DOUBLE_EQ(a.fcy[1], 40.0);
@@ -65,7 +54,7 @@ TEST(DemTrack, TextFileIsReadByItsTitleLine) {
     f << "0.001 0.1 0.2 3.0 2.9 -2.3 -65 0 0 -0.01 10 0\n";
     f << "0.002 0.103 0.198 -3.0 2.9 -2.31 -65 5 40 0.001 9.5 0.1\n";
   }
-  const Track b = Track::read((d / "old.track.txt").string());
+  const BlockTrack b = read_deck_track((d / "old.track.txt").string());
   ASSERT_EQ(b.size(), 2u);
   EXPECT_DOUBLE_EQ(b.ke_grains[1], 0.1);
   EXPECT_TRUE(std::isnan(b.torque[0]));
@@ -77,64 +66,72 @@ TEST(DemTrack, TextFileIsReadByItsTitleLine) {
     std::ofstream f(d / "bare.track.txt");
     f << "0.001 0.1 0.2 0 2.9 -2.3 -65 0 0 -0.01 10 0\n";
   }
-  const Track c = Track::read((d / "bare.track.txt").string());
+  const BlockTrack c = read_deck_track((d / "bare.track.txt").string());
   ASSERT_EQ(c.size(), 1u);
   EXPECT_DOUBLE_EQ(c.w[0], -65.0);
   EXPECT_TRUE(std::isnan(c.torque[0]));
 }
 
-TEST(DemTrack, CampaignTracksAreReadByTheirColumnsAttribute) {
+TEST(DemTrack, AppendResultKeepsTheTrackAndTheBlockMass) {
   const fs::path d = temp_dir("h5");
-  const std::string path = (d / "old.h5").string();
-  {
-    // A campaign file of the first layout: 12 columns, named by the attribute.
-    h5::File f(path, h5::File::Mode::kTruncate);
-    const std::vector<double> rows = {0.001, 0.1,   0.2, 0, 2.9,   -2.3,  -65,   0,
-                                      0,     -0.01, 10,  0, 0.002, 0.103, 0.198, -0.06,
-                                      2.9,   -2.31, -65, 5, 40,    0.001, 9.5,   0.1};
-    f.write("/dem/tracks/old", rows, {2, 12});
-    f.set_attr("/dem/tracks/old", "columns",
-               "t[s],x[m],y[m],theta[rad],vx[m/s],vy[m/s],w[rad/s],fcx[N],fcy[N],penetration[m],"
-               "ke_block[J],ke_grains[J]");
-  }
-  const Track old = read_campaign_track(path, "old");
-  ASSERT_EQ(old.size(), 2u);
-  EXPECT_DOUBLE_EQ(old.fcy[1], 40.0);
-  EXPECT_DOUBLE_EQ(old.penetration[1], 0.001);
-  EXPECT_TRUE(std::isnan(old.torque[1]));
-  EXPECT_TRUE(std::isnan(old.overlap_d_max[1]));
-  EXPECT_THROW(read_campaign_track(path, "missing"), std::runtime_error);
-
-  // The current layout, written by append_result and read back column by column.
   ImpactResult r;
   r.id = "new";
   r.status = "timeout";
+  r.block_mass_kg = 9.586;
   for (int i = 0; i < 3; ++i)
-    for (const auto& name : Track::column_names())
+    for (const auto& name : BlockTrack::column_names())
       r.track.column(name)->push_back(0.001 * (i + 1) + (name == "torque[N*m]" ? 7.0 : 0.0));
+  r.track.block_mass_kg = r.block_mass_kg;
   ImpactSpec spec;
   spec.id = "new";
-  const std::string path2 = (d / "new.h5").string();
-  append_result(path2, r, spec, "test");
-  const Track back = read_campaign_track(path2, "new");
+  const std::string path = (d / "new.h5").string();
+  append_result(path, r, spec, "test");
+  const BlockTrack back = read_campaign_track(path, "new");
   ASSERT_EQ(back.size(), 3u);
   EXPECT_DOUBLE_EQ(back.torque[2], 7.003);
   EXPECT_DOUBLE_EQ(back.overlap_d_max[1], 0.002);
-  h5::File f(path2, h5::File::Mode::kRead);
-  std::vector<std::size_t> dims;
-  f.read_doubles("/dem/tracks/new", &dims);
-  ASSERT_EQ(dims.size(), 2u);
-  EXPECT_EQ(dims[1], Track::column_names().size());
+  EXPECT_DOUBLE_EQ(back.block_mass_kg, 9.586);
+  EXPECT_THROW(read_campaign_track(path, "missing"), std::runtime_error);
+  const auto index = read_campaign_index(path);
+  ASSERT_EQ(index.size(), 1u);
+  const auto& names = campaign_value_names();
+  const auto k = static_cast<std::size_t>(std::find(names.begin(), names.end(), "block_mass_kg") -
+                                          names.begin());
+  ASSERT_LT(k, names.size());
+  EXPECT_DOUBLE_EQ(index[0].values[k], 9.586);
 }
 
-TEST(DemTrack, FromRowsRejectsRaggedDataAndATrackWithoutTime) {
-  EXPECT_THROW(Track::from_rows({1, 2, 3}, {"t[s]", "x[m]"}), std::invalid_argument);
-  EXPECT_THROW(Track::from_rows({1, 2}, {"x[m]", "y[m]"}), std::invalid_argument);
-  const Track t = Track::from_rows({1, 2, 3, 4}, {"x[m]", "t[s]", "unknown[-]", "w[rad/s]"});
-  ASSERT_EQ(t.size(), 1u);
-  EXPECT_DOUBLE_EQ(t.t[0], 2.0);
-  EXPECT_DOUBLE_EQ(t.w[0], 4.0);
-  EXPECT_TRUE(std::isnan(t.vx[0]));
+TEST(DemTrack, AnIndexFromBeforeTheBlockMassIsWidenedOnAppend) {
+  const fs::path d = temp_dir("widen");
+  const std::string path = (d / "old.h5").string();
+  const auto& names = campaign_value_names();
+  ASSERT_EQ(names.back(), "block_mass_kg");
+  const std::size_t old_width = names.size() - 1;  // everything but block_mass_kg
+  {
+    h5::File f(path, h5::File::Mode::kTruncate);
+    const std::vector<double> row(old_width, 1.5);
+    f.append_rows("/dem/index/values", row, old_width);
+    for (const char* c : {"id", "status", "message", "shape", "bed_key", "work_dir", "params"})
+      f.append_strings(std::string("/dem/index/") + c, {std::string(c) == "id" ? "old" : ""});
+  }
+  const auto before = read_campaign_index(path);
+  ASSERT_EQ(before.size(), 1u);
+  ASSERT_EQ(before[0].values.size(), names.size());
+  EXPECT_TRUE(std::isnan(before[0].values.back()));
+
+  ImpactResult r;
+  r.id = "new";
+  r.status = "timeout";
+  r.block_mass_kg = 2.0;
+  ImpactSpec spec;
+  spec.id = "new";
+  append_result(path, r, spec, "test");
+  const auto after = read_campaign_index(path);
+  ASSERT_EQ(after.size(), 2u);
+  EXPECT_EQ(after[0].id, "old");
+  EXPECT_DOUBLE_EQ(after[0].values[0], 1.5);
+  EXPECT_TRUE(std::isnan(after[0].values.back()));
+  EXPECT_DOUBLE_EQ(after[1].values.back(), 2.0);
 }
 
 }  // namespace
