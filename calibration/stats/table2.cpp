@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <vector>
 
 #include "common/csv.hpp"
@@ -92,7 +93,10 @@ std::string format_text(const Table2& t) {
   out += head + "\n" + units + "\n";
   auto row = [&](const char* label, auto value, const char* format) {
     std::string line = fmt::format("{:<10}", label);
-    for (const Summary& s : t.columns) line += fmt::format(fmt::runtime(format), value(s));
+    // An undefined cell (the std of one release, the V_out of a plan of throws) prints as "-".
+    for (const Summary& s : t.columns)
+      line += std::isfinite(value(s)) ? fmt::format(fmt::runtime(format), value(s))
+                                      : fmt::format("{:>11}", "-");
     out += line + "\n";
   };
   row(

@@ -1,6 +1,10 @@
-// The resolved campaigns shipped under data/resolved/ (hours of LIGGGHTS, docs/resolved-model.md)
-// are impact sets every tool reads: `ricochet stats FILE.h5 --json` succeeds on each of them and
-// finds the releases its index says rebounded, with finite rebound velocities.
+// `ricochet stats` answers every file shipped under data/ (issue 32: "ricochet stats works on
+// every shipped file"). The impact data (the lab's sets, the plans of throws, and the resolved
+// campaigns, hours of LIGGGHTS, docs/resolved-model.md) are read: each campaign's releases are
+// those its index says rebounded, with finite rebound velocities, and the campaigns that keep
+// tracks get their contact numbers. Every other file (documentation, JSON results, the
+// detection study's tables, the sphere-drop tables, shape files) is refused as bad input, status
+// 2, with a message that names it.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -20,7 +24,7 @@ using test::quote;
 
 class ShippedData : public test::ProgramTest {};
 
-TEST_F(ShippedData, StatsReadsEveryResolvedCampaign) {
+TEST_F(ShippedData, StatsAnswersEveryShippedFile) {
   // The rebounds of each shipped campaign, as its run reported them (data/resolved/README.md and
   // the campaign logs; the others reached an end wall or a time limit). A truncated or
   // regenerated file changes its count, and a file not listed here fails until it is listed.
@@ -66,22 +70,69 @@ TEST_F(ShippedData, StatsReadsEveryResolvedCampaign) {
                                                {"speeds-cdt.h5", 19},
                                                {"speeds-rolling-gb.h5", 23},
                                                {"speeds-long.h5", 27}};
-  const fs::path dir = fs::path(RICOCHET_SOURCE_DIR) / "data/resolved";
+  // The campaigns that keep tracks (/dem/tracks): releases with a track, and tracks of impacts
+  // that did not rebound. The others were shipped with /impacts and /dem/index only.
+  const std::map<std::string, std::pair<int, int>> tracks = {
+      {"lab-cylinders.h5", {28, 0}},
+      {"lab-cylinders-long.h5", {28, 0}},
+      {"lab-cylinders-long-deep.h5", {28, 0}},
+      {"lab-triangles-blind.h5", {26, 5}},
+      {"lab-triangles-blind-long.h5", {30, 1}},
+      {"stiffness-plateau.h5", {63, 0}}};
+  const fs::path data = fs::path(RICOCHET_SOURCE_DIR) / "data";
   std::set<std::string> seen;
-  for (const auto& entry : fs::directory_iterator(dir)) {
-    if (entry.path().extension() != ".h5") continue;
-    const std::string name = entry.path().filename().string();
-    seen.insert(name);
-    const test::RunResult r = ricochet("stats " + quote(entry.path().string()) + " --json");
-    ASSERT_EQ(r.status, 0) << entry.path() << "\n" << r.err;
+  int impact_files = 0, other_files = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(data)) {
+    if (!entry.is_regular_file()) continue;
+    const fs::path& path = entry.path();
+    const std::string name = path.filename().string();
+    const std::string folder = path.parent_path().filename().string();
+    const bool impact_data = path.extension() == ".h5" || (path.extension() == ".csv" &&
+                                                           (folder == "lab" || folder == "design"));
+    const test::RunResult r = ricochet("stats " + quote(path.string()) + " --json");
+    if (!impact_data) {
+      ++other_files;
+      EXPECT_EQ(r.status, 2) << path << "\n" << r.out;
+      EXPECT_TRUE(r.out.empty()) << path << "\n" << r.out.substr(0, 400);
+      EXPECT_NE(r.err.find(path.string()), std::string::npos) << r.err;
+      continue;
+    }
+    ++impact_files;
+    ASSERT_EQ(r.status, 0) << path << "\n" << r.err;
     const auto j = nlohmann::json::parse(r.out);
     ASSERT_TRUE(j.contains("n")) << r.out.substr(0, 400);
+    EXPECT_GT(j["n"].get<int>(), 0) << name;
+    if (folder == "design") EXPECT_TRUE(j["incident_only"].get<bool>()) << name;
+    if (folder != "resolved") continue;
+    seen.insert(name);
     ASSERT_TRUE(rebounds.count(name)) << name << " is shipped but not listed here";
     EXPECT_EQ(j["n"].get<int>(), rebounds.at(name)) << name;
     for (const char* c : {"vout_x", "vout_y", "wout"})
       EXPECT_TRUE(std::isfinite(j["columns"][c]["mean"].get<double>())) << name << " " << c;
+    const auto& t = j["tracks"];
+    if (!tracks.count(name)) {
+      EXPECT_TRUE(t.is_null()) << name << " keeps tracks: list it above";
+      continue;
+    }
+    ASSERT_TRUE(t.is_object()) << name << ": no track summary";
+    EXPECT_EQ(t["with_track"].get<int>(), tracks.at(name).first) << name;
+    EXPECT_EQ(t["other_tracks"].get<int>(), tracks.at(name).second) << name;
+    for (const auto& c : t["impacts"]) {
+      // Every track has a contact: a finite window of a few ms to a few tens, a positive peak
+      // force, records at most 0.5 ms apart (issue 32, item 4), and the slab block's mass.
+      const std::string id = c["id"].get<std::string>();
+      ASSERT_TRUE(c["contact_duration"].is_number()) << name << " " << id;
+      EXPECT_GT(c["contact_duration"].get<double>(), 1e-3) << name << " " << id;
+      EXPECT_LT(c["contact_duration"].get<double>(), 0.2) << name << " " << id;
+      EXPECT_GT(c["peak_normal_force"].get<double>(), 0) << name << " " << id;
+      EXPECT_LE(c["max_interval"].get<double>(), 5e-4) << name << " " << id;
+      EXPECT_GT(c["block_mass"].get<double>(), 0) << name << " " << id;
+    }
   }
   for (const auto& [name, n] : rebounds) EXPECT_TRUE(seen.count(name)) << name << " is missing";
+  // The campaigns, the lab's two sets and the plan of throws in data/design.
+  EXPECT_EQ(impact_files, static_cast<int>(rebounds.size()) + 3);
+  EXPECT_GT(other_files, 0);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +14,8 @@
 #include <string>
 
 #include "common/h5.hpp"
+#include "impact/block_track.hpp"
+#include "impact/impact_set.hpp"
 #include "support/program_test.hpp"
 #include "table2.hpp"
 
@@ -121,6 +124,96 @@ TEST_F(CmdStats, BadInputExitsWithTwoAndNamesTheCell) {
                                  quote(kLab + "cylinders.csv"));
   EXPECT_EQ(ext.status, 2);
   EXPECT_FALSE(fs::exists(dir_ / "x.txt"));
+}
+
+// A campaign-like file: /impacts with C01 and C02, a track for C01 and one for an impact not in
+// the set (a failed run). C01's force: 0, 0, 0, 100, 200, 300, 200, 100, 0, 0, 0 N every 1 ms,
+// its block 1 kg (0.2 m g = 1.962 N), its penetration peaking at 4 mm and 2.5 mm at the end of
+// the force.
+std::string campaign_file(const fs::path& dir, bool malformed) {
+  const std::string path = (dir / "campaign.h5").string();
+  ImpactSet set;
+  for (const char* id : {"C01", "C02"}) {
+    Impact im;
+    im.id = id;
+    im.shape = "cylinder";
+    im.vin = {2.9, -2.3, -65};
+    im.vout = {3.0, 0.8, -40};
+    set.impacts.push_back(im);
+  }
+  write_impact_set_h5(set, path);
+  BlockTrack tr;
+  const double force[] = {0, 0, 0, 100, 200, 300, 200, 100, 0, 0, 0};
+  const double pen[] = {-3, -2, -1, 1, 3, 4, 3.5, 2.5, 1, -1, -3};
+  for (int k = 0; k < 11; ++k) {
+    tr.t.push_back(1e-3 * k);
+    tr.fcy.push_back(force[k]);
+    tr.fcx.push_back(-force[k] / 2);
+    tr.penetration.push_back(1e-3 * pen[k]);
+  }
+  tr.pad();
+  tr.block_mass_kg = 1.0;
+  write_block_track(path, "C01", tr);
+  write_block_track(path, "F01", tr);
+  if (malformed) {
+    h5::File f(path, h5::File::Mode::kReadWrite);
+    // Replaced without its attribute: read as the first campaigns' twelve columns.
+    f.write("/dem/tracks/C01", std::vector<double>(6, 0.0), {2, 3});
+  }
+  return path;
+}
+
+TEST_F(CmdStats, SummarisesTheTracksOfACampaignFile) {
+  const std::string path = campaign_file(dir_, false);
+  const RunResult run = ricochet("stats --json " + quote(path));
+  ASSERT_EQ(run.status, 0) << run.err;
+  const auto doc = nlohmann::json::parse(run.out);
+  const auto& t = doc["tracks"];
+  EXPECT_EQ(t["releases"], 2);
+  EXPECT_EQ(t["with_track"], 1);
+  EXPECT_EQ(t["other_tracks"], 1);
+  ASSERT_EQ(t["impacts"].size(), 1u);
+  const auto& c = t["impacts"][0];
+  EXPECT_EQ(c["id"], "C01");
+  EXPECT_EQ(c["records"], 11);
+  EXPECT_NEAR(c["contact_start"].get<double>(), 0.003, 1e-12);
+  EXPECT_NEAR(c["contact_end"].get<double>(), 0.007, 1e-12);
+  EXPECT_NEAR(c["contact_duration"].get<double>(), 0.004, 1e-12);
+  EXPECT_DOUBLE_EQ(c["peak_normal_force"].get<double>(), 300.0);
+  EXPECT_DOUBLE_EQ(c["peak_tangential_force"].get<double>(), 150.0);
+  EXPECT_TRUE(c["peak_torque"].is_null());  // NaN throughout
+  EXPECT_NEAR(c["max_penetration"].get<double>(), 0.004, 1e-15);
+  EXPECT_NEAR(c["elastic_recovery"].get<double>(), 0.0015, 1e-15);
+  EXPECT_EQ(c["block_mass_source"], "file");
+  EXPECT_EQ(t["summary"]["peak_normal_force"]["n"], 1);
+
+  const RunResult text = ricochet("stats " + quote(path));
+  ASSERT_EQ(text.status, 0) << text.err;
+  for (const char* s : {"Tracks (/dem/tracks): 1 of 2 releases", "1 more of impacts not in this",
+                        "contact duration [ms]", "peak |torque| [N*m]"})
+    EXPECT_NE(text.out.find(s), std::string::npos) << s << "\n" << text.out;
+  // A set without tracks says nothing of them.
+  const RunResult lab = ricochet("stats --json " + quote(kLab + "cylinders.csv"));
+  EXPECT_TRUE(nlohmann::json::parse(lab.out)["tracks"].is_null());
+}
+
+TEST_F(CmdStats, AMalformedTrackExitsWithTwoAndNamesTheFileAndTheTrack) {
+  const std::string path = campaign_file(dir_, true);
+  const RunResult run = ricochet("stats " + quote(path));
+  EXPECT_EQ(run.status, 2) << run.out;
+  EXPECT_NE(run.err.find(path + ": field '/dem/tracks/C01'"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("2 x 3"), std::string::npos) << run.err;
+}
+
+TEST_F(CmdStats, APlanOfThrowsIsSummarisedWithoutVout) {
+  const RunResult run =
+      ricochet("stats --json " + quote(kSource + "/data/design/lab-cylinders-20-throws.csv"));
+  ASSERT_EQ(run.status, 0) << run.err;
+  const auto doc = nlohmann::json::parse(run.out);
+  EXPECT_EQ(doc["n"], 20);
+  EXPECT_TRUE(doc["incident_only"].get<bool>());
+  EXPECT_TRUE(std::isfinite(doc["columns"]["vin_y"]["mean"].get<double>()));
+  EXPECT_TRUE(doc["columns"]["vout_y"]["mean"].is_null());
 }
 
 }  // namespace

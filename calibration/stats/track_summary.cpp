@@ -1,0 +1,209 @@
+#include "stats/track_summary.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+namespace ricochet::stats {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// A contact force below this fraction of the track's largest is rounding, not a touch.
+constexpr double kForceRoundoff = 1e-9;
+// The contact criterion of the impact deck (liggghts-inputs/impact/setup.in: f_contact_frac, in
+// contact while the contact force exceeds 0.2 of the block's weight) and its gravity (g_mps2).
+constexpr double kContactWeightFraction = 0.2;
+constexpr double kGravity_mps2 = 9.81;
+
+// Largest finite value of f(i) over the records, NaN when there is none.
+template <class F>
+double finite_max(std::size_t n, F f) {
+  double m = kNaN;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double v = f(i);
+    if (std::isfinite(v) && !(v <= m)) m = v;
+  }
+  return m;
+}
+
+std::string cell(double v, double scale) {
+  return std::isfinite(v) ? fmt::format("{:>11.4g}", v * scale) : fmt::format("{:>11}", "-");
+}
+
+}  // namespace
+
+double free_flight_mass_kg(const BlockTrack& tr) {
+  // Free flight: the records before the first touch. Between two of them the kinetic energy
+  // changes only by the work of gravity, on the translation (no torque, so the spin and the
+  // rotational energy stay), hence Delta KE = m/2 Delta(vx^2 + vy^2).
+  const std::size_t n = tr.size();
+  const double peak =
+      finite_max(n, [&](std::size_t i) { return std::hypot(tr.fcx[i], tr.fcy[i]); });
+  std::size_t flying = 0;
+  while (flying < n && !(std::hypot(tr.fcx[flying], tr.fcy[flying]) > kForceRoundoff * peak))
+    ++flying;
+  if (flying < 2) return kNaN;
+  const std::size_t a = 0, b = flying - 1;
+  const double dv2 =
+      tr.vx[b] * tr.vx[b] + tr.vy[b] * tr.vy[b] - tr.vx[a] * tr.vx[a] - tr.vy[a] * tr.vy[a];
+  const double m = 2 * (tr.ke_block[b] - tr.ke_block[a]) / dv2;
+  return std::isfinite(m) && m > 0 ? m : kNaN;
+}
+
+TrackSummary summarize_track(const BlockTrack& tr, const std::string& id) {
+  TrackSummary s;
+  s.id = id;
+  s.records = tr.size();
+  const std::size_t n = tr.size();
+  if (n == 0) return s;
+  s.block_mass_kg = tr.block_mass_kg;
+  s.block_mass_source = "file";
+  if (!std::isfinite(s.block_mass_kg)) {
+    s.block_mass_kg = free_flight_mass_kg(tr);
+    s.block_mass_source = std::isfinite(s.block_mass_kg) ? "free flight" : "unknown";
+  }
+  s.max_interval_s = finite_max(n - 1, [&](std::size_t i) { return tr.t[i + 1] - tr.t[i]; });
+  // A touch: a contact force above kForceRoundoff of the track's largest. The deck records the
+  // force as the body's total force plus its weight (impact/setup.in), which leaves a rounding
+  // residue in free flight (3.6e-15 N in lab-cylinders.h5).
+  auto force = [&](std::size_t i) { return std::hypot(tr.fcx[i], tr.fcy[i]); };
+  const double peak_force = finite_max(n, force);
+  for (std::size_t i = 0; i < n; ++i)
+    if (std::isfinite(force(i)) && force(i) > kForceRoundoff * peak_force) {
+      if (std::isnan(s.first_touch_s)) s.first_touch_s = tr.t[i];
+      s.last_touch_s = tr.t[i];
+    }
+  // The contact window: the run of records around the largest force in which the force bears
+  // more than kContactWeightFraction of the block's weight, the deck's contact criterion. After
+  // the rebound, grains carried up with the block keep touching it with tens of newtons while it
+  // flies centimetres above the surface (lab-triangles-blind.h5, T01: 10-45 N from 1 to 3 cm up,
+  // over 30 ms), which the first and last touches, and the first and last records above the
+  // criterion, would count as contact.
+  const double threshold = std::isfinite(s.block_mass_kg)
+                               ? kContactWeightFraction * s.block_mass_kg * kGravity_mps2
+                               : kForceRoundoff * peak_force;
+  auto bearing = [&](std::size_t i) { return std::isfinite(force(i)) && force(i) > threshold; };
+  std::size_t peak = n;
+  for (std::size_t i = 0; i < n; ++i)
+    if (bearing(i) && (peak == n || force(i) > force(peak))) peak = i;
+  std::size_t last = n;
+  if (peak < n) {
+    std::size_t first = peak;
+    last = peak;
+    while (first > 0 && bearing(first - 1)) --first;
+    while (last + 1 < n && bearing(last + 1)) ++last;
+    s.contact_start_s = tr.t[first];
+    s.contact_end_s = tr.t[last];
+    s.contact_duration_s = s.contact_end_s - s.contact_start_s;
+  }
+  s.peak_normal_force_N = finite_max(n, [&](std::size_t i) { return tr.fcy[i]; });
+  s.peak_tangential_force_N = finite_max(n, [&](std::size_t i) { return std::abs(tr.fcx[i]); });
+  s.peak_torque_Nm = finite_max(n, [&](std::size_t i) { return std::abs(tr.torque[i]); });
+  s.max_penetration_m = finite_max(n, [&](std::size_t i) { return tr.penetration[i]; });
+  if (last < n && std::isfinite(tr.penetration[last])) {
+    s.final_penetration_m = tr.penetration[last];
+    s.elastic_recovery_m = s.max_penetration_m - s.final_penetration_m;
+  }
+  s.max_overlap_d = finite_max(n, [&](std::size_t i) { return tr.overlap_d_max[i]; });
+  return s;
+}
+
+const std::vector<TrackQuantity>& track_quantities() {
+  static const std::vector<TrackQuantity> q = {
+      {"max_interval", "s", "largest record interval [ms]", 1e3, &TrackSummary::max_interval_s},
+      {"contact_duration", "s", "contact duration [ms]", 1e3, &TrackSummary::contact_duration_s},
+      {"peak_normal_force", "N", "peak normal force fcy [N]", 1,
+       &TrackSummary::peak_normal_force_N},
+      {"peak_tangential_force", "N", "peak |fcx| [N]", 1, &TrackSummary::peak_tangential_force_N},
+      {"peak_torque", "N*m", "peak |torque| [N*m]", 1, &TrackSummary::peak_torque_Nm},
+      {"max_penetration", "m", "max penetration [mm]", 1e3, &TrackSummary::max_penetration_m},
+      {"final_penetration", "m", "penetration at contact end [mm]", 1e3,
+       &TrackSummary::final_penetration_m},
+      {"elastic_recovery", "m", "elastic recovery [mm]", 1e3, &TrackSummary::elastic_recovery_m},
+      {"max_overlap_d", "-", "max grain overlap / d [-]", 1, &TrackSummary::max_overlap_d},
+      {"block_mass", "kg", "simulated block mass [kg]", 1, &TrackSummary::block_mass_kg},
+  };
+  return q;
+}
+
+TrackTable track_table(const std::string& path, const ImpactSet& set) {
+  TrackTable t;
+  t.source = path;
+  t.releases = set.size();
+  const auto ids = block_track_ids(path);
+  if (ids.empty()) return t;
+  const std::set<std::string> kept(ids.begin(), ids.end());
+  std::set<std::string> used;
+  for (const auto& im : set.impacts)
+    if (kept.count(im.id)) {
+      t.impacts.push_back(summarize_track(read_block_track(path, im.id), im.id));
+      used.insert(im.id);
+    }
+  t.other_tracks = ids.size() - used.size();
+  for (const auto& q : track_quantities()) {
+    std::vector<double> v;
+    for (const auto& s : t.impacts) v.push_back(s.*(q.member));
+    t.over_impacts.push_back(summarize(v));
+  }
+  return t;
+}
+
+nlohmann::json to_json(const TrackTable& t) {
+  nlohmann::json summary = nlohmann::json::object();
+  const auto& qs = track_quantities();
+  for (std::size_t k = 0; k < qs.size(); ++k) {
+    const Summary& s = t.over_impacts[k];
+    summary[qs[k].key] = {{"n", s.n},     {"mean", s.mean}, {"std", s.std},
+                          {"min", s.min}, {"max", s.max},   {"unit", qs[k].unit}};
+  }
+  nlohmann::json impacts = nlohmann::json::array();
+  for (const auto& s : t.impacts) {
+    nlohmann::json j = {{"id", s.id},
+                        {"records", s.records},
+                        {"contact_start", s.contact_start_s},
+                        {"contact_end", s.contact_end_s},
+                        {"first_touch", s.first_touch_s},
+                        {"last_touch", s.last_touch_s},
+                        {"block_mass_source", s.block_mass_source}};
+    for (const auto& q : qs) j[q.key] = s.*(q.member);
+    impacts.push_back(j);
+  }
+  return {
+      {"group", kTracksGroup},          {"releases", t.releases}, {"with_track", t.impacts.size()},
+      {"other_tracks", t.other_tracks}, {"summary", summary},     {"impacts", impacts}};
+}
+
+std::string format_text(const TrackTable& t) {
+  std::string out =
+      fmt::format("Tracks ({}): {} of {} releases", kTracksGroup, t.impacts.size(), t.releases);
+  if (t.other_tracks > 0)
+    out += fmt::format("; {} more of impacts not in this set (no rebound, or filtered out)",
+                       t.other_tracks);
+  out += "\n";
+  if (t.impacts.empty()) return out;
+  std::size_t rmin = t.impacts.front().records, rmax = rmin;
+  for (const auto& s : t.impacts) {
+    rmin = std::min(rmin, s.records);
+    rmax = std::max(rmax, s.records);
+  }
+  out += fmt::format("{:<34}{:>5}{:>11}{:>11}{:>11}{:>11}\n", "per impact", "n", "mean", "std",
+                     "min", "max");
+  out += fmt::format("{:<34}{:>5}{:>11}{:>11}{:>11}{:>11}\n", "records", t.impacts.size(), "", "",
+                     rmin, rmax);
+  const auto& qs = track_quantities();
+  for (std::size_t k = 0; k < qs.size(); ++k) {
+    const Summary& s = t.over_impacts[k];
+    out += fmt::format("{:<34}{:>5}", qs[k].label, s.n) + cell(s.mean, qs[k].print_scale) +
+           cell(s.std, qs[k].print_scale) + cell(s.min, qs[k].print_scale) +
+           cell(s.max, qs[k].print_scale) + "\n";
+  }
+  out +=
+      "Contact: the run of records around the peak force above 0.2 x the block's weight. Forces "
+      "and torque are the simulated block's (a slab carries a fraction of the lab block). n: "
+      "tracks with that column (older tracks have no torque or overlap). Per impact: --json.\n";
+  return out;
+}
+
+}  // namespace ricochet::stats

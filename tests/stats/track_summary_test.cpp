@@ -1,0 +1,128 @@
+// The contact numbers of a track (stats/track_summary.hpp) on a hand-made one: free flight under
+// gravity, a triangle force pulse of known peak and length, a penetration that peaks and comes
+// back, and grains that still touch the block after the rebound. Every expected number is
+// worked out here from the pulse's formula, not from the code under test.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "impact/block_track.hpp"
+#include "stats/track_summary.hpp"
+
+namespace ricochet {
+namespace {
+
+constexpr double kG = 9.81;
+constexpr double kDt = 5e-4;   // record interval [s]
+constexpr double kTc = 0.020;  // peak of the pulse [s], on the grid
+constexpr double kHalf = 0.005;
+constexpr double kPeak = 1000;  // [N]
+constexpr double kMass = 3.0;   // [kg]
+constexpr double kInertia = 0.01;
+
+// Records every kDt from 0 to 40 ms, but for one gap of 2 kDt at 5 ms (the largest interval). A
+// block of kMass falling freely (vx 2 m/s, vy -3 m/s at t = 0, spin -50 rad/s) until the pulse.
+// The pulse: fcy = kPeak (1 - |t - kTc| / kHalf) over |t - kTc| < kHalf, fcx = fcy / 4, torque =
+// -fcy / 10 N*m. Penetration: -35 mm at t = 0 rising at 2 m/s to 5 mm at kTc, back to 3 mm at
+// kTc + kHalf, then falling at 2 m/s as the block flies off. After the pulse: 3 N touches at kTc
+// + 5.0, 5.5 and 6.0 ms (below 0.2 m g = 5.886 N, next to the pulse) and a 10 N touch at kTc +
+// 10 ms (above it, but apart).
+BlockTrack pulse_track() {
+  BlockTrack tr;
+  for (int k = 0; k <= 80; ++k) {
+    if (k == 11) continue;  // the gap: 5.0 -> 6.0 ms
+    const double t = k * kDt;
+    const double vx = 2.0, vy = -3.0 - kG * t, w = -50.0;
+    double f = std::abs(t - kTc) < kHalf ? kPeak * (1 - std::abs(t - kTc) / kHalf) : 0.0;
+    const double after = t - kTc;
+    if (std::abs(after - 0.0050) < 1e-9 || std::abs(after - 0.0055) < 1e-9 ||
+        std::abs(after - 0.0060) < 1e-9)
+      f = 3.0;
+    if (std::abs(after - 0.010) < 1e-9) f = 10.0;
+    double pen;
+    if (t <= kTc)
+      pen = 0.005 - 2.0 * (kTc - t);  // -35 mm at t = 0, 5 mm at the peak
+    else if (t <= kTc + kHalf)
+      pen = 0.005 - 0.002 * (t - kTc) / kHalf;
+    else
+      pen = 0.003 - 2.0 * (t - kTc - kHalf);
+    tr.t.push_back(t);
+    tr.x.push_back(vx * t);
+    tr.y.push_back(0.1 - 3.0 * t - 0.5 * kG * t * t);
+    tr.theta.push_back(w * t);
+    tr.vx.push_back(vx);
+    tr.vy.push_back(vy);
+    tr.w.push_back(w);
+    tr.fcx.push_back(f / 4);
+    tr.fcy.push_back(f);
+    tr.penetration.push_back(pen);
+    tr.ke_block.push_back(0.5 * kMass * (vx * vx + vy * vy) + 0.5 * kInertia * w * w);
+    tr.ke_grains.push_back(0.0);
+    tr.torque.push_back(-f / 10);
+    tr.overlap_d_max.push_back(0.01 + 0.06 * f / kPeak);
+  }
+  return tr;
+}
+
+TEST(TrackSummary, TrianglePulseGivesItsKnownNumbers) {
+  const BlockTrack tr = pulse_track();
+  const stats::TrackSummary s = stats::summarize_track(tr, "pulse");
+  EXPECT_EQ(s.id, "pulse");
+  EXPECT_EQ(s.records, 80u);
+  EXPECT_NEAR(s.max_interval_s, 2 * kDt, 1e-12);
+  // No mass in the file: from the free flight, exactly (the energies are exact here).
+  EXPECT_EQ(s.block_mass_source, "free flight");
+  EXPECT_NEAR(s.block_mass_kg, kMass, 1e-9);
+  // Above 0.2 m g = 5.886 N: |t - kTc| < kHalf (1 - 5.886 / 1000) = 4.9706 ms, so on the 0.5 ms
+  // grid the samples kTc - 4.5 ms ... kTc + 4.5 ms; the 3 N touches and the apart 10 N one are
+  // outside.
+  EXPECT_NEAR(s.contact_start_s, kTc - 0.0045, 1e-12);
+  EXPECT_NEAR(s.contact_end_s, kTc + 0.0045, 1e-12);
+  EXPECT_NEAR(s.contact_duration_s, 0.009, 1e-12);
+  // Every nonzero force: the pulse's first sample (kTc - 4.5 ms) to the 10 N touch.
+  EXPECT_NEAR(s.first_touch_s, kTc - 0.0045, 1e-12);
+  EXPECT_NEAR(s.last_touch_s, kTc + 0.010, 1e-12);
+  EXPECT_NEAR(s.peak_normal_force_N, kPeak, 1e-9);
+  EXPECT_NEAR(s.peak_tangential_force_N, kPeak / 4, 1e-9);
+  EXPECT_NEAR(s.peak_torque_Nm, kPeak / 10, 1e-9);
+  EXPECT_NEAR(s.max_penetration_m, 0.005, 1e-12);
+  // At the window's end, kTc + 4.5 ms: 5 mm - 2 mm x 4.5 / 5 = 3.2 mm; recovery 1.8 mm.
+  EXPECT_NEAR(s.final_penetration_m, 0.0032, 1e-12);
+  EXPECT_NEAR(s.elastic_recovery_m, 0.0018, 1e-12);
+  EXPECT_NEAR(s.max_overlap_d, 0.07, 1e-12);
+}
+
+TEST(TrackSummary, TheFilesMassDecidesTheCriterionAndWithoutOneAnyTouchCounts) {
+  BlockTrack tr = pulse_track();
+  // A heavier block in the file: 0.2 m g = 196.2 N, |t - kTc| < 4.019 ms: +-4.0 ms on the grid.
+  tr.block_mass_kg = 100.0;
+  stats::TrackSummary s = stats::summarize_track(tr, "heavy");
+  EXPECT_EQ(s.block_mass_source, "file");
+  EXPECT_NEAR(s.contact_duration_s, 0.008, 1e-12);
+  // No mass anywhere (no kinetic energy): any nonzero force, so the adjacent 3 N touches join
+  // the window (to kTc + 6.0 ms) and the apart 10 N one does not.
+  tr.block_mass_kg = std::numeric_limits<double>::quiet_NaN();
+  for (auto& e : tr.ke_block) e = std::nan("");
+  s = stats::summarize_track(tr, "massless");
+  EXPECT_EQ(s.block_mass_source, "unknown");
+  EXPECT_NEAR(s.contact_start_s, kTc - 0.0045, 1e-12);
+  EXPECT_NEAR(s.contact_end_s, kTc + 0.006, 1e-12);
+}
+
+TEST(TrackSummary, LegacyColumnsAndAnEmptyTrackGiveNaNNotNumbers) {
+  BlockTrack tr = pulse_track();
+  for (auto& v : tr.torque) v = std::nan("");
+  for (auto& v : tr.overlap_d_max) v = std::nan("");
+  const stats::TrackSummary s = stats::summarize_track(tr, "old");
+  EXPECT_TRUE(std::isnan(s.peak_torque_Nm));
+  EXPECT_TRUE(std::isnan(s.max_overlap_d));
+  EXPECT_NEAR(s.peak_normal_force_N, kPeak, 1e-9);
+  const stats::TrackSummary e = stats::summarize_track(BlockTrack{}, "empty");
+  EXPECT_EQ(e.records, 0u);
+  EXPECT_TRUE(std::isnan(e.contact_duration_s));
+  EXPECT_TRUE(std::isnan(e.max_interval_s));
+}
+
+}  // namespace
+}  // namespace ricochet
