@@ -6,6 +6,7 @@
 
 #include "diagnosis/evidence.hpp"
 #include "diagnosis/figures.hpp"
+#include "diagnosis/track_figure.hpp"
 #include "impact/impact_snapshot.hpp"
 #include "report/html.hpp"
 #include "report/impact_picture.hpp"
@@ -334,6 +335,24 @@ void ladder_section(report::HtmlPage& page, const ReportSection& s) {
   if (!l.stop_reason.empty()) page.labelled("Stopped", l.stop_reason);
 }
 
+// The contact figure of one impact (diagnosis/track_figure.hpp) with the reduced law at this
+// set's population fit. A track that cannot be drawn is said, not fatal: the rest of the page
+// stands without it.
+void track_section(report::HtmlPage& page, const ReportSection& s, const Model& model,
+                   const ReportOptions& o, const std::string& preferred_id) {
+  try {
+    const auto f = contact_track_figure(s.input.data, s.input.set, s.input.shape, model,
+                                        s.diagnosis.baseline.base.population.params,
+                                        o.diagnose.assess.fit.engine, preferred_id, s.input.label);
+    if (f)
+      page.figure(f->figure, f->caption +
+                                 " The reduced law's parameters: its population fit on this set "
+                                 "(Comparison below).");
+  } catch (const std::exception& e) {
+    page.paragraph("The contact in time is not shown: " + std::string(e.what()));
+  }
+}
+
 }  // namespace
 
 std::vector<ReportSection> analyse(const std::vector<ReportInput>& inputs, const Model& model,
@@ -415,11 +434,15 @@ std::size_t write_report(const std::vector<ReportSection>& sections, const Model
     page.verdict(s.headline);
     for (const auto& f : ladder_figures(s.ladder, s.input.label)) page.figure(f.figure, f.caption);
     // A resolved campaign shows what the numbers are about: its first impact, through the contact.
-    if (const auto snap = read_snapshot(s.input.data))
+    const auto snap = read_snapshot(s.input.data);
+    if (snap)
       page.figure(report::impact_picture(*snap, s.input.label),
                   "One impact of this campaign (LIGGGHTS), side view through the block's "
                   "mid-plane at frames through the contact: grains coloured by speed, the block's "
                   "spheres in grey. The crater, the bulge and the grains the block pushes.");
+    // ... and, when the campaign keeps its tracks, that impact's contact in time beside the
+    // reduced law at the same incident state: what upscaling asks the law to reproduce.
+    track_section(page, s, model, o, snap ? snap->impact_id : std::string());
     if (s.lab_gap) {
       page.paragraph(s.lab_sentence);
       const double radius =

@@ -380,6 +380,26 @@ TEST_F(CmdDiagnosis, ReportHeadlineGivesTheNumbersBehindAHugeRatio) {
   EXPECT_EQ(lab.find("held-out error"), std::string::npos) << lab;
 }
 
+// A resolved campaign that keeps its tracks shows one impact's contact in time beside the reduced
+// law (issue 32, item 4; diagnosis/track_figure.hpp); a set without tracks shows none.
+TEST_F(CmdDiagnosis, ReportShowsOneResolvedImpactInTime) {
+  const std::string resolved = std::string(RICOCHET_SOURCE_DIR) + "/data/resolved/lab-cylinders.h5";
+  const fs::path html = dir_ / "tracks.html";
+  const RunResult r = ricochet("report " + quote(resolved) + " " + quote(kLab + "cylinders.csv") +
+                               " --where 'vin_x<2.8' --rounds 0 --folds 3 --no-intervals --out " +
+                               quote(html.string()));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string page = slurp(html);
+  const auto second = page.find("<h2 id=\"set2\">");
+  ASSERT_NE(second, std::string::npos);
+  const std::string alt = "alt=\"One impact of this campaign in time";
+  const auto figure = page.find(alt);
+  ASSERT_NE(figure, std::string::npos) << "no contact figure";
+  EXPECT_LT(figure, second) << "the figure is not in the campaign's section";
+  EXPECT_EQ(page.find(alt, figure + 1), std::string::npos) << "more than one";
+  EXPECT_NE(page.find("LIGGGHTS forces are scaled to the lab block", figure), std::string::npos);
+}
+
 TEST_F(CmdDiagnosis, ReportRendersInHeadlessChromiumWithEveryFigureShown) {
   if (chromium_missing())
     GTEST_SKIP() << "no /usr/bin/chromium: the report is not rendered (apt install chromium)";
