@@ -4,7 +4,7 @@
 // those its index says rebounded, with finite rebound velocities, and the campaigns that keep
 // tracks get their contact numbers. Every other file (documentation, JSON results, the
 // detection study's tables, the sphere-drop tables, shape files) is refused as bad input, status
-// 2, with a message that names it.
+// 2, with a message that names it: one of each kind (folder and extension) is run.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -80,7 +80,7 @@ TEST_F(ShippedData, StatsAnswersEveryShippedFile) {
       {"lab-triangles-blind-long.h5", {30, 1}},
       {"stiffness-plateau.h5", {63, 0}}};
   const fs::path data = fs::path(RICOCHET_SOURCE_DIR) / "data";
-  std::set<std::string> seen;
+  std::set<std::string> seen, other_kinds;
   int impact_files = 0, other_files = 0;
   for (const auto& entry : fs::recursive_directory_iterator(data)) {
     if (!entry.is_regular_file()) continue;
@@ -89,20 +89,30 @@ TEST_F(ShippedData, StatsAnswersEveryShippedFile) {
     const std::string folder = path.parent_path().filename().string();
     const bool impact_data = path.extension() == ".h5" || (path.extension() == ".csv" &&
                                                            (folder == "lab" || folder == "design"));
-    const test::RunResult r = ricochet("stats " + quote(path.string()) + " --json");
     if (!impact_data) {
+      // Refused by its extension before it is read, or a CSV by its header: one file of each
+      // folder and extension stands for the others (a run of the program costs 0.1-0.2 s, and
+      // there are 70 such files).
+      if (!other_kinds.insert(folder + "/" + path.extension().string()).second) continue;
       ++other_files;
+      const test::RunResult r = ricochet("stats " + quote(path.string()) + " --json");
       EXPECT_EQ(r.status, 2) << path << "\n" << r.out;
       EXPECT_TRUE(r.out.empty()) << path << "\n" << r.out.substr(0, 400);
       EXPECT_NE(r.err.find(path.string()), std::string::npos) << r.err;
       continue;
     }
     ++impact_files;
+    const test::RunResult r = ricochet("stats " + quote(path.string()) + " --json");
     ASSERT_EQ(r.status, 0) << path << "\n" << r.err;
     const auto j = nlohmann::json::parse(r.out);
     ASSERT_TRUE(j.contains("n")) << r.out.substr(0, 400);
     EXPECT_GT(j["n"].get<int>(), 0) << name;
-    if (folder == "design") EXPECT_TRUE(j["incident_only"].get<bool>()) << name;
+    if (folder == "design") {
+      // A plan of throws: its incident states summarised, no reflected velocity.
+      EXPECT_TRUE(j["incident_only"].get<bool>()) << name;
+      EXPECT_TRUE(std::isfinite(j["columns"]["vin_y"]["mean"].get<double>())) << name;
+      EXPECT_TRUE(j["columns"]["vout_y"]["mean"].is_null()) << name;
+    }
     if (folder != "resolved") continue;
     seen.insert(name);
     ASSERT_TRUE(rebounds.count(name)) << name << " is shipped but not listed here";

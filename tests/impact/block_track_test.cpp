@@ -3,7 +3,6 @@
 // before the torque and overlap columns read them as NaN; a malformed track is an InputError
 // naming the file and the track; the shipped campaigns' tracks read as their columns say.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -14,6 +13,7 @@
 #include "common/error.hpp"
 #include "common/h5.hpp"
 #include "impact/block_track.hpp"
+#include "support/temp_dir_test.hpp"
 
 namespace ricochet {
 namespace {
@@ -21,18 +21,9 @@ namespace {
 namespace fs = std::filesystem;
 const std::string kResolved = std::string(RICOCHET_SOURCE_DIR) + "/data/resolved/";
 
-class BlockTrackFile : public ::testing::Test {
+class BlockTrackFile : public test::TempDirTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("ricochet-track-" + std::to_string(::getpid()) + "-" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  fs::path dir_;
+  BlockTrackFile() : TempDirTest("ricochet-track") {}
 };
 
 // The InputError of `read`, or a failure when it does not throw one.

@@ -13,6 +13,7 @@
 #include "common/error.hpp"
 #include "common/h5.hpp"
 #include "impact/impact_set.hpp"
+#include "support/temp_dir_test.hpp"
 
 namespace ricochet {
 namespace {
@@ -21,18 +22,9 @@ namespace fs = std::filesystem;
 const std::string kLab = std::string(RICOCHET_SOURCE_DIR) + "/data/lab/";
 
 // A fresh directory per test, removed afterwards.
-class ImpactH5 : public ::testing::Test {
+class ImpactH5 : public test::TempDirTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("ricochet-impact-" + std::to_string(::getpid()) + "-" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  fs::path dir_;
+  ImpactH5() : TempDirTest("ricochet-impact") {}
 };
 
 std::string slurp(const std::string& path) {

@@ -17,6 +17,8 @@
 #include <sstream>
 #include <string>
 
+#include "support/temp_dir_test.hpp"
+
 namespace ricochet::test {
 
 struct RunResult {
@@ -60,16 +62,9 @@ inline bool needs_liggghts(const std::string& args) {
   return false;
 }
 
-class ProgramTest : public ::testing::Test {
+class ProgramTest : public TempDirTest {
  protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("ricochet-cmd-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
+  ProgramTest() : TempDirTest("ricochet-cmd") {}
 
   // Runs `ricochet ARGS` (ARGS already shell-quoted).
   RunResult ricochet(const std::string& args) const {
@@ -86,7 +81,6 @@ class ProgramTest : public ::testing::Test {
     run.err = slurp(err);
     return run;
   }
-  std::filesystem::path dir_;
 };
 
 }  // namespace ricochet::test
