@@ -28,11 +28,17 @@
 #   liggghts-inputs/campaigns/. stiffness-plateau-1.5e10 is the first design plus the 1.5e10 Pa
 #   level (the rule's pre-registered consequence): it continues the same campaign file, its first
 #   63 impacts found done. A design not pinned yet is pinned beside the program on its first start.
+# - PLATEAU_OUT and PLATEAU_FILE (environment, defaults results/plateau and stiffness-plateau):
+#   the folder and the campaign file's name, for a side study run beside the plateau campaign with
+#   its own lock, pins, cache and log, e.g. the floor check (docs/resolved-model.md):
+#     PLATEAU_DESIGN=wall-stiffness-1.5e9 PLATEAU_OUT=results/wall-stiffness \
+#       PLATEAU_FILE=wall-stiffness nohup setsid scripts/stiffness-plateau.sh > /dev/null 2>&1 &
 # When the campaign ends the script prints the status counts; the table and figure of
 # docs/resolved-model.md are made from the file afterwards.
 set -uo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
-OUT=$ROOT/results/plateau
+OUT=$ROOT/${PLATEAU_OUT:-results/plateau}
+FILE=${PLATEAU_FILE:-stiffness-plateau}
 NAME=${PLATEAU_DESIGN:-stiffness-plateau}
 DESIGN=$ROOT/liggghts-inputs/campaigns/$NAME.toml
 [ -f "$DESIGN" ] || { echo "no design $DESIGN" >&2; exit 2; }
@@ -41,7 +47,7 @@ LOG=$OUT/campaign.log
 
 exec 9> "$OUT/campaign.lock"
 if ! flock -n 9; then
-  echo "$(date '+%F %T') another stiffness-plateau run holds $OUT/campaign.lock: not started" >> "$LOG"
+  echo "$(date '+%F %T') another $NAME run holds $OUT/campaign.lock: not started" >> "$LOG"
   exit 1
 fi
 
@@ -65,20 +71,20 @@ fi
     echo "note: $DESIGN differs from the pinned copy; running the pinned design"
   fi
   # A new work tree (the next session's) resumes from the impacts shipped so far.
-  SHIPPED=$ROOT/data/resolved/stiffness-plateau.h5
-  if [ ! -f "$OUT/stiffness-plateau.h5" ] && [ -f "$SHIPPED" ]; then
-    cp "$SHIPPED" "$OUT/stiffness-plateau.h5"
+  SHIPPED=$ROOT/data/resolved/$FILE.h5
+  if [ ! -f "$OUT/$FILE.h5" ] && [ -f "$SHIPPED" ]; then
+    cp "$SHIPPED" "$OUT/$FILE.h5"
     echo "resuming from the shipped $SHIPPED"
   fi
   cd "$OUT" || exit 1   # cache_dir and work_dir of the design are relative to this folder
   mpirun --oversubscribe --allow-run-as-root -np 1 "$PIN/ricochet" dem campaign \
     "$PIN/$NAME.toml" --decks "$PIN/liggghts-inputs" \
-    --out "$OUT/stiffness-plateau.h5" --retry-crashed
+    --out "$OUT/$FILE.h5" --retry-crashed
   rc=$?
-  echo "== $(date '+%F %T') stiffness-plateau: campaign command ended with status $rc"
+  echo "== $(date '+%F %T') $NAME: campaign command ended with status $rc"
   if [ "$rc" -eq 0 ]; then
     "$PIN/ricochet" dem campaign "$PIN/$NAME.toml" --decks "$PIN/liggghts-inputs" \
-      --out "$OUT/stiffness-plateau.h5" --json 2>/dev/null \
+      --out "$OUT/$FILE.h5" --json 2>/dev/null \
       | python3 -c "import json,sys; d=json.load(sys.stdin); print('status counts:', d['status_counts'])" \
       || true
   fi
