@@ -7,6 +7,7 @@
 
 #include "cli_common.hpp"
 #include "common/error.hpp"
+#include "engine/engine.hpp"
 
 namespace ricochet::cli {
 
@@ -70,7 +71,7 @@ CLI::Option* add_seed_option(CLI::App* sub, std::optional<std::uint64_t>& seed,
 CLI::Option* add_threads_option(CLI::App* sub, int& threads) {
   CLI::Option* o =
       sub->add_option("--threads", threads, "OpenMP threads (0 = all)")->capture_default_str();
-  check_range(sub, "--threads", 0, 4096);
+  check_range(sub, "--threads", EngineOptions::kThreads.lo, EngineOptions::kThreads.hi);
   return o;
 }
 

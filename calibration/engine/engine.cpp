@@ -6,6 +6,9 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <fmt/format.h>
+
+#include "common/error.hpp"
 #include "engine/lane_step.hpp"
 #include "engine/paper_kernel.hpp"
 #include "engine/vector_math.hpp"
@@ -692,10 +695,13 @@ void validate(const Model& model, const Shape& shape, const EngineOptions& optio
   require_valid(options.problems(), consumer);
   const auto check_dt = [&](std::span<const double> row) {
     const double limit = critical_time_step(model, shape, row);
+    // An option out of its range for these parameters: an InputError naming the option, as
+    // require_valid's, so that every command exits with the input-error status.
     if (options.dt_s > limit)
-      throw std::invalid_argument("time step dt = " + std::to_string(options.dt_s) +
-                                  " s exceeds the stability limit " + std::to_string(limit) +
-                                  " s of the model's stiffest spring; use a smaller --dt");
+      throw InputError("<options of " + std::string(consumer) + ">", 0, "dt_s",
+                       fmt::format("the time step {:g} s exceeds the stability limit {:g} s of the "
+                                   "model's stiffest spring at these parameters; use a smaller one",
+                                   options.dt_s, limit));
   };
   const std::size_t P = model.parameter_count();
   if (!(shape.mass_kg > 0.0 && shape.inertia_kgm2 > 0.0 && shape.rounding_radius_m > 0.0))

@@ -52,6 +52,10 @@ struct EngineOptions {
   /// times the longest lab contact, and bounds the cost of a rebound that never ends.
   static constexpr OptionRange kDt{0, 1e-3, true, true};
   static constexpr OptionRange kMaxTime{0, 100, true, false};
+  /// threads: 0 (OpenMP's default) to 4096, far above any node's cores; lanes: 1 to 4096 (a
+  /// wider block only costs memory, 64 fills a 512-bit vector eight times).
+  static constexpr OptionRange kThreads{0, 4096, false, false};
+  static constexpr OptionRange kLanes{1, 4096, false, false};
   /// The problems of these options (common/option_problems.hpp), empty when they are valid;
   /// simulate and simulate_batch call it at their entry.
   OptionProblems problems() const;

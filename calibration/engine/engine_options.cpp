@@ -7,6 +7,8 @@ OptionProblems EngineOptions::problems() const {
   OptionProblems p;
   check_range(p, "dt_s", dt_s, kDt);
   check_range(p, "max_time_s", max_time_s, kMaxTime);
+  check_range(p, "threads", threads, kThreads);
+  check_range(p, "lanes", static_cast<double>(lanes), kLanes);
   return p;
 }
 

@@ -54,6 +54,9 @@ const std::vector<BadCase> kCases = {
     {"simulate --vin 2.9,-2.3,-65 --alpha 400", "--alpha: value 400 is outside [-360, 360]"},
     {"simulate --vin 2.9,-2.3", "--vin"},
     {"simulate --vin 2.9,-2.3,-65 --dt -1", "--dt"},
+    // Within --dt's range but above the model's stability limit (issue 34): an input error too.
+    {"simulate --vin 2.9,-2.3,-65 --dt 9e-4", "exceeds the stability limit"},
+    {"simulate --vin 2.9,-2.3,-65 --set kr=1e10", "field 'dt_s'"},
     {"calibrate " + kCyl + " --starts 0", "field '--starts': value 0 is outside [1, 1000]"},
     {"calibrate " + kCyl + " --sigma 0.1,-1,3", "--sigma"},
     {"calibrate " + kCyl + " --threads -1", "--threads"},

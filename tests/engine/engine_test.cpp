@@ -313,10 +313,27 @@ TEST(Engine, RejectsBadInput) {
   EXPECT_THROW(
       (void)simulate_batch(m, Shape::cylinder(), std::vector<CollisionCase>{kLabMean}, {}, o),
       InputError);
+  // The thread count and the lane width are checked by the library, not only by the command line.
+  for (const auto& [bad, field] :
+       {std::pair{[] { EngineOptions e; e.threads = -1; return e; }(), "threads"},
+        std::pair{[] { EngineOptions e; e.lanes = 0; return e; }(), "lanes"}}) {
+    try {
+      (void)simulate_batch(m, Shape::cylinder(), std::vector<CollisionCase>{kLabMean}, {}, bad);
+      ADD_FAILURE() << field << " out of range was accepted";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.field(), field);
+    }
+  }
   // A rolling spring too stiff for the step is refused, not integrated into garbage.
   Model stiff = Model::paper();
   stiff.set("kr", 1e10);
-  EXPECT_THROW(simulate(stiff, Shape::cylinder(), kLabMean), std::invalid_argument);
+  try {
+    (void)simulate(stiff, Shape::cylinder(), kLabMean);
+    ADD_FAILURE() << "a step beyond the stability limit was integrated";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "dt_s");
+    EXPECT_NE(e.detail().find("stability limit"), std::string::npos) << e.what();
+  }
   EXPECT_LT(critical_time_step(stiff, Shape::cylinder(), stiff.values()), 1e-5);
   EXPECT_GT(critical_time_step(m, Shape::cylinder(), m.values()), 1e-5);
 }
@@ -346,7 +363,7 @@ TEST(Engine, CriticalTimeStepCountsWhatStiffensTheContact) {
   EXPECT_LT(stiff, 0.5 * plain);
   EngineOptions between;
   between.dt_s = std::sqrt(stiff * plain);
-  EXPECT_THROW(simulate(hertz, shape, kLabMean, {}, between), std::invalid_argument);
+  EXPECT_THROW(simulate(hertz, shape, kLabMean, {}, between), InputError);
   hertz.set("beta", 0.0);
   EXPECT_NO_THROW(simulate(hertz, shape, kLabMean, {}, between));
 
