@@ -9,6 +9,7 @@
 #include "cli_common.hpp"
 #include "common/error.hpp"
 #include "diagnosis/figures.hpp"
+#include "diagnosis/force_residual.hpp"
 #include "diagnosis/inputs.hpp"
 #include "diagnosis_options.hpp"
 #include "model_options.hpp"
@@ -25,6 +26,12 @@ void run(DiagnosisCliOptions& o) {
   opt.progress = !o.output.json;
   const diagnosis::Diagnosis d = diagnosis::diagnose(model, in.shape, in.set, opt);
   nlohmann::json doc = diagnosis::to_json(d);
+  // A set with contact histories (a campaign file's tracks): the force the base law leaves along
+  // each release's own path, at the base model's population fit (issue 33, item 2).
+  const auto force_law = diagnosis::force_law_from_tracks(
+      o.data, in.set, in.shape, model, d.baseline.base.population.params,
+      o.model.engine_options());
+  if (force_law) doc["force_law"] = diagnosis::to_json(*force_law);
   doc["data"] = o.data;
   doc["shape"] = in.shape.name;
   doc["releases"] = in.set.size();
@@ -75,6 +82,7 @@ void run(DiagnosisCliOptions& o) {
   for (const auto& c : d.ranking) std::cout << "- " << c.effect << ": " << c.evidence << "\n";
   std::cout << "\nwhat is left unexplained:\n";
   for (const auto& u : d.unexplained) std::cout << "- " << u << "\n";
+  if (force_law) std::cout << "\n" << diagnosis::format_text(*force_law);
   std::cout << fmt::format("\n({:.1f} s)\n", d.seconds);
   print_written(figures, o.output.out);
 }

@@ -307,11 +307,12 @@ bool names_family(Family f, const std::string& candidate) {
 }
 
 Rebound collide(const std::array<double, 3>& vin, const Ground& g, const Numerics& num,
-                std::vector<TraceSample>* trace, long trace_every) {
+                std::vector<TraceSample>* trace, long trace_every, std::vector<PathSample>* path) {
   const double dt = num.dt;
   // The disc starts 0.1 micrometre above the ground with V_in (paper Fig. 14: a positive,
   // almost zero gap).
   double y = kRadius + 1e-7, vx = vin[0], vy = vin[1], w = vin[2];
+  double x = 0, th = 0;  // only recorded (a disc on flat ground does not depend on them)
   double fn = 0, ft = 0, mom = 0, h_prev = 0, vn0 = 0, t_touch = 0;
   bool touched = false;
   Rebound out;
@@ -382,12 +383,16 @@ Rebound collide(const std::array<double, 3>& vin, const Ground& g, const Numeric
         return out;
       }
     }
+    if (path && i % trace_every == 0)
+      path->push_back({i * dt, x, y, th, vx, vy, w, fx, fy + kMass * num.gravity, tq});
     h_prev = std::max(h, 0.0);
     // Semi-implicit Euler: velocities first, then the position with the new velocity.
     vx += fx / kMass * dt;
     vy += fy / kMass * dt;
     w += tq / kInertia * dt;
     y += vy * dt;
+    x += vx * dt;
+    th += w * dt;
   }
   out.vout = {vx, vy, w};
   return out;

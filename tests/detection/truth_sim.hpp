@@ -208,10 +208,21 @@ struct TraceSample {
   double hidden_fn_N = 0, hidden_ft_N = 0;
 };
 
-/// `trace`: when given, the contact's samples every `trace_every` steps are appended.
+/// One record of the collision as a tracked history (the columns of a LIGGGHTS track,
+/// impact/block_track.hpp): the block's centre, angle and velocities at the start of a step, and
+/// the contact force and torque about the centre of mass of that step (gravity excluded; zero
+/// out of contact), in the paper frame on the ground y = 0. x and theta start at 0.
+struct PathSample {
+  double t_s = 0, x_m = 0, y_m = 0, theta_rad = 0, vx_mps = 0, vy_mps = 0, w_radps = 0;
+  double fx_N = 0, fy_N = 0, torque_Nm = 0;
+};
+
+/// `trace`: when given, the contact's samples every `trace_every` steps are appended. `path`:
+/// when given, a record every `trace_every` steps from the start (0.1 um above the ground, before
+/// the contact) to the end of the contact.
 Rebound collide(const std::array<double, 3>& vin, const Ground& ground,
                 const Numerics& numerics = {}, std::vector<TraceSample>* trace = nullptr,
-                long trace_every = 100);
+                long trace_every = 100, std::vector<PathSample>* path = nullptr);
 
 /// The engine's step and stiffnesses (calibration/engine: dt 1e-5 s, kn = kt = 1e7 N/m,
 /// kr = 1e8 N m/rad; the paper's values), for sets that differ from it only in the integrator,

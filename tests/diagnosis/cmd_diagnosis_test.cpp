@@ -400,6 +400,46 @@ TEST_F(CmdDiagnosis, ReportShowsOneResolvedImpactInTime) {
   EXPECT_NE(page.find("LIGGGHTS forces are scaled to the lab block", figure), std::string::npos);
 }
 
+// `diagnose` on a campaign file that keeps its tracks reports the force the base law leaves along
+// each release's own path (issue 33, item 2; diagnosis/force_residual.hpp): every release with a
+// track, the slab's forces scaled to the lab block by m_lab / m_slab (13.9 kg over the 0.06 m
+// slab's 2.876 kg: 4.83), the shape's overlap on the path within a grain radius (3 mm) of the
+// track's own penetration, a normal law whose held-out residual is below the residual (it
+// explains part of it), each selected term with its unit and interval. A CSV set has no
+// histories: no force_law key.
+TEST_F(CmdDiagnosis, DiagnoseReportsTheForceLawOfACampaignsHistories) {
+  const std::string resolved = std::string(RICOCHET_SOURCE_DIR) + "/data/resolved/lab-cylinders.h5";
+  const RunResult r = ricochet("diagnose " + quote(resolved) + " --folds 3 --repeats 1 --no-release-fits --no-pairs --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto doc = nlohmann::json::parse(r.out);
+  ASSERT_TRUE(doc.contains("force_law")) << r.out.substr(0, 2000);
+  const auto& fl = doc["force_law"];
+  EXPECT_EQ(fl["ids"].size(), doc["releases"].get<std::size_t>());
+  EXPECT_NEAR(fl["force_scale"][0].get<double>(), 13.9 / 2.876, 0.01);
+  EXPECT_LT(fl["geometry_mismatch_m"].get<double>(), 3e-3);
+  bool normal = false;
+  for (const auto& law : fl["laws"]) {
+    if (law["component"] != "normal") continue;
+    normal = true;
+    EXPECT_LT(law["heldout_rms"].get<double>(), law["rms_residual"].get<double>());
+    ASSERT_FALSE(law["terms"].empty());
+    for (const auto& t : law["terms"]) {
+      EXPECT_FALSE(t["unit"].get<std::string>().empty());
+      EXPECT_LE(t["lo"].get<double>(), t["coefficient"].get<double>());
+      EXPECT_GE(t["hi"].get<double>(), t["coefficient"].get<double>());
+    }
+  }
+  EXPECT_TRUE(normal);
+  const RunResult text = ricochet("diagnose " + quote(resolved) + " --folds 3 --repeats 1 --no-release-fits --no-pairs");
+  ASSERT_EQ(text.status, 0) << text.err;
+  EXPECT_NE(text.out.find("force law missing from the model, from the contact histories of"),
+            std::string::npos);
+  const RunResult csv = ricochet("diagnose " + quote(kLab + "cylinders.csv") +
+                                 " --folds 3 --repeats 1 --no-release-fits --no-pairs --json");
+  ASSERT_EQ(csv.status, 0) << csv.err;
+  EXPECT_FALSE(nlohmann::json::parse(csv.out).contains("force_law"));
+}
+
 TEST_F(CmdDiagnosis, ReportRendersInHeadlessChromiumWithEveryFigureShown) {
   if (chromium_missing())
     GTEST_SKIP() << "no /usr/bin/chromium: the report is not rendered (apt install chromium)";

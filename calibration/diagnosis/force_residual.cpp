@@ -1,0 +1,173 @@
+// measured_history and force_residual (force_residual.hpp).
+#include "diagnosis/force_residual.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+
+#include "common/error.hpp"
+#include "stats/track_summary.hpp"
+
+namespace ricochet::diagnosis {
+
+namespace {
+
+double median(std::vector<double> v) {
+  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+}  // namespace
+
+MeasuredHistory measured_history(const BlockTrack& in, const std::string& id, const Shape& shape,
+                                 const std::string& source) {
+  BlockTrack track = in;
+  track.pad();
+  const std::string field = std::string(kTracksGroup) + "/" + id;
+  const std::size_t n = track.size();
+  if (n < 2) throw InputError(source, 0, field, "a track needs at least two records");
+  const auto all_finite = [&](const std::vector<double>& c) {
+    return std::all_of(c.begin(), c.end(), [](double v) { return std::isfinite(v); });
+  };
+  for (const auto* c : {&track.x, &track.y, &track.theta, &track.vx, &track.vy, &track.w})
+    if (!all_finite(*c))
+      throw InputError(source, 0, field,
+                       "the block's position, angle and velocities must be finite at every "
+                       "record to evaluate a law along its path");
+  if (!all_finite(track.fcx) || !all_finite(track.fcy))
+    throw InputError(source, 0, field, "the contact force (fcx, fcy) is missing or not finite");
+
+  MeasuredHistory h;
+  h.id = id;
+  double mass = track.block_mass_kg;
+  if (!std::isfinite(mass)) mass = stats::free_flight_mass_kg(track);
+  h.force_scale = std::isfinite(mass) && mass > 0 ? shape.mass_kg / mass : 1.0;
+
+  std::vector<double> surface;
+  for (std::size_t i = 0; i < n; ++i)
+    if (std::isfinite(track.penetration[i]))
+      surface.push_back(track.y[i] - shape.depth_below_centroid(track.theta[i]) +
+                        track.penetration[i]);
+  h.surface_m = surface.empty() ? 0.0 : median(surface);
+
+  for (std::size_t i = 0; i < n; ++i) {
+    h.path.push_back({track.t[i], track.x[i], track.y[i] - h.surface_m, track.theta[i], track.vx[i],
+                      track.vy[i], track.w[i]});
+    h.fx_N.push_back(h.force_scale * track.fcx[i]);
+    h.fy_N.push_back(h.force_scale * track.fcy[i]);
+    h.torque_Nm.push_back(h.force_scale * track.torque[i]);  // NaN when not recorded
+    const double depth = shape.depth_below_centroid(track.theta[i]) - h.path.back().y_m;
+    if (depth > 0 && std::isfinite(track.penetration[i]))
+      h.geometry_mismatch_m =
+          std::max(h.geometry_mismatch_m, std::abs(depth - track.penetration[i]));
+  }
+  return h;
+}
+
+ReleaseResidual force_residual(const MeasuredHistory& history, const Model& model,
+                               const Shape& shape, std::span<const double> params,
+                               const EngineOptions& engine) {
+  const auto law = law_force_along(model, shape, history.path, params, engine);
+  ReleaseResidual r;
+  for (std::size_t i = 0; i < law.size(); ++i) {
+    const PathForce& f = law[i];
+    if (!(f.h_m > 0)) continue;
+    const PathState& p = history.path[i];
+    const double tx = f.ny, ty = -f.nx;  // the tangent t of the contact frame (effect.hpp)
+    const double rx = history.fx_N[i] - f.fx_N, ry = history.fy_N[i] - f.fy_N;
+    const double rt = history.torque_Nm[i] - f.torque_Nm;
+    ContactSample s;
+    s.h_m = f.h_m;
+    s.vn_mps = f.vn_mps;
+    s.vt_mps = f.vt_mps;
+    s.vx_mps = p.vx_mps * tx + p.vy_mps * ty;
+    s.omega_radps = p.w_radps;
+    s.loading = f.loading;
+    r.samples.push_back(s);
+    // A force at the contact point (rcx, rcy) has the moment rcx fy - rcy fx about the centre:
+    // what is left of the torque residual is a moment the force residual does not explain.
+    r.residual.push_back(
+        {rx * f.nx + ry * f.ny, rx * tx + ry * ty, rt - (f.rcx_m * ry - f.rcy_m * rx)});
+  }
+  return r;
+}
+
+std::optional<ForceLawReport> force_law_from_tracks(const std::string& data, const ImpactSet& set,
+                                                    const Shape& shape, const Model& model,
+                                                    std::span<const double> params,
+                                                    const EngineOptions& engine,
+                                                    const stats::SparseOptions& options) {
+  const auto kept = block_track_ids(data);
+  const std::set<std::string> have(kept.begin(), kept.end());
+  ForceLawReport report;
+  std::vector<ReleaseResidual> residuals;
+  bool first = true;
+  for (const auto& release : set.impacts) {
+    if (!have.count(release.id)) continue;
+    const MeasuredHistory h =
+        measured_history(read_block_track(data, release.id), release.id, shape, data);
+    ReleaseResidual r = force_residual(h, model, shape, params, engine);
+    if (r.samples.empty()) continue;
+    report.ids.push_back(release.id);
+    report.samples += r.samples.size();
+    report.force_scale_min =
+        first ? h.force_scale : std::min(report.force_scale_min, h.force_scale);
+    report.force_scale_max =
+        first ? h.force_scale : std::max(report.force_scale_max, h.force_scale);
+    report.geometry_mismatch_m = std::max(report.geometry_mismatch_m, h.geometry_mismatch_m);
+    first = false;
+    residuals.push_back(std::move(r));
+  }
+  if (residuals.size() < 2) return std::nullopt;
+  report.laws = discover_force_law(residuals, options);
+  return report;
+}
+
+nlohmann::json to_json(const ForceLawReport& report) {
+  nlohmann::json laws = nlohmann::json::array();
+  for (const ComponentLaw& law : report.laws) {
+    nlohmann::json terms = nlohmann::json::array();
+    for (const DiscoveredTerm& t : law.terms)
+      if (t.selected)
+        terms.push_back({{"name", t.term->name},
+                         {"expression", t.term->expression},
+                         {"unit", t.term->unit},
+                         {"literature", t.term->literature},
+                         {"coefficient", t.coefficient},
+                         {"lo", t.lo},
+                         {"hi", t.hi},
+                         {"inclusion", t.inclusion}});
+    laws.push_back({{"component", component_name(law.component)},
+                    {"text", law.text},
+                    {"releases", law.releases},
+                    {"samples", law.samples},
+                    {"rms_residual", law.rms_residual},
+                    {"heldout_rms", law.heldout_rms},
+                    {"terms", terms}});
+  }
+  return {{"ids", report.ids},
+          {"samples", report.samples},
+          {"force_scale", {report.force_scale_min, report.force_scale_max}},
+          {"geometry_mismatch_m", report.geometry_mismatch_m},
+          {"laws", laws}};
+}
+
+std::string format_text(const ForceLawReport& report) {
+  std::string out = fmt::format(
+      "force law missing from the model, from the contact histories of {} releases ({} contact "
+      "samples; forces scaled x{:.4g}-{:.4g} to the lab block; largest geometry mismatch {:.2g} "
+      "mm):\n",
+      report.ids.size(), report.samples, report.force_scale_min, report.force_scale_max,
+      1e3 * report.geometry_mismatch_m);
+  for (const ComponentLaw& law : report.laws)
+    out += fmt::format("  {:<10} {} (residual rms {:.4g}, held out after the law {:.4g})\n",
+                       component_name(law.component), law.text, law.rms_residual, law.heldout_rms);
+  return out;
+}
+
+}  // namespace ricochet::diagnosis

@@ -1,0 +1,87 @@
+// The residual contact force of measured histories (issue 33, item 2): a release's measured force
+// and torque minus the reduced law's along the release's own measured path
+// (engine/path_force.hpp), in the contact frame, ready for the force-law discovery
+// (diagnosis/force_law.hpp). The histories are the impact-set schema's tracks
+// (impact/block_track.hpp): a LIGGGHTS campaign's, an independent simulator's, a tracked video's.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "diagnosis/force_law.hpp"
+#include "effects/model.hpp"
+#include "engine/engine.hpp"
+#include "engine/path_force.hpp"
+#include "engine/shape.hpp"
+#include "impact/block_track.hpp"
+#include "impact/impact_set.hpp"
+#include "stats/sparse_regression.hpp"
+
+namespace ricochet::diagnosis {
+
+/// One release's measured contact history in the reduced engine's frame and units: the path
+/// (PathState, y above the levelled surface) and the contact force and torque on the lab block
+/// (fx, fy [N], torque about the centre of mass [N m]; NaN where not measured).
+struct MeasuredHistory {
+  std::string id;
+  std::vector<PathState> path;
+  std::vector<double> fx_N, fy_N, torque_Nm;
+  /// The force scale applied to the track's forces (lab mass / simulated mass; 1 when the
+  /// track's block is the lab block), and the levelled surface's height in the track's frame [m].
+  double force_scale = 1, surface_m = 0;
+  /// The largest |h_shape - penetration| over the records in contact [m]: the shape's deepest
+  /// overlap on the path against the track's own penetration column. Large when the track's
+  /// block is not `shape` or its angle is not the engine's.
+  double geometry_mismatch_m = 0;
+};
+
+/// The history of `track` for `shape`: the forces scaled by shape.mass_kg / the simulated
+/// block's mass (the track's block_mass_kg, else its free-flight estimate,
+/// stats::free_flight_mass_kg; unscaled when neither is known), the surface height the median of
+/// y - depth_below_centroid(theta) + penetration over the records with a penetration, and y
+/// taken above it. The track's theta is taken as the engine's orientation. Throws InputError
+/// (file `source`, field "/dem/tracks/ID") for a track without positions or forces.
+MeasuredHistory measured_history(const BlockTrack& track, const std::string& id, const Shape& shape,
+                                 const std::string& source);
+
+/// The residual of one history against `model` at `params` (model order; empty = its values):
+/// the samples where the law's deepest slot is in contact (h > 0), with that slot's state
+/// (ContactSample) and, in its contact frame (n, t = (n_y, -n_x)), the residual normal and
+/// tangential force [N] and the residual moment about the contact point [N m] (the torque
+/// residual minus the moment of the force residual at the contact point).
+ReleaseResidual force_residual(const MeasuredHistory& history, const Model& model,
+                               const Shape& shape, std::span<const double> params = {},
+                               const EngineOptions& engine = {});
+
+/// The force law missing from a model, discovered from the histories a file keeps.
+struct ForceLawReport {
+  std::vector<std::string> ids;                     ///< the releases with a history, in set order
+  std::size_t samples = 0;                          ///< contact samples analysed (the law's h > 0)
+  double force_scale_min = 1, force_scale_max = 1;  ///< the forces' scale (measured_history)
+  double geometry_mismatch_m = 0;  ///< the largest over the releases (measured_history)
+  std::vector<ComponentLaw> laws;  ///< discover_force_law's
+};
+
+/// The histories `data` keeps (block_track_ids) of the releases of `set`, against `model` at
+/// `params` (model order; the caller's calibration, e.g. the diagnosis's population fit), through
+/// force_residual and discover_force_law. nullopt when `data` keeps fewer than two histories of
+/// the set's releases (a CSV set, a campaign without tracks). Throws InputError for a malformed
+/// track, naming the file and the track.
+std::optional<ForceLawReport> force_law_from_tracks(const std::string& data, const ImpactSet& set,
+                                                    const Shape& shape, const Model& model,
+                                                    std::span<const double> params,
+                                                    const EngineOptions& engine = {},
+                                                    const stats::SparseOptions& options = {});
+
+/// JSON: ids, samples, force_scale [min, max], geometry_mismatch_m, and per component its law:
+/// component, text, releases, samples, rms_residual, heldout_rms, and the selected terms (name,
+/// expression, unit, literature, coefficient, lo, hi, inclusion).
+nlohmann::json to_json(const ForceLawReport& report);
+/// The report in words: one line per component (ComponentLaw::text) and what it rests on.
+std::string format_text(const ForceLawReport& report);
+
+}  // namespace ricochet::diagnosis
