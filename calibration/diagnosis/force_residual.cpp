@@ -34,11 +34,17 @@ MeasuredHistory measured_history(const BlockTrack& in, const std::string& id, co
   const auto all_finite = [&](const std::vector<double>& c) {
     return std::all_of(c.begin(), c.end(), [](double v) { return std::isfinite(v); });
   };
-  for (const auto* c : {&track.x, &track.y, &track.theta, &track.vx, &track.vy, &track.w})
+  for (const auto* c :
+       {&track.t, &track.x, &track.y, &track.theta, &track.vx, &track.vy, &track.w})
     if (!all_finite(*c))
       throw InputError(source, 0, field,
                        "the block's position, angle and velocities must be finite at every "
                        "record to evaluate a law along its path");
+  for (std::size_t i = 1; i < n; ++i)
+    if (!(track.t[i] > track.t[i - 1]))
+      throw InputError(source, 0, field,
+                       fmt::format("record {}: time {:g} s does not increase (previous {:g} s)",
+                                   i + 1, track.t[i], track.t[i - 1]));
   if (!all_finite(track.fcx) || !all_finite(track.fcy))
     throw InputError(source, 0, field, "the contact force (fcx, fcy) is missing or not finite");
 

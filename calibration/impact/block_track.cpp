@@ -149,8 +149,17 @@ BlockTrack read_block_track(const std::string& path, const std::string& id) {
   const h5::File f(path, h5::File::Mode::kRead);
   if (!f.exists(field)) throw InputError(path, 0, field, "no such track");
   std::vector<std::string> columns;
+  // An attribute of the wrong type is the file's error, located like the others (h5::File
+  // throws std::runtime_error for it).
+  const auto attribute = [&](const char* name, auto read) {
+    try {
+      return read();
+    } catch (const std::runtime_error& e) {
+      throw InputError(path, 0, field, fmt::format("attribute `{}`: {}", name, e.what()));
+    }
+  };
   if (f.has_attr(field, "columns")) {
-    columns = split_commas(f.attr_string(field, "columns"));
+    columns = split_commas(attribute("columns", [&] { return f.attr_string(field, "columns"); }));
   } else {
     // Written before the attribute: the first campaigns' twelve columns.
     columns.assign(BlockTrack::column_names().begin(), BlockTrack::column_names().begin() + 12);
@@ -183,7 +192,16 @@ BlockTrack read_block_track(const std::string& path, const std::string& id) {
   } catch (const std::invalid_argument& e) {
     throw InputError(path, 0, field, fmt::format("{} (columns: {})", e.what(), joined(columns)));
   }
-  if (f.has_attr(field, "block_mass_kg")) tr.block_mass_kg = f.attr_double(field, "block_mass_kg");
+  if (f.has_attr(field, "block_mass_kg")) {
+    tr.block_mass_kg =
+        attribute("block_mass_kg", [&] { return f.attr_double(field, "block_mass_kg"); });
+    // NaN is how a writer says "unknown" (write_block_track then writes no attribute).
+    if (!std::isnan(tr.block_mass_kg) && !(std::isfinite(tr.block_mass_kg) && tr.block_mass_kg > 0))
+      throw InputError(path, 0, field,
+                       fmt::format("attribute `block_mass_kg` is {}: a mass must be finite and > 0 "
+                                   "(NaN for unknown)",
+                                   tr.block_mass_kg));
+  }
   return tr;
 }
 

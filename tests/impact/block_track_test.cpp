@@ -136,6 +136,21 @@ TEST_F(BlockTrackFile, MalformedTracksNameTheFileAndTheTrack) {
     f.write("/dem/tracks/mm", std::vector<double>(4, 0.0), {2, 2});
     f.set_attr("/dem/tracks/mm", "columns", "t[s],penetration[mm]");
     f.write("/dem/tracks/flat", std::vector<double>(12, 0.0));
+    // Found by fuzz_block_track: attributes of the wrong type, and a mass that does not survive
+    // the writer (an infinite one was read, then not written back).
+    f.write("/dem/tracks/numeric_columns", std::vector<double>(2, 0.0), {2, 1});
+    f.set_attr("/dem/tracks/numeric_columns", "columns", 1.0);
+    f.write("/dem/tracks/text_mass", std::vector<double>(2, 0.0), {2, 1});
+    f.set_attr("/dem/tracks/text_mass", "columns", "t[s]");
+    f.set_attr("/dem/tracks/text_mass", "block_mass_kg", std::string("2.9"));
+    f.write("/dem/tracks/infinite_mass", std::vector<double>(2, 0.0), {2, 1});
+    f.set_attr("/dem/tracks/infinite_mass", "columns", "t[s]");
+    f.set_attr("/dem/tracks/infinite_mass", "block_mass_kg", HUGE_VAL);
+  }
+  for (const char* id : {"numeric_columns", "text_mass", "infinite_mass"}) {
+    const InputError e = error_of([&] { read_block_track(file, id); });
+    EXPECT_EQ(e.file(), file);
+    EXPECT_EQ(e.field(), std::string("/dem/tracks/") + id);
   }
   const InputError narrow = error_of([&] { read_block_track(file, "narrow"); });
   EXPECT_EQ(narrow.file(), file);
