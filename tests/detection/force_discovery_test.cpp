@@ -13,106 +13,15 @@
 // not tuned).
 #include <gtest/gtest.h>
 
-#include <cstdio>
-#include <cstdlib>
 #include <random>
 #include <set>
 #include <string>
 
 #include "diagnosis/force_law.hpp"
-#include "diagnosis/force_residual.hpp"
-#include "effects/model.hpp"
-#include "engine/shape.hpp"
-#include "truth_sim.hpp"
+#include "force_sets.hpp"
 
 namespace ricochet::truth {
 namespace {
-
-using diagnosis::ContactSample;
-using diagnosis::ReleaseResidual;
-
-constexpr double kForceNoiseN = 50.0;
-
-std::vector<ReleaseResidual> traced_set(Family f, double strength, std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> vx(1.5, 6.0), vy(-5.0, -1.0), w(-90.0, 0.0);
-  std::normal_distribution<double> noise(0.0, kForceNoiseN);
-  std::vector<ReleaseResidual> out;
-  for (int i = 0; i < 30; ++i) {
-    const std::array<double, 3> vin = {vx(rng), vy(rng), w(rng)};
-    std::vector<TraceSample> trace;
-    const Ground g{0.16, 0.35, 0.16, f, strength};
-    (void)collide(vin, g, Numerics{}, &trace, 100);
-    ReleaseResidual r;
-    for (const TraceSample& t : trace) {
-      ContactSample s;
-      s.h_m = t.h_m;
-      s.vn_mps = t.vn_mps;
-      s.vt_mps = t.vt_mps;
-      s.vx_mps = t.vx_mps;
-      s.omega_radps = t.omega_radps;
-      s.loading = t.loading;
-      r.samples.push_back(s);
-      r.residual.push_back({t.hidden_fn_N + noise(rng), t.hidden_ft_N + noise(rng), NAN});
-    }
-    out.push_back(std::move(r));
-  }
-  return out;
-}
-
-// The user's path: the truth's measured history (PathSample: its path from before the contact
-// and its total contact force, each component with the same 50 N noise; the torque is left out) minus the reduced engine's paper law evaluated
-// along that path (engine/path_force.hpp, diagnosis/force_residual.hpp) at the truth's base
-// parameters and stiffnesses, as a well-calibrated base model would have them. The residual is
-// then the hidden force plus what the two implementations do differently: this code integrates
-// at 2 us by semi-implicit Euler, the path evaluation steps the tangential and rolling springs
-// with the records' 0.2 ms spacing.
-std::vector<ReleaseResidual> traced_set_through_law(Family f, double strength, std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> vx(1.5, 6.0), vy(-5.0, -1.0), w(-90.0, 0.0);
-  std::normal_distribution<double> noise(0.0, kForceNoiseN);
-  const Ground g{0.16, 0.35, 0.16, f, strength};
-  const Numerics num{};
-  Model law = Model::paper();
-  law.set("kn", num.kn);
-  law.set("kt", num.kt);
-  law.set("kr", num.kr);
-  law.set("en2", g.en2);
-  law.set("mu", g.mu);
-  law.set("muR", g.muR);
-  const Shape disc = Shape::cylinder();
-  std::vector<ReleaseResidual> out;
-  for (int i = 0; i < 30; ++i) {
-    const std::array<double, 3> vin = {vx(rng), vy(rng), w(rng)};
-    std::vector<PathSample> path;
-    (void)collide(vin, g, num, nullptr, 100, &path);
-    diagnosis::MeasuredHistory h;
-    for (const PathSample& p : path) {
-      h.path.push_back({p.t_s, p.x_m, p.y_m, p.theta_rad, p.vx_mps, p.vy_mps, p.w_radps});
-      h.fx_N.push_back(p.fx_N + noise(rng));
-      h.fy_N.push_back(p.fy_N + noise(rng));
-      h.torque_Nm.push_back(NAN);
-    }
-    out.push_back(diagnosis::force_residual(h, law, disc));
-    if (std::getenv("PATH_DEBUG") && i == 0) {
-      const auto& r = out.back();
-      for (std::size_t k = 0; k < r.samples.size(); ++k)
-        std::fprintf(stderr, "%zu h=%.5g vn=%.4g load=%d res_n=%.5g res_t=%.5g\n", k,
-                     r.samples[k].h_m, r.samples[k].vn_mps, int(r.samples[k].loading),
-                     r.residual[k][0], r.residual[k][1]);
-    }
-  }
-  return out;
-}
-
-// The selected terms of each component, by name.
-std::set<std::string> selected(const std::vector<diagnosis::ComponentLaw>& laws) {
-  std::set<std::string> s;
-  for (const auto& law : laws)
-    for (const auto& t : law.terms)
-      if (t.selected) s.insert(std::string(t.term->name));
-  return s;
-}
 
 struct Case {
   Family family;
@@ -132,7 +41,7 @@ TEST_P(ForceDiscovery, TheHiddenForceFamilyIsFound) {
     o.seed = seed;
     o.bootstrap = 0;
     const auto result = diagnosis::discover_force_law(traced_set(c.family, c.strength, seed), o);
-    const auto s = selected(result);
+    const auto s = selected_terms(result);
     bool hit = false;
     for (const auto& name : c.family_terms) hit = hit || s.count(name);
     found += hit;
@@ -154,7 +63,7 @@ TEST_P(ForceDiscovery, TheHiddenForceFamilyIsFoundThroughTheLawAlongThePath) {
     o.bootstrap = 0;
     const auto result =
         diagnosis::discover_force_law(traced_set_through_law(c.family, c.strength, seed), o);
-    const auto s = selected(result);
+    const auto s = selected_terms(result);
     bool hit = false;
     for (const auto& name : c.family_terms) hit = hit || s.count(name);
     found += hit;
@@ -184,7 +93,7 @@ TEST(ForceDiscoveryNull, NothingIsFoundWithoutAHiddenForce) {
     stats::SparseOptions o;
     o.seed = seed;
     o.bootstrap = 0;
-    clean += selected(diagnosis::discover_force_law(traced_set(Family::kNone, 0, seed), o)).empty();
+    clean += selected_terms(diagnosis::discover_force_law(traced_set(Family::kNone, 0, seed), o)).empty();
   }
   RecordProperty("clean", std::to_string(clean));
   EXPECT_GE(clean, 8u);

@@ -1,0 +1,128 @@
+// The force-residual discovery's rates on the independent simulator (issue 33, item 4), on seeds
+// fixed in docs/detection-benchmark.md before the run: for each hidden force, the share of sets in
+// which a term of its family is selected, and without a hidden force the share in which nothing
+// (or nothing in a component) is selected, each with its Wilson 95 % interval, for the two ways
+// of making the residual (force_sets.hpp): the hidden force given directly, and the measured force
+// minus the engine's law along the measured path.
+//
+//   force_discovery_study --first-null 3001 --nulls 100 --first-seed 4001 --seeds 10 --out FILE.tsv
+//
+// One line per set in FILE.tsv (way, family, seed, the selected terms per component); the summary
+// on stdout, as docs/detection-benchmark.md quotes it.
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <cstdint>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "diagnosis/force_law.hpp"
+#include "force_sets.hpp"
+#include "stats/stats.hpp"
+
+namespace {
+
+using namespace ricochet;
+using namespace ricochet::truth;
+
+struct Hidden {
+  Family family;
+  double strength;
+  std::set<std::string> terms;  // the library's terms of the family
+};
+
+// The test's strengths and families (force_discovery_test.cpp): the Katsuragi-Durian drag at its
+// lab scale (m/d1 = 40 kg/m), the depth-speed drag at 40 kg/m at 3 mm, the Rankine ploughing at
+// the wide design's detection-study strength (c = 1.73e8 N/m^2).
+const std::vector<Hidden> kHidden = {
+    {Family::kKdDrag, 1.0, {"inertial_drag", "viscous", "depth_drag"}},
+    {Family::kDepthSpeedDrag, 1.0, {"depth_drag", "inertial_drag"}},
+    {Family::kRankinePlough, 20568.2, {"ploughing"}},
+};
+
+using SetMaker = std::function<std::vector<diagnosis::ReleaseResidual>(Family, double,
+                                                                      std::uint64_t)>;
+
+std::string by_component(const std::vector<diagnosis::ComponentLaw>& laws,
+                         diagnosis::ForceComponent c) {
+  std::string s;
+  for (const auto& law : laws)
+    if (law.component == c)
+      for (const auto& t : law.terms)
+        if (t.selected) s += (s.empty() ? "" : "+") + std::string(t.term->name);
+  return s.empty() ? "-" : s;
+}
+
+std::string rate(std::size_t k, std::size_t n) {
+  const auto p = stats::wilson(k, n);
+  return fmt::format("{}/{} = {:.2f} [{:.2f}, {:.2f}]", k, n, p.rate, p.lo, p.hi);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Rates of the force-residual discovery on the independent simulator (issue 33)"};
+  std::uint64_t first_null = 3001, first_seed = 4001;
+  std::size_t nulls = 100, seeds = 10;
+  std::string out;
+  app.add_option("--first-null", first_null, "First seed of the null sets");
+  app.add_option("--nulls", nulls, "Null sets")->check(CLI::Range(1, 100000));
+  app.add_option("--first-seed", first_seed, "First seed of the sets with a hidden force");
+  app.add_option("--seeds", seeds, "Sets per hidden force")->check(CLI::Range(1, 100000));
+  app.add_option("--out", out, "One line per set (TSV)")->required();
+  CLI11_PARSE(app, argc, argv);
+
+  std::ofstream tsv(out);
+  if (!tsv) {
+    std::cerr << "force_discovery_study: cannot write " << out << "\n";
+    return 2;
+  }
+  tsv << "way\tfamily\tseed\tnormal\ttangential\n";
+  const std::vector<std::pair<std::string, SetMaker>> ways = {
+      {"hidden", traced_set}, {"through_law", traced_set_through_law}};
+  std::cout << fmt::format(
+      "force-residual discovery on the independent simulator: 30 wide-design releases per set, "
+      "50 N force noise; null seeds {}-{}, hidden-force seeds {}-{}\n",
+      first_null, first_null + nulls - 1, first_seed, first_seed + seeds - 1);
+  for (const auto& [way, make] : ways) {
+    std::size_t clean = 0, normal_clean = 0, tangential_clean = 0;
+    for (std::uint64_t s = first_null; s < first_null + nulls; ++s) {
+      stats::SparseOptions o;
+      o.seed = s;
+      o.bootstrap = 0;
+      const auto laws = diagnosis::discover_force_law(make(Family::kNone, 0, s), o);
+      const std::string n = by_component(laws, diagnosis::ForceComponent::kNormal);
+      const std::string t = by_component(laws, diagnosis::ForceComponent::kTangential);
+      clean += n == "-" && t == "-";
+      normal_clean += n == "-";
+      tangential_clean += t == "-";
+      tsv << way << "\tnone\t" << s << "\t" << n << "\t" << t << "\n";
+    }
+    std::cout << fmt::format("{}: null sets with nothing found {}; normal clean {}; tangential "
+                             "clean {}\n",
+                             way, rate(clean, nulls), rate(normal_clean, nulls),
+                             rate(tangential_clean, nulls));
+    for (const Hidden& h : kHidden) {
+      std::size_t found = 0;
+      for (std::uint64_t s = first_seed; s < first_seed + seeds; ++s) {
+        stats::SparseOptions o;
+        o.seed = s;
+        o.bootstrap = 0;
+        const auto laws = diagnosis::discover_force_law(make(h.family, h.strength, s), o);
+        const auto sel = selected_terms(laws);
+        bool hit = false;
+        for (const auto& name : h.terms) hit = hit || sel.count(name);
+        found += hit;
+        tsv << way << "\t" << family_name(h.family) << "\t" << s << "\t"
+            << by_component(laws, diagnosis::ForceComponent::kNormal) << "\t"
+            << by_component(laws, diagnosis::ForceComponent::kTangential) << "\n";
+      }
+      std::cout << fmt::format("{}: {} found {}\n", way, family_name(h.family), rate(found, seeds));
+    }
+  }
+  return 0;
+}

@@ -1,0 +1,86 @@
+// The force-residual data sets of the independent simulator (force_sets.hpp).
+#include "force_sets.hpp"
+
+#include <cmath>
+#include <random>
+
+#include "diagnosis/force_residual.hpp"
+#include "effects/model.hpp"
+#include "engine/shape.hpp"
+
+namespace ricochet::truth {
+
+using diagnosis::ContactSample;
+using diagnosis::ReleaseResidual;
+
+
+std::vector<ReleaseResidual> traced_set(Family f, double strength, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> vx(1.5, 6.0), vy(-5.0, -1.0), w(-90.0, 0.0);
+  std::normal_distribution<double> noise(0.0, kForceNoiseN);
+  std::vector<ReleaseResidual> out;
+  for (int i = 0; i < 30; ++i) {
+    const std::array<double, 3> vin = {vx(rng), vy(rng), w(rng)};
+    std::vector<TraceSample> trace;
+    const Ground g{0.16, 0.35, 0.16, f, strength};
+    (void)collide(vin, g, Numerics{}, &trace, 100);
+    ReleaseResidual r;
+    for (const TraceSample& t : trace) {
+      ContactSample s;
+      s.h_m = t.h_m;
+      s.vn_mps = t.vn_mps;
+      s.vt_mps = t.vt_mps;
+      s.vx_mps = t.vx_mps;
+      s.omega_radps = t.omega_radps;
+      s.loading = t.loading;
+      r.samples.push_back(s);
+      r.residual.push_back({t.hidden_fn_N + noise(rng), t.hidden_ft_N + noise(rng), NAN});
+    }
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+// The residual is the hidden force plus what the two implementations do differently (truth_sim.hpp:
+// integrator, step, the lever R - h against the engine's R - h / 2); the path evaluation
+// sub-steps between the records at the engine's dt.
+std::vector<ReleaseResidual> traced_set_through_law(Family f, double strength, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> vx(1.5, 6.0), vy(-5.0, -1.0), w(-90.0, 0.0);
+  std::normal_distribution<double> noise(0.0, kForceNoiseN);
+  const Ground g{0.16, 0.35, 0.16, f, strength};
+  const Numerics num{};
+  Model law = Model::paper();
+  law.set("kn", num.kn);
+  law.set("kt", num.kt);
+  law.set("kr", num.kr);
+  law.set("en2", g.en2);
+  law.set("mu", g.mu);
+  law.set("muR", g.muR);
+  const Shape disc = Shape::cylinder();
+  std::vector<ReleaseResidual> out;
+  for (int i = 0; i < 30; ++i) {
+    const std::array<double, 3> vin = {vx(rng), vy(rng), w(rng)};
+    std::vector<PathSample> path;
+    (void)collide(vin, g, num, nullptr, 100, &path);
+    diagnosis::MeasuredHistory h;
+    for (const PathSample& p : path) {
+      h.path.push_back({p.t_s, p.x_m, p.y_m, p.theta_rad, p.vx_mps, p.vy_mps, p.w_radps});
+      h.fx_N.push_back(p.fx_N + noise(rng));
+      h.fy_N.push_back(p.fy_N + noise(rng));
+      h.torque_Nm.push_back(NAN);
+    }
+    out.push_back(diagnosis::force_residual(h, law, disc));
+  }
+  return out;
+}
+
+std::set<std::string> selected_terms(const std::vector<diagnosis::ComponentLaw>& laws) {
+  std::set<std::string> s;
+  for (const auto& law : laws)
+    for (const auto& t : law.terms)
+      if (t.selected) s.insert(std::string(t.term->name));
+  return s;
+}
+
+}  // namespace ricochet::truth

@@ -1,0 +1,33 @@
+// The force-residual data sets of the independent simulator (issue 33, item 4), shared by the
+// test (force_discovery_test.cpp) and the study (force_discovery_study.cpp): 30 releases on the
+// wide design per set, white force noise of sd 50 N on every force (an assumption: about 0.1 % of
+// the ~50 kN peak contact force, not a measured track noise).
+#pragma once
+
+#include <cstdint>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "diagnosis/force_law.hpp"
+#include "truth_sim.hpp"
+
+namespace ricochet::truth {
+
+inline constexpr double kForceNoiseN = 50.0;
+
+/// The hidden law's additive force along each release's own path (TraceSample::hidden_*), what a
+/// perfect model of the paper's law would leave, plus the noise.
+std::vector<diagnosis::ReleaseResidual> traced_set(Family f, double strength, std::uint64_t seed);
+
+/// The user's path: the simulator's tracked history (PathSample, from before the contact; the
+/// forces with the noise, no torque) minus the engine's paper law evaluated along it
+/// (engine/path_force.hpp, diagnosis/force_residual.hpp) at the simulator's base parameters and
+/// stiffnesses, as a well-calibrated base model would have them.
+std::vector<diagnosis::ReleaseResidual> traced_set_through_law(Family f, double strength,
+                                                               std::uint64_t seed);
+
+/// The selected terms of every component, by name.
+std::set<std::string> selected_terms(const std::vector<diagnosis::ComponentLaw>& laws);
+
+}  // namespace ricochet::truth
