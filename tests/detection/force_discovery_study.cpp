@@ -14,7 +14,6 @@
 
 #include <cstdint>
 #include <fstream>
-#include <functional>
 #include <iostream>
 #include <set>
 #include <string>
@@ -43,9 +42,6 @@ const std::vector<Hidden> kHidden = {
     {Family::kDepthSpeedDrag, 1.0, {"depth_drag", "inertial_drag"}},
     {Family::kRankinePlough, 20568.2, {"ploughing"}},
 };
-
-using SetMaker = std::function<std::vector<diagnosis::ReleaseResidual>(Family, double,
-                                                                      std::uint64_t)>;
 
 std::string by_component(const std::vector<diagnosis::ComponentLaw>& laws,
                          diagnosis::ForceComponent c) {
@@ -91,10 +87,7 @@ int main(int argc, char** argv) {
   for (const auto& [way, make] : ways) {
     std::size_t clean = 0, normal_clean = 0, tangential_clean = 0;
     for (std::uint64_t s = first_null; s < first_null + nulls; ++s) {
-      stats::SparseOptions o;
-      o.seed = s;
-      o.bootstrap = 0;
-      const auto laws = diagnosis::discover_force_law(make(Family::kNone, 0, s), o);
+      const auto laws = discover(make, Family::kNone, 0, s);
       const std::string n = by_component(laws, diagnosis::ForceComponent::kNormal);
       const std::string t = by_component(laws, diagnosis::ForceComponent::kTangential);
       clean += n == "-" && t == "-";
@@ -109,10 +102,7 @@ int main(int argc, char** argv) {
     for (const Hidden& h : kHidden) {
       std::size_t found = 0;
       for (std::uint64_t s = first_seed; s < first_seed + seeds; ++s) {
-        stats::SparseOptions o;
-        o.seed = s;
-        o.bootstrap = 0;
-        const auto laws = diagnosis::discover_force_law(make(h.family, h.strength, s), o);
+        const auto laws = discover(make, h.family, h.strength, s);
         const auto sel = selected_terms(laws);
         bool hit = false;
         for (const auto& name : h.terms) hit = hit || sel.count(name);

@@ -34,43 +34,18 @@ class ForceDiscovery : public ::testing::TestWithParam<Case> {};
 
 TEST_P(ForceDiscovery, TheHiddenForceFamilyIsFound) {
   const Case& c = GetParam();
-  std::size_t found = 0;
   std::string laws;
-  for (std::uint64_t seed = 1; seed <= 10; ++seed) {
-    stats::SparseOptions o;
-    o.seed = seed;
-    o.bootstrap = 0;
-    const auto result = diagnosis::discover_force_law(traced_set(c.family, c.strength, seed), o);
-    const auto s = selected_terms(result);
-    bool hit = false;
-    for (const auto& name : c.family_terms) hit = hit || s.count(name);
-    found += hit;
-    for (const auto& law : result)
-      laws += "seed " + std::to_string(seed) + " " +
-              std::string(diagnosis::component_name(law.component)) + ": " + law.text + "\n";
-  }
+  const std::size_t found =
+      sets_finding(traced_set, c.family, c.strength, c.family_terms, 1, 10, &laws);
   RecordProperty("found", std::to_string(found));
   EXPECT_GE(found, c.required) << laws;
 }
 
 TEST_P(ForceDiscovery, TheHiddenForceFamilyIsFoundThroughTheLawAlongThePath) {
   const Case& c = GetParam();
-  std::size_t found = 0;
   std::string laws;
-  for (std::uint64_t seed = 1; seed <= 10; ++seed) {
-    stats::SparseOptions o;
-    o.seed = seed;
-    o.bootstrap = 0;
-    const auto result =
-        diagnosis::discover_force_law(traced_set_through_law(c.family, c.strength, seed), o);
-    const auto s = selected_terms(result);
-    bool hit = false;
-    for (const auto& name : c.family_terms) hit = hit || s.count(name);
-    found += hit;
-    for (const auto& law : result)
-      laws += "seed " + std::to_string(seed) + " " +
-              std::string(diagnosis::component_name(law.component)) + ": " + law.text + "\n";
-  }
+  const std::size_t found =
+      sets_finding(traced_set_through_law, c.family, c.strength, c.family_terms, 1, 10, &laws);
   RecordProperty("found", std::to_string(found));
   EXPECT_GE(found, c.required) << laws;
 }
@@ -89,12 +64,8 @@ INSTANTIATE_TEST_SUITE_P(
 // No hidden force: nothing may be found in most sets (the residual is the noise alone).
 TEST(ForceDiscoveryNull, NothingIsFoundWithoutAHiddenForce) {
   std::size_t clean = 0;
-  for (std::uint64_t seed = 1; seed <= 10; ++seed) {
-    stats::SparseOptions o;
-    o.seed = seed;
-    o.bootstrap = 0;
-    clean += selected_terms(diagnosis::discover_force_law(traced_set(Family::kNone, 0, seed), o)).empty();
-  }
+  for (std::uint64_t seed = 1; seed <= 10; ++seed)
+    clean += selected_terms(discover(traced_set, Family::kNone, 0, seed)).empty();
   RecordProperty("clean", std::to_string(clean));
   EXPECT_GE(clean, 8u);
 }
@@ -113,14 +84,7 @@ TEST(ForceDiscoveryNull, ThroughTheLawAlongThePathOnlyTheLeverDifferenceIsFound)
   std::size_t normal_clean = 0;
   std::string laws;
   for (std::uint64_t seed = 1; seed <= 10; ++seed) {
-    stats::SparseOptions o;
-    o.seed = seed;
-    o.bootstrap = 0;
-    const auto result =
-        diagnosis::discover_force_law(traced_set_through_law(Family::kNone, 0, seed), o);
-    for (const auto& law : result) {
-      laws += "seed " + std::to_string(seed) + " " +
-              std::string(diagnosis::component_name(law.component)) + ": " + law.text + "\n";
+    for (const auto& law : discover(traced_set_through_law, Family::kNone, 0, seed, &laws)) {
       bool any = false;
       for (const auto& t : law.terms) {
         any = any || t.selected;

@@ -83,4 +83,30 @@ std::set<std::string> selected_terms(const std::vector<diagnosis::ComponentLaw>&
   return s;
 }
 
+std::vector<diagnosis::ComponentLaw> discover(const SetMaker& make, Family f, double strength,
+                                              std::uint64_t seed, std::string* log) {
+  stats::SparseOptions o;
+  o.seed = seed;
+  o.bootstrap = 0;
+  auto laws = diagnosis::discover_force_law(make(f, strength, seed), o);
+  if (log)
+    for (const auto& law : laws)
+      *log += "seed " + std::to_string(seed) + " " +
+              std::string(diagnosis::component_name(law.component)) + ": " + law.text + "\n";
+  return laws;
+}
+
+std::size_t sets_finding(const SetMaker& make, Family f, double strength,
+                         const std::set<std::string>& terms, std::uint64_t first, std::size_t n,
+                         std::string* log) {
+  std::size_t found = 0;
+  for (std::uint64_t seed = first; seed < first + n; ++seed) {
+    const auto selected = selected_terms(discover(make, f, strength, seed, log));
+    bool hit = false;
+    for (const auto& name : terms) hit = hit || selected.count(name);
+    found += hit;
+  }
+  return found;
+}
+
 }  // namespace ricochet::truth

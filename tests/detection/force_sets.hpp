@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <set>
 #include <string>
 #include <vector>
@@ -29,5 +30,20 @@ std::vector<diagnosis::ReleaseResidual> traced_set_through_law(Family f, double 
 
 /// The selected terms of every component, by name.
 std::set<std::string> selected_terms(const std::vector<diagnosis::ComponentLaw>& laws);
+
+/// traced_set or traced_set_through_law.
+using SetMaker =
+    std::function<std::vector<diagnosis::ReleaseResidual>(Family, double, std::uint64_t)>;
+
+/// The law discovered on the set `make` gives for (f, strength, seed), the selection seeded with
+/// the set's seed, no bootstrap (only the selection is read). Each component's law in words is
+/// appended to *log ("seed S component: law").
+std::vector<diagnosis::ComponentLaw> discover(const SetMaker& make, Family f, double strength,
+                                              std::uint64_t seed, std::string* log = nullptr);
+
+/// The sets, of seeds first .. first + n - 1, in which a term of `terms` is selected.
+std::size_t sets_finding(const SetMaker& make, Family f, double strength,
+                         const std::set<std::string>& terms, std::uint64_t first, std::size_t n,
+                         std::string* log = nullptr);
 
 }  // namespace ricochet::truth
