@@ -19,6 +19,8 @@
 # sphere-drop-1.5e9.json at the end; the shipped copy goes to data/resolved/.
 set -uo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
+# shellcheck source=pin-program.sh
+source "$ROOT/scripts/pin-program.sh"
 OUT=$ROOT/results/plateau-drop
 E_WALL=${E_WALL_PA:-5e7}
 mkdir -p "$OUT"
@@ -31,15 +33,7 @@ fi
 {
   echo "== $(date '+%F %T') plateau-drop: start (pid $$, E_wall $E_WALL Pa)"
   PIN=$OUT/pinned
-  if [ ! -x "$PIN/ricochet" ] || [ ! -d "$PIN/liggghts-inputs" ]; then
-    rm -rf "$PIN.tmp" && mkdir -p "$PIN.tmp"
-    flock /tmp/ricochet-build.lock cp "$ROOT/build/cli/ricochet" "$PIN.tmp/ricochet"
-    cp -r "$ROOT/liggghts-inputs" "$PIN.tmp/liggghts-inputs"
-    (cd "$ROOT" && git rev-parse HEAD && git status --short -- src-ext liggghts-inputs cli) \
-      > "$PIN.tmp/source-state.txt" 2>&1
-    rm -rf "$PIN" && mv "$PIN.tmp" "$PIN"
-    echo "pinned the program and the decks in $PIN"
-  fi
+  pin_program "$ROOT" "$PIN"
   SHIPPED=$ROOT/data/resolved/sphere-drop-1.5e9.csv
   if [ ! -f "$OUT/sphere-drop-1.5e9.csv" ] && [ -f "$SHIPPED" ]; then
     cp "$SHIPPED" "$OUT/"

@@ -15,7 +15,7 @@
 #   stopped the process). Start the script again after a reboot or a kill.
 # - One copy at a time: a second start while one runs exits at once (flock on
 #   results/plateau/campaign.lock), saying so in the log.
-# - Pinned program and decks: the first start copies build/cli/ricochet and liggghts-inputs/ into
+# - Pinned program and decks (scripts/pin-program.sh): the first start copies build/cli/ricochet and liggghts-inputs/ into
 #   results/plateau/pinned/ (taking the shared build lock, so that it never copies a binary being
 #   linked) and every later start uses that copy, so that a campaign of several days runs one
 #   program on one set of decks (a deck edited meanwhile would change the bed cache key and
@@ -37,6 +37,8 @@
 # docs/resolved-model.md are made from the file afterwards.
 set -uo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
+# shellcheck source=pin-program.sh
+source "$ROOT/scripts/pin-program.sh"
 OUT=$ROOT/${PLATEAU_OUT:-results/plateau}
 FILE=${PLATEAU_FILE:-stiffness-plateau}
 NAME=${PLATEAU_DESIGN:-stiffness-plateau}
@@ -54,16 +56,7 @@ fi
 {
   echo "== $(date '+%F %T') $NAME: start (pid $$, host $(hostname))"
   PIN=$OUT/pinned
-  if [ ! -x "$PIN/ricochet" ] || [ ! -d "$PIN/liggghts-inputs" ]; then
-    rm -rf "$PIN.tmp" && mkdir -p "$PIN.tmp"
-    flock /tmp/ricochet-build.lock cp "$ROOT/build/cli/ricochet" "$PIN.tmp/ricochet"
-    cp -r "$ROOT/liggghts-inputs" "$PIN.tmp/liggghts-inputs"
-    cp "$DESIGN" "$PIN.tmp/$NAME.toml"
-    (cd "$ROOT" && git rev-parse HEAD && git status --short -- src-ext liggghts-inputs cli) \
-      > "$PIN.tmp/source-state.txt" 2>&1
-    rm -rf "$PIN" && mv "$PIN.tmp" "$PIN"
-    echo "pinned the program and the decks in $PIN"
-  fi
+  pin_program "$ROOT" "$PIN"
   if [ ! -f "$PIN/$NAME.toml" ]; then
     cp "$DESIGN" "$PIN/$NAME.toml"
     echo "pinned the design $NAME"
