@@ -226,7 +226,7 @@ CampaignDesign parse_campaign_design(const std::string& text, const std::string&
   if (const auto* g = table_at(root, "design", path, "")) {
     check_keys(*g,
                {"shape", "incident", "incident_from", "where", "plan", "alpha_in_deg",
-                "alpha_in_deg_sample", "seeds", "vary", "sample", "id_prefix"},
+                "alpha_in_deg_sample", "seeds", "vary", "sample", "tie", "id_prefix"},
                path, "design");
     std::string shape = "cylinder";
     if (const auto* n = g->get("shape")) {
@@ -425,6 +425,38 @@ CampaignDesign parse_campaign_design(const std::string& text, const std::string&
         }
       combos = std::move(next);
       combo_tags = std::move(next_tags);
+    }
+    // Tied parameters: "SECTION.NAME" = "SECTION.NAME", the first takes the second's value in
+    // every combination, e.g. the grain-block rolling resistance tied to the grains' (the same
+    // grain shape rolls on the block as on a grain; docs/resolved-model.md, "Recalibration with
+    // what sand has"). The source must be varied or sampled above.
+    if (const auto* tie = table_at(*g, "tie", path, "design.")) {
+      const auto split = [&](const std::string& key, const std::string& field, std::size_t line) {
+        const auto dot = key.find('.');
+        const std::string section = dot == std::string::npos ? "" : key.substr(0, dot);
+        if (section != "bed" && section != "block")
+          throw InputError(path, line, field,
+                           "expected SECTION.NAME with SECTION bed or block, got '" + key + "'");
+        return std::pair{section, key.substr(dot + 1)};
+      };
+      for (const auto& [k, v] : *tie) {
+        const std::string key(k.str());
+        const std::string field = "design.tie." + key;
+        const auto [to_section, to_name] = split(key, field, line_of(v));
+        const auto from = v.value<std::string>();
+        if (!from) throw InputError(path, line_of(v), field, "expected \"SECTION.NAME\"");
+        const auto [from_section, from_name] = split(*from, field, line_of(v));
+        check_param(decks, to_section, to_name, "1", path, line_of(v));
+        for (auto& o : combos) {
+          const auto& src = from_section == "bed" ? o.bed : o.block;
+          const auto it = src.find(from_name);
+          if (it == src.end())
+            throw InputError(path, line_of(v), field,
+                             "'" + *from + "' is not varied or sampled in this design");
+          check_param(decks, to_section, to_name, it->second, path, line_of(v));
+          (to_section == "bed" ? o.bed : o.block)[to_name] = it->second;
+        }
+      }
     }
     check_design_size(static_cast<double>(d.impacts.size()) +
                           static_cast<double>(incident.size()) *

@@ -222,6 +222,40 @@ seed = 3
     EXPECT_EQ(spec_json(again.impacts[i]), spec_json(d.impacts[i]));
 }
 
+// [design.tie]: a parameter takes a sampled one's value at every point (issue 32, item 2's
+// grain-block rolling resistance tied to the grains'); a source that is not varied is refused.
+TEST(Design, TiedParameterFollowsTheSampledOne) {
+  const auto d = read_campaign_design(temp_file("tie.toml", R"([design]
+incident = [[2.9, -2.3, -65.0]]
+[design.sample]
+n = 4
+seed = 5
+"bed.mur_gg" = [0.05, 0.7]
+[design.tie]
+"block.mur_gb" = "bed.mur_gg"
+)"),
+                                      decks());
+  ASSERT_EQ(d.impacts.size(), 4u);
+  std::set<std::string> values;
+  for (const auto& s : d.impacts) {
+    EXPECT_EQ(s.params.block.at("mur_gb"), s.params.bed.at("mur_gg")) << s.id;
+    values.insert(s.params.block.at("mur_gb"));
+  }
+  EXPECT_EQ(values.size(), 4u);
+  try {
+    (void)read_campaign_design(temp_file("tie-bad.toml", R"([design]
+incident = [[2.9, -2.3, -65.0]]
+[design.tie]
+"block.mur_gb" = "bed.mu_gg"
+)"),
+                               decks());
+    ADD_FAILURE() << "a tie to a parameter the design does not vary was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "design.tie.block.mur_gb");
+    EXPECT_EQ(e.line(), 4u);
+  }
+}
+
 // alpha_in_deg_sample: the lab triangles' unknown orientation, one stratified angle per release.
 TEST(Design, OneSampledOrientationPerIncidentState) {
   const auto path = temp_file(
@@ -300,8 +334,7 @@ TEST(Design, StiffnessPlateauDesign) {
 TEST(Design, StiffnessPlateauExtensionKeepsTheFirstCampaign) {
   const fs::path dir = fs::path(RICOCHET_SOURCE_DIR) / "liggghts-inputs/campaigns";
   const auto first = read_campaign_design((dir / "stiffness-plateau.toml").string(), decks());
-  const auto ext =
-      read_campaign_design((dir / "stiffness-plateau-1.5e10.toml").string(), decks());
+  const auto ext = read_campaign_design((dir / "stiffness-plateau-1.5e10.toml").string(), decks());
   ASSERT_EQ(ext.impacts.size(), 84u);
   EXPECT_EQ(ext.name, first.name);
   for (std::size_t k = 0; k < 63; ++k) {
