@@ -446,7 +446,6 @@ CampaignDesign parse_campaign_design(const std::string& text, const std::string&
         const auto from = v.value<std::string>();
         if (!from) throw InputError(path, line_of(v), field, "expected \"SECTION.NAME\"");
         const auto [from_section, from_name] = split(*from, field, line_of(v));
-        check_param(decks, to_section, to_name, "1", path, line_of(v));
         for (auto& o : combos) {
           const auto& src = from_section == "bed" ? o.bed : o.block;
           const auto it = src.find(from_name);

@@ -9,20 +9,10 @@
 #include <set>
 
 #include "common/error.hpp"
+#include "stats/robust.hpp"
 #include "stats/track_summary.hpp"
 
 namespace ricochet::diagnosis {
-
-namespace {
-
-double median(std::vector<double> v) {
-  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
-}
-
-}  // namespace
 
 MeasuredHistory measured_history(const BlockTrack& in, const std::string& id, const Shape& shape,
                                  const std::string& source) {
@@ -34,22 +24,12 @@ MeasuredHistory measured_history(const BlockTrack& in, const std::string& id, co
   const auto all_finite = [&](const std::vector<double>& c) {
     return std::all_of(c.begin(), c.end(), [](double v) { return std::isfinite(v); });
   };
-  for (const auto* c :
-       {&track.t, &track.x, &track.y, &track.theta, &track.vx, &track.vy, &track.w})
-    if (!all_finite(*c))
-      throw InputError(source, 0, field,
-                       "the block's position, angle and velocities must be finite at every "
-                       "record to evaluate a law along its path");
-  for (std::size_t i = 1; i < n; ++i)
-    if (!(track.t[i] > track.t[i - 1]))
-      throw InputError(source, 0, field,
-                       fmt::format("record {}: time {:g} s does not increase (previous {:g} s)",
-                                   i + 1, track.t[i], track.t[i - 1]));
   if (!all_finite(track.fcx) || !all_finite(track.fcy))
     throw InputError(source, 0, field, "the contact force (fcx, fcy) is missing or not finite");
 
   MeasuredHistory h;
   h.id = id;
+  h.source = source;
   double mass = track.block_mass_kg;
   if (!std::isfinite(mass)) mass = stats::free_flight_mass_kg(track);
   h.force_scale = std::isfinite(mass) && mass > 0 ? shape.mass_kg / mass : 1.0;
@@ -59,7 +39,7 @@ MeasuredHistory measured_history(const BlockTrack& in, const std::string& id, co
     if (std::isfinite(track.penetration[i]))
       surface.push_back(track.y[i] - shape.depth_below_centroid(track.theta[i]) +
                         track.penetration[i]);
-  h.surface_m = surface.empty() ? 0.0 : median(surface);
+  h.surface_m = surface.empty() ? 0.0 : stats::robust_summarize(surface).median;
 
   for (std::size_t i = 0; i < n; ++i) {
     h.path.push_back({track.t[i], track.x[i], track.y[i] - h.surface_m, track.theta[i], track.vx[i],
@@ -78,7 +58,14 @@ MeasuredHistory measured_history(const BlockTrack& in, const std::string& id, co
 ReleaseResidual force_residual(const MeasuredHistory& history, const Model& model,
                                const Shape& shape, std::span<const double> params,
                                const EngineOptions& engine) {
-  const auto law = law_force_along(model, shape, history.path, params, engine);
+  std::vector<PathForce> law;
+  try {
+    law = law_force_along(model, shape, history.path, params, engine);
+  } catch (const InputError& e) {
+    if (history.source.empty() || e.file() != "<path>") throw;
+    throw InputError(history.source, 0, std::string(kTracksGroup) + "/" + history.id,
+                     fmt::format("record {}: {}", e.line(), e.detail()));
+  }
   ReleaseResidual r;
   for (std::size_t i = 0; i < law.size(); ++i) {
     const PathForce& f = law[i];
@@ -111,8 +98,9 @@ std::optional<ForceLawReport> force_law_from_tracks(const std::string& data, con
   const auto kept = block_track_ids(data);
   const std::set<std::string> have(kept.begin(), kept.end());
   ForceLawReport report;
+  report.force_scale_min = std::numeric_limits<double>::infinity();
+  report.force_scale_max = -std::numeric_limits<double>::infinity();
   std::vector<ReleaseResidual> residuals;
-  bool first = true;
   for (const auto& release : set.impacts) {
     if (!have.count(release.id)) continue;
     const MeasuredHistory h =
@@ -121,12 +109,9 @@ std::optional<ForceLawReport> force_law_from_tracks(const std::string& data, con
     if (r.samples.empty()) continue;
     report.ids.push_back(release.id);
     report.samples += r.samples.size();
-    report.force_scale_min =
-        first ? h.force_scale : std::min(report.force_scale_min, h.force_scale);
-    report.force_scale_max =
-        first ? h.force_scale : std::max(report.force_scale_max, h.force_scale);
+    report.force_scale_min = std::min(report.force_scale_min, h.force_scale);
+    report.force_scale_max = std::max(report.force_scale_max, h.force_scale);
     report.geometry_mismatch_m = std::max(report.geometry_mismatch_m, h.geometry_mismatch_m);
-    first = false;
     residuals.push_back(std::move(r));
   }
   if (residuals.size() < 2) return std::nullopt;

@@ -28,6 +28,9 @@ namespace ricochet::diagnosis {
 /// (fx, fy [N], torque about the centre of mass [N m]; NaN where not measured).
 struct MeasuredHistory {
   std::string id;
+  /// The file the history was read from ("" when made in memory): force_residual names it and
+  /// the track in the InputError of a path it cannot follow.
+  std::string source;
   std::vector<PathState> path;
   std::vector<double> fx_N, fy_N, torque_Nm;
   /// The force scale applied to the track's forces (lab mass / simulated mass; 1 when the
@@ -44,7 +47,8 @@ struct MeasuredHistory {
 /// stats::free_flight_mass_kg; unscaled when neither is known), the surface height the median of
 /// y - depth_below_centroid(theta) + penetration over the records with a penetration, and y
 /// taken above it. The track's theta is taken as the engine's orientation. Throws InputError
-/// (file `source`, field "/dem/tracks/ID") for a track without positions or forces.
+/// (file `source`, field "/dem/tracks/ID") for a track of fewer than two records or without a
+/// finite contact force; the path itself is checked by force_residual (law_force_along).
 MeasuredHistory measured_history(const BlockTrack& track, const std::string& id, const Shape& shape,
                                  const std::string& source);
 
@@ -52,7 +56,9 @@ MeasuredHistory measured_history(const BlockTrack& track, const std::string& id,
 /// the samples where the law's deepest slot is in contact (h > 0), with that slot's state
 /// (ContactSample) and, in its contact frame (n, t = (n_y, -n_x)), the residual normal and
 /// tangential force [N] and the residual moment about the contact point [N m] (the torque
-/// residual minus the moment of the force residual at the contact point).
+/// residual minus the moment of the force residual at the contact point). A path law_force_along
+/// refuses (a non-finite state, a time that does not increase) is an InputError naming
+/// history.source, "/dem/tracks/ID" and the record.
 ReleaseResidual force_residual(const MeasuredHistory& history, const Model& model,
                                const Shape& shape, std::span<const double> params = {},
                                const EngineOptions& engine = {});

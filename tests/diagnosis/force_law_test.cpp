@@ -14,6 +14,7 @@
 #include <string>
 
 #include "common/error.hpp"
+#include "diagnosis/force_residual.hpp"
 
 namespace ricochet::diagnosis {
 namespace {
@@ -156,6 +157,28 @@ TEST(ForceLaw, RefusesReleasesWhoseSizesDisagree) {
   }
   releases = bed(3, Truth{}, 1);
   EXPECT_THROW((void)discover_force_law(releases), InputError);  // one release: no CV
+}
+
+// A history read from a file whose path the law cannot follow (here a time that does not
+// increase) is refused naming the file, the track and the record, not "<path>".
+TEST(ForceResidual, APathTheLawCannotFollowNamesTheFileTheTrackAndTheRecord) {
+  MeasuredHistory h;
+  h.id = "C07";
+  h.source = "campaign.h5";
+  for (double t : {0.0, 1e-4, 1e-4}) {
+    h.path.push_back({t, 0.0, 0.1, 0.0, 2.9, -2.3, -65.0});
+    h.fx_N.push_back(0.0);
+    h.fy_N.push_back(0.0);
+    h.torque_Nm.push_back(NAN);
+  }
+  try {
+    (void)force_residual(h, Model::paper(), Shape::cylinder());
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "campaign.h5");
+    EXPECT_EQ(e.field(), "/dem/tracks/C07");
+    EXPECT_NE(e.detail().find("record 3"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
