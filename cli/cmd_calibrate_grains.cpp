@@ -22,7 +22,7 @@ namespace ricochet::cli {
 namespace {
 
 struct Options {
-  std::string campaign, lab, shape = "cylinder", figures, decks;
+  std::string campaign, lab, lab_where, shape = "cylinder", figures, decks;
   bool without_gross_errors = false;
   /// --where, --parameters and --seed write into the library's options (and show its defaults).
   dem::GrainCalibrationOptions calibration;
@@ -34,13 +34,16 @@ void run(const Options& o) {
   const auto decks = dem::Decks::locate(o.decks);
   const Shape shape = Shape::resolve(o.shape);
   std::vector<std::string> dropped;
-  ImpactSet lab = fit::select_shape(read_impact_set(o.lab), shape);
+  ImpactSet lab = fit::select_shape(
+      filter_nonempty(read_impact_set(o.lab), o.lab_where, o.lab, "--lab-where"), shape);
+  const std::size_t n_matching = lab.size();
   if (o.without_gross_errors) lab = stats::without_gross_errors(lab, &dropped);
   const auto r = dem::calibrate_grains(o.campaign, decks, lab, o.calibration);
   std::vector<std::string> figures;
   if (!o.figures.empty()) figures = dem::write_grain_calibration_figures(r, o.figures);
   nlohmann::json j = nlohmann::json::parse(dem::grain_calibration_json(r));
   j["target"] = o.lab;
+  j["target_where"] = o.lab_where;
   j["target_without"] = dropped;
   j["figures"] = figures;
   if (!o.output.out.empty()) write_text_file(o.output.out, stamp_json(j).dump(1), "--out");
@@ -52,6 +55,9 @@ void run(const Options& o) {
       "calibrate-grains {}: {} design points ({} impacts did not rebound), {} parameters, {:.1f} "
       "s\n",
       r.source, r.points.size(), r.failed, r.parameters.size(), r.seconds);
+  if (!o.lab_where.empty())
+    std::cout << fmt::format("  target: the {} releases of {} that match --lab-where\n", n_matching,
+                             o.lab);
   if (o.without_gross_errors) {
     std::string ids;
     for (const auto& id : dropped) ids += (ids.empty() ? "" : ", ") + id;
@@ -95,6 +101,9 @@ void add_calibrate_grains_command(CLI::App& app) {
   sub->add_option("--lab", o->lab, "Target impact set (e.g. data/lab/cylinders.csv)")
       ->required()
       ->check(CLI::ExistingFile);
+  sub->add_option("--lab-where", o->lab_where,
+                  "Keep only the --lab releases matching EXPR (the --where grammar, "
+                  "docs/impact-sets.md), e.g. a calibration half from scripts/lab-split.py");
   sub->add_option("--shape", o->shape, "Shape of the target's impacts to use (cylinder, triangle)");
   sub->add_flag("--without-gross-errors", o->without_gross_errors,
                 "Leave out the --lab releases that the gross-error rule flags (|modified z| > 3.5 "

@@ -416,8 +416,9 @@ struct Term {
   std::vector<double> values;  // numeric feature over the set
 };
 
-[[noreturn]] void bad_term(const std::string& term, const std::string& message) {
-  throw InputError("--where", 0, term, message);
+[[noreturn]] void bad_term(const std::string& option, const std::string& term,
+                           const std::string& message) {
+  throw InputError(option, 0, term, message);
 }
 
 // Splits on "&&" and on the word "and" (case-insensitive, surrounded by whitespace).
@@ -446,13 +447,14 @@ std::vector<std::string> split_terms(const std::string& where) {
   return pieces;
 }
 
-Term parse_term(const std::string& raw, const std::string& where, const ImpactSet& set) {
+Term parse_term(const std::string& raw, const std::string& where, const ImpactSet& set,
+                const std::string& option) {
   Term t;
   t.text = std::string(trim(raw));
-  if (t.text.empty()) bad_term(where, "empty condition (a dangling '&&' or 'and'?)");
+  if (t.text.empty()) bad_term(option, where, "empty condition (a dangling '&&' or 'and'?)");
   const auto pos = t.text.find_first_of("<>=!");
   if (pos == std::string::npos)
-    bad_term(t.text, "no comparison operator; write FEATURE OP VALUE with OP in < <= > >= == !=");
+    bad_term(option, t.text, "no comparison operator; write FEATURE OP VALUE with OP in < <= > >= == !=");
   const std::string_view rest = std::string_view(t.text).substr(pos);
   std::size_t op_len = 2;
   if (rest.starts_with("<=")) {
@@ -470,20 +472,20 @@ Term parse_term(const std::string& raw, const std::string& where, const ImpactSe
     t.op = Op::kGt;
     op_len = 1;
   } else {
-    bad_term(t.text, "unknown operator; use one of < <= > >= == !=");
+    bad_term(option, t.text, "unknown operator; use one of < <= > >= == !=");
   }
   t.feature = std::string(trim(std::string_view(t.text).substr(0, pos)));
   std::string value(trim(rest.substr(op_len)));
-  if (t.feature.empty()) bad_term(t.text, "missing feature name before the operator");
-  if (value.empty()) bad_term(t.text, "missing value after the operator");
+  if (t.feature.empty()) bad_term(option, t.text, "missing feature name before the operator");
+  if (value.empty()) bad_term(option, t.text, "missing value after the operator");
   if (value.find_first_of("<>=!") != std::string::npos)
-    bad_term(t.text, "more than one comparison operator in one condition; join with &&");
+    bad_term(option, t.text, "more than one comparison operator in one condition; join with &&");
 
   if (t.feature == "id" || t.feature == "shape" || t.feature == "operator" ||
       t.feature == "replicate") {
     t.textual = true;
     if (t.op != Op::kEq && t.op != Op::kNe)
-      bad_term(t.text, "'" + t.feature + "' is text: only == and != apply");
+      bad_term(option, t.text, "'" + t.feature + "' is text: only == and != apply");
     if (value.size() >= 2 && (value.front() == '"' || value.front() == '\'') &&
         value.back() == value.front())
       value = value.substr(1, value.size() - 2);
@@ -493,10 +495,10 @@ Term parse_term(const std::string& raw, const std::string& where, const ImpactSe
   try {
     t.values = set.feature(t.feature);
   } catch (const std::invalid_argument& e) {
-    bad_term(t.text, std::string(e.what()) + ", id, shape, operator");
+    bad_term(option, t.text, std::string(e.what()) + ", id, shape, operator");
   }
   if (!parse_number(value, t.value) || !std::isfinite(t.value))
-    bad_term(t.text, "value '" + value + "' is not a finite number (SI units, e.g. 3.5)");
+    bad_term(option, t.text, "value '" + value + "' is not a finite number (SI units, e.g. 3.5)");
   return t;
 }
 
@@ -521,10 +523,11 @@ bool compare(const T& a, Op op, const T& b) {
 
 }  // namespace
 
-ImpactSet filter(const ImpactSet& set, const std::string& where) {
+ImpactSet filter(const ImpactSet& set, const std::string& where, const std::string& option) {
   if (trim(where).empty()) return set;
   std::vector<Term> terms;
-  for (const auto& piece : split_terms(where)) terms.push_back(parse_term(piece, where, set));
+  for (const auto& piece : split_terms(where))
+    terms.push_back(parse_term(piece, where, set, option));
 
   ImpactSet out = set;
   out.impacts.clear();
@@ -553,11 +556,11 @@ ImpactSet filter(const ImpactSet& set, const std::string& where) {
   return out;
 }
 
-ImpactSet filter_nonempty(const ImpactSet& set, const std::string& where,
-                          const std::string& source) {
-  ImpactSet out = filter(set, where);
+ImpactSet filter_nonempty(const ImpactSet& set, const std::string& where, const std::string& source,
+                          const std::string& option) {
+  ImpactSet out = filter(set, where, option);
   if (out.empty() && !set.empty() && !trim(where).empty())
-    throw InputError("<command line>", 0, "--where",
+    throw InputError("<command line>", 0, option,
                      "'" + where + "' keeps no release of " + source + " (" +
                          std::to_string(set.size()) + " releases)");
   return out;

@@ -132,13 +132,15 @@ void validate(const ImpactSet& set);
 /// name accepted by ImpactSet::feature(), or `id`, `shape`, `operator` (== and != only).
 /// Numeric values are SI. A release without the feature matches no condition on it. An empty
 /// filter keeps everything; the result's comments gain "filter: WHERE".
-/// Throws InputError (file "--where", field = the offending term) for a malformed filter.
-ImpactSet filter(const ImpactSet& set, const std::string& where);
+/// Throws InputError (file `option`, field = the offending term) for a malformed filter; `option`
+/// is the command-line option the filter came from (--where, or calibrate-grains' --lab-where).
+ImpactSet filter(const ImpactSet& set, const std::string& where,
+                 const std::string& option = "--where");
 
 /// filter(set, where) as the commands apply --where: a non-empty filter that keeps no release is an
-/// InputError (field "--where") saying so, naming `where` and `source` (the file `set` came from),
+/// InputError (field `option`) saying so, naming `where` and `source` (the file `set` came from),
 /// rather than an empty set that fails later with a less telling message.
-ImpactSet filter_nonempty(const ImpactSet& set, const std::string& where,
-                          const std::string& source);
+ImpactSet filter_nonempty(const ImpactSet& set, const std::string& where, const std::string& source,
+                          const std::string& option = "--where");
 
 }  // namespace ricochet

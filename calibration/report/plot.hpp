@@ -35,7 +35,7 @@ struct Series {
   /// "filledcurves" (band between ylo and yhi), "circles" (discs of radius `radius`, in x-axis
   /// units, filled by `value` on the panel's colour map; `color` set: one flat colour instead)
   std::string style = "lines";
-  std::vector<double> ylo, yhi;  ///< for "errorbars" / "filledcurves"
+  std::vector<double> ylo{}, yhi{};  ///< for "errorbars" / "filledcurves"
   std::string color;             ///< gnuplot colour name or "#rrggbb"; empty = automatic
   int point_type = 7;
   std::vector<double> radius{}, value{};  ///< for "circles" (value may be empty when color is set)

@@ -92,6 +92,10 @@ const std::vector<BadCase> kCases = {
     {"upscale " + kCampaign + " --lab-noise 0.1,0.1,8", "--lab-noise"},
     {"calibrate-grains no-such-campaign.h5 --lab " + kCyl, "no-such-campaign.h5"},
     {"calibrate-grains " + kCyl, "--lab"},
+    {"calibrate-grains " + kCampaign + " --lab " + kCyl + " --lab-where id==C99",
+     "field '--lab-where': 'id==C99' keeps no release"},
+    {"calibrate-grains " + kCampaign + " --lab " + kCyl + " --lab-where \"vinx<3\"",
+     "--lab-where: field 'vinx<3': unknown feature"},
 };
 
 class BadOptions : public test::ProgramTest, public ::testing::WithParamInterface<BadCase> {};

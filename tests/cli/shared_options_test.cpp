@@ -109,5 +109,39 @@ TEST_F(SharedOptions, WhereFilters) {
   EXPECT_EQ(json("montecarlo --n 200 --compare " + kCyl)["compare"]["releases"], all);
 }
 
+// calibrate-grains' --lab-where filters the target, not the campaign: its target mean and sd are
+// those `stats --where` gives for the same filter (a half of scripts/lab-split.py's kind), and
+// they differ from the whole set's.
+TEST_F(SharedOptions, LabWhereSelectsTheTarget) {
+  const std::string grains = "calibrate-grains " +
+                             quote(std::string(RICOCHET_SOURCE_DIR) +
+                                   "/data/resolved/bed-calibration-cdt.h5") +
+                             " --lab " + kCyl;
+  if (!test::program_has_liggghts()) GTEST_SKIP() << "calibrate-grains needs LIGGGHTS";
+  const std::string where = "id!=C02 && id!=C04 && id!=C07 && id!=C08 && vin_x<3.2";
+  const auto json = [&](const std::string& args) {
+    const test::RunResult r = ricochet(args + " --json");
+    EXPECT_EQ(r.status, 0) << args << "\n" << r.err;
+    return r.status == 0 ? nlohmann::json::parse(r.out) : nlohmann::json::object();
+  };
+  const auto half = json(grains + " --lab-where \"" + where + "\"");
+  const auto all = json(grains);
+  const auto stats = json("stats " + kCyl + " --where \"" + where + "\"");
+  ASSERT_TRUE(half.contains("components") && all.contains("components") &&
+              stats.contains("columns"));
+  EXPECT_EQ(half["target_where"], where);
+  EXPECT_EQ(half["target_impacts"], stats["n"]);
+  EXPECT_LT(half["target_impacts"].get<int>(), all["target_impacts"].get<int>());
+  for (const char* c : {"vout_x", "vout_y", "wout"}) {
+    EXPECT_NEAR(half["components"][c]["target_mean"].get<double>(),
+                stats["columns"][c]["mean"].get<double>(), 1e-12)
+        << c;
+    EXPECT_NEAR(half["components"][c]["target_sd"].get<double>(),
+                stats["columns"][c]["std"].get<double>(), 1e-12)
+        << c;
+    EXPECT_NE(half["components"][c]["target_mean"], all["components"][c]["target_mean"]) << c;
+  }
+}
+
 }  // namespace
 }  // namespace ricochet
