@@ -117,7 +117,9 @@ nlohmann::json input_files() {
   std::set<std::string> seen;
   for (const CLI::Option* opt : parser->get_options()) {
     const std::string name = opt->get_name();
-    if (name == "--out" || name == "--write-model" || name == "--truth") continue;
+    if (name == "--out" || name == "--write-model" || name == "--write-force-model" ||
+        name == "--truth")
+      continue;
     for (const std::string& value : opt->results()) {
       std::error_code ec;
       if (!std::filesystem::is_regular_file(value, ec) || !seen.insert(value).second) continue;

@@ -9,16 +9,26 @@
 #include "cli_common.hpp"
 #include "common/error.hpp"
 #include "diagnosis/figures.hpp"
+#include "diagnosis/force_history.hpp"
 #include "diagnosis/force_residual.hpp"
 #include "diagnosis/inputs.hpp"
 #include "diagnosis_options.hpp"
+#include "impact/block_track.hpp"
 #include "model_options.hpp"
 
 namespace ricochet::cli {
 namespace {
 
-void run(DiagnosisCliOptions& o) {
+void run(DiagnosisCliOptions& o, const std::string& force_model) {
   require_out_extension(o.output, {".csv", ".h5", ".hdf5"});
+  if (!force_model.empty()) {
+    require_extension("--write-force-model", force_model, {".toml"});
+    if (block_track_ids(o.data).size() < 2)  // refused before the diagnosis, not after it
+      throw InputError("<command line>", 0, "--write-force-model",
+                       o.data +
+                           " keeps no contact histories of two releases or more (a campaign "
+                           "file's /dem/tracks): there is no force law to write");
+  }
   o.values.dt_s = o.model.dt_s;
   diagnosis::DiagnoseOptions opt = diagnose_options(o.values);
   const Model model = o.model.build_model();  // loads plugins first: they become candidates
@@ -28,10 +38,30 @@ void run(DiagnosisCliOptions& o) {
   nlohmann::json doc = diagnosis::to_json(d);
   // A set with contact histories (a campaign file's tracks): the force the base law leaves along
   // each release's own path, at the base model's population fit (issue 33, item 2).
+  // Each release at its own calibration where the diagnosis has one (the per-release fits), so
+  // that the constants' release-to-release scatter is not read as a missing force.
+  std::vector<std::vector<double>> release_params;
+  if (d.baseline.release_fits.size() == in.set.size())
+    for (const auto& f : d.baseline.release_fits) release_params.push_back(f.params);
   const auto force_law = diagnosis::force_law_from_tracks(
-      o.data, in.set, in.shape, model, d.baseline.base.population.params,
-      o.model.engine_options());
+      o.data, in.set, in.shape, model, d.baseline.base.population.params, o.model.engine_options(),
+      {}, release_params);
   if (force_law) doc["force_law"] = diagnosis::to_json(*force_law);
+  std::vector<std::string> force_model_warnings;
+  if (!force_model.empty()) {
+    if (!force_law)
+      throw InputError("<command line>", 0, "--write-force-model",
+                       o.data +
+                           " keeps no contact histories of two releases or more (a campaign "
+                           "file's /dem/tracks): there is no force law to write");
+    write_text_file(force_model,
+                    diagnosis::with_force_law(model, d.baseline.base.population.params, *force_law,
+                                              &force_model_warnings)
+                        .to_toml(),
+                    "--write-force-model");
+    doc["force_model_file"] = force_model;
+    doc["force_model_warnings"] = force_model_warnings;
+  }
   doc["data"] = o.data;
   doc["shape"] = in.shape.name;
   doc["releases"] = in.set.size();
@@ -83,6 +113,11 @@ void run(DiagnosisCliOptions& o) {
   std::cout << "\nwhat is left unexplained:\n";
   for (const auto& u : d.unexplained) std::cout << "- " << u << "\n";
   if (force_law) std::cout << "\n" << diagnosis::format_text(*force_law);
+  if (!force_model.empty()) {
+    std::cout << "force-law model (the base model at its fit plus the discovered terms): "
+              << force_model << "\n";
+    for (const auto& w : force_model_warnings) std::cout << "  warning: " << w << "\n";
+  }
   std::cout << fmt::format("\n({:.1f} s)\n", d.seconds);
   print_written(figures, o.output.out);
 }
@@ -90,6 +125,7 @@ void run(DiagnosisCliOptions& o) {
 }  // namespace
 
 void add_diagnose_command(CLI::App& app) {
+  auto force_model = std::make_shared<std::string>();
   add_diagnosis_command(
       app, "diagnose",
       "Rank the catalog's effects (and plugins) missing from the model by the held-out error "
@@ -100,7 +136,13 @@ void add_diagnose_command(CLI::App& app) {
        .intervals = true,
        .features = true,
        .write_model = true},
-      {}, run);
+      [force_model](CLI::App* sub) {
+        sub->add_option("--write-force-model", *force_model,
+                        "Write the base model at its fit plus the discovered force law's terms "
+                        "(term_<name> effects at their coefficients) to FILE (.toml); needs "
+                        "contact histories");
+      },
+      [force_model](DiagnosisCliOptions& o) { run(o, *force_model); });
 }
 
 }  // namespace ricochet::cli

@@ -11,6 +11,7 @@
 #include "common/error.hpp"
 #include "effects/catalog.hpp"
 #include "effects/coefficient_law.hpp"
+#include "effects/force_term.hpp"
 #include "effects/registry.hpp"
 
 namespace ricochet::cli {
@@ -88,6 +89,18 @@ void print_generated_family(const std::vector<const Effect*>& list) {
       "  linear: C_eff = C (1 + c x), c in [-0.9/x_hi, 3/x_ref]; power: C_eff = C (max(x, 1e-3 "
       "x_ref) / x_ref)^p, p in [-1.5, 1.5];\n  factor clamped to [0.02, 50], neutral at 0. One in "
       "detail: ricochet effects muR_spin_linear\n");
+  bool terms = false;
+  for (const Effect* e : list) terms = terms || e->name().starts_with("term_");
+  if (!terms) return;
+  std::printf(
+      "\nForce terms term_<name> (%zu effects; docs/effects/force_term.md): the force-residual "
+      "discovery's library, one parameter c_<name> each, neutral at 0, c > 0 resists:\n",
+      effects::force_terms().size());
+  for (const effects::ForceTerm& t : effects::force_terms())
+    std::printf("  %-22s %-10s %-18s |c| <= %-9.3g %s\n", std::string(t.name).c_str(),
+                std::string(effects::component_name(t.component)).c_str(),
+                std::string(t.expression).c_str(), effects::force_term_bound(t),
+                std::string(t.unit).c_str());
 }
 
 // The --json document: every listed effect described.

@@ -2,22 +2,26 @@
 // each rung (base, + first effect, + second effect, ...) and show the error falling towards the
 // noise floor, in-sample and held-out, per observable (docs/commands/ladder.md). With --auto N
 // the rungs are chosen by rounds of `ricochet diagnose`.
+#include <cmath>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include <fmt/format.h>
 
 #include "cli_common.hpp"
 #include "common/error.hpp"
 #include "diagnosis/figures.hpp"
+#include "diagnosis/force_history.hpp"
 #include "diagnosis/inputs.hpp"
 #include "diagnosis_options.hpp"
+#include "impact/block_track.hpp"
 #include "model_options.hpp"
 
 namespace ricochet::cli {
 namespace {
 
-void run(DiagnosisCliOptions& o, int auto_rounds) {
+void run(DiagnosisCliOptions& o, int auto_rounds, bool force_law) {
   require_out_extension(o.output, {".csv", ".h5", ".hdf5"});
   o.values.dt_s = o.model.dt_s;
   diagnosis::DiagnoseOptions opt = diagnose_options(o.values);
@@ -33,16 +37,40 @@ void run(DiagnosisCliOptions& o, int auto_rounds) {
       throw InputError("<command line>", 0, "--add", e.what());
     }
   }
-  if (adds.empty() && auto_rounds < 0)
+  if (adds.empty() && auto_rounds < 0 && !force_law)
     throw InputError("<command line>", 0, "--add",
-                     "give the effects of the ladder (--add NAME, repeatable) or --auto N");
+                     "give the effects of the ladder (--add NAME, repeatable), --auto N or "
+                     "--force-law");
+  if (force_law && block_track_ids(o.data).size() < 2)  // refused before the ladder, not after
+    throw InputError("<command line>", 0, "--force-law",
+                     o.data +
+                         " keeps no contact histories of two releases or more (a campaign "
+                         "file's /dem/tracks): there is no force law to discover");
   const auto in = diagnosis::load_inputs(o.data, o.shape_given ? o.model.shape : "", o.where);
   opt.assess.release_fits = opt.assess.release_fits && auto_rounds >= 0;
   opt.progress = !o.output.json;
-  const diagnosis::Ladder l =
-      auto_rounds >= 0 ? diagnosis::auto_ladder(model, in.shape, in.set, auto_rounds, opt)
-                       : diagnosis::ladder(model, in.shape, in.set, adds, opt);
+  diagnosis::Ladder l = auto_rounds >= 0
+                            ? diagnosis::auto_ladder(model, in.shape, in.set, auto_rounds, opt)
+                            : diagnosis::ladder(model, in.shape, in.set, adds, opt);
+  std::optional<diagnosis::ForceLawReport> discovered;
+  if (force_law)
+    discovered = diagnosis::add_force_law_rung(l, model, in.shape, in.set, o.data, opt);
   nlohmann::json doc = diagnosis::to_json(l);
+  if (discovered) doc["force_law"] = diagnosis::to_json(*discovered);
+  // A set with contact histories: each rung's force along the releases' own paths, in-sample and
+  // at its split fits on held-out releases (issue 33, item 3).
+  const auto histories = diagnosis::measured_histories(o.data, in.set, in.shape);
+  std::vector<diagnosis::ForceHistoryError> force_errors;
+  if (diagnosis::history_count(histories) >= 2) {
+    nlohmann::json fh = nlohmann::json::array();
+    for (std::size_t r = 0; r < l.rungs.size(); ++r) {
+      force_errors.push_back(diagnosis::force_history_error(diagnosis::rung_model(model, l, r),
+                                                            in.shape, l.rungs[r].assessment,
+                                                            histories, o.model.engine_options()));
+      fh.push_back(diagnosis::to_json(force_errors.back()));
+    }
+    doc["force_history"] = fh;
+  }
   doc["data"] = o.data;
   doc["shape"] = in.shape.name;
   std::vector<std::string> figures;
@@ -85,6 +113,24 @@ void run(DiagnosisCliOptions& o, int auto_rounds) {
   for (int k = 0; k < diagnosis::kObservables; ++k)
     if (use[k]) floor_line += fmt::format("{:>13.4g}", l.floor.term_mean[k]);
   std::cout << floor_line << "\n";
+  if (!force_errors.empty()) {
+    std::cout << fmt::format(
+        "\nforce histories ({} releases, {} contact samples; RMS of measured minus model, "
+        "in-sample / held-out):\n{:<5}{:<22}{:>22}{:>22}{:>24}\n",
+        force_errors.front().releases, force_errors.front().samples, "rung", "added", "normal [N]",
+        "tangential [N]", "moment [N m]");
+    for (std::size_t r = 0; r < force_errors.size(); ++r) {
+      std::string line = fmt::format("{:<5}{:<22}", r,
+                                     l.rungs[r].added.empty() ? "(base)" : "+" + l.rungs[r].added);
+      for (std::size_t c = 0; c < diagnosis::kForceComponents; ++c)
+        line += std::isfinite(force_errors[r].insample_rms[c])
+                    ? fmt::format("{:>12.4g} /{:>8.4g}", force_errors[r].insample_rms[c],
+                                  force_errors[r].heldout_rms[c])
+                    : fmt::format("{:>22}", "-");
+      std::cout << line << "\n";
+    }
+  }
+  if (discovered) std::cout << "\n" << diagnosis::format_text(*discovered);
   if (!l.stop_reason.empty()) std::cout << "\nstopped: " << l.stop_reason << "\n";
   print_written(figures, o.output.out);
 }
@@ -93,6 +139,7 @@ void run(DiagnosisCliOptions& o, int auto_rounds) {
 
 void add_ladder_command(CLI::App& app) {
   auto auto_rounds = std::make_shared<int>(-1);
+  auto force_law = std::make_shared<bool>(false);
   add_diagnosis_command(
       app, "ladder",
       "Recalibrate a ladder of models (base, + effect, + another, ...) and show the in-sample "
@@ -101,7 +148,10 @@ void add_ladder_command(CLI::App& app) {
                 "diagnose --alpha)",
        .features = true,
        .write_model = true},
-      [auto_rounds](CLI::App* sub) {
+      [auto_rounds, force_law](CLI::App* sub) {
+        sub->add_flag("--force-law", *force_law,
+                      "Last rung: the force law discovered on the file's contact histories, its "
+                      "terms held at their discovered coefficients (needs /dem/tracks)");
         sub->get_option("--add")->description(
             "Effect added by the next rung (repeatable, in order; plugin effects too)");
         sub->add_option("--auto", *auto_rounds,
@@ -109,7 +159,7 @@ void add_ladder_command(CLI::App& app) {
                         "--add)");
         check_range(sub, "--auto", 1, 20);
       },
-      [auto_rounds](DiagnosisCliOptions& o) { run(o, *auto_rounds); });
+      [auto_rounds, force_law](DiagnosisCliOptions& o) { run(o, *auto_rounds, *force_law); });
 }
 
 }  // namespace ricochet::cli

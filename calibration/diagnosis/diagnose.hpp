@@ -65,6 +65,7 @@
 #include <vector>
 
 #include "diagnosis/assess.hpp"
+#include "diagnosis/force_residual.hpp"
 #include "diagnosis/scatter.hpp"
 #include "diagnosis/trends.hpp"
 #include "effects/registry.hpp"
@@ -344,6 +345,16 @@ struct Ladder {
 /// Rungs: model, model + adds[0], model + adds[0] + adds[1], ...
 Ladder ladder(const Model& model, const Shape& shape, const ImpactSet& set,
               const std::vector<std::string>& adds, const DiagnoseOptions& options);
+/// Adds a rung "force law" to `l` (issue 33, item 3): the force law discovered on the contact
+/// histories `data` keeps (force_law_from_tracks, each release at its own calibration of the last
+/// rung's model, fit::calibrate_releases) as `term_<name>` effects at their discovered
+/// coefficients, held fixed (the histories identify them; the rebounds do not), the rest of the
+/// model recalibrated and judged like any rung. Returns the discovery (nullopt when `data` keeps
+/// fewer than two histories); no rung is added when it selects no term. `base` is the model the
+/// ladder started from (rung_model).
+std::optional<ForceLawReport> add_force_law_rung(Ladder& l, const Model& base, const Shape& shape,
+                                                 const ImpactSet& set, const std::string& data,
+                                                 const DiagnoseOptions& options);
 /// Rounds of diagnose(): adds the best supported effect until the model is adequate, no effect
 /// is supported, or `max_rounds` effects were added.
 /// `first`: an existing diagnosis of `model` on `set` (same options) used as round 0.
@@ -352,6 +363,10 @@ Ladder auto_ladder(const Model& model, const Shape& shape, const ImpactSet& set,
 
 /// The model of a rung, with its calibrated values (to continue from it).
 Model with_values(const Model& model, const std::vector<double>& values);
+/// Rung `rung` of a ladder (0 = the base) as a model with its calibrated values: `base` plus the
+/// effects the rungs up to it added, in the ladder's parameter order (its fold_params' too).
+Model rung_model(const Model& base, const Ladder& l, std::size_t rung,
+                 const EffectRegistry& registry = EffectRegistry::global());
 /// The last rung of a ladder as a model with its calibrated values (`ladder --write-model`).
 Model ladder_model(const Model& base, const Ladder& l,
                    const EffectRegistry& registry = EffectRegistry::global());

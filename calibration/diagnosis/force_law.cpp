@@ -13,68 +13,7 @@ namespace {
 
 constexpr const char* kWhere = "<force residuals>";
 
-double sgn(double x) {
-  return x > 0 ? 1.0 : x < 0 ? -1.0 : 0.0;
-}
-
 }  // namespace
-
-std::string_view component_name(ForceComponent c) {
-  switch (c) {
-    case ForceComponent::kNormal:
-      return "normal";
-    case ForceComponent::kTangential:
-      return "tangential";
-    case ForceComponent::kMoment:
-      return "moment";
-  }
-  return "?";
-}
-
-const std::vector<ForceTerm>& force_terms() {
-  using C = ForceComponent;
-  static const std::vector<ForceTerm> terms = {
-      {"spring", C::kNormal, "c h", "N/m", "linear spring (Katsuragi-Durian k z)",
-       [](const ContactSample& s) { return s.h_m; }},
-      {"hertz", C::kNormal, "c h^1.5", "N/m^1.5", "Hertz contact",
-       [](const ContactSample& s) { return std::pow(s.h_m, 1.5); }},
-      {"quadratic_depth", C::kNormal, "c h^2", "N/m^2", "",
-       [](const ContactSample& s) { return s.h_m * s.h_m; }},
-      {"inertial_drag", C::kNormal, "-c v_n|v_n|", "kg/m",
-       "Poncelet / Katsuragi-Durian inertial drag (c = m/d1)",
-       [](const ContactSample& s) { return -s.vn_mps * std::abs(s.vn_mps); }},
-      {"viscous", C::kNormal, "-c v_n", "N s/m", "viscous damping",
-       [](const ContactSample& s) { return -s.vn_mps; }},
-      {"depth_drag", C::kNormal, "-c h v_n|v_n|", "kg/m^2", "",
-       [](const ContactSample& s) { return -s.h_m * s.vn_mps * std::abs(s.vn_mps); }},
-      // One branch term, not one per branch: h on loading plus h on unloading is h itself,
-      // and a library with both and the spring would be singular.
-      {"branch_spring", C::kNormal, "c h sign(-v_n)", "N/m",
-       "hysteresis: stiffer loading than unloading (Walton & Braun 1986)",
-       [](const ContactSample& s) { return s.loading ? s.h_m : -s.h_m; }},
-      {"ploughing", C::kTangential, "-c sign(v_x) h^2", "N/m^2",
-       "Rankine passive earth pressure (c = K_p gamma L / 2)",
-       [](const ContactSample& s) { return -sgn(s.vx_mps) * s.h_m * s.h_m; }},
-      {"depth_friction_force", C::kTangential, "-c sign(v_t) h", "N/m", "",
-       [](const ContactSample& s) { return -sgn(s.vt_mps) * s.h_m; }},
-      {"tangential_viscous", C::kTangential, "-c v_t", "N s/m", "viscous damping",
-       [](const ContactSample& s) { return -s.vt_mps; }},
-      {"tangential_drag", C::kTangential, "-c v_t|v_t|", "kg/m", "inertial drag",
-       [](const ContactSample& s) { return -s.vt_mps * std::abs(s.vt_mps); }},
-      {"depth_rolling", C::kMoment, "-c sign(omega) h", "N", "",
-       [](const ContactSample& s) { return -sgn(s.omega_radps) * s.h_m; }},
-      {"rolling_viscous", C::kMoment, "-c omega", "N m s/rad", "viscous rolling damping",
-       [](const ContactSample& s) { return -s.omega_radps; }},
-  };
-  return terms;
-}
-
-std::vector<const ForceTerm*> force_terms(ForceComponent c) {
-  std::vector<const ForceTerm*> out;
-  for (const ForceTerm& t : force_terms())
-    if (t.component == c) out.push_back(&t);
-  return out;
-}
 
 std::vector<ComponentLaw> discover_force_law(const std::vector<ReleaseResidual>& releases,
                                              const stats::SparseOptions& options) {

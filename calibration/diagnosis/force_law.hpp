@@ -3,24 +3,10 @@
 // few terms of a dimensioned library that explain it, with numbers, units, bootstrap intervals
 // over releases and the literature law each term belongs to.
 //
-// Frames and signs: the contact frame of effects/effect.hpp. h >= 0 is the penetration [m],
-// v_n the normal velocity of the contact point (< 0 into the ground) [m/s], v_t the sliding
-// velocity [m/s], omega the block's spin [rad/s]. A residual component is a force on the block
-// [N] (normal: > 0 pushes it out; tangential: along +t) or a moment [N m] (counter-clockwise > 0).
-// Every term is neutral at a zero coefficient, and signed so that a positive coefficient
-// resists the motion (a drag, a stiffening): a term's coefficient is then a physical constant
-// whose sign says whether it is one.
+// The library, its frames and signs, and each term as an effect: effects/force_term.hpp (one
+// table for the discovery and for the `term_<name>` effects that carry a discovered law into a
+// model file).
 //
-// The library (the literature law each term is, where it is one):
-//   normal:     h (Katsuragi & Durian 2007's k z; a linear spring), h^1.5 (Hertz), h^2,
-//               -v_n|v_n| (Poncelet / Katsuragi-Durian inertial drag, coefficient m/d1 [kg/m]),
-//               -v_n (viscous), -h v_n|v_n| (depth-growing drag), h sign(-v_n) (hysteresis:
-//               a stiffer loading than unloading branch, Walton & Braun 1986)
-//   tangential: -sign(v_x) h^2 (Rankine passive ploughing against the centre's motion, as the
-//               catalog's `ploughing` effect: the sand ahead moves with the block, not with
-//               the contact point's slip),
-//               -sign(v_t) h, -v_t (viscous), -v_t|v_t| (inertial)
-//   moment:     -sign(omega) h, -omega
 // The selection is stats::sparse_regression (best subset by leak-free cross-validation over
 // releases, cluster bootstrap): stats/sparse_regression.hpp.
 #pragma once
@@ -31,39 +17,17 @@
 #include <string_view>
 #include <vector>
 
+#include "effects/force_term.hpp"
 #include "stats/sparse_regression.hpp"
 
 namespace ricochet::diagnosis {
 
-/// The contact's state at one sample of a time series (contact frame, SI).
-struct ContactSample {
-  double h_m = 0;          ///< penetration, >= 0
-  double vn_mps = 0;       ///< normal velocity of the contact point, < 0 into the ground
-  double vt_mps = 0;       ///< sliding velocity of the contact point
-  double vx_mps = 0;       ///< the block centre's velocity along the tangent (what ploughs)
-  double omega_radps = 0;  ///< the block's angular velocity
-  bool loading = false;    ///< the penetration grows at this sample
-};
-
-/// Which residual a term explains.
-enum class ForceComponent { kNormal = 0, kTangential = 1, kMoment = 2 };
-inline constexpr std::size_t kForceComponents = 3;
-std::string_view component_name(ForceComponent c);  ///< "normal", "tangential", "moment"
-
-/// One term of the library (file comment).
-struct ForceTerm {
-  std::string_view name;  ///< e.g. "inertial_drag"
-  ForceComponent component;
-  std::string_view expression;  ///< e.g. "-c v_n|v_n|"
-  std::string_view unit;        ///< SI unit of its coefficient c, e.g. "kg/m"
-  std::string_view literature;  ///< the law it is, e.g. "Poncelet / Katsuragi-Durian drag"; "" none
-  double (*value)(const ContactSample&);  ///< the term per unit coefficient, in N or N m
-};
-
-/// The library, in a fixed order.
-const std::vector<ForceTerm>& force_terms();
-/// The library's terms of one component, in library order.
-std::vector<const ForceTerm*> force_terms(ForceComponent c);
+using effects::component_name;
+using effects::ContactSample;
+using effects::force_terms;
+using effects::ForceComponent;
+using effects::ForceTerm;
+using effects::kForceComponents;
 
 /// The residual of one release: its samples and, per sample, the residual of each component
 /// (NaN where a component was not measured: that component is then not analysed).

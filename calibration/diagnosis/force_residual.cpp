@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <set>
+#include <stdexcept>
 
 #include "common/error.hpp"
 #include "stats/robust.hpp"
@@ -90,28 +91,49 @@ ReleaseResidual force_residual(const MeasuredHistory& history, const Model& mode
   return r;
 }
 
-std::optional<ForceLawReport> force_law_from_tracks(const std::string& data, const ImpactSet& set,
-                                                    const Shape& shape, const Model& model,
-                                                    std::span<const double> params,
-                                                    const EngineOptions& engine,
-                                                    const stats::SparseOptions& options) {
+std::vector<std::optional<MeasuredHistory>> measured_histories(const std::string& data,
+                                                               const ImpactSet& set,
+                                                               const Shape& shape) {
   const auto kept = block_track_ids(data);
   const std::set<std::string> have(kept.begin(), kept.end());
+  std::vector<std::optional<MeasuredHistory>> out(set.size());
+  for (std::size_t i = 0; i < set.size(); ++i) {
+    const std::string& id = set.impacts[i].id;
+    if (have.count(id)) out[i] = measured_history(read_block_track(data, id), id, shape, data);
+  }
+  return out;
+}
+
+std::size_t history_count(const std::vector<std::optional<MeasuredHistory>>& histories) {
+  return static_cast<std::size_t>(std::count_if(histories.begin(), histories.end(),
+                                                [](const auto& h) { return h.has_value(); }));
+}
+
+std::optional<ForceLawReport> force_law_from_tracks(
+    const std::string& data, const ImpactSet& set, const Shape& shape, const Model& model,
+    std::span<const double> params, const EngineOptions& engine,
+    const stats::SparseOptions& options, const std::vector<std::vector<double>>& release_params) {
   ForceLawReport report;
   report.force_scale_min = std::numeric_limits<double>::infinity();
   report.force_scale_max = -std::numeric_limits<double>::infinity();
   std::vector<ReleaseResidual> residuals;
-  for (const auto& release : set.impacts) {
-    if (!have.count(release.id)) continue;
-    const MeasuredHistory h =
-        measured_history(read_block_track(data, release.id), release.id, shape, data);
-    ReleaseResidual r = force_residual(h, model, shape, params, engine);
+  const auto histories = measured_histories(data, set, shape);
+  if (!release_params.empty() && release_params.size() != set.size())
+    throw std::invalid_argument(
+        "force_law_from_tracks: release_params is not aligned with the set");
+  report.base = release_params.empty() ? "population fit" : "per-release fits";
+  for (std::size_t i = 0; i < histories.size(); ++i) {
+    const auto& h = histories[i];
+    if (!h) continue;
+    const bool own = !release_params.empty() && !release_params[i].empty();
+    ReleaseResidual r = force_residual(
+        *h, model, shape, own ? std::span<const double>(release_params[i]) : params, engine);
     if (r.samples.empty()) continue;
-    report.ids.push_back(release.id);
+    report.ids.push_back(h->id);
     report.samples += r.samples.size();
-    report.force_scale_min = std::min(report.force_scale_min, h.force_scale);
-    report.force_scale_max = std::max(report.force_scale_max, h.force_scale);
-    report.geometry_mismatch_m = std::max(report.geometry_mismatch_m, h.geometry_mismatch_m);
+    report.force_scale_min = std::min(report.force_scale_min, h->force_scale);
+    report.force_scale_max = std::max(report.force_scale_max, h->force_scale);
+    report.geometry_mismatch_m = std::max(report.geometry_mismatch_m, h->geometry_mismatch_m);
     residuals.push_back(std::move(r));
   }
   if (residuals.size() < 2) return std::nullopt;
@@ -145,16 +167,17 @@ nlohmann::json to_json(const ForceLawReport& report) {
           {"samples", report.samples},
           {"force_scale", {report.force_scale_min, report.force_scale_max}},
           {"geometry_mismatch_m", report.geometry_mismatch_m},
+          {"base", report.base},
           {"laws", laws}};
 }
 
 std::string format_text(const ForceLawReport& report) {
   std::string out = fmt::format(
-      "force law missing from the model, from the contact histories of {} releases ({} contact "
-      "samples; forces scaled x{:.4g}-{:.4g} to the lab block; largest geometry mismatch {:.2g} "
-      "mm):\n",
-      report.ids.size(), report.samples, report.force_scale_min, report.force_scale_max,
-      1e3 * report.geometry_mismatch_m);
+      "force law missing from the model ({}), from the contact histories of {} releases ({} "
+      "contact samples; forces scaled x{:.4g}-{:.4g} to the lab block; largest geometry mismatch "
+      "{:.2g} mm):\n",
+      report.base, report.ids.size(), report.samples, report.force_scale_min,
+      report.force_scale_max, 1e3 * report.geometry_mismatch_m);
   for (const ComponentLaw& law : report.laws)
     out += fmt::format("  {:<10} {} (residual rms {:.4g}, held out after the law {:.4g})\n",
                        component_name(law.component), law.text, law.rms_residual, law.heldout_rms);

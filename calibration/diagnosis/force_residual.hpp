@@ -52,6 +52,17 @@ struct MeasuredHistory {
 MeasuredHistory measured_history(const BlockTrack& track, const std::string& id, const Shape& shape,
                                  const std::string& source);
 
+/// The histories `data` keeps (block_track_ids, read by measured_history) of the releases of
+/// `set`, aligned with set.impacts (nullopt for a release without one). Empty histories (none
+/// kept: a CSV set, a campaign without tracks) give all nullopt. Throws InputError for a
+/// malformed track, naming the file and the track.
+std::vector<std::optional<MeasuredHistory>> measured_histories(const std::string& data,
+                                                               const ImpactSet& set,
+                                                               const Shape& shape);
+
+/// The number of releases with a history.
+std::size_t history_count(const std::vector<std::optional<MeasuredHistory>>& histories);
+
 /// The residual of one history against `model` at `params` (model order; empty = its values):
 /// the samples where the law's deepest slot is in contact (h > 0), with that slot's state
 /// (ContactSample) and, in its contact frame (n, t = (n_y, -n_x)), the residual normal and
@@ -69,19 +80,25 @@ struct ForceLawReport {
   std::size_t samples = 0;                          ///< contact samples analysed (the law's h > 0)
   double force_scale_min = 1, force_scale_max = 1;  ///< the forces' scale (measured_history)
   double geometry_mismatch_m = 0;  ///< the largest over the releases (measured_history)
+  /// The law the residual was taken against: "per-release fits" (each release at its own
+  /// calibration, so that the constants' release-to-release scatter is not read as a force) or
+  /// "population fit".
+  std::string base;
   std::vector<ComponentLaw> laws;  ///< discover_force_law's
 };
 
 /// The histories `data` keeps (block_track_ids) of the releases of `set`, against `model` at
 /// `params` (model order; the caller's calibration, e.g. the diagnosis's population fit), through
-/// force_residual and discover_force_law. nullopt when `data` keeps fewer than two histories of
-/// the set's releases (a CSV set, a campaign without tracks). Throws InputError for a malformed
-/// track, naming the file and the track.
-std::optional<ForceLawReport> force_law_from_tracks(const std::string& data, const ImpactSet& set,
-                                                    const Shape& shape, const Model& model,
-                                                    std::span<const double> params,
-                                                    const EngineOptions& engine = {},
-                                                    const stats::SparseOptions& options = {});
+/// force_residual and discover_force_law. `release_params`, when not empty, is aligned with
+/// set.impacts: each release's own calibration (the diagnosis's per-release fits), used for its
+/// history instead of `params` where its entry is not empty. nullopt when `data` keeps fewer
+/// than two histories of the set's releases (a CSV set, a campaign without tracks). Throws
+/// InputError for a malformed track, naming the file and the track.
+std::optional<ForceLawReport> force_law_from_tracks(
+    const std::string& data, const ImpactSet& set, const Shape& shape, const Model& model,
+    std::span<const double> params, const EngineOptions& engine = {},
+    const stats::SparseOptions& options = {},
+    const std::vector<std::vector<double>>& release_params = {});
 
 /// JSON: ids, samples, force_scale [min, max], geometry_mismatch_m, and per component its law:
 /// component, text, releases, samples, rms_residual, heldout_rms, and the selected terms (name,

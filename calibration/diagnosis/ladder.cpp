@@ -7,8 +7,10 @@
 #include "common/error.hpp"
 #include "common/progress.hpp"
 #include "diagnosis/diagnose.hpp"
+#include "diagnosis/force_history.hpp"
 #include "diagnosis/scatter.hpp"
 #include "diagnosis/signature.hpp"
+#include "fit/fit.hpp"
 
 namespace ricochet::diagnosis {
 using detail::left_neutral;
@@ -57,6 +59,38 @@ Ladder ladder(const Model& model, const Shape& shape, const ImpactSet& set,
   }
   progress.finish();
   return l;
+}
+
+std::optional<ForceLawReport> add_force_law_rung(Ladder& l, const Model& base, const Shape& shape,
+                                                 const ImpactSet& set, const std::string& data,
+                                                 const DiagnoseOptions& options) {
+  if (l.rungs.empty()) throw std::invalid_argument("add_force_law_rung: the ladder has no rung");
+  const DiagnoseOptions o = resolve_scale(set, options);
+  const Model last = rung_model(base, l, l.rungs.size() - 1, registry_of(o));
+  // Each release at its own calibration, as diagnose: the constants' scatter is not a force.
+  fit::FitOptions fo = fit_options_for(set, o.assess);
+  fo.intervals = false;
+  std::vector<std::vector<double>> release_params;
+  for (const auto& f :
+       fit::calibrate_releases(calibration_model_for(last, set, o.assess), shape, set, fo))
+    release_params.push_back(f.params);
+  auto report = force_law_from_tracks(data, set, shape, last, last.values(), o.assess.fit.engine,
+                                      {}, release_params);
+  if (!report) return report;
+  std::vector<std::string> warnings;
+  const Model with_law = with_force_law(last, last.values(), *report, &warnings);
+  Rung rung;
+  for (const std::string& e : with_law.effect_names())
+    if (!last.has_effect(e)) rung.added += (rung.added.empty() ? "" : "+") + e;
+  for (const ComponentLaw& law : report->laws)
+    if (law.text != "nothing found") rung.law += (rung.law.empty() ? "" : "; ") + law.text;
+  for (const std::string& w : warnings) rung.law += " [" + w + "]";
+  if (rung.added.empty()) return report;
+  rung.effects = with_law.effect_names();
+  rung.assessment = assess(with_law, shape, set, o.assess);
+  rung.adequacy = adequacy(rung.assessment, l.floor);
+  l.rungs.push_back(std::move(rung));
+  return report;
 }
 
 Ladder auto_ladder(const Model& model, const Shape& shape, const ImpactSet& set, int max_rounds,
@@ -129,9 +163,10 @@ Ladder auto_ladder(const Model& model, const Shape& shape, const ImpactSet& set,
   return l;
 }
 
-Model ladder_model(const Model& base, const Ladder& l, const EffectRegistry& registry) {
+Model rung_model(const Model& base, const Ladder& l, std::size_t rung,
+                 const EffectRegistry& registry) {
   Model m = base;
-  for (std::size_t r = 1; r < l.rungs.size(); ++r) {
+  for (std::size_t r = 1; r <= rung && r < l.rungs.size(); ++r) {
     const std::string& added = l.rungs[r].added;
     for (std::size_t a = 0, b; a <= added.size(); a = b + 1) {
       b = added.find('+', a);
@@ -139,8 +174,12 @@ Model ladder_model(const Model& base, const Ladder& l, const EffectRegistry& reg
       m = m.with_effect(added.substr(a, b - a), /*at_neutral=*/true, registry);
     }
   }
-  if (!l.rungs.empty()) m.set_values(l.rungs.back().assessment.population.params);
+  if (rung < l.rungs.size()) m.set_values(l.rungs[rung].assessment.population.params);
   return m;
+}
+
+Model ladder_model(const Model& base, const Ladder& l, const EffectRegistry& registry) {
+  return rung_model(base, l, l.rungs.empty() ? 0 : l.rungs.size() - 1, registry);
 }
 
 }  // namespace ricochet::diagnosis

@@ -236,15 +236,16 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
       with_values(calibration_model_for(model, set, o.assess), base.population.params);
   const detail::Directions dirs = detail::base_directions(warm, shape, set, base, o.assess);
 
-  // The family: every registered effect not in the model (catalog, plugins, generated laws),
-  // or the candidates named. Each is tested by the robust score test (no calibration) and the
-  // family-wise error is controlled by the step-down max-T adjustment over all of them.
+  // The family: every registered effect not in the model (catalog, plugins, generated laws)
+  // that is a default candidate (not the force terms), or the candidates named. Each is tested by
+  // the robust score test (no calibration) and the family-wise error is controlled by the step-down
+  // max-T adjustment over all of them.
   std::vector<std::string> names;
   if (!o.candidates.empty()) {
     names = o.candidates;
   } else {
-    for (const auto& n : registry.names())
-      if (!model.has_effect(n)) names.push_back(n);
+    for (const Effect* e : registry.all())
+      if (e->default_candidate() && !model.has_effect(e->name())) names.emplace_back(e->name());
   }
   std::vector<double> r(names.size(), NAN);
   std::vector<stats::ScoreColumn> columns;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "effects/coefficient_law.hpp"
+#include "effects/force_term.hpp"
 
 namespace ricochet::effects {
 namespace {
@@ -60,6 +61,26 @@ template <class Enum>
 std::vector<std::string_view> words(std::size_t count, std::string_view (*name)(Enum)) {
   std::vector<std::string_view> out;
   for (std::size_t i = 0; i < count; ++i) out.push_back(name(static_cast<Enum>(i)));
+  return out;
+}
+
+std::string force_term_paragraph() {
+  std::string out;
+  put(out, {"## Force terms\n\n`term_<name>` (", std::to_string(force_terms().size()),
+            " effects, page [force_term.md](force_term.md)): the force-residual discovery's "
+            "library as effects, so that a discovered law goes into a model file. One parameter "
+            "`c_<name>` each, neutral at 0, c > 0 resists the motion; not tried by `diagnose` "
+            "unless named.\n\n| term | adds to | expression | unit of c | bound of abs(c) | law |\n"
+            "|---|---|---|---|---|---|\n"});
+  for (const ForceTerm& t : force_terms()) {
+    char bound[32];
+    std::snprintf(bound, sizeof bound, "%.3g", force_term_bound(t));
+    std::string expression;  // a | would end the table cell, even in a code span (GFM)
+    for (char ch : t.expression) expression += ch == '|' ? std::string("\\|") : std::string(1, ch);
+    put(out, {"| `term_", t.name, "` | ", component_name(t.component),
+              t.at_centre ? " (at the centre)" : "", " | `", expression, "` | ", t.unit, " | ",
+              bound, " | ", t.literature, " |\n"});
+  }
   return out;
 }
 
@@ -118,10 +139,10 @@ std::string catalog_markdown(const EffectRegistry& registry) {
       "| effect | stage | changes | depends on | parameters | signature (quantity ~ feature) | "
       "page |\n"
       "|---|---|---|---|---|---|---|\n";
-  std::size_t generated = 0;
+  std::size_t generated = 0, terms = 0;
   for (const Effect* e : registry.all()) {
     if (e->generated()) {
-      ++generated;
+      ++(e->default_candidate() ? generated : terms);
       continue;
     }
     const LawKind kind = e->kind();
@@ -130,6 +151,7 @@ std::string catalog_markdown(const EffectRegistry& registry) {
               signature_cell(*e), " | [", e->name(), ".md](", e->name(), ".md) |\n"});
   }
   if (generated > 0) put(out, {"\n", generated_paragraph(generated)});
+  if (terms > 0) put(out, {"\n", force_term_paragraph()});
   put(out, {"\n", vocabulary_section(),
             "\n## Write your own\n\n"
             "A plugin declares the same things and is checked the same way: "

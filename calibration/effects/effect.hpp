@@ -290,6 +290,10 @@ class Effect {
   /// effect: the diagnosis screens these before calibrating them, and listings and error
   /// messages give the family by its pattern rather than 40 names.
   virtual bool generated() const { return false; }
+  /// Whether `diagnose` tries it when it is missing from the model and no candidates are named.
+  /// The force terms (effects/force_term.hpp) are not tried: the force-residual discovery finds
+  /// them from contact histories, and the rebound screen's family stays what it was.
+  virtual bool default_candidate() const { return true; }
   /// Which inlined law of the engine this effect is (FusedLaw); kNone for every other effect.
   virtual FusedLaw fused_law() const { return FusedLaw::kNone; }
   /// The largest factor [-] by which this effect multiplies the normal loading stiffness
@@ -302,6 +306,15 @@ class Effect {
     (void)values;
     (void)max_penetration_m;
     return 1.0;
+  }
+  /// The largest stiffness [N/m] this effect adds to the normal contact as a force of its own
+  /// (d(force)/dh, not a factor on kn), at any penetration up to `max_penetration_m` [m], given
+  /// its values: critical_time_step adds it to the model's stiffest normal spring. Default 0.
+  virtual double max_added_stiffness(std::span<const double> values,
+                                     double max_penetration_m) const {
+    (void)values;
+    (void)max_penetration_m;
+    return 0.0;
   }
   /// The effect as a law with numbers and units, e.g.
   /// "mu_R = mu_R0 (1 + c |omega|), c = 0.012 s/rad". `values`: this effect's parameters in

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "effects/coefficient_law.hpp"
+#include "effects/force_term.hpp"
 
 namespace ricochet {
 namespace effects {
@@ -126,9 +127,11 @@ const Effect& EffectRegistry::get(std::string_view name) const {
     }
     known += (known.empty() ? "" : ", ") + std::string(e->name());
   }
-  throw std::invalid_argument(
-      "unknown effect '" + std::string(name) + "'; known effects: " + known +
-      (generated ? "; and the " + effects::coefficient_law_family_text() : std::string()));
+  throw std::invalid_argument("unknown effect '" + std::string(name) +
+                              "'; known effects: " + known +
+                              (generated ? "; and the " + effects::coefficient_law_family_text() +
+                                               "; and the " + effects::force_term_family_text()
+                                         : std::string()));
 }
 
 bool EffectRegistry::contains(std::string_view name) const {

@@ -729,18 +729,19 @@ double critical_time_step(const Model& model, const Shape& shape, std::span<cons
   // Coefficient effects may stiffen the normal contact (hertz_stiffness, a generated law of kn):
   // their largest loading factor at a penetration up to the block's bounding radius, which no
   // rebound reaches.
-  double kn_factor = 1.0;
+  // Force terms add a spring of their own (a discovered c h^2): its stiffness adds to kn's.
+  double kn_factor = 1.0, added_N_per_m = 0.0;
   const auto& effects = model.effects();
   for (std::size_t e = 0; e < effects.size(); ++e) {
-    const std::size_t first = model.offset(e);
-    kn_factor *= effects[e]->max_stiffness_factor(
-        params.subspan(first, effects[e]->parameters().size()), rb);
+    const auto values = params.subspan(model.offset(e), effects[e]->parameters().size());
+    kn_factor *= effects[e]->max_stiffness_factor(values, rb);
+    added_N_per_m += effects[e]->max_added_stiffness(values, rb);
   }
   double omega = 0.0;
   for (std::size_t i = 0; i < model.parameter_count(); ++i) {
     switch (model.spec(i).role) {
       case ParameterRole::kNormalStiffness:
-        omega = std::max(omega, std::sqrt(params[i] * kn_factor / m_eff));
+        omega = std::max(omega, std::sqrt((params[i] * kn_factor + added_N_per_m) / m_eff));
         break;
       case ParameterRole::kTangentialStiffness:
         omega = std::max(omega, std::sqrt(params[i] / m_eff));

@@ -454,7 +454,8 @@ Term parse_term(const std::string& raw, const std::string& where, const ImpactSe
   if (t.text.empty()) bad_term(option, where, "empty condition (a dangling '&&' or 'and'?)");
   const auto pos = t.text.find_first_of("<>=!");
   if (pos == std::string::npos)
-    bad_term(option, t.text, "no comparison operator; write FEATURE OP VALUE with OP in < <= > >= == !=");
+    bad_term(option, t.text,
+             "no comparison operator; write FEATURE OP VALUE with OP in < <= > >= == !=");
   const std::string_view rest = std::string_view(t.text).substr(pos);
   std::size_t op_len = 2;
   if (rest.starts_with("<=")) {

@@ -113,10 +113,10 @@ TEST_F(SharedOptions, WhereFilters) {
 // those `stats --where` gives for the same filter (a half of scripts/lab-split.py's kind), and
 // they differ from the whole set's.
 TEST_F(SharedOptions, LabWhereSelectsTheTarget) {
-  const std::string grains = "calibrate-grains " +
-                             quote(std::string(RICOCHET_SOURCE_DIR) +
-                                   "/data/resolved/bed-calibration-cdt.h5") +
-                             " --lab " + kCyl;
+  const std::string grains =
+      "calibrate-grains " +
+      quote(std::string(RICOCHET_SOURCE_DIR) + "/data/resolved/bed-calibration-cdt.h5") +
+      " --lab " + kCyl;
   if (!test::program_has_liggghts()) GTEST_SKIP() << "calibrate-grains needs LIGGGHTS";
   const std::string where = "id!=C02 && id!=C04 && id!=C07 && id!=C08 && vin_x<3.2";
   const auto json = [&](const std::string& args) {

@@ -29,7 +29,7 @@ using namespace ricochet;
 using namespace ricochet::truth;
 
 struct Hidden {
-  Family family;
+  truth::Family family;
   double strength;
   std::set<std::string> terms;  // the library's terms of the family
 };
@@ -38,9 +38,9 @@ struct Hidden {
 // lab scale (m/d1 = 40 kg/m), the depth-speed drag at 40 kg/m at 3 mm, the Rankine ploughing at
 // the wide design's detection-study strength (c = 1.73e8 N/m^2).
 const std::vector<Hidden> kHidden = {
-    {Family::kKdDrag, 1.0, {"inertial_drag", "viscous", "depth_drag"}},
-    {Family::kDepthSpeedDrag, 1.0, {"depth_drag", "inertial_drag"}},
-    {Family::kRankinePlough, 20568.2, {"ploughing"}},
+    {truth::Family::kKdDrag, 1.0, {"inertial_drag", "viscous", "depth_drag"}},
+    {truth::Family::kDepthSpeedDrag, 1.0, {"depth_drag", "inertial_drag"}},
+    {truth::Family::kRankinePlough, 20568.2, {"ploughing"}},
 };
 
 std::string by_component(const std::vector<diagnosis::ComponentLaw>& laws,
@@ -87,7 +87,7 @@ int main(int argc, char** argv) {
   for (const auto& [way, make] : ways) {
     std::size_t clean = 0, normal_clean = 0, tangential_clean = 0;
     for (std::uint64_t s = first_null; s < first_null + nulls; ++s) {
-      const auto laws = discover(make, Family::kNone, 0, s);
+      const auto laws = discover(make, truth::Family::kNone, 0, s);
       const std::string n = by_component(laws, diagnosis::ForceComponent::kNormal);
       const std::string t = by_component(laws, diagnosis::ForceComponent::kTangential);
       clean += n == "-" && t == "-";

@@ -8,6 +8,7 @@
 //   independent_truth --family F --calibrate-shift [--design lab --n 40 --seed 1]
 //   independent_truth --family F --strength S --oracle [--family-size 45] [--design, --n, --seed]
 // --contact-features also writes penetration and contact duration (noise 0.5 mm, 1 ms).
+// --tracks (.h5 only) also writes each release's tracked history to /dem/tracks/ID.
 // --oracle prints the oracle's z and powers (truth_sim.hpp, "The oracle's ceiling") as one JSON
 // line, and writes the set only when --out is given.
 // The provenance defaults to the set's path with .truth.json instead of its extension.
@@ -32,7 +33,7 @@ int main(int argc, char** argv) {
   long long n = 40;
   std::uint64_t seed = 1;
   bool calibrate = false, no_refit = false, oracle = false, engine_numerics = false;
-  bool contact_features = false;
+  bool contact_features = false, tracks = false;
   long long family_size = static_cast<long long>(truth::kOracleFamilySize);
   lab = std::string(RICOCHET_SOURCE_DIR) + "/data/lab/cylinders.csv";
   app.add_option("--family", family,
@@ -65,6 +66,9 @@ int main(int argc, char** argv) {
                  "Provenance JSON (the truth; never given to diagnose); default: next to --out");
   app.add_option("--lab", lab, "Lab cylinders whose incident states the lab design resamples")
       ->capture_default_str();
+  app.add_flag("--tracks", tracks,
+               "Also write each release's tracked history to /dem/tracks/ID of the .h5 --out "
+               "(a record every 0.2 ms, contact force with 50 N noise; truth_sim.hpp)");
   app.add_flag("--contact-features", contact_features,
                "Also write penetration and contact_duration (Gaussian noise 0.5 mm, 1 ms)");
   app.add_flag("--calibrate-shift", calibrate,
@@ -134,6 +138,9 @@ int main(int argc, char** argv) {
   if (engine_numerics) o.numerics = ricochet::truth::kEngineNumerics;
   o.oracle_family_size = static_cast<std::size_t>(family_size);
   o.contact_features = contact_features;
+  o.tracks = tracks;
+  if (tracks && std::filesystem::path(out).extension() != ".h5")
+    return bad("--tracks needs an .h5 --out (tracks are HDF5 datasets)");
   try {
     if (o.design == truth::Design::kGiven) {
       for (const auto& im : read_incident_states(states).impacts) o.given_vin.push_back(im.vin);
@@ -152,6 +159,8 @@ int main(int argc, char** argv) {
     if (oracle) std::cout << t.truth["oracle"].dump() << "\n";
     if (out.empty()) return 0;
     write_impact_set(t.set, out);
+    for (std::size_t i = 0; i < t.tracks.size(); ++i)
+      write_block_track(out, t.set.impacts[i].id, t.tracks[i]);
     if (truth_path.empty())
       truth_path = std::filesystem::path(out).replace_extension(".truth.json").string();
     nlohmann::json j = t.truth;

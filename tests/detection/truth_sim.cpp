@@ -25,6 +25,7 @@ constexpr double kKp = 3.7, kGamma = 15.7e3;  // Rankine K_p (phi = 35 deg), uni
 constexpr double kPloughRef = 0.5 * kKp * kGamma * kLength;  // [N/m^2], times h^2
 
 // Scatter of the ground per release and measurement noise (header comment).
+constexpr double kTrackInterval_s = 2e-4;  // a record every 0.2 ms (SetOptions::tracks)
 constexpr std::array<double, 3> kNoiseIn = {0.05, 0.05, 1.4}, kNoiseOut = {0.05, 0.03, 2.0};
 
 const std::vector<std::string> kNames = {"none",
@@ -436,6 +437,8 @@ TruthSet make_set(const SetOptions& o) {
   }
   TruthSet out;
   out.set.source = "independent_truth";
+  std::mt19937_64 track_rng(o.seed ^ kTrackSeedSalt);
+  std::normal_distribution<double> track_noise(0.0, 1.0);
   std::vector<std::array<double, 3>> vins, vouts, deltas;
   std::vector<Ground> grounds;
   std::vector<Rebound> nulls;
@@ -463,7 +466,9 @@ TruthSet make_set(const SetOptions& o) {
     std::array<double, 2> ncontact{};
     if (o.contact_features)
       for (double& x : ncontact) x = rng.normal();
-    const Rebound r = collide(vin, g, o.numerics);
+    std::vector<PathSample> path;
+    const long every = std::max(1L, std::lround(kTrackInterval_s / o.numerics.dt));
+    const Rebound r = collide(vin, g, o.numerics, nullptr, every, o.tracks ? &path : nullptr);
     Impact im;
     for (int k = 0; k < 3; ++k) {
       im.vin[k] = vin[k] + kNoiseIn[k] * nin[k];
@@ -494,6 +499,24 @@ TruthSet make_set(const SetOptions& o) {
     im.id = id;
     im.shape = "cylinder";
     out.set.impacts.push_back(im);
+    if (o.tracks) {
+      BlockTrack tr;
+      tr.block_mass_kg = kMass;
+      for (const PathSample& p : path) {
+        for (auto [col, v] : {std::pair{&tr.t, p.t_s},
+                              {&tr.x, p.x_m},
+                              {&tr.y, p.y_m},
+                              {&tr.theta, p.theta_rad},
+                              {&tr.vx, p.vx_mps},
+                              {&tr.vy, p.vy_mps},
+                              {&tr.w, p.w_radps}})
+          col->push_back(v);
+        tr.fcx.push_back(p.fx_N + o.track_force_noise_N * track_noise(track_rng));
+        tr.fcy.push_back(p.fy_N + o.track_force_noise_N * track_noise(track_rng));
+      }
+      tr.pad();
+      out.tracks.push_back(std::move(tr));
+    }
     vins.push_back(vin);
     vouts.push_back(r.vout);
     deltas.push_back(delta);

@@ -114,6 +114,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "impact/block_track.hpp"
 #include "impact/impact_set.hpp"
 
 namespace ricochet::truth {
@@ -276,7 +277,15 @@ struct SetOptions {
   bool contact_features = false;
   double noise_penetration_m = 0.5e-3;
   double noise_contact_duration_s = 1e-3;
+  /// Also keep each release's tracked history (TruthSet::tracks): a record every 0.2 ms from
+  /// before the contact to its end (PathSample), the contact force with white noise of sd
+  /// `track_force_noise_N` on each component (an assumption, as force_sets.hpp's; positions and
+  /// velocities exact), no torque. The noise has its own generator (seed ^ kTrackSeedSalt), so
+  /// the set's velocities are the same bit for bit with or without tracks.
+  bool tracks = false;
+  double track_force_noise_N = 50.0;
 };
+inline constexpr std::uint64_t kTrackSeedSalt = 0x747261636bULL;  // "track"
 
 /// The lab's own release-to-release scatter (paper Table 4's cylinder spread as the lab data
 /// give it: e_n^2 sd 0.045, mu_R sd 0.2 about 0.26, docs/diagnosis.md "The lab data"), as
@@ -298,6 +307,8 @@ struct TruthSet {
   /// The oracle's z = sqrt(lambda) (file comment, [1]-[2]): 0 for none, or when
   /// SetOptions::refit is false. The provenance's "oracle" holds it with its powers.
   double oracle_z = 0;
+  /// SetOptions::tracks: one per release, in set order (block_mass_kg the cylinder's 13.9 kg).
+  std::vector<BlockTrack> tracks;
 };
 TruthSet make_set(const SetOptions& options);
 

@@ -19,10 +19,12 @@
 namespace ricochet {
 namespace {
 
+// The generated coefficient laws (the other generated family, the force terms, has its own test).
 std::vector<std::string> generated() {
   std::vector<std::string> out;
   for (const auto& n : EffectRegistry::global().names())
-    if (EffectRegistry::global().get(n).generated()) out.push_back(n);
+    if (EffectRegistry::global().get(n).generated() && effects::parse_coefficient_law_name(n))
+      out.push_back(n);
   return out;
 }
 

@@ -19,6 +19,7 @@
 #include <sstream>
 
 #include "effects/coefficient_law.hpp"
+#include "effects/force_term.hpp"
 #include "effects/model.hpp"
 #include "effects/registry.hpp"
 #include "engine/engine.hpp"
@@ -164,6 +165,7 @@ TEST(EffectCases, GeneratedFamilySharesOnePageAndOneFile) {
   const std::set<std::string> covered =
       run_file(kSource / "tests/engine/effects/coefficient_law.toml");
   for (const auto& name : registered(true)) {
+    if (name.starts_with("term_")) continue;  // the force terms: the test below
     const auto config = effects::parse_coefficient_law_name(name);
     ASSERT_TRUE(config) << name << " is generated but not a coefficient law";
     for (std::string_view part : {config->coefficient, config->variable, config->form})
@@ -171,6 +173,25 @@ TEST(EffectCases, GeneratedFamilySharesOnePageAndOneFile) {
           << page << " does not document `" << part << "` (" << name << ")";
     EXPECT_TRUE(covered.count(name)) << "no case for " << name << " in coefficient_law.toml";
   }
+}
+
+// The force terms: one page that documents every term, one file with a case for every term.
+TEST(EffectCases, ForceTermsShareOnePageAndOneFile) {
+  const fs::path page = kSource / "docs/effects/force_term.md";
+  ASSERT_TRUE(fs::exists(page)) << "the force terms need " << page;
+  std::ifstream in(page);
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::set<std::string> covered = run_file(kSource / "tests/engine/effects/force_term.toml");
+  std::size_t terms = 0;
+  for (const auto& name : registered(true)) {
+    if (!name.starts_with("term_")) continue;
+    ++terms;
+    EXPECT_NE(text.str().find("`" + name.substr(5) + "`"), std::string::npos)
+        << page << " does not document " << name;
+    EXPECT_TRUE(covered.count(name)) << "no case for " << name << " in force_term.toml";
+  }
+  EXPECT_EQ(terms, effects::force_terms().size());
 }
 
 }  // namespace

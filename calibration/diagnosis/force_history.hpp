@@ -1,0 +1,59 @@
+// The force-history error of a calibrated model (issue 33, item 3): how far the contact force a
+// model gives along each release's own measured path lies from the measured one, in-sample and
+// on held-out releases, so that `ladder` shows the force histories' error falling rung by rung
+// beside the rebound error. And the discovered law as a model: the base model plus the
+// force-residual discovery's terms (effects/force_term.hpp) at their discovered coefficients
+// (`diagnose --write-force-model`).
+//
+// Held out means what it means for the rebound error (assess.hpp): the model of a split is
+// calibrated on that split's training releases (Assessment::fold_params, from data-free starts)
+// and its force is compared along the test releases' histories only. The histories themselves
+// never enter a calibration (the fits read V_out); the term a rung adds may have been chosen from
+// all the histories (diagnose's discovery), which the docs say where it matters.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "diagnosis/assess.hpp"
+#include "diagnosis/force_residual.hpp"
+
+namespace ricochet::diagnosis {
+
+/// RMS over the contact samples (force_residual's: the law's deepest slot in contact) of the
+/// residual normal force, tangential force [N] and moment [N m]; NaN for a component that no
+/// history measures (a track without torque has no moment).
+struct ForceHistoryError {
+  std::array<double, kForceComponents> insample_rms{};  ///< at the full-set calibration
+  std::array<double, kForceComponents> heldout_rms{};   ///< each release at its splits' fits
+  std::size_t releases = 0;                             ///< releases with a history
+  std::size_t samples = 0;                              ///< contact samples per evaluation
+};
+
+/// The error of `model` (the assessment's model: parameters in its order) along `histories`
+/// (aligned with the set `a` was made on). In-sample: at a.population.params; held-out: over
+/// every split of a.cv, at a.fold_params[split] on that split's test releases, pooled over the
+/// repeats. Throws std::invalid_argument when the sizes disagree.
+ForceHistoryError force_history_error(const Model& model, const Shape& shape, const Assessment& a,
+                                      const std::vector<std::optional<MeasuredHistory>>& histories,
+                                      const EngineOptions& engine = {});
+
+/// JSON: insample_rms, heldout_rms (objects by component: normal [N], tangential [N], moment
+/// [N m]; null where not measured), releases, samples.
+nlohmann::json to_json(const ForceHistoryError& e);
+
+/// `base` at `base_params` (model order) plus a `term_<name>` effect for every term the report
+/// selected, at its discovered coefficient and not calibrated (the histories identify it; a
+/// recalibration on rebounds would move it where the rebounds cannot tell, e.g. a drag of 981
+/// kg/m for a true 40: docs/diagnosis.md). A coefficient outside its effect's bounds (a negative
+/// drag: effects/force_term.hpp) is clamped into them, with one line in *warnings saying so; a
+/// term clamped to its neutral 0 is left out.
+Model with_force_law(const Model& base, std::span<const double> base_params,
+                     const ForceLawReport& report, std::vector<std::string>* warnings = nullptr);
+
+}  // namespace ricochet::diagnosis

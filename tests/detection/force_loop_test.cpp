@@ -1,0 +1,88 @@
+// Issue 33, item 3: the loop closed on contact histories, through the `ricochet` program. The
+// independent simulator (another integrator than the engine's; the engine's stiffnesses, so that
+// the residual is the hidden force) makes 30 releases with a hidden Katsuragi-Durian drag
+// (m/d1 = 40 kg/m, acting only while the block penetrates) and writes their tracked histories
+// (independent_truth --tracks). Then:
+//  - `diagnose --write-force-model` discovers the drag from the histories (the library's term acts
+//    both ways, so its coefficient comes out a little under 40) and writes it as a model file;
+//  - `ladder --force-law` adds it as a rung held at that coefficient, and the held-out error of
+//    the force histories falls;
+//  - `ladder --add term_inertial_drag` calibrates the same term on the rebounds alone, which do
+//    not pin it.
+// The seed is the first of scripts/force-loop.sh's five (docs/diagnosis.md has the five).
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "support/program_test.hpp"
+
+namespace ricochet {
+namespace {
+
+class ForceLoop : public test::ProgramTest {
+ protected:
+  std::string make_set() {
+    const std::string set = (dir_ / "set.h5").string();
+    const std::string make = test::quote(RICOCHET_TRUTH_EXE) +
+                             " --family kd_drag --strength 1 --n 30 --design wide --scatter narrow "
+                             "--engine-numerics --seed 5101 --tracks --no-refit --out " +
+                             test::quote(set) + " > /dev/null";
+    EXPECT_EQ(std::system(make.c_str()), 0);
+    return set;
+  }
+};
+
+TEST_F(ForceLoop, TheDiscoveredDragBecomesARungAndTheForceErrorFalls) {
+  const std::string set = make_set();
+  const std::string law = (dir_ / "law.toml").string();
+  const test::RunResult d =
+      ricochet("diagnose " + test::quote(set) + " --seed 5101 --write-force-model " +
+               test::quote(law) + " --json");
+  ASSERT_EQ(d.status, 0) << d.err;
+  const auto dj = nlohmann::json::parse(d.out);
+  ASSERT_TRUE(dj.contains("force_law"));
+  EXPECT_EQ(dj["force_law"]["base"], "per-release fits");
+  double drag = -1;
+  for (const auto& l : dj["force_law"]["laws"])
+    for (const auto& t : l["terms"])
+      if (t["name"] == "inertial_drag") drag = t["coefficient"].get<double>();
+  EXPECT_GT(drag, 30.0) << dj["force_law"].dump();
+  EXPECT_LT(drag, 45.0) << dj["force_law"].dump();
+  // The model file carries the term at that coefficient, not calibrated.
+  std::ifstream in(law);
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_NE(text.str().find("term_inertial_drag"), std::string::npos) << text.str();
+  EXPECT_NE(text.str().find("c_inertial_drag"), std::string::npos) << text.str();
+
+  const test::RunResult l =
+      ricochet("ladder " + test::quote(set) + " --seed 5101 --force-law --json");
+  ASSERT_EQ(l.status, 0) << l.err;
+  const auto lj = nlohmann::json::parse(l.out);
+  ASSERT_EQ(lj["rungs"].size(), 2u);
+  EXPECT_EQ(lj["rungs"][1]["added"], "term_inertial_drag");
+  EXPECT_NEAR(lj["rungs"][1]["parameters"]["c_inertial_drag"].get<double>(), drag, 1e-9 * drag);
+  ASSERT_EQ(lj["force_history"].size(), 2u);
+  const double before = lj["force_history"][0]["heldout_rms"]["normal"].get<double>();
+  const double after = lj["force_history"][1]["heldout_rms"]["normal"].get<double>();
+  EXPECT_LT(after, 0.99 * before) << "held-out normal force RMS " << before << " -> " << after;
+  EXPECT_TRUE(lj["force_history"][0]["heldout_rms"]["moment"].is_null());  // no torque tracked
+}
+
+// Refused before any work: a set without histories.
+TEST_F(ForceLoop, WithoutHistoriesTheForceOptionsAreRefusedAtOnce) {
+  const std::string csv = std::string(RICOCHET_SOURCE_DIR) + "/data/lab/cylinders.csv";
+  const test::RunResult d = ricochet("diagnose " + test::quote(csv) + " --write-force-model " +
+                                     test::quote((dir_ / "m.toml").string()));
+  EXPECT_EQ(d.status, 2);
+  EXPECT_NE(d.err.find("--write-force-model"), std::string::npos) << d.err;
+  const test::RunResult l = ricochet("ladder " + test::quote(csv) + " --force-law");
+  EXPECT_EQ(l.status, 2);
+  EXPECT_NE(l.err.find("--force-law"), std::string::npos) << l.err;
+}
+
+}  // namespace
+}  // namespace ricochet
