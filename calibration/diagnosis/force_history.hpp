@@ -21,6 +21,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "diagnosis/assess.hpp"
+#include "diagnosis/figures.hpp"
 #include "diagnosis/force_residual.hpp"
 
 namespace ricochet::diagnosis {
@@ -55,5 +56,17 @@ nlohmann::json to_json(const ForceHistoryError& e);
 /// term clamped to its neutral 0 is left out.
 Model with_force_law(const Model& base, std::span<const double> base_params,
                      const ForceLawReport& report, std::vector<std::string>* warnings = nullptr);
+
+/// The report's figure of a set with histories (issue 33, item 3): the residual normal force
+/// (measured minus model) [N] against the time since each release's contact starts [ms], every
+/// contact sample of every release with a history, before (`model`, each release at its own
+/// calibration `release_params`, aligned with `histories`; `params` where an entry is empty)
+/// and after the discovered law (`report`'s terms added by with_force_law), the RMS of each in
+/// the caption. nullopt when fewer than two histories or the report adds no term.
+std::optional<NamedFigure> force_residual_figure(
+    const std::vector<std::optional<MeasuredHistory>>& histories, const Model& model,
+    const Shape& shape, std::span<const double> params,
+    const std::vector<std::vector<double>>& release_params, const ForceLawReport& report,
+    const EngineOptions& engine, const std::string& title);
 
 }  // namespace ricochet::diagnosis

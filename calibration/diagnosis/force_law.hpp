@@ -34,6 +34,7 @@ using effects::kForceComponents;
 struct ReleaseResidual {
   std::vector<ContactSample> samples;
   std::vector<std::array<double, kForceComponents>> residual;
+  std::vector<double> t_s;  ///< each sample's time [s] where known (force_residual), else empty
 };
 
 /// One discovered term, or one that was tried and not selected.

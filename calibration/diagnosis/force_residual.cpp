@@ -83,6 +83,7 @@ ReleaseResidual force_residual(const MeasuredHistory& history, const Model& mode
     s.omega_radps = p.w_radps;
     s.loading = f.loading;
     r.samples.push_back(s);
+    r.t_s.push_back(p.t_s);
     // A force at the contact point (rcx, rcy) has the moment rcx fy - rcy fx about the centre:
     // what is left of the torque residual is a moment the force residual does not explain.
     r.residual.push_back(

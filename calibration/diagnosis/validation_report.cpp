@@ -6,6 +6,7 @@
 
 #include "diagnosis/evidence.hpp"
 #include "diagnosis/figures.hpp"
+#include "diagnosis/force_history.hpp"
 #include "diagnosis/track_figure.hpp"
 #include "impact/impact_snapshot.hpp"
 #include "report/html.hpp"
@@ -353,6 +354,36 @@ void track_section(report::HtmlPage& page, const ReportSection& s, const Model& 
   }
 }
 
+// Each release's own calibration (the diagnosis's release fits), aligned with the set; empty
+// when the diagnosis made none.
+std::vector<std::vector<double>> release_params_of(const ReportSection& s) {
+  std::vector<std::vector<double>> out;
+  if (s.diagnosis.baseline.release_fits.size() == s.input.set.size())
+    for (const auto& f : s.diagnosis.baseline.release_fits) out.push_back(f.params);
+  return out;
+}
+
+// A set with contact histories: the discovered force law in words and the residual force before
+// and after it (force_history.hpp). Like the contact figure, a failure is said, not fatal.
+void force_section(report::HtmlPage& page, const ReportSection& s, const Model& model,
+                   const ReportOptions& o) {
+  if (!s.force_law) return;
+  try {
+    const auto f = force_residual_figure(
+        measured_histories(s.input.data, s.input.set, s.input.shape), model, s.input.shape,
+        s.diagnosis.baseline.base.population.params, release_params_of(s), *s.force_law,
+        o.diagnose.assess.fit.engine, s.input.label);
+    std::string law;
+    for (const ComponentLaw& c : s.force_law->laws)
+      law += (law.empty() ? "" : " ") + std::string(component_name(c.component)) + ": " + c.text +
+             " (held-out residual " + g4(c.rms_residual) + " -> " + g4(c.heldout_rms) + ").";
+    page.labelled("Force law from the contact histories", law);
+    if (f) page.figure(f->figure, f->caption);
+  } catch (const std::exception& e) {
+    page.paragraph("The force residual is not shown: " + std::string(e.what()));
+  }
+}
+
 }  // namespace
 
 std::vector<ReportSection> analyse(const std::vector<ReportInput>& inputs, const Model& model,
@@ -364,6 +395,9 @@ std::vector<ReportSection> analyse(const std::vector<ReportInput>& inputs, const
     s.input = in;
     s.diagnosis = diagnose(model, in.shape, in.set, o.diagnose);
     s.ladder = auto_ladder(model, in.shape, in.set, o.rounds, o.diagnose, &s.diagnosis);
+    s.force_law = force_law_from_tracks(in.data, in.set, in.shape, model,
+                                        s.diagnosis.baseline.base.population.params,
+                                        o.diagnose.assess.fit.engine, {}, release_params_of(s));
     s.headline = headline_of(s);
     s.conclusion = conclusion_of(s);
     if (in.lab) {
@@ -443,6 +477,7 @@ std::size_t write_report(const std::vector<ReportSection>& sections, const Model
     // ... and, when the campaign keeps its tracks, that impact's contact in time beside the
     // reduced law at the same incident state: what upscaling asks the law to reproduce.
     track_section(page, s, model, o, snap ? snap->impact_id : std::string());
+    force_section(page, s, model, o);
     if (s.lab_gap) {
       page.paragraph(s.lab_sentence);
       const double radius =

@@ -53,6 +53,9 @@ struct ReportSection {
   /// The set against ReportInput::lab (stats/lab_gap.hpp), and its one-sentence summary.
   std::optional<stats::LabGap> lab_gap;
   std::string lab_sentence;
+  /// A set whose file keeps contact histories: the force law the base model leaves, each
+  /// release at its own calibration (force_law_from_tracks); nullopt otherwise.
+  std::optional<ForceLawReport> force_law;
 };
 
 /// Runs compare, diagnose and the automatic ladder on every input.

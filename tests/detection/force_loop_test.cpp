@@ -14,6 +14,7 @@
 
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <sstream>
 #include <string>
 
@@ -70,6 +71,24 @@ TEST_F(ForceLoop, TheDiscoveredDragBecomesARungAndTheForceErrorFalls) {
   const double after = lj["force_history"][1]["heldout_rms"]["normal"].get<double>();
   EXPECT_LT(after, 0.99 * before) << "held-out normal force RMS " << before << " -> " << after;
   EXPECT_TRUE(lj["force_history"][0]["heldout_rms"]["moment"].is_null());  // no torque tracked
+}
+
+// The report shows the residual force before and after the discovered law, and the law lowers
+// it (in-sample: the terms were fitted to these residuals).
+TEST_F(ForceLoop, TheReportShowsTheResidualForceFalling) {
+  const std::string set = make_set();
+  const std::string page = (dir_ / "r.html").string();
+  const test::RunResult r = ricochet("report " + test::quote(set) + " --out " + test::quote(page));
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::ifstream in(page);
+  std::stringstream html;
+  html << in.rdbuf();
+  const std::regex rms("RMS ([0-9.]+) N before, ([0-9.]+) N after");
+  std::smatch m;
+  const std::string text = html.str();
+  ASSERT_TRUE(std::regex_search(text, m, rms)) << "no force-residual figure";
+  EXPECT_LT(std::stod(m[2]), 0.9 * std::stod(m[1])) << m[0];
+  EXPECT_NE(text.find("Force law from the contact histories"), std::string::npos);
 }
 
 // Refused before any work: a set without histories.
