@@ -367,6 +367,8 @@ std::vector<std::vector<double>> release_params_of(const ReportSection& s) {
 // and after it (force_history.hpp). Like the contact figure, a failure is said, not fatal.
 void force_section(report::HtmlPage& page, const ReportSection& s, const Model& model,
                    const ReportOptions& o) {
+  if (!s.force_law_error.empty())
+    page.paragraph("The force law from the contact histories is not shown: " + s.force_law_error);
   if (!s.force_law) return;
   try {
     const auto f = force_residual_figure(
@@ -395,9 +397,14 @@ std::vector<ReportSection> analyse(const std::vector<ReportInput>& inputs, const
     s.input = in;
     s.diagnosis = diagnose(model, in.shape, in.set, o.diagnose);
     s.ladder = auto_ladder(model, in.shape, in.set, o.rounds, o.diagnose, &s.diagnosis);
-    s.force_law = force_law_from_tracks(in.data, in.set, in.shape, model,
-                                        s.diagnosis.baseline.base.population.params,
-                                        o.diagnose.assess.fit.engine, {}, release_params_of(s));
+    // A history the discovery cannot read is said on the page, not fatal: the rest stands.
+    try {
+      s.force_law = force_law_from_tracks(in.data, in.set, in.shape, model,
+                                          s.diagnosis.baseline.base.population.params,
+                                          o.diagnose.assess.fit.engine, {}, release_params_of(s));
+    } catch (const std::exception& e) {
+      s.force_law_error = e.what();
+    }
     s.headline = headline_of(s);
     s.conclusion = conclusion_of(s);
     if (in.lab) {

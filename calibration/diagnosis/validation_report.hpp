@@ -56,6 +56,7 @@ struct ReportSection {
   /// A set whose file keeps contact histories: the force law the base model leaves, each
   /// release at its own calibration (force_law_from_tracks); nullopt otherwise.
   std::optional<ForceLawReport> force_law;
+  std::string force_law_error;  ///< why the histories could not be read (the page says it)
 };
 
 /// Runs compare, diagnose and the automatic ladder on every input.
