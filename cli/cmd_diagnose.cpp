@@ -19,70 +19,17 @@
 namespace ricochet::cli {
 namespace {
 
-void run(DiagnosisCliOptions& o, const std::string& force_model) {
-  require_out_extension(o.output, {".csv", ".h5", ".hdf5"});
-  if (!force_model.empty()) {
-    require_extension("--write-force-model", force_model, {".toml"});
-    if (block_track_ids(o.data).size() < 2)  // refused before the diagnosis, not after it
-      throw InputError("<command line>", 0, "--write-force-model",
-                       o.data +
-                           " keeps no contact histories of two releases or more (a campaign "
-                           "file's /dem/tracks): there is no force law to write");
-  }
-  o.values.dt_s = o.model.dt_s;
-  diagnosis::DiagnoseOptions opt = diagnose_options(o.values);
-  const Model model = o.model.build_model();  // loads plugins first: they become candidates
-  const auto in = diagnosis::load_inputs(o.data, o.shape_given ? o.model.shape : "", o.where);
-  opt.progress = !o.output.json;
-  const diagnosis::Diagnosis d = diagnosis::diagnose(model, in.shape, in.set, opt);
-  nlohmann::json doc = diagnosis::to_json(d);
-  // A set with contact histories (a campaign file's tracks): the force the base law leaves along
-  // each release's own path, at the base model's population fit (issue 33, item 2).
-  // Each release at its own calibration where the diagnosis has one (the per-release fits), so
-  // that the constants' release-to-release scatter is not read as a missing force.
-  std::vector<std::vector<double>> release_params;
-  if (d.baseline.release_fits.size() == in.set.size())
-    for (const auto& f : d.baseline.release_fits) release_params.push_back(f.params);
-  const auto force_law = diagnosis::force_law_from_tracks(
-      o.data, in.set, in.shape, model, d.baseline.base.population.params, o.model.engine_options(),
-      {}, release_params);
-  if (force_law) doc["force_law"] = diagnosis::to_json(*force_law);
-  std::vector<std::string> force_model_warnings;
-  if (!force_model.empty()) {
-    if (!force_law)
-      throw InputError("<command line>", 0, "--write-force-model",
-                       o.data +
-                           " keeps no contact histories of two releases or more (a campaign "
-                           "file's /dem/tracks): there is no force law to write");
-    write_text_file(force_model,
-                    diagnosis::with_force_law(model, d.baseline.base.population.params, *force_law,
-                                              &force_model_warnings)
-                        .to_toml(),
-                    "--write-force-model");
-    doc["force_model_file"] = force_model;
-    doc["force_model_warnings"] = force_model_warnings;
-  }
-  doc["data"] = o.data;
-  doc["shape"] = in.shape.name;
-  doc["releases"] = in.set.size();
-  std::vector<std::string> figures;
-  if (!o.figures.empty()) {
-    auto figs = diagnosis::diagnose_figures(d, in.shape.name);
-    figures = diagnosis::render_all(figs, o.figures);
-    doc["figures"] = figures;
-  }
-  if (!o.output.out.empty()) diagnosis::write_file(o.output.out, d, doc);
-  if (!o.write_model.empty()) {
-    require_extension("--write-model", o.write_model, {".toml"});
-    write_text_file(o.write_model, diagnosis::best_model(model, d).to_toml(), "--write-model");
-    doc["model_file"] = o.write_model;
-  }
-  if (o.output.json) {
-    print_json(doc);
-    return;
-  }
+[[noreturn]] void no_histories(const std::string& data) {
+  throw InputError("<command line>", 0, "--write-force-model",
+                   data +
+                       " keeps no contact histories of two releases or more (a campaign file's "
+                       "/dem/tracks): there is no force law to write");
+}
+
+void print_diagnosis(const diagnosis::Diagnosis& d, const std::string& data,
+                     const diagnosis::Inputs& in) {
   const auto& b = d.baseline;
-  std::cout << fmt::format("{} ({} releases of shape {}), model: ", o.data, in.set.size(),
+  std::cout << fmt::format("{} ({} releases of shape {}), model: ", data, in.set.size(),
                            in.shape.name);
   for (const auto& e : b.base.effects) std::cout << e << " ";
   std::cout << fmt::format("\nnoise floor {:.4g} ({}: {})\n", b.floor.value.mean, b.floor.source,
@@ -112,6 +59,56 @@ void run(DiagnosisCliOptions& o, const std::string& force_model) {
   for (const auto& c : d.ranking) std::cout << "- " << c.effect << ": " << c.evidence << "\n";
   std::cout << "\nwhat is left unexplained:\n";
   for (const auto& u : d.unexplained) std::cout << "- " << u << "\n";
+}
+
+void run(DiagnosisCliOptions& o, const std::string& force_model) {
+  require_out_extension(o.output, {".csv", ".h5", ".hdf5"});
+  if (!force_model.empty()) {
+    require_extension("--write-force-model", force_model, {".toml"});
+    if (block_track_ids(o.data).size() < 2) no_histories(o.data);  // before the diagnosis
+  }
+  o.values.dt_s = o.model.dt_s;
+  diagnosis::DiagnoseOptions opt = diagnose_options(o.values);
+  const Model model = o.model.build_model();  // loads plugins first: they become candidates
+  const auto in = diagnosis::load_inputs(o.data, o.shape_given ? o.model.shape : "", o.where);
+  opt.progress = !o.output.json;
+  const diagnosis::Diagnosis d = diagnosis::diagnose(model, in.shape, in.set, opt);
+  nlohmann::json doc = diagnosis::to_json(d);
+  // A set with contact histories: the force the model leaves along each release's own path
+  // (issue 33).
+  const auto force_law =
+      diagnosis::force_law_of(d, o.data, in.set, in.shape, model, o.model.engine_options());
+  if (force_law) doc["force_law"] = diagnosis::to_json(*force_law);
+  std::vector<std::string> force_model_warnings;
+  if (!force_model.empty()) {
+    if (!force_law) no_histories(o.data);  // --where left fewer than two
+    write_text_file(force_model,
+                    diagnosis::with_force_law(model, d.baseline.base.population.params, *force_law,
+                                              &force_model_warnings)
+                        .to_toml(),
+                    "--write-force-model");
+    doc["force_model_file"] = force_model;
+    doc["force_model_warnings"] = force_model_warnings;
+  }
+  doc["data"] = o.data;
+  doc["shape"] = in.shape.name;
+  doc["releases"] = in.set.size();
+  std::vector<std::string> figures;
+  if (!o.figures.empty()) {
+    figures = diagnosis::render_all(diagnosis::diagnose_figures(d, in.shape.name), o.figures);
+    doc["figures"] = figures;
+  }
+  if (!o.output.out.empty()) diagnosis::write_file(o.output.out, d, doc);
+  if (!o.write_model.empty()) {
+    require_extension("--write-model", o.write_model, {".toml"});
+    write_text_file(o.write_model, diagnosis::best_model(model, d).to_toml(), "--write-model");
+    doc["model_file"] = o.write_model;
+  }
+  if (o.output.json) {
+    print_json(doc);
+    return;
+  }
+  print_diagnosis(d, o.data, in);
   if (force_law) std::cout << "\n" << diagnosis::format_text(*force_law);
   if (!force_model.empty()) {
     std::cout << "force-law model (the base model at its fit plus the discovered terms): "

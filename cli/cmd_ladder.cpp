@@ -21,14 +21,10 @@
 namespace ricochet::cli {
 namespace {
 
-void run(DiagnosisCliOptions& o, int auto_rounds, bool force_law) {
-  require_out_extension(o.output, {".csv", ".h5", ".hdf5"});
-  o.values.dt_s = o.model.dt_s;
-  diagnosis::DiagnoseOptions opt = diagnose_options(o.values);
-  const std::vector<std::string> adds = o.model.add;
-  ModelOptions base_options = o.model;
-  base_options.add.clear();
-  const Model model = base_options.build_model();  // loads plugins, reads --model, applies --set
+// Refuses a ladder without rungs, an unknown --add and --force-law on a file without histories,
+// before any work.
+void check_rungs(const std::vector<std::string>& adds, int auto_rounds, bool force_law,
+                 const std::string& data) {
   const auto& registry = EffectRegistry::global();
   for (const auto& a : adds) {
     try {
@@ -41,55 +37,14 @@ void run(DiagnosisCliOptions& o, int auto_rounds, bool force_law) {
     throw InputError("<command line>", 0, "--add",
                      "give the effects of the ladder (--add NAME, repeatable), --auto N or "
                      "--force-law");
-  if (force_law && block_track_ids(o.data).size() < 2)  // refused before the ladder, not after
+  if (force_law && block_track_ids(data).size() < 2)
     throw InputError("<command line>", 0, "--force-law",
-                     o.data +
+                     data +
                          " keeps no contact histories of two releases or more (a campaign "
                          "file's /dem/tracks): there is no force law to discover");
-  const auto in = diagnosis::load_inputs(o.data, o.shape_given ? o.model.shape : "", o.where);
-  opt.assess.release_fits = opt.assess.release_fits && auto_rounds >= 0;
-  opt.progress = !o.output.json;
-  diagnosis::Ladder l = auto_rounds >= 0
-                            ? diagnosis::auto_ladder(model, in.shape, in.set, auto_rounds, opt)
-                            : diagnosis::ladder(model, in.shape, in.set, adds, opt);
-  std::optional<diagnosis::ForceLawReport> discovered;
-  if (force_law)
-    discovered = diagnosis::add_force_law_rung(l, model, in.shape, in.set, o.data, opt);
-  nlohmann::json doc = diagnosis::to_json(l);
-  if (discovered) doc["force_law"] = diagnosis::to_json(*discovered);
-  // A set with contact histories: each rung's force along the releases' own paths, in-sample and
-  // at its split fits on held-out releases (issue 33, item 3).
-  const auto histories = diagnosis::measured_histories(o.data, in.set, in.shape);
-  std::vector<diagnosis::ForceHistoryError> force_errors;
-  if (diagnosis::history_count(histories) >= 2) {
-    nlohmann::json fh = nlohmann::json::array();
-    for (std::size_t r = 0; r < l.rungs.size(); ++r) {
-      force_errors.push_back(diagnosis::force_history_error(diagnosis::rung_model(model, l, r),
-                                                            in.shape, l.rungs[r].assessment,
-                                                            histories, o.model.engine_options()));
-      fh.push_back(diagnosis::to_json(force_errors.back()));
-    }
-    doc["force_history"] = fh;
-  }
-  doc["data"] = o.data;
-  doc["shape"] = in.shape.name;
-  std::vector<std::string> figures;
-  if (!o.figures.empty()) {
-    figures = diagnosis::render_all(diagnosis::ladder_figures(l, in.shape.name), o.figures);
-    doc["figures"] = figures;
-  }
-  if (!o.output.out.empty()) diagnosis::write_file(o.output.out, l, doc);
-  if (!o.write_model.empty()) {
-    require_extension("--write-model", o.write_model, {".toml"});
-    write_text_file(o.write_model, diagnosis::ladder_model(model, l).to_toml(), "--write-model");
-    doc["model_file"] = o.write_model;
-  }
-  if (o.output.json) {
-    print_json(doc);
-    return;
-  }
-  std::cout << fmt::format("{} ({} releases of shape {}); noise floor {:.4g} ({})\n\n", o.data,
-                           in.set.size(), in.shape.name, l.floor.value.mean, l.floor.source);
+}
+
+void print_rungs(const diagnosis::Ladder& l) {
   const auto& use = l.rungs.front().assessment.use;
   std::string head = fmt::format("{:<5}{:<22}{:>11}{:>11}{:>9}{:>10}", "rung", "added", "in-sample",
                                  "held-out", "+-SE", "x floor");
@@ -113,23 +68,76 @@ void run(DiagnosisCliOptions& o, int auto_rounds, bool force_law) {
   for (int k = 0; k < diagnosis::kObservables; ++k)
     if (use[k]) floor_line += fmt::format("{:>13.4g}", l.floor.term_mean[k]);
   std::cout << floor_line << "\n";
-  if (!force_errors.empty()) {
-    std::cout << fmt::format(
-        "\nforce histories ({} releases, {} contact samples; RMS of measured minus model, "
-        "in-sample / held-out):\n{:<5}{:<22}{:>22}{:>22}{:>24}\n",
-        force_errors.front().releases, force_errors.front().samples, "rung", "added", "normal [N]",
-        "tangential [N]", "moment [N m]");
-    for (std::size_t r = 0; r < force_errors.size(); ++r) {
-      std::string line = fmt::format("{:<5}{:<22}", r,
-                                     l.rungs[r].added.empty() ? "(base)" : "+" + l.rungs[r].added);
-      for (std::size_t c = 0; c < diagnosis::kForceComponents; ++c)
-        line += std::isfinite(force_errors[r].insample_rms[c])
-                    ? fmt::format("{:>12.4g} /{:>8.4g}", force_errors[r].insample_rms[c],
-                                  force_errors[r].heldout_rms[c])
-                    : fmt::format("{:>22}", "-");
-      std::cout << line << "\n";
-    }
+}
+
+void print_force_history(const diagnosis::Ladder& l,
+                         const std::vector<diagnosis::ForceHistoryError>& errors) {
+  if (errors.empty()) return;
+  std::cout << fmt::format(
+      "\nforce histories ({} releases, {} contact samples; RMS of measured minus model, "
+      "in-sample / held-out):\n{:<5}{:<22}{:>22}{:>22}{:>24}\n",
+      errors.front().releases, errors.front().samples, "rung", "added", "normal [N]",
+      "tangential [N]", "moment [N m]");
+  for (std::size_t r = 0; r < errors.size(); ++r) {
+    std::string line =
+        fmt::format("{:<5}{:<22}", r, l.rungs[r].added.empty() ? "(base)" : "+" + l.rungs[r].added);
+    for (std::size_t c = 0; c < diagnosis::kForceComponents; ++c)
+      line += std::isfinite(errors[r].insample_rms[c])
+                  ? fmt::format("{:>12.4g} /{:>8.4g}", errors[r].insample_rms[c],
+                                errors[r].heldout_rms[c])
+                  : fmt::format("{:>22}", "-");
+    std::cout << line << "\n";
   }
+}
+
+void run(DiagnosisCliOptions& o, int auto_rounds, bool force_law) {
+  require_out_extension(o.output, {".csv", ".h5", ".hdf5"});
+  o.values.dt_s = o.model.dt_s;
+  diagnosis::DiagnoseOptions opt = diagnose_options(o.values);
+  const std::vector<std::string> adds = o.model.add;
+  ModelOptions base_options = o.model;
+  base_options.add.clear();
+  const Model model = base_options.build_model();  // loads plugins, reads --model, applies --set
+  check_rungs(adds, auto_rounds, force_law, o.data);
+  const auto in = diagnosis::load_inputs(o.data, o.shape_given ? o.model.shape : "", o.where);
+  opt.assess.release_fits = opt.assess.release_fits && auto_rounds >= 0;
+  opt.progress = !o.output.json;
+  diagnosis::Ladder l = auto_rounds >= 0
+                            ? diagnosis::auto_ladder(model, in.shape, in.set, auto_rounds, opt)
+                            : diagnosis::ladder(model, in.shape, in.set, adds, opt);
+  std::optional<diagnosis::ForceLawReport> discovered;
+  if (force_law)
+    discovered = diagnosis::add_force_law_rung(l, model, in.shape, in.set, o.data, opt);
+  const auto force_errors = diagnosis::ladder_force_history(
+      model, l, in.shape, diagnosis::measured_histories(o.data, in.set, in.shape),
+      o.model.engine_options());
+  nlohmann::json doc = diagnosis::to_json(l);
+  if (discovered) doc["force_law"] = diagnosis::to_json(*discovered);
+  if (!force_errors.empty()) {
+    doc["force_history"] = nlohmann::json::array();
+    for (const auto& e : force_errors) doc["force_history"].push_back(diagnosis::to_json(e));
+  }
+  doc["data"] = o.data;
+  doc["shape"] = in.shape.name;
+  std::vector<std::string> figures;
+  if (!o.figures.empty()) {
+    figures = diagnosis::render_all(diagnosis::ladder_figures(l, in.shape.name), o.figures);
+    doc["figures"] = figures;
+  }
+  if (!o.output.out.empty()) diagnosis::write_file(o.output.out, l, doc);
+  if (!o.write_model.empty()) {
+    require_extension("--write-model", o.write_model, {".toml"});
+    write_text_file(o.write_model, diagnosis::ladder_model(model, l).to_toml(), "--write-model");
+    doc["model_file"] = o.write_model;
+  }
+  if (o.output.json) {
+    print_json(doc);
+    return;
+  }
+  std::cout << fmt::format("{} ({} releases of shape {}); noise floor {:.4g} ({})\n\n", o.data,
+                           in.set.size(), in.shape.name, l.floor.value.mean, l.floor.source);
+  print_rungs(l);
+  print_force_history(l, force_errors);
   if (discovered) std::cout << "\n" << diagnosis::format_text(*discovered);
   if (!l.stop_reason.empty()) std::cout << "\nstopped: " << l.stop_reason << "\n";
   print_written(figures, o.output.out);

@@ -78,6 +78,31 @@ ForceHistoryError force_history_error(const Model& model, const Shape& shape, co
   return e;
 }
 
+std::vector<std::vector<double>> release_params_of(const Diagnosis& d, std::size_t releases) {
+  std::vector<std::vector<double>> out;
+  if (d.baseline.release_fits.size() == releases)
+    for (const auto& f : d.baseline.release_fits) out.push_back(f.params);
+  return out;
+}
+
+std::optional<ForceLawReport> force_law_of(const Diagnosis& d, const std::string& data,
+                                           const ImpactSet& set, const Shape& shape,
+                                           const Model& model, const EngineOptions& engine) {
+  return force_law_from_tracks(data, set, shape, model, d.baseline.base.population.params, engine,
+                               {}, release_params_of(d, set.size()));
+}
+
+std::vector<ForceHistoryError> ladder_force_history(
+    const Model& base, const Ladder& l, const Shape& shape,
+    const std::vector<std::optional<MeasuredHistory>>& histories, const EngineOptions& engine) {
+  std::vector<ForceHistoryError> out;
+  if (history_count(histories) < 2) return out;
+  for (std::size_t r = 0; r < l.rungs.size(); ++r)
+    out.push_back(force_history_error(rung_model(base, l, r), shape, l.rungs[r].assessment,
+                                      histories, engine));
+  return out;
+}
+
 nlohmann::json to_json(const ForceHistoryError& e) {
   const auto by_component = [](const std::array<double, kForceComponents>& v) {
     nlohmann::json j = nlohmann::json::object();

@@ -21,6 +21,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "diagnosis/assess.hpp"
+#include "diagnosis/diagnose.hpp"
 #include "diagnosis/figures.hpp"
 #include "diagnosis/force_residual.hpp"
 
@@ -43,6 +44,24 @@ struct ForceHistoryError {
 ForceHistoryError force_history_error(const Model& model, const Shape& shape, const Assessment& a,
                                       const std::vector<std::optional<MeasuredHistory>>& histories,
                                       const EngineOptions& engine = {});
+
+/// Each release's own calibration (the diagnosis's per-release fits, model order), aligned with
+/// a set of `releases`; empty when `d` has no per-release fits of that set.
+std::vector<std::vector<double>> release_params_of(const Diagnosis& d, std::size_t releases);
+
+/// The force law the diagnosed model leaves on the histories `data` keeps (force_law_from_tracks):
+/// each release at its own per-release fit where `d` has them (so that the constants'
+/// release-to-release scatter is not read as a force), else at the population fit. nullopt
+/// when `data` keeps fewer than two histories of the set's releases.
+std::optional<ForceLawReport> force_law_of(const Diagnosis& d, const std::string& data,
+                                           const ImpactSet& set, const Shape& shape,
+                                           const Model& model, const EngineOptions& engine = {});
+
+/// force_history_error of every rung of `l` (rung_model(base, l, r)), or nothing when fewer than
+/// two releases have a history (`ladder`'s force_history).
+std::vector<ForceHistoryError> ladder_force_history(
+    const Model& base, const Ladder& l, const Shape& shape,
+    const std::vector<std::optional<MeasuredHistory>>& histories, const EngineOptions& engine = {});
 
 /// JSON: insample_rms, heldout_rms (objects by component: normal [N], tangential [N], moment
 /// [N m]; null where not measured), releases, samples.

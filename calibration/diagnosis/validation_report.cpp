@@ -354,15 +354,6 @@ void track_section(report::HtmlPage& page, const ReportSection& s, const Model& 
   }
 }
 
-// Each release's own calibration (the diagnosis's release fits), aligned with the set; empty
-// when the diagnosis made none.
-std::vector<std::vector<double>> release_params_of(const ReportSection& s) {
-  std::vector<std::vector<double>> out;
-  if (s.diagnosis.baseline.release_fits.size() == s.input.set.size())
-    for (const auto& f : s.diagnosis.baseline.release_fits) out.push_back(f.params);
-  return out;
-}
-
 // A set with contact histories: the discovered force law in words and the residual force before
 // and after it (force_history.hpp). Like the contact figure, a failure is said, not fatal.
 void force_section(report::HtmlPage& page, const ReportSection& s, const Model& model,
@@ -371,10 +362,11 @@ void force_section(report::HtmlPage& page, const ReportSection& s, const Model& 
     page.paragraph("The force law from the contact histories is not shown: " + s.force_law_error);
   if (!s.force_law) return;
   try {
-    const auto f = force_residual_figure(
-        measured_histories(s.input.data, s.input.set, s.input.shape), model, s.input.shape,
-        s.diagnosis.baseline.base.population.params, release_params_of(s), *s.force_law,
-        o.diagnose.assess.fit.engine, s.input.label);
+    const auto f =
+        force_residual_figure(measured_histories(s.input.data, s.input.set, s.input.shape), model,
+                              s.input.shape, s.diagnosis.baseline.base.population.params,
+                              release_params_of(s.diagnosis, s.input.set.size()), *s.force_law,
+                              o.diagnose.assess.fit.engine, s.input.label);
     std::string law;
     for (const ComponentLaw& c : s.force_law->laws)
       law += (law.empty() ? "" : " ") + std::string(component_name(c.component)) + ": " + c.text +
@@ -399,9 +391,8 @@ std::vector<ReportSection> analyse(const std::vector<ReportInput>& inputs, const
     s.ladder = auto_ladder(model, in.shape, in.set, o.rounds, o.diagnose, &s.diagnosis);
     // A history the discovery cannot read is said on the page, not fatal: the rest stands.
     try {
-      s.force_law = force_law_from_tracks(in.data, in.set, in.shape, model,
-                                          s.diagnosis.baseline.base.population.params,
-                                          o.diagnose.assess.fit.engine, {}, release_params_of(s));
+      s.force_law =
+          force_law_of(s.diagnosis, in.data, in.set, in.shape, model, o.diagnose.assess.fit.engine);
     } catch (const std::exception& e) {
       s.force_law_error = e.what();
     }
