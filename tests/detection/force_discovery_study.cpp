@@ -9,8 +9,8 @@
 //
 // One line per set in FILE.tsv (way, family, seed, the selected terms per component); the summary
 // on stdout, as docs/detection-benchmark.md quotes it.
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include <cstdint>
 #include <fstream>
@@ -36,11 +36,13 @@ struct Hidden {
 
 // The test's strengths and families (force_discovery_test.cpp): the Katsuragi-Durian drag at its
 // lab scale (m/d1 = 40 kg/m), the depth-speed drag at 40 kg/m at 3 mm, the Rankine ploughing at
-// the wide design's detection-study strength (c = 1.73e8 N/m^2).
+// the wide design's detection-study strength (c = 1.73e8 N/m^2), the rate-threshold drag at
+// c_rt = 100 kg/m above 2 m/s (400 N at 4 m/s).
 const std::vector<Hidden> kHidden = {
     {truth::Family::kKdDrag, 1.0, {"inertial_drag", "viscous", "depth_drag"}},
     {truth::Family::kDepthSpeedDrag, 1.0, {"depth_drag", "inertial_drag"}},
     {truth::Family::kRankinePlough, 20568.2, {"ploughing"}},
+    {truth::Family::kRateThresholdDrag, 1.0, {"inertial_drag", "viscous", "depth_drag"}},
 };
 
 std::string by_component(const std::vector<diagnosis::ComponentLaw>& laws,
@@ -95,10 +97,10 @@ int main(int argc, char** argv) {
       tangential_clean += t == "-";
       tsv << way << "\tnone\t" << s << "\t" << n << "\t" << t << "\n";
     }
-    std::cout << fmt::format("{}: null sets with nothing found {}; normal clean {}; tangential "
-                             "clean {}\n",
-                             way, rate(clean, nulls), rate(normal_clean, nulls),
-                             rate(tangential_clean, nulls));
+    std::cout << fmt::format(
+        "{}: null sets with nothing found {}; normal clean {}; tangential "
+        "clean {}\n",
+        way, rate(clean, nulls), rate(normal_clean, nulls), rate(tangential_clean, nulls));
     for (const Hidden& h : kHidden) {
       std::size_t found = 0;
       for (std::uint64_t s = first_seed; s < first_seed + seeds; ++s) {

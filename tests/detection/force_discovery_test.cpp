@@ -56,9 +56,11 @@ TEST_P(ForceDiscovery, TheHiddenForceFamilyIsFoundThroughTheLawAlongThePath) {
 // comment said 1.4 kN, a slip).
 INSTANTIATE_TEST_SUITE_P(
     HiddenForces, ForceDiscovery,
-    ::testing::Values(Case{Family::kKdDrag, 1.0, {"inertial_drag", "viscous", "depth_drag"}, 8},
-                      Case{Family::kDepthSpeedDrag, 1.0, {"depth_drag", "inertial_drag"}, 8},
-                      Case{Family::kRankinePlough, 20568.2, {"ploughing"}, 8}),
+    ::testing::Values(
+        Case{Family::kKdDrag, 1.0, {"inertial_drag", "viscous", "depth_drag"}, 8},
+        Case{Family::kDepthSpeedDrag, 1.0, {"depth_drag", "inertial_drag"}, 8},
+        Case{Family::kRankinePlough, 20568.2, {"ploughing"}, 8},
+        Case{Family::kRateThresholdDrag, 1.0, {"inertial_drag", "viscous", "depth_drag"}, 8}),
     [](const ::testing::TestParamInfo<Case>& i) { return family_name(i.param.family); });
 
 // No hidden force: nothing may be found in most sets (the residual is the noise alone).

@@ -13,7 +13,6 @@ namespace ricochet::truth {
 using diagnosis::ContactSample;
 using diagnosis::ReleaseResidual;
 
-
 std::vector<ReleaseResidual> traced_set(Family f, double strength, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> vx(1.5, 6.0), vy(-5.0, -1.0), w(-90.0, 0.0);

@@ -22,6 +22,8 @@ constexpr double kYieldSpeed = 2.0;  // v_yield [m/s] (Thornton & Ning 1998 form
 constexpr double kSlipSpinRef =
     2e-3;  // c_sw [s^2/(m rad)]: mu +30 % at the lab mean state (no value)
 constexpr double kKp = 3.7, kGamma = 15.7e3;  // Rankine K_p (phi = 35 deg), unit weight [N/m^3]
+constexpr double kRateDragRef = 100.0;        // c_rt [kg/m] (truth_sim.hpp; no literature value)
+constexpr double kRateThreshold = 2.0;        // v_th [m/s]
 constexpr double kPloughRef = 0.5 * kKp * kGamma * kLength;  // [N/m^2], times h^2
 
 // Scatter of the ground per release and measurement noise (header comment).
@@ -37,7 +39,8 @@ const std::vector<std::string> kNames = {"none",
                                          "two",
                                          "depth_speed_drag",
                                          "yield_restitution",
-                                         "slip_spin_friction"};
+                                         "slip_spin_friction",
+                                         "rate_threshold_drag"};
 
 bool has(const Ground& g, Family f) {
   return g.family == f ||
@@ -247,6 +250,10 @@ Reference reference(Family f) {
               "elastic-plastic impact); 2 m/s a lab-range choice"};
     case Family::kSlipSpinFriction:
       return {"c_sw", kSlipSpinRef, "s^2/(m rad)", "no literature value"};
+    case Family::kRateThresholdDrag:
+      return {"c_rt", kRateDragRef, "kg/m (times (|v_y| - 2 m/s)^2)",
+              "no literature value; 400 N at 4 m/s, as the Katsuragi-Durian drag's 40 kg/m at "
+              "3.2 m/s"};
     default:
       return {"", 0, "", "none"};
   }
@@ -291,6 +298,8 @@ std::vector<std::string> expected_families(Family f) {
       return {"restitution"};
     case Family::kSlipSpinFriction:
       return {"slip friction"};
+    case Family::kRateThresholdDrag:
+      return {"drag"};
     default:
       return {};
   }
@@ -345,6 +354,9 @@ Rebound collide(const std::array<double, 3>& vin, const Ground& g, const Numeric
       if (has(g, Family::kKdDrag) && vy < 0) hidden_n += s * kDragRef * vy * vy;
       // A drag whose coefficient grows with depth: c_hv h v_y^2 while penetrating.
       if (has(g, Family::kDepthSpeedDrag) && vy < 0) hidden_n += s * kDepthSpeedRef * h * vy * vy;
+      // A drag above a penetration rate only: c_rt (|v_y| - v_th)^2 while -v_y > v_th.
+      if (has(g, Family::kRateThresholdDrag) && -vy > kRateThreshold)
+        hidden_n += s * kRateDragRef * (-vy - kRateThreshold) * (-vy - kRateThreshold);
       normal += hidden_n;
       const double l = kRadius - h;  // centre to the contact point on the ground surface
       const double vt = vx + w * l;  // slip of the contact point
