@@ -21,7 +21,8 @@ namespace ricochet::cli {
 namespace {
 
 struct PairedCliOptions {
-  std::string data, base, against, where;
+  std::vector<std::string> data;  ///< one file, or several whose releases are pooled
+  std::string base, against, where;
   std::vector<std::string> lab;  ///< empty: the shipped lab cylinders and triangles
   stats::PairedOptions paired;
   OutputOptions output;
@@ -54,19 +55,35 @@ void run(const PairedCliOptions& o) {
   require_out_extension(o.output, {".csv"});
   if (o.base == o.against)
     throw InputError("<command line>", 0, "--against", "the same prefix as --base");
-  const ImpactSet set = filter_nonempty(read_impact_set(o.data), o.where, o.data);
+  // Several files are pooled (a side study beside its campaign: the floor check's stiff-wall
+  // impacts against the plateau campaign's): an id in two of them would pair ambiguously.
+  ImpactSet set;
+  std::map<std::string, std::string> file_of;
+  std::string names;
+  for (const std::string& f : o.data) {
+    const ImpactSet one = filter_nonempty(read_impact_set(f), o.where, f);
+    for (const Impact& im : one.impacts) {
+      if (!file_of.emplace(im.id, f).second)
+        throw InputError(f, 0, "id",
+                         fmt::format("release '{}' is also in {}: pooled files need distinct ids",
+                                     im.id, file_of[im.id]));
+      set.impacts.push_back(im);
+    }
+    if (set.source.empty()) set.source = one.source;
+    names += (names.empty() ? "" : " + ") + f;
+  }
   std::vector<std::string> labs = o.lab;
   if (labs.empty())
     labs = {(data_dir() / "lab" / "cylinders.csv").string(),
             (data_dir() / "lab" / "triangles.csv").string()};
   const stats::PairedComparison c =
       stats::paired_comparison(set, o.base, o.against, lab_scales(labs), o.paired);
-  if (!o.output.out.empty()) stats::write_csv(o.output.out, c, o.data);
+  if (!o.output.out.empty()) stats::write_csv(o.output.out, c, names);
   if (o.output.json) {
     print_json(stats::to_json(c));
     return;
   }
-  std::cout << stats::format_text(c, o.data);
+  std::cout << stats::format_text(c, names);
   if (!o.output.out.empty()) std::cout << "wrote " << o.output.out << "\n";
 }
 
@@ -79,7 +96,9 @@ void add_paired_command(CLI::App& app) {
       "Paired comparison of two conditions of the same impacts (ids PREFIX + KEY), e.g. a grain "
       "stiffness or convergence study: mean difference per V_out component in lab standard "
       "deviations, its t interval, and whether it holds");
-  sub->add_option("DATA", options->data, "Impact set (.csv, .h5 or .hdf5)")->required();
+  sub->add_option("DATA", options->data,
+                  "Impact set (.csv, .h5 or .hdf5); several are pooled (their ids must differ)")
+      ->required();
   sub->add_option("--base", options->base, "Id prefix of the reference condition, e.g. E1.5e8-")
       ->required();
   sub->add_option("--against", options->against,

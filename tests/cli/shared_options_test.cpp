@@ -109,6 +109,25 @@ TEST_F(SharedOptions, WhereFilters) {
   EXPECT_EQ(json("montecarlo --n 200 --compare " + kCyl)["compare"]["releases"], all);
 }
 
+// `paired` pools several files (a side study beside its campaign): the floor check's stiff-wall
+// impacts pair with the plateau campaign's soft-wall ones, one pair per stiff-wall impact, and a
+// file given twice is refused (its ids would pair ambiguously).
+TEST_F(SharedOptions, PairedPoolsFiles) {
+  const std::string wall =
+      quote(std::string(RICOCHET_SOURCE_DIR) + "/data/resolved/wall-stiffness.h5");
+  const test::RunResult n = ricochet("stats " + wall + " --json");
+  ASSERT_EQ(n.status, 0) << n.err;
+  const test::RunResult r = ricochet("paired " + kCampaignPlateau + " " + wall +
+                                     " --base E1.5e9-cyl- --against E1.5e9-wall1.5e9-cyl- --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["pairs"].size(), nlohmann::json::parse(n.out)["n"].get<std::size_t>());
+  const test::RunResult twice = ricochet("paired " + kCampaignPlateau + " " + kCampaignPlateau +
+                                         " --base E1.5e7- --against E1.5e8-");
+  EXPECT_EQ(twice.status, 2);
+  EXPECT_NE(twice.err.find("pooled files need distinct ids"), std::string::npos) << twice.err;
+}
+
 // calibrate-grains' --lab-where filters the target, not the campaign: its target mean and sd are
 // those `stats --where` gives for the same filter (a half of scripts/lab-split.py's kind), and
 // they differ from the whole set's.
