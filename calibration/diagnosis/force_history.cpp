@@ -185,16 +185,13 @@ std::optional<NamedFigure> force_residual_figure(
   p.ylabel = "measured - model normal force [N]";
   p.series = {before, after};
   f.figure.panels = {p};
-  std::string law;
-  for (const ComponentLaw& c : report.laws)
-    if (c.text != "nothing found") law += (law.empty() ? "" : "; ") + c.text;
   f.caption = fmt::format(
       "The normal contact force the model leaves along each release's own measured path (every "
       "contact sample of {} releases), each release at its own calibration ({}), before and "
       "after the force law discovered on these histories ({}). RMS {:.4g} N before, {:.4g} N "
       "after (in-sample: the law's terms were fitted to these residuals; their leak-free "
       "held-out figure is the discovery's, in the diagnosis).",
-      history_count(histories), report.base, law, rms_before, rms_after);
+      history_count(histories), report.base, found_law_text(report), rms_before, rms_after);
   return f;
 }
 

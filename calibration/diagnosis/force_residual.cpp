@@ -172,6 +172,15 @@ nlohmann::json to_json(const ForceLawReport& report) {
           {"laws", laws}};
 }
 
+std::string found_law_text(const ForceLawReport& report) {
+  std::string out;
+  for (const ComponentLaw& law : report.laws)
+    if (std::any_of(law.terms.begin(), law.terms.end(),
+                    [](const DiscoveredTerm& t) { return t.selected; }))
+      out += (out.empty() ? "" : "; ") + law.text;
+  return out;
+}
+
 std::string format_text(const ForceLawReport& report) {
   std::string out = fmt::format(
       "force law missing from the model ({}), from the contact histories of {} releases ({} "

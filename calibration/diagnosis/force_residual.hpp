@@ -104,6 +104,9 @@ std::optional<ForceLawReport> force_law_from_tracks(
 /// component, text, releases, samples, rms_residual, heldout_rms, and the selected terms (name,
 /// expression, unit, literature, coefficient, lo, hi, inclusion).
 nlohmann::json to_json(const ForceLawReport& report);
+/// The laws found, in words: the text of every component with a selected term, joined by "; "
+/// (empty when nothing was found).
+std::string found_law_text(const ForceLawReport& report);
 /// The report in words: one line per component (ComponentLaw::text) and what it rests on.
 std::string format_text(const ForceLawReport& report);
 

@@ -82,8 +82,7 @@ std::optional<ForceLawReport> add_force_law_rung(Ladder& l, const Model& base, c
   Rung rung;
   for (const std::string& e : with_law.effect_names())
     if (!last.has_effect(e)) rung.added += (rung.added.empty() ? "" : "+") + e;
-  for (const ComponentLaw& law : report->laws)
-    if (law.text != "nothing found") rung.law += (rung.law.empty() ? "" : "; ") + law.text;
+  rung.law = found_law_text(*report);
   for (const std::string& w : warnings) rung.law += " [" + w + "]";
   if (rung.added.empty()) return report;
   rung.effects = with_law.effect_names();
