@@ -6,14 +6,18 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
 
 #include "cli_common.hpp"
 #include "common/error.hpp"
+#include "engine/shape.hpp"
+#include "impact/block_track.hpp"
 #include "impact/impact_set.hpp"
 #include "kinematics/reconstruct.hpp"
+#include "kinematics/track_forces.hpp"
 #include "report/plot.hpp"
 #include "shared_options.hpp"
 
@@ -24,9 +28,11 @@ using nlohmann::json;
 namespace fs = std::filesystem;
 
 struct ReconstructCliOptions {
-  std::string track, window, id, shape = "unknown", figures;
-  std::optional<double> pixel_size, gravity, ground, radius, sigma_position;
-  bool free_gravity = false, y_down = false;
+  std::vector<std::string> tracks;
+  std::string window, id, shape = "unknown", figures;
+  std::optional<double> pixel_size, gravity, ground, radius, sigma_position, mass, inertia;
+  bool free_gravity = false, y_down = false, track_forces = false;
+  std::size_t smooth = kinematics::TrackForceOptions{}.half_window;
   double k_sigma = kinematics::ReconstructOptions{}.detection_k_sigma;
   std::size_t guard = kinematics::ReconstructOptions{}.detection_guard_points;
   OutputOptions output;
@@ -124,33 +130,170 @@ kinematics::ReconstructOptions reconstruct_options(const ReconstructCliOptions& 
                        "must be a positive acceleration in m/s^2");
     opt.gravity_mps2 = *o.gravity;
   }
-  if (o.ground.has_value() != o.radius.has_value())
-    throw InputError("<command line>", 0, o.ground ? "--radius" : "--ground",
+  // --ground alone is the surface level of --track-forces' penetration; with --radius it is
+  // also the paper's geometric window criterion.
+  if (o.radius && !o.ground)
+    throw InputError("<command line>", 0, "--ground",
                      "the ground-level criterion needs both --ground Y and --radius R (m)");
-  opt.ground_y_m = o.ground;
-  opt.contact_radius_m = o.radius;
+  if (o.ground && !o.radius && !o.track_forces)
+    throw InputError("<command line>", 0, "--radius",
+                     "--ground needs --radius R (m) for the ground-level window criterion, or "
+                     "--track-forces for the surface level of the track's penetration");
+  if (o.radius) {
+    opt.ground_y_m = o.ground;
+    opt.contact_radius_m = o.radius;
+  }
   if (!(o.k_sigma > 0)) throw InputError("<command line>", 0, "--k-sigma", "must be positive");
   opt.detection_k_sigma = o.k_sigma;
   opt.detection_guard_points = o.guard;
   return opt;
 }
 
-// One release in the impact-set schema, with the standard errors as sigma columns.
-void write_release(const ReconstructCliOptions& o, const kinematics::Reconstruction& r) {
-  ImpactSet set;
-  set.source = o.track;
-  set.comments.push_back("ricochet reconstruct " + o.track + " (window " + r.window_method + ")");
-  set.impacts.push_back(
-      kinematics::to_impact(r, o.id.empty() ? fs::path(o.track).stem().string() : o.id, o.shape));
-  write_impact_set(set, o.output.out);
+std::string release_id(const ReconstructCliOptions& o, const std::string& track) {
+  return o.id.empty() ? fs::path(track).stem().string() : o.id;
 }
 
-json result_json(const ReconstructCliOptions& o, const kinematics::Reconstruction& r,
-                 const kinematics::ReconstructOptions& opt,
-                 const std::vector<std::string>& figures) {
+/// One track's results.
+struct Release {
+  std::string track, id;
+  kinematics::Track tracked;
+  kinematics::Reconstruction r;
+  std::optional<BlockTrack> forces;
+  std::vector<std::string> figures;
+};
+
+// --track-forces: the block's mass and inertia from --mass / --inertia, else from --shape (the
+// catalog's lab blocks or a shape file), whose geometry also gives the penetration.
+kinematics::TrackForceOptions track_force_options(const ReconstructCliOptions& o,
+                                                  const kinematics::ReconstructOptions& opt) {
+  kinematics::TrackForceOptions f;
+  f.half_window = o.smooth;
+  f.gravity_mps2 = opt.gravity_mps2.value_or(f.gravity_mps2);
+  f.surface_y_m = o.ground.value_or(0.0);
+  std::optional<Shape> shape;
+  if (!o.mass || !o.inertia || o.shape != "unknown") {
+    if (o.shape == "unknown")
+      throw InputError("<command line>", 0, "--shape",
+                       "--track-forces needs the block: --shape (cylinder, triangle or a shape "
+                       "file), or both --mass and --inertia");
+    shape = Shape::resolve(o.shape);
+  }
+  f.mass_kg = o.mass ? *o.mass : shape->mass_kg;
+  f.inertia_kgm2 = o.inertia ? *o.inertia : shape->inertia_kgm2;
+  if (shape)
+    f.depth_below_centroid_m = [s = *shape](double a) { return s.depth_below_centroid(a); };
+  return f;
+}
+
+// The releases in the impact-set schema, with the standard errors as sigma columns, and with
+// --track-forces their tracks (/dem/tracks/ID) in the same HDF5 file.
+void write_releases(const ReconstructCliOptions& o, const std::vector<Release>& releases) {
+  ImpactSet set;
+  set.source =
+      releases.size() == 1 ? releases[0].track : fs::path(releases[0].track).parent_path().string();
+  for (const Release& rel : releases) {
+    set.comments.push_back("ricochet reconstruct " + rel.track + " (window " + rel.r.window_method +
+                           ")");
+    set.impacts.push_back(kinematics::to_impact(rel.r, rel.id, o.shape));
+  }
+  write_impact_set(set, o.output.out);
+  for (const Release& rel : releases)
+    if (rel.forces) write_block_track(o.output.out, rel.id, *rel.forces);
+}
+
+/// Above this fraction of the contact window, one local fit's span blurs the force beyond its
+/// standard errors: measured on filmed LIGGGHTS impacts (13 ms contacts), spans of 0.31 of the
+/// contact keep the rms of z = error / s.e. at 0.9-1.1, spans of 0.6 raise it to 2.9-9
+/// (docs/diagnosis.md, "Forces from video"; scripts/video-forces.sh).
+constexpr double kBlurFraction = 1.0 / 3.0;
+
+/// Summary of the force track for the text and JSON outputs.
+struct ForceSummary {
+  double span_s = 0, peak_fcy_N = 0, sigma_at_peak_N = 0, median_sigma_fcy_N = 0;
+  std::size_t peak_index = 0;
+};
+
+ForceSummary summarize_forces(const kinematics::Track& tr, const BlockTrack& b, std::size_t k) {
+  ForceSummary s;
+  std::vector<double> spans, sig;
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    spans.push_back(kinematics::smoothing_span_s(tr, i, k));
+    if (std::isfinite(b.sigma_fcy[i])) sig.push_back(b.sigma_fcy[i]);
+    if (b.fcy[i] > b.fcy[s.peak_index]) s.peak_index = i;
+  }
+  auto median = [](std::vector<double> v) {
+    if (v.empty()) return std::nan("");
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  s.span_s = median(spans);
+  s.median_sigma_fcy_N = median(sig);
+  s.peak_fcy_N = b.fcy[s.peak_index];
+  s.sigma_at_peak_N = b.sigma_fcy[s.peak_index];
+  return s;
+}
+
+/// The contact force and torque from the accelerations against time, with +-2 s.e. bands.
+void draw_forces(const BlockTrack& b, const kinematics::Reconstruction& r, const std::string& title,
+                 const std::string& path) {
+  report::Figure fig;
+  fig.title = "Contact force from the tracked accelerations of " + title;
+  fig.width_px = 1350;
+  fig.height_px = 420;
+  struct Col {
+    const std::vector<double>*v, *sd;
+    const char *name, *unit;
+  };
+  const Col cols[3] = {{&b.fcx, &b.sigma_fcx, "fcx", "N"},
+                       {&b.fcy, &b.sigma_fcy, "fcy", "N"},
+                       {&b.torque, &b.sigma_torque, "torque", "N m"}};
+  for (const Col& c : cols) {
+    report::Panel p;
+    p.title = std::string(c.name) + "(t)";
+    p.xlabel = "t [s]";
+    p.ylabel = std::string(c.name) + " [" + c.unit + "]";
+    report::Series band;
+    band.title = "+-2 s.e.";
+    band.style = "filledcurves";
+    band.color = report::colour::kGrey;
+    report::Series line;
+    line.title = "estimate";
+    line.style = "linespoints";
+    line.color = report::colour::kBlue;
+    for (std::size_t i = 0; i < b.size(); ++i) {
+      if (!std::isfinite((*c.v)[i])) continue;
+      line.x.push_back(b.t[i]);
+      line.y.push_back((*c.v)[i]);
+      if (!std::isfinite((*c.sd)[i])) continue;
+      band.x.push_back(b.t[i]);
+      band.ylo.push_back((*c.v)[i] - 2 * (*c.sd)[i]);
+      band.yhi.push_back((*c.v)[i] + 2 * (*c.sd)[i]);
+      band.y.push_back((*c.v)[i]);
+    }
+    if (line.x.empty()) continue;
+    if (!band.x.empty()) p.series.push_back(band);
+    p.series.push_back(line);
+    for (double t : {r.contact_start_s, r.contact_end_s}) {
+      report::Series w;
+      w.title = t == r.contact_start_s ? "contact window" : "";
+      w.color = report::colour::kVermillion;
+      const auto [lo, hi] = std::minmax_element(line.y.begin(), line.y.end());
+      w.x = {t, t};
+      w.y = {*lo, *hi};
+      p.series.push_back(w);
+    }
+    fig.panels.push_back(p);
+  }
+  report::render(fig, path);
+}
+
+json result_json(const ReconstructCliOptions& o, const Release& rel,
+                 const kinematics::ReconstructOptions& opt) {
+  const kinematics::Reconstruction& r = rel.r;
   json doc;
   doc["command"] = "reconstruct";
-  doc["source"] = o.track;
+  doc["source"] = rel.track;
+  doc["id"] = rel.id;
   doc["units"] = {{"vx", "m/s"}, {"vy", "m/s"}, {"w", "rad/s"}};
   doc["vin"] = per_component(r.vin);
   doc["sigma_vin"] = per_component(r.sigma_vin);
@@ -173,16 +316,28 @@ json result_json(const ReconstructCliOptions& o, const kinematics::Reconstructio
                   {"sigma_theta_rad", r.sigma_theta_rad},
                   {"source", r.sigma_source}};
   doc["rms_residual_m"] = {{"before", r.rms_residual_before_m}, {"after", r.rms_residual_after_m}};
-  doc["figures"] = figures;
+  if (rel.forces) {
+    const ForceSummary f = summarize_forces(rel.tracked, *rel.forces, o.smooth);
+    const double contact_s = r.contact_end_s - r.contact_start_s;
+    doc["track_forces"] = {{"half_window_frames", o.smooth},
+                           {"span_s", f.span_s},
+                           {"span_over_contact", f.span_s / contact_s},
+                           {"blurred", f.span_s > kBlurFraction * contact_s},
+                           {"peak_fcy_N", f.peak_fcy_N},
+                           {"sigma_at_peak_N", f.sigma_at_peak_N},
+                           {"median_sigma_fcy_N", f.median_sigma_fcy_N},
+                           {"track", std::string(kTracksGroup) + "/" + rel.id}};
+  }
+  doc["figures"] = rel.figures;
   doc["out"] = o.output.out.empty() ? json(nullptr) : json(o.output.out);
   return doc;
 }
 
-void print_text(const ReconstructCliOptions& o, const kinematics::Reconstruction& r,
-                const kinematics::ReconstructOptions& opt,
-                const std::vector<std::string>& figures) {
+void print_text(const ReconstructCliOptions& o, const Release& rel,
+                const kinematics::ReconstructOptions& opt) {
+  const kinematics::Reconstruction& r = rel.r;
   std::cout << fmt::format(
-      "{}: contact window [{:.5f}, {:.5f}] s ({}), {} points before, {} after\n", o.track,
+      "{}: contact window [{:.5f}, {:.5f}] s ({}), {} points before, {} after\n", rel.track,
       r.contact_start_s, r.contact_end_s, r.window_method, r.points_before, r.points_after);
   std::cout << fmt::format("  {:<8}{:>20}{:>20}\n", "", "V_in (+- s.e.)", "V_out (+- s.e.)");
   const char* labels[3] = {"V^x", "V^y", "omega"};
@@ -198,40 +353,109 @@ void print_text(const ReconstructCliOptions& o, const kinematics::Reconstruction
   if (r.flagged_points)
     std::cout << fmt::format("  {} tracked points beyond {:.1f} sigma kept in the fits\n",
                              r.flagged_points, o.k_sigma);
-  for (const std::string& f : figures) std::cout << "wrote " << f << "\n";
-  if (!o.output.out.empty()) std::cout << "wrote " << o.output.out << "\n";
+  if (rel.forces) {
+    const ForceSummary f = summarize_forces(rel.tracked, *rel.forces, o.smooth);
+    std::cout << fmt::format(
+        "  contact force from the accelerations ({}-frame fits, time resolution {:.1f} ms): "
+        "peak fcy {:.0f} +- {:.0f} N (s.e.), median s.e. {:.0f} N\n",
+        2 * o.smooth + 1, 1e3 * f.span_s, f.peak_fcy_N, f.sigma_at_peak_N, f.median_sigma_fcy_N);
+    const double contact_s = r.contact_end_s - r.contact_start_s;
+    if (f.span_s > kBlurFraction * contact_s)
+      std::cout << fmt::format(
+          "  warning: one fit spans {:.1f} ms, more than a third of the {:.1f} ms contact window: "
+          "the force's shape is blurred beyond its standard errors (a higher frame rate or a "
+          "smaller --smooth)\n",
+          1e3 * f.span_s, 1e3 * contact_s);
+  }
+  for (const std::string& f : rel.figures) std::cout << "wrote " << f << "\n";
+}
+
+void check_options(const ReconstructCliOptions& o) {
+  if (o.track_forces) {
+    if (o.output.out.empty())
+      throw InputError("<command line>", 0, "--track-forces",
+                       "the track is written into the --out HDF5 file: give --out FILE.h5");
+    require_out_extension(o.output, {".h5", ".hdf5"});
+  } else {
+    require_out_extension(o.output, {".csv", ".h5", ".hdf5"});
+    if (o.mass) throw InputError("<command line>", 0, "--mass", "only used with --track-forces");
+    if (o.inertia)
+      throw InputError("<command line>", 0, "--inertia", "only used with --track-forces");
+  }
+  if (o.sigma_position && !(*o.sigma_position > 0))
+    throw InputError("<command line>", 0, "--sigma-position", "must be a positive length in m");
+  if (o.tracks.size() > 1)
+    for (const auto& [name, given] :
+         {std::pair{"--id", !o.id.empty()}, std::pair{"--window", !o.window.empty()}})
+      if (given)
+        throw InputError("<command line>", 0, name,
+                         "names one release's value; with several tracks each release's id is "
+                         "its file name and its window is detected");
+}
+
+Release reconstruct_one(const ReconstructCliOptions& o, const std::string& path,
+                        const kinematics::ReconstructOptions& opt) {
+  Release rel;
+  rel.track = path;
+  rel.id = release_id(o, path);
+  rel.tracked = kinematics::read_track_csv(path, o.pixel_size, o.y_down);
+  if (o.sigma_position) rel.tracked.sigma_position_m = *o.sigma_position;
+  try {
+    rel.r = kinematics::reconstruct(rel.tracked, opt);
+  } catch (const std::invalid_argument& e) {
+    // Not enough free flight, no contact found...: the user's track or options are at fault.
+    throw InputError(path, 0, "", e.what());
+  }
+  if (o.track_forces) {
+    try {
+      rel.forces = kinematics::track_with_forces(
+          rel.tracked, rel.r.sigma_position_m, rel.r.sigma_theta_rad, track_force_options(o, opt));
+    } catch (const std::invalid_argument& e) {
+      throw InputError(path, 0, "--track-forces", e.what());
+    }
+  }
+  if (!o.figures.empty()) {
+    const std::string stem = fs::path(path).stem().string();
+    rel.figures.push_back((fs::path(o.figures) / ("reconstruct_" + stem + ".svg")).string());
+    draw(rel.tracked, rel.r, rel.figures.back());
+    if (rel.forces) {
+      rel.figures.push_back(
+          (fs::path(o.figures) / ("reconstruct_forces_" + stem + ".svg")).string());
+      draw_forces(*rel.forces, rel.r, rel.tracked.source, rel.figures.back());
+    }
+  }
+  return rel;
 }
 
 void run(const ReconstructCliOptions& o) {
-  require_out_extension(o.output, {".csv", ".h5", ".hdf5"});
-  kinematics::Track track = kinematics::read_track_csv(o.track, o.pixel_size, o.y_down);
-  if (o.sigma_position) {
-    if (!(*o.sigma_position > 0))
-      throw InputError("<command line>", 0, "--sigma-position", "must be a positive length in m");
-    track.sigma_position_m = *o.sigma_position;
-  }
+  check_options(o);
   const kinematics::ReconstructOptions opt = reconstruct_options(o);
-  kinematics::Reconstruction r;
-  try {
-    r = kinematics::reconstruct(track, opt);
-  } catch (const std::invalid_argument& e) {
-    // Not enough free flight, no contact found...: the user's track or options are at fault.
-    throw InputError(o.track, 0, "", e.what());
+  std::vector<Release> releases;
+  std::map<std::string, std::string> seen;  // id -> track, for ids given twice
+  for (const std::string& path : o.tracks) {
+    releases.push_back(reconstruct_one(o, path, opt));
+    const auto [it, fresh] = seen.emplace(releases.back().id, path);
+    if (!fresh)
+      throw InputError(path, 0, "TRACK",
+                       "release id '" + it->first + "' is also the id of " + it->second +
+                           " (ids are the file names without their extension)");
   }
-  std::vector<std::string> figures;
-  if (!o.figures.empty()) {
-    const std::string path =
-        (fs::path(o.figures) / ("reconstruct_" + fs::path(o.track).stem().string() + ".svg"))
-            .string();
-    draw(track, r, path);
-    figures.push_back(path);
-  }
-  if (!o.output.out.empty()) write_release(o, r);
+  if (!o.output.out.empty()) write_releases(o, releases);
   if (o.output.json) {
-    print_json(result_json(o, r, opt, figures));
+    if (releases.size() == 1) {
+      print_json(result_json(o, releases[0], opt));
+      return;
+    }
+    json doc{{"command", "reconstruct"}, {"releases", json::array()}};
+    for (const Release& rel : releases) doc["releases"].push_back(result_json(o, rel, opt));
+    doc["out"] = o.output.out.empty() ? json(nullptr) : json(o.output.out);
+    print_json(doc);
     return;
   }
-  print_text(o, r, opt, figures);
+  for (const Release& rel : releases) print_text(o, rel, opt);
+  if (!o.output.out.empty())
+    std::cout << fmt::format("wrote {} ({} release{})\n", o.output.out, releases.size(),
+                             releases.size() == 1 ? "" : "s");
 }
 
 }  // namespace
@@ -240,9 +464,10 @@ void add_reconstruct_command(CLI::App& app) {
   auto o = std::make_shared<ReconstructCliOptions>();
   CLI::App* sub = app.add_subcommand(
       "reconstruct",
-      "Incident and reflected velocities of one release from its tracked points (paper section "
+      "Incident and reflected velocities of releases from their tracked points (paper section "
       "2.3): ballistic fits before and after the contact window, with standard errors");
-  sub->add_option("TRACK", o->track, "Track CSV: t[s], x, y, mark_x, mark_y (px, mm or m)")
+  sub->add_option("TRACK", o->tracks,
+                  "Track CSV(s), one release each: t[s], x, y, mark_x, mark_y (px, mm or m)")
       ->required();
   sub->add_option("--pixel-size", o->pixel_size, "Pixel size [m/px] for px columns");
   sub->add_flag("--y-down", o->y_down, "Image coordinates: y grows downwards (negated on reading)");
@@ -264,7 +489,21 @@ void add_reconstruct_command(CLI::App& app) {
   sub->add_option("--sigma-position", o->sigma_position,
                   "Known pointing uncertainty of one tracked point [m] (default: from residuals)");
   sub->add_option("--id", o->id, "Release id written by --out (default: the track's file name)");
-  sub->add_option("--shape", o->shape, "Block shape written by --out")->capture_default_str();
+  sub->add_option("--shape", o->shape,
+                  "Block shape written by --out; with --track-forces the block (cylinder, "
+                  "triangle or a shape file) whose mass, inertia and geometry are used")
+      ->capture_default_str();
+  sub->add_flag("--track-forces", o->track_forces,
+                "Also write the track with the contact force and torque from the tracked "
+                "accelerations (and their standard errors) into the --out HDF5 file");
+  sub->add_option("--mass", o->mass, "Block mass [kg] for --track-forces (default: --shape's)");
+  sub->add_option("--inertia", o->inertia,
+                  "Moment of inertia about the centroid [kg m^2] for --track-forces (default: "
+                  "--shape's)");
+  sub->add_option("--smooth", o->smooth,
+                  "Half window k of the local quadratic fits of --track-forces [frames]: each fit "
+                  "spans 2k+1 frames")
+      ->capture_default_str();
   add_figures_option(sub, o->figures, "an SVG of x(t), y(t), theta(t) and the fits");
   add_output_options(sub, o->output);
   check_range(sub, "--pixel-size", 1e-12, 1e3);
@@ -273,6 +512,9 @@ void add_reconstruct_command(CLI::App& app) {
   check_range(sub, "--k-sigma", 1e-3, 1e3);
   check_range(sub, "--guard", 0, 1e6);
   check_range(sub, "--sigma-position", 1e-12, 1e3);
+  check_range(sub, "--mass", 1e-6, 1e6);
+  check_range(sub, "--inertia", 1e-9, 1e6);
+  check_range(sub, "--smooth", 1, 50);
   sub->callback([o] { run(*o); });
 }
 

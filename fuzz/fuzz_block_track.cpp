@@ -8,7 +8,7 @@
 //  1. read_block_track returns a track or throws InputError naming the file and the track;
 //     anything else is a bug;
 //  2. an accepted track has a t column and every column as long as t after pad();
-//  3. it survives write_block_track then read_block_track bit for bit (the fourteen columns and
+//  3. it survives write_block_track then read_block_track bit for bit (the seventeen columns and
 //     the block mass);
 //  4. nothing is left behind: the temporary files are removed after every input.
 #include <fuzzer/FuzzedDataProvider.h>

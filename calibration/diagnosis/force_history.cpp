@@ -153,10 +153,12 @@ std::optional<NamedFigure> force_residual_figure(
   if (history_count(histories) < 2) return std::nullopt;
   const Model with_law = with_force_law(model, params, report);
   if (with_law.effect_names() == model.effect_names()) return std::nullopt;
-  report::Series before{
-      .title = "the model", .style = "points", .color = report::colour::kVermillion};
-  report::Series after{
-      .title = "with the discovered law", .style = "points", .color = report::colour::kBlue};
+  report::Series before, after;
+  before.title = "the model";
+  after.title = "with the discovered law";
+  before.style = after.style = "points";
+  before.color = report::colour::kVermillion;
+  after.color = report::colour::kBlue;
   Squares sq_before, sq_after;
   for (std::size_t i = 0; i < histories.size(); ++i) {
     if (!histories[i]) continue;

@@ -35,7 +35,10 @@ const std::vector<ColumnDef>& column_defs() {
                                               {"ke_block", "J", &BlockTrack::ke_block},
                                               {"ke_grains", "J", &BlockTrack::ke_grains},
                                               {"torque", "N*m", &BlockTrack::torque},
-                                              {"overlap_d_max", "-", &BlockTrack::overlap_d_max}};
+                                              {"overlap_d_max", "-", &BlockTrack::overlap_d_max},
+                                              {"sigma_fcx", "N", &BlockTrack::sigma_fcx},
+                                              {"sigma_fcy", "N", &BlockTrack::sigma_fcy},
+                                              {"sigma_torque", "N*m", &BlockTrack::sigma_torque}};
   return defs;
 }
 

@@ -35,13 +35,17 @@ struct BlockTrack {
   /// Largest overlap over diameter of the grain contacts at that record (grain-grain and
   /// grain-block pairs; d the smaller sphere's diameter) [-].
   std::vector<double> overlap_d_max;
+  /// Standard errors of fcx, fcy [N] and torque [N*m] when the force is estimated rather than
+  /// recorded (from tracked accelerations, kinematics/track_forces.hpp); NaN when not given.
+  std::vector<double> sigma_fcx, sigma_fcy, sigma_torque;
   /// Mass of the simulated block [kg] (a slab of width w carries w / L of the lab block); NaN
   /// when the file does not say.
   double block_mass_kg = std::numeric_limits<double>::quiet_NaN();
 
-  /// The fourteen columns with their SI units, in the order the writer stores them:
+  /// The seventeen columns with their SI units, in the order the writer stores them:
   /// "t[s]", "x[m]", "y[m]", "theta[rad]", "vx[m/s]", "vy[m/s]", "w[rad/s]", "fcx[N]", "fcy[N]",
-  /// "penetration[m]", "ke_block[J]", "ke_grains[J]", "torque[N*m]", "overlap_d_max[-]".
+  /// "penetration[m]", "ke_block[J]", "ke_grains[J]", "torque[N*m]", "overlap_d_max[-]",
+  /// "sigma_fcx[N]", "sigma_fcy[N]", "sigma_torque[N*m]".
   static const std::vector<std::string>& column_names();
   std::size_t size() const { return t.size(); }
   /// Column `name`, with or without its unit ("torque" or "torque[N*m]"); nullptr for an
@@ -75,7 +79,7 @@ std::vector<std::string> block_track_ids(const std::string& path);
 BlockTrack read_block_track(const std::string& path, const std::string& id);
 
 /// Writes (replacing) /dem/tracks/ID of `path` (created if missing; other objects kept): all
-/// fourteen columns, their names, the frame, and block_mass_kg when it is finite. Throws
+/// seventeen columns, their names, the frame, and block_mass_kg when it is finite. Throws
 /// std::invalid_argument for an empty id, a track without records or a column longer than t.
 void write_block_track(const std::string& path, const std::string& id, const BlockTrack& track);
 

@@ -84,7 +84,17 @@ TrackSummary summarize_track(const BlockTrack& tr, const std::string& id) {
   const double threshold = std::isfinite(s.block_mass_kg)
                                ? kContactWeightFraction * s.block_mass_kg * kGravity_mps2
                                : kForceRoundoff * peak_force;
-  auto bearing = [&](std::size_t i) { return std::isfinite(force(i)) && force(i) > threshold; };
+  // A force estimated from tracked accelerations (sigma_fcx, sigma_fcy given) bears only where it
+  // is also clear of its noise: above 2 x hypot(s.e.), which noise alone exceeds in exp(-4) =
+  // 1.8 % of free-flight records (a Rayleigh tail).
+  auto noise = [&](std::size_t i) {
+    if (i >= tr.sigma_fcx.size() || i >= tr.sigma_fcy.size()) return 0.0;
+    const double e = std::hypot(tr.sigma_fcx[i], tr.sigma_fcy[i]);
+    return std::isfinite(e) ? 2 * e : 0.0;
+  };
+  auto bearing = [&](std::size_t i) {
+    return std::isfinite(force(i)) && force(i) > std::max(threshold, noise(i));
+  };
   std::size_t peak = n;
   for (std::size_t i = 0; i < n; ++i)
     if (bearing(i) && (peak == n || force(i) > force(peak))) peak = i;
@@ -200,7 +210,8 @@ std::string format_text(const TrackTable& t) {
            cell(s.max, qs[k].print_scale) + "\n";
   }
   out +=
-      "Contact: the run of records around the peak force above 0.2 x the block's weight. Forces "
+      "Contact: the run of records around the peak force above 0.2 x the block's weight (and "
+      "above 2 s.e. where the force is estimated from tracked accelerations). Forces "
       "and torque are the simulated block's (a slab carries a fraction of the lab block). n: "
       "tracks with that column (older tracks have no torque or overlap). Per impact: --json.\n";
   return out;

@@ -9,6 +9,8 @@
 //   independent_truth --family F --strength S --oracle [--family-size 45] [--design, --n, --seed]
 // --contact-features also writes penetration and contact duration (noise 0.5 mm, 1 ms).
 // --tracks (.h5 only) also writes each release's tracked history to /dem/tracks/ID.
+// --video DIR also writes each release as a camera would film it, DIR/ID.csv (truth_video.hpp;
+// --video-fps, --video-noise-m), for `ricochet reconstruct --track-forces`.
 // --oracle prints the oracle's z and powers (truth_sim.hpp, "The oracle's ceiling") as one JSON
 // line, and writes the set only when --out is given.
 // The provenance defaults to the set's path with .truth.json instead of its extension.
@@ -21,6 +23,7 @@
 #include <iostream>
 
 #include "truth_sim.hpp"
+#include "truth_video.hpp"
 
 using namespace ricochet;
 
@@ -34,6 +37,8 @@ int main(int argc, char** argv) {
   std::uint64_t seed = 1;
   bool calibrate = false, no_refit = false, oracle = false, engine_numerics = false;
   bool contact_features = false, tracks = false;
+  std::string video_dir;
+  truth::VideoOptions video;
   long long family_size = static_cast<long long>(truth::kOracleFamilySize);
   lab = std::string(RICOCHET_SOURCE_DIR) + "/data/lab/cylinders.csv";
   app.add_option("--family", family,
@@ -69,6 +74,14 @@ int main(int argc, char** argv) {
   app.add_flag("--tracks", tracks,
                "Also write each release's tracked history to /dem/tracks/ID of the .h5 --out "
                "(a record every 0.2 ms, contact force with 50 N noise; truth_sim.hpp)");
+  app.add_option("--video", video_dir,
+                 "Also film each release: DIR/ID.csv, the centre and an eccentric mark (0.05 m) "
+                 "pointed with Gaussian noise, 30 ms of flight on each side (truth_video.hpp)");
+  app.add_option("--video-fps", video.fps, "Frames per second of --video, in [50, 1e5]")
+      ->capture_default_str();
+  app.add_option("--video-noise-m", video.noise_m,
+                 "Pointing noise of --video, sd of each coordinate [m], in [0, 0.05]")
+      ->capture_default_str();
   app.add_flag("--contact-features", contact_features,
                "Also write penetration and contact_duration (Gaussian noise 0.5 mm, 1 ms)");
   app.add_flag("--calibrate-shift", calibrate,
@@ -138,9 +151,12 @@ int main(int argc, char** argv) {
   if (engine_numerics) o.numerics = ricochet::truth::kEngineNumerics;
   o.oracle_family_size = static_cast<std::size_t>(family_size);
   o.contact_features = contact_features;
-  o.tracks = tracks;
+  o.tracks = tracks || !video_dir.empty();
   if (tracks && std::filesystem::path(out).extension() != ".h5")
     return bad("--tracks needs an .h5 --out (tracks are HDF5 datasets)");
+  if (!(video.fps >= 50 && video.fps <= 1e5)) return bad("--video-fps is outside [50, 1e5]");
+  if (!(video.noise_m >= 0 && video.noise_m <= 0.05))
+    return bad("--video-noise-m is outside [0, 0.05] m");
   try {
     if (o.design == truth::Design::kGiven) {
       for (const auto& im : read_incident_states(states).impacts) o.given_vin.push_back(im.vin);
@@ -159,8 +175,19 @@ int main(int argc, char** argv) {
     if (oracle) std::cout << t.truth["oracle"].dump() << "\n";
     if (out.empty()) return 0;
     write_impact_set(t.set, out);
-    for (std::size_t i = 0; i < t.tracks.size(); ++i)
-      write_block_track(out, t.set.impacts[i].id, t.tracks[i]);
+    if (tracks)
+      for (std::size_t i = 0; i < t.tracks.size(); ++i)
+        write_block_track(out, t.set.impacts[i].id, t.tracks[i]);
+    if (!video_dir.empty()) {
+      // The camera's own generator, so that the set is the same with or without a video.
+      constexpr std::uint64_t kVideoSalt = 0x766964656fULL;  // "video"
+      std::filesystem::create_directories(video_dir);
+      for (std::size_t i = 0; i < t.tracks.size(); ++i) {
+        const std::string path =
+            (std::filesystem::path(video_dir) / (t.set.impacts[i].id + ".csv")).string();
+        std::ofstream(path) << truth::video_csv(t.tracks[i], video, seed ^ kVideoSalt ^ i);
+      }
+    }
     if (truth_path.empty())
       truth_path = std::filesystem::path(out).replace_extension(".truth.json").string();
     nlohmann::json j = t.truth;

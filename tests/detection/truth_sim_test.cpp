@@ -9,10 +9,12 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <sstream>
 
 #include "effects/model.hpp"
 #include "engine/engine.hpp"
 #include "truth_sim.hpp"
+#include "truth_video.hpp"
 
 namespace ricochet::truth {
 namespace {
@@ -35,6 +37,62 @@ SetOptions lab_design(std::size_t n, std::uint64_t seed, Family family = Family:
   o.family = family;
   o.strength = strength;
   return o;
+}
+
+// The camera (truth_video.hpp) without noise: inside the history it follows the records (a
+// quadratic motion, which the Hermite interpolant reproduces exactly), outside it flies
+// ballistically from the first and last records; the mark sits at its radius along theta.
+TEST(TruthVideo, NoiseFreeFilmFollowsTheHistoryThenFliesBallistically) {
+  BlockTrack h;
+  const double a = 400.0;  // upward contact acceleration while recorded [m/s^2]
+  for (int i = 0; i <= 50; ++i) {
+    const double t = 0.1 + 2e-4 * i, d = t - 0.1;
+    h.t.push_back(t);
+    h.x.push_back(0.5 + 3.0 * d);
+    h.y.push_back(0.08 - 2.0 * d + 0.5 * a * d * d);
+    h.theta.push_back(1.0 - 40.0 * d);
+    h.vx.push_back(3.0);
+    h.vy.push_back(-2.0 + a * d);
+    h.w.push_back(-40.0);
+  }
+  h.pad();
+  VideoOptions o;
+  o.fps = 1000;
+  o.noise_m = 0;
+  std::istringstream csv(video_csv(h, o, 7));
+  std::string line;
+  std::getline(csv, line);  // comment
+  std::getline(csv, line);
+  EXPECT_EQ(line, "t[s],x[m],y[m],mark_x[m],mark_y[m]");
+  int before = 0, inside = 0, after = 0;
+  while (std::getline(csv, line)) {
+    double t, x, y, mx, my;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf,%lf", &t, &x, &y, &mx, &my), 5);
+    double ex, ey, eth;
+    if (t < 0.1) {  // before: ballistic backwards from the first record
+      const double d = t - 0.1;
+      ex = 0.5 + 3.0 * d, ey = 0.08 - 2.0 * d - 0.5 * o.gravity_mps2 * d * d, eth = 1.0 - 40 * d;
+      ++before;
+    } else if (t <= 0.11) {
+      const double d = t - 0.1;
+      ex = 0.5 + 3.0 * d, ey = 0.08 - 2.0 * d + 0.5 * a * d * d, eth = 1.0 - 40 * d;
+      ++inside;
+    } else {  // after: ballistic from the last record's state
+      const double d = t - 0.11, vy = -2.0 + a * 0.01;
+      ex = 0.5 + 3.0 * (t - 0.1);
+      ey = 0.08 - 2.0 * 0.01 + 0.5 * a * 1e-4 + vy * d - 0.5 * o.gravity_mps2 * d * d;
+      eth = 1.0 - 40 * (t - 0.1);
+      ++after;
+    }
+    EXPECT_NEAR(x, ex, 1e-9) << t;
+    EXPECT_NEAR(y, ey, 1e-9) << t;
+    EXPECT_NEAR(mx, ex + o.mark_radius_m * std::cos(eth), 1e-9) << t;
+    EXPECT_NEAR(my, ey + o.mark_radius_m * std::sin(eth), 1e-9) << t;
+  }
+  // 30 ms of flight on each side at 1 kHz, 10 ms of history (the phase moves one frame).
+  EXPECT_NEAR(before, 30, 1);
+  EXPECT_NEAR(inside, 10, 1);
+  EXPECT_NEAR(after, 30, 1);
 }
 
 TEST(TruthSim, FrictionlessDropReturnsTheRestitution) {

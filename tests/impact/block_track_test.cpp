@@ -43,14 +43,16 @@ const char* kLegacyColumns =
     "t[s],x[m],y[m],theta[rad],vx[m/s],vy[m/s],w[rad/s],fcx[N],fcy[N],penetration[m],"
     "ke_block[J],ke_grains[J]";
 
-TEST(BlockTrack, FourteenColumnsWithTheirSiUnits) {
+TEST(BlockTrack, SeventeenColumnsWithTheirSiUnits) {
   const auto& n = BlockTrack::column_names();
-  ASSERT_EQ(n.size(), 14u);
+  ASSERT_EQ(n.size(), 17u);
   EXPECT_EQ(n[0], "t[s]");
   EXPECT_EQ(n[7], "fcx[N]");
   EXPECT_EQ(n[11], "ke_grains[J]");
   EXPECT_EQ(n[12], "torque[N*m]");
   EXPECT_EQ(n[13], "overlap_d_max[-]");
+  EXPECT_EQ(n[14], "sigma_fcx[N]");  // standard errors of an estimated force (from video)
+  EXPECT_EQ(n[16], "sigma_torque[N*m]");
   BlockTrack tr;
   for (const auto& name : n) EXPECT_NE(tr.column(name), nullptr) << name;
   EXPECT_EQ(tr.column("torque"), &tr.torque);

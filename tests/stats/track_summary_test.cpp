@@ -110,6 +110,21 @@ TEST(TrackSummary, TheFilesMassDecidesTheCriterionAndWithoutOneAnyTouchCounts) {
   EXPECT_NEAR(s.contact_end_s, kTc + 0.006, 1e-12);
 }
 
+TEST(TrackSummary, AnEstimatedForceBearsOnlyAboveTwiceItsStandardError) {
+  // A force from tracked accelerations carries sigma_fcx, sigma_fcy: the criterion becomes
+  // max(0.2 m g, 2 hypot(sigma_fcx, sigma_fcy)). The pulse's record k half-intervals from its
+  // peak has |(fcx, fcy)| = 1030.8 (1 - k / 10) N: 103.1 N at k = 9, 206.2 at 8, 309.2 at 7.
+  BlockTrack tr = pulse_track();
+  auto duration = [&](double sx, double sy) {
+    tr.sigma_fcx.assign(tr.size(), sx);
+    tr.sigma_fcy.assign(tr.size(), sy);
+    return stats::summarize_track(tr, "video").contact_duration_s;
+  };
+  EXPECT_NEAR(duration(40, 30), 0.009, 1e-12);   // 100 N: k <= 9, as without a standard error
+  EXPECT_NEAR(duration(80, 60), 0.008, 1e-12);   // 200 N: k <= 8
+  EXPECT_NEAR(duration(120, 90), 0.007, 1e-12);  // 300 N: k <= 7
+}
+
 TEST(TrackSummary, LegacyColumnsAndAnEmptyTrackGiveNaNNotNumbers) {
   BlockTrack tr = pulse_track();
   for (auto& v : tr.torque) v = std::nan("");
