@@ -446,26 +446,12 @@ Model nominal_start(const Model& model) {
   return m;
 }
 
-Assessment assess(const Model& model_in, const Shape& shape, const ImpactSet& set,
-                  const AssessOptions& options, const Assessment* warm) {
-  require_valid(options.problems(), "diagnosis::assess");
-  const AssessOptions o = resolve_scale(set, options);
-  // The parameters every fit below calibrates (the fit module decides the same way).
-  const Model model = calibration_model_for(model_in, set, o);
-  const auto t0 = std::chrono::steady_clock::now();
-  if (set.size() < 2) throw std::invalid_argument("assess: at least two releases are needed");
-  const std::size_t n = set.size();
-  Assessment a;
-  a.effects = model.effect_names();
-  a.names = model.parameter_names();
-  for (std::size_t i : model.calibrated_indices()) a.calibrated.emplace_back(model.spec(i).name);
-  a.use = observables_of(set, o);
-  fit::FitOptions fo = fit_options_for(set, o);
-  fo.intervals = false;
-  fo.starts = !o.refine_start && fit::uses_contact_terms(fo.error)
-                  ? std::max(o.population_starts, o.contact_population_starts)
-                  : o.population_starts;
-  a.population = fit::calibrate_population(model, shape, set, fo);
+namespace {
+
+// The full-set calibration (the in-sample fit; never a start of a split's fit).
+fit::PopulationFit full_set_fit(const Model& model, const Shape& shape, const ImpactSet& set,
+                                const AssessOptions& o, const fit::FitOptions& fo) {
+  fit::PopulationFit best = fit::calibrate_population(model, shape, set, fo);
   if (o.refine_start) {
     // A warm model (a calibrated one plus an effect at its neutral value) is also refined
     // locally from its own values: the global search's local runs start from the best design
@@ -474,87 +460,95 @@ Assessment assess(const Model& model_in, const Shape& shape, const ImpactSet& se
     fl.starts = 1;
     fl.design_points = o.fold_warm_design_points;
     const fit::PopulationFit local = refine_warm(windowed(model, 0.15), shape, set, fl);
-    if (local.error < a.population.error) a.population = local;
+    if (local.error < best.error) best = local;
   }
+  return best;
+}
 
-  // Held-out: every split is fitted on its training releases alone (file comment), and starts
-  // from values no data chose (issue 31, 5a): the model's own values may be a fit to this very
-  // set (a ladder's next round, `diagnose --model` with a model written from it), and a fold fit
-  // started there would carry its held-out releases in through the start point.
-  const Model data_free = nominal_start(model);
-  if (warm) {
-    if (warm->cv.n != n)
-      throw std::invalid_argument("assess: the warm assessment is of another set");
-    a.cv = warm->cv;
-  } else {
-    a.cv = make_cv_design(n, o.folds_for(n), o.repeats, o.fit.seed);
-  }
-  a.folds = a.cv.folds;
-  const std::size_t R = a.cv.repeats;
+// One split's fit on its training releases, warm-started from the base model's optimum on the
+// same split: local refinements from the best points of a line through the added parameters'
+// range (the warm value first), scored on the training releases by one prediction batch each
+// (AssessOptions::fold_warm_*).
+fit::PopulationFit warm_split_fit(const Model& mj, const Shape& shape, const ImpactSet& train,
+                                  fit::FitOptions fj, const AssessOptions& o,
+                                  const Assessment& warm, std::size_t j) {
+  fj.starts = o.fold_warm_starts;
+  fj.design_points = o.fold_warm_design_points;
+  const std::vector<double> from = carry_values(mj, warm.names, warm.fold_params[j]);
   // Calibrated parameters the warm assessment's model does not have (the added effect's).
   std::vector<std::size_t> added;
-  if (warm)
-    for (std::size_t i : model.calibrated_indices())
-      if (std::find(warm->names.begin(), warm->names.end(), model.spec(i).name) ==
-          warm->names.end())
-        added.push_back(i);
-  a.fold_params.resize(a.cv.splits());
-  a.split_error.resize(a.cv.splits());
-  a.repeat_error.assign(R, std::vector<double>(n, NAN));
-  std::vector<Obs> pred_sum(n, Obs{}), spread_sum(n, Obs{}), term_sum(n, Obs{}), inv_sum(n, Obs{});
-  std::vector<int> worst(n, 0);
-  // The splits' fits are independent: they run in parallel (one split per thread; the engine
-  // then runs each batch on its thread, engine.cpp) and are summed below in split order, so the
-  // result does not depend on the thread count. A cylinder set of 28 releases is one engine
-  // block: without this the leak-free diagnosis ran on one core.
+  for (std::size_t i : mj.calibrated_indices())
+    if (std::find(warm.names.begin(), warm.names.end(), mj.spec(i).name) == warm.names.end())
+      added.push_back(i);
+  std::vector<std::pair<double, std::vector<double>>> line;
+  for (double frac : o.fold_added_line) {
+    std::vector<double> v = from;
+    for (std::size_t i : added)
+      if (frac >= 0) v[i] = mj.lower(i) + frac * (mj.upper(i) - mj.lower(i));
+    const auto pr = fit::predict(mj, shape, v, train, fj);
+    double e = 0;
+    for (double x : fit::prediction_errors(train, pr, fj.error)) e += x;
+    for (const auto& q : pr) e += q.status == CollisionStatus::kOk ? 0.0 : fit::kFailedRebound;
+    line.emplace_back(e, std::move(v));
+  }
+  std::stable_sort(line.begin(), line.end(),
+                   [](const auto& x, const auto& y) { return x.first < y.first; });
+  fit::PopulationFit pf;
+  for (std::size_t t = 0; t < line.size() && t < o.fold_refinements; ++t) {
+    Model start = mj;
+    start.set_values(line[t].second);
+    fit::PopulationFit f = refine_warm(start, shape, train, fj);
+    if (pf.params.empty() || f.error < pf.error) pf = std::move(f);
+  }
+  return pf;
+}
+
+/// What every split's fit gives: its test releases' predictions and the options (scale) they
+/// are judged with.
+struct SplitOutcome {
+  std::vector<ObsPrediction> predictions;
+  AssessOptions options;
+};
+
+// Fits every split of a.cv on its training releases alone (file comment) and predicts its test
+// releases; fills a.fold_params (and a.fold_models with a split model). Each split starts from
+// values no data chose (issue 31, 5a): the model's own values may be a fit to this very set (a
+// ladder's next round, `diagnose --model` with a model written from it), and a fold fit started
+// there would carry its held-out releases in through the start point.
+std::vector<SplitOutcome> fit_splits(Assessment& a, const Model& model, const Shape& shape,
+                                     const ImpactSet& set, const AssessOptions& options,
+                                     const AssessOptions& o, const Assessment* warm,
+                                     const SplitModel& split_model) {
   const std::size_t splits = a.cv.splits();
-  std::vector<std::vector<ObsPrediction>> split_pred(splits);
-  std::vector<AssessOptions> split_options(splits);
+  // Split models are made here, one after the other, so that a maker that runs engines or
+  // reads files need not be thread-safe.
+  if (split_model)
+    for (std::size_t j = 0; j < splits; ++j)
+      a.fold_models.push_back(calibration_model_for(split_model(a.cv.train[j]), set, o));
+  a.fold_params.resize(splits);
+  std::vector<SplitOutcome> out(splits);
   std::vector<std::exception_ptr> failure(splits);
-  // Fits split j on its training releases alone and predicts its test releases.
   const auto fit_split = [&](std::size_t j) {
     const ImpactSet train = subset_of(set, a.cv.train[j]);
     const ImpactSet test = subset_of(set, a.cv.test[j]);
-    const AssessOptions oj = resolve_scale_on(train, options);
-    split_options[j] = oj;
-    fit::FitOptions fj = fit_options_for(train, oj);
+    const Model& mj = a.fold_models.empty() ? model : a.fold_models[j];
+    out[j].options = resolve_scale_on(train, options);
+    fit::FitOptions fj = fit_options_for(train, out[j].options);
     fj.intervals = false;
     fit::PopulationFit pf;
     if (warm) {
-      // Local refinements from the base model's fold optimum, with the added parameters at
-      // their start value and along a line through their range (AssessOptions::fold_warm_*).
-      fj.starts = o.fold_warm_starts;
-      fj.design_points = o.fold_warm_design_points;
-      const std::vector<double> from = carry_values(model, warm->names, warm->fold_params[j]);
-      // A line through the added parameters' range (the warm value first), scored on the
-      // training releases by one prediction batch each; local refinements start from the best
-      // `fold_refinements` points of the line.
-      std::vector<std::pair<double, std::vector<double>>> line;
-      for (double frac : o.fold_added_line) {
-        std::vector<double> v = from;
-        for (std::size_t i : added)
-          if (frac >= 0) v[i] = model.lower(i) + frac * (model.upper(i) - model.lower(i));
-        const auto pr = fit::predict(model, shape, v, train, fj);
-        double e = 0;
-        for (double x : fit::prediction_errors(train, pr, fj.error)) e += x;
-        for (const auto& q : pr) e += q.status == CollisionStatus::kOk ? 0.0 : fit::kFailedRebound;
-        line.emplace_back(e, std::move(v));
-      }
-      std::stable_sort(line.begin(), line.end(),
-                       [](const auto& x, const auto& y) { return x.first < y.first; });
-      for (std::size_t t = 0; t < line.size() && t < o.fold_refinements; ++t) {
-        Model start = model;
-        start.set_values(line[t].second);
-        fit::PopulationFit f = refine_warm(start, shape, train, fj);
-        if (pf.params.empty() || f.error < pf.error) pf = std::move(f);
-      }
+      pf = warm_split_fit(mj, shape, train, fj, o, *warm, j);
     } else {
       fj.starts = o.fold_starts;
-      pf = fit::calibrate_population(data_free, shape, train, fj);
+      pf = fit::calibrate_population(nominal_start(mj), shape, train, fj);
     }
     a.fold_params[j] = pf.params;
-    split_pred[j] = predict_observables(model, shape, pf.params, test, oj);
+    out[j].predictions = predict_observables(mj, shape, pf.params, test, out[j].options);
   };
+  // The splits' fits are independent: they run in parallel (one split per thread; the engine
+  // then runs each batch on its thread, engine.cpp), and the caller sums them in split order,
+  // so the result does not depend on the thread count. A cylinder set of 28 releases is one
+  // engine block: without this the leak-free diagnosis ran on one core.
   const int threads = static_cast<int>(std::min<std::size_t>(
       splits, static_cast<std::size_t>(o.fit.threads > 0 ? o.fit.threads : omp_get_max_threads())));
 #pragma omp parallel for schedule(dynamic, 1) \
@@ -568,10 +562,21 @@ Assessment assess(const Model& model_in, const Shape& shape, const ImpactSet& se
   }
   for (std::size_t j = 0; j < splits; ++j)
     if (failure[j]) std::rethrow_exception(failure[j]);
-  for (std::size_t j = 0; j < splits; ++j) {
+  return out;
+}
+
+// Each release's held-out prediction, terms and error: the mean over the repeats of the splits
+// that held it out; a.split_error and a.repeat_error on the way.
+void pool_heldout(Assessment& a, const ImpactSet& set, const std::vector<SplitOutcome>& splits) {
+  const std::size_t n = set.size(), R = a.cv.repeats;
+  a.split_error.resize(splits.size());
+  a.repeat_error.assign(R, std::vector<double>(n, NAN));
+  std::vector<Obs> pred_sum(n, Obs{}), spread_sum(n, Obs{}), term_sum(n, Obs{}), inv_sum(n, Obs{});
+  std::vector<int> worst(n, 0);
+  for (std::size_t j = 0; j < splits.size(); ++j) {
     const std::vector<std::size_t>& test = a.cv.test[j];
-    const AssessOptions& oj = split_options[j];
-    const std::vector<ObsPrediction>& pred = split_pred[j];
+    const AssessOptions& oj = splits[j].options;
+    const std::vector<ObsPrediction>& pred = splits[j].predictions;
     const std::size_t r = j / a.cv.folds;
     double sum = 0;
     for (std::size_t t = 0; t < test.size(); ++t) {
@@ -601,8 +606,7 @@ Assessment assess(const Model& model_in, const Shape& shape, const ImpactSet& se
     ObsPrediction& p = a.heldout_predictions[i];
     Obs terms{}, res{};
     double e = 0;
-    const Impact& im = set.impacts[i];
-    const Obs m = measured_of(im);
+    const Obs m = measured_of(set.impacts[i]);
     for (int k = 0; k < kObservables; ++k) {
       p.value[k] = pred_sum[i][k] / rr;
       p.spread[k] = spread_sum[i][k] / rr;
@@ -620,21 +624,25 @@ Assessment assess(const Model& model_in, const Shape& shape, const ImpactSet& se
   }
   for (int k = 0; k < kObservables; ++k) h.rmse[k] = a.use[k] ? std::sqrt(sq[k]) : NAN;
   h.error = mean_se(h.per_release);
+}
 
-  // The fold optima are candidates for the full-set optimum too. On a rough objective (lab
-  // triangles: rebound statuses and orientation cells switch as the parameters move) fold fits
-  // have found parameters fitting the WHOLE set better than the full-set multi-start (0.827
-  // against 0.935): it had stopped on a kink. The best fold optimum is then refined on the full
-  // set. This touches the full-set (in-sample) fit only: the held-out predictions above never
-  // depend on it.
-  // Fold optima ranked by the full-set objective (expected error over orientations, as the fit
-  // module minimises, plus the failed-rebound penalty); the two best that beat the full-set
-  // optimum are refined locally on the full set.
+// The fold optima are candidates for the full-set optimum too. On a rough objective (lab
+// triangles: rebound statuses and orientation cells switch as the parameters move) fold fits
+// have found parameters fitting the WHOLE set better than the full-set multi-start (0.827
+// against 0.935): it had stopped on a kink. The fold optima are ranked by the full-set objective
+// (expected error over orientations, as the fit module minimises, plus the failed-rebound
+// penalty); the two best that beat the full-set optimum are refined locally on the full set.
+// This touches the full-set (in-sample) fit only: the held-out predictions never depend on it.
+// Split models' optima are not `model`'s parameters (a fixed coefficient differs): none.
+void polish_with_fold_optima(Assessment& a, const Model& model, const Shape& shape,
+                             const ImpactSet& set, const AssessOptions& o,
+                             const fit::FitOptions& fo) {
+  if (!a.fold_models.empty()) return;
   std::vector<std::pair<double, std::size_t>> better;
   for (std::size_t k = 0; k < a.fold_params.size(); ++k) {
     const auto pr = fit::predict(model, shape, a.fold_params[k], set, fo);
     const ErrorReport r = error_report(set, to_observables(pr), a.use, o);
-    double e = r.error.mean * static_cast<double>(n);
+    double e = r.error.mean * static_cast<double>(set.size());
     for (const auto& q : pr) e += q.status == CollisionStatus::kOk ? 0.0 : fit::kFailedRebound;
     if (e < a.population.error) better.emplace_back(e, k);
   }
@@ -648,10 +656,55 @@ Assessment assess(const Model& model_in, const Shape& shape, const ImpactSet& se
     fit::PopulationFit polished = fit::calibrate_population(windowed(from, 0.15), shape, set, fl);
     if (polished.error < a.population.error) a.population = std::move(polished);
   }
+}
+
+Assessment assess_splits(const Model& model_in, const Shape& shape, const ImpactSet& set,
+                         const AssessOptions& options, const Assessment* warm,
+                         const SplitModel& split_model) {
+  require_valid(options.problems(), "diagnosis::assess");
+  const AssessOptions o = resolve_scale(set, options);
+  // The parameters every fit below calibrates (the fit module decides the same way).
+  const Model model = calibration_model_for(model_in, set, o);
+  const auto t0 = std::chrono::steady_clock::now();
+  if (set.size() < 2) throw std::invalid_argument("assess: at least two releases are needed");
+  const std::size_t n = set.size();
+  Assessment a;
+  a.effects = model.effect_names();
+  a.names = model.parameter_names();
+  for (std::size_t i : model.calibrated_indices()) a.calibrated.emplace_back(model.spec(i).name);
+  a.use = observables_of(set, o);
+  fit::FitOptions fo = fit_options_for(set, o);
+  fo.intervals = false;
+  fo.starts = !o.refine_start && fit::uses_contact_terms(fo.error)
+                  ? std::max(o.population_starts, o.contact_population_starts)
+                  : o.population_starts;
+  a.population = full_set_fit(model, shape, set, o, fo);
+  if (warm) {
+    if (warm->cv.n != n)
+      throw std::invalid_argument("assess: the warm assessment is of another set");
+    a.cv = warm->cv;
+  } else {
+    a.cv = make_cv_design(n, o.folds_for(n), o.repeats, o.fit.seed);
+  }
+  a.folds = a.cv.folds;
+  pool_heldout(a, set, fit_splits(a, model, shape, set, options, o, warm, split_model));
+  polish_with_fold_optima(a, model, shape, set, o, fo);
   a.insample_predictions = to_observables(a.population.predictions);
   a.insample = error_report(set, a.insample_predictions, a.use, o);
   a.seconds = seconds_since(t0);
   return a;
+}
+
+}  // namespace
+
+Assessment assess(const Model& model, const Shape& shape, const ImpactSet& set,
+                  const AssessOptions& options, const Assessment* warm) {
+  return assess_splits(model, shape, set, options, warm, {});
+}
+
+Assessment assess(const Model& model, const Shape& shape, const ImpactSet& set,
+                  const AssessOptions& options, const SplitModel& split_model) {
+  return assess_splits(model, shape, set, options, nullptr, split_model);
 }
 
 std::vector<double> floor_on_heldout_scale(const Assessment& a, const NoiseFloor& floor) {

@@ -56,6 +56,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -317,6 +318,9 @@ struct Assessment {
   ErrorReport heldout;
   CvDesign cv;
   std::vector<std::vector<double>> fold_params;  ///< per split, all parameters (model order)
+  /// Per split, the model its fit calibrated when assess was given a SplitModel (fold_params[j]
+  /// is in fold_models[j]'s order); empty otherwise (every split calibrated `model`).
+  std::vector<Model> fold_models;
   /// Per split: mean held-out error of its test releases (the unit of the corrected t-test).
   std::vector<double> split_error;
   /// [repeat][release]: the held-out error of the release in that repeat.
@@ -368,6 +372,17 @@ Model nominal_start(const Model& model);
 /// neutral values in diagnose and ladder).
 Assessment assess(const Model& model, const Shape& shape, const ImpactSet& set,
                   const AssessOptions& options, const Assessment* warm = nullptr);
+
+/// The model of one split, made from its training releases alone (indices into the set): e.g.
+/// the base model plus a force law discovered on those releases' histories, so that nothing of
+/// a held-out release enters the model it is predicted with.
+using SplitModel = std::function<Model(const std::vector<std::size_t>& train)>;
+
+/// assess() where split j calibrates split_model(cv.train[j]) instead of `model` (the full-set
+/// fit and the in-sample error stay `model`'s). The split models are made one after the other
+/// before the splits' fits run in parallel; Assessment::fold_models keeps them.
+Assessment assess(const Model& model, const Shape& shape, const ImpactSet& set,
+                  const AssessOptions& options, const SplitModel& split_model);
 
 /// Whether the held-out error is within the noise floor (file comment), and by how much.
 struct Adequacy {

@@ -333,6 +333,10 @@ struct Rung {
   std::vector<std::string> effects;
   std::string added;  ///< empty for the base rung
   std::string law;    ///< the added effect as a law with numbers (Effect::law)
+  /// The force-law rung only: its held-out errors use the law discovered again on each split's
+  /// training histories; how many splits did so, and how many found the same terms as the
+  /// full set.
+  std::size_t split_discoveries = 0, split_same_terms = 0;
   Assessment assessment;
   Adequacy adequacy;
 };
@@ -349,8 +353,10 @@ Ladder ladder(const Model& model, const Shape& shape, const ImpactSet& set,
 /// histories `data` keeps (force_law_from_tracks, each release at its own calibration of the last
 /// rung's model, fit::calibrate_releases) as `term_<name>` effects at their discovered
 /// coefficients, held fixed (the histories identify them; the rebounds do not), the rest of the
-/// model recalibrated and judged like any rung. Returns the discovery (nullopt when `data` keeps
-/// fewer than two histories); no rung is added when it selects no term. `base` is the model the
+/// model recalibrated and judged like any rung. Its held-out errors are leak-free: each split
+/// discovers the law again on its training releases' histories alone and calibrates that model
+/// (assess with a SplitModel). Returns the full-set discovery (nullopt when `data` keeps fewer
+/// than two histories); no rung is added when it selects no term. `base` is the model the
 /// ladder started from (rung_model).
 std::optional<ForceLawReport> add_force_law_rung(Ladder& l, const Model& base, const Shape& shape,
                                                  const ImpactSet& set, const std::string& data,

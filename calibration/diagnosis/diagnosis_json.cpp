@@ -261,6 +261,8 @@ nlohmann::json to_json(const Ladder& l) {
     nlohmann::json j = to_json(r.assessment, l.floor);
     j["added"] = r.added.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.added);
     j["law"] = r.law.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.law);
+    if (r.split_discoveries > 0)
+      j["split_discovery"] = {{"splits", r.split_discoveries}, {"same_terms", r.split_same_terms}};
     rungs.push_back(j);
   }
   nlohmann::json j = {

@@ -67,10 +67,13 @@ ForceHistoryError force_history_error(const Model& model, const Shape& shape, co
   // The splits are independent: each evaluates its own fit along its own test releases.
   std::vector<Squares> per_split(a.cv.splits());
 #pragma omp parallel for schedule(dynamic)
-  for (std::size_t s = 0; s < a.cv.splits(); ++s)
+  for (std::size_t s = 0; s < a.cv.splits(); ++s) {
+    // A split that calibrated its own model (assess with a SplitModel) is evaluated with it.
+    const Model& ms = a.fold_models.empty() ? model : a.fold_models[s];
     for (std::size_t i : a.cv.test[s])
       if (histories[i])
-        per_split[s].add(force_residual(*histories[i], model, shape, a.fold_params[s], engine));
+        per_split[s].add(force_residual(*histories[i], ms, shape, a.fold_params[s], engine));
+  }
   Squares out;
   for (const Squares& s : per_split) out.add(s);
   e.insample_rms = in.rms();

@@ -8,8 +8,9 @@
 // Held out means what it means for the rebound error (assess.hpp): the model of a split is
 // calibrated on that split's training releases (Assessment::fold_params, from data-free starts)
 // and its force is compared along the test releases' histories only. The histories themselves
-// never enter a calibration (the fits read V_out); the term a rung adds may have been chosen from
-// all the histories (diagnose's discovery), which the docs say where it matters.
+// never enter a calibration (the fits read V_out). The `--force-law` rung discovers its law
+// again on each split's training histories (Assessment::fold_models), so that its held-out
+// errors, rebounds and forces, never see the held-out releases' histories either.
 #pragma once
 
 #include <array>
@@ -40,7 +41,8 @@ struct ForceHistoryError {
 /// The error of `model` (the assessment's model: parameters in its order) along `histories`
 /// (aligned with the set `a` was made on). In-sample: at a.population.params; held-out: over
 /// every split of a.cv, at a.fold_params[split] on that split's test releases, pooled over the
-/// repeats. Throws std::invalid_argument when the sizes disagree.
+/// repeats (a split with its own model, Assessment::fold_models, at that model). Throws
+/// std::invalid_argument when the sizes disagree.
 ForceHistoryError force_history_error(const Model& model, const Shape& shape, const Assessment& a,
                                       const std::vector<std::optional<MeasuredHistory>>& histories,
                                       const EngineOptions& engine = {});

@@ -114,14 +114,24 @@ std::optional<ForceLawReport> force_law_from_tracks(
     const std::string& data, const ImpactSet& set, const Shape& shape, const Model& model,
     std::span<const double> params, const EngineOptions& engine,
     const stats::SparseOptions& options, const std::vector<std::vector<double>>& release_params) {
+  if (!release_params.empty() && release_params.size() != set.size())
+    throw std::invalid_argument(
+        "force_law_from_tracks: release_params is not aligned with the set");
+  return force_law_from_histories(measured_histories(data, set, shape), shape, model, params,
+                                  engine, options, release_params);
+}
+
+std::optional<ForceLawReport> force_law_from_histories(
+    const std::vector<std::optional<MeasuredHistory>>& histories, const Shape& shape,
+    const Model& model, std::span<const double> params, const EngineOptions& engine,
+    const stats::SparseOptions& options, const std::vector<std::vector<double>>& release_params) {
+  if (!release_params.empty() && release_params.size() != histories.size())
+    throw std::invalid_argument(
+        "force_law_from_histories: release_params is not aligned with the histories");
   ForceLawReport report;
   report.force_scale_min = std::numeric_limits<double>::infinity();
   report.force_scale_max = -std::numeric_limits<double>::infinity();
   std::vector<ReleaseResidual> residuals;
-  const auto histories = measured_histories(data, set, shape);
-  if (!release_params.empty() && release_params.size() != set.size())
-    throw std::invalid_argument(
-        "force_law_from_tracks: release_params is not aligned with the set");
   report.base = release_params.empty() ? "population fit" : "per-release fits";
   for (std::size_t i = 0; i < histories.size(); ++i) {
     const auto& h = histories[i];

@@ -100,6 +100,15 @@ std::optional<ForceLawReport> force_law_from_tracks(
     const stats::SparseOptions& options = {},
     const std::vector<std::vector<double>>& release_params = {});
 
+/// The same from histories already read (measured_histories), aligned with `release_params`
+/// when that is not empty: a caller that discovers on several subsets of one set (the ladder's
+/// leak-free rung, one discovery per split) reads the tracks once.
+std::optional<ForceLawReport> force_law_from_histories(
+    const std::vector<std::optional<MeasuredHistory>>& histories, const Shape& shape,
+    const Model& model, std::span<const double> params, const EngineOptions& engine = {},
+    const stats::SparseOptions& options = {},
+    const std::vector<std::vector<double>>& release_params = {});
+
 /// JSON: ids, samples, force_scale [min, max], geometry_mismatch_m, and per component its law:
 /// component, text, releases, samples, rms_residual, heldout_rms, and the selected terms (name,
 /// expression, unit, literature, coefficient, lo, hi, inclusion).

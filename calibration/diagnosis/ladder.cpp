@@ -61,6 +61,21 @@ Ladder ladder(const Model& model, const Shape& shape, const ImpactSet& set,
   return l;
 }
 
+namespace {
+
+// The selected terms' names of a report, component by component: two laws are "the same"
+// when these agree (coefficients aside).
+std::vector<std::string> selected_terms(const ForceLawReport& r) {
+  std::vector<std::string> names;
+  for (const ComponentLaw& law : r.laws)
+    for (const DiscoveredTerm& t : law.terms)
+      if (t.selected)
+        names.push_back(fmt::format("{}:{}", component_name(law.component), t.term->name));
+  return names;
+}
+
+}  // namespace
+
 std::optional<ForceLawReport> add_force_law_rung(Ladder& l, const Model& base, const Shape& shape,
                                                  const ImpactSet& set, const std::string& data,
                                                  const DiagnoseOptions& options) {
@@ -68,14 +83,17 @@ std::optional<ForceLawReport> add_force_law_rung(Ladder& l, const Model& base, c
   const DiagnoseOptions o = resolve_scale(set, options);
   const Model last = rung_model(base, l, l.rungs.size() - 1, registry_of(o));
   // Each release at its own calibration, as diagnose: the constants' scatter is not a force.
+  // A release's own fit reads only its own rebound, so the splits below may use it.
   fit::FitOptions fo = fit_options_for(set, o.assess);
   fo.intervals = false;
   std::vector<std::vector<double>> release_params;
   for (const auto& f :
        fit::calibrate_releases(calibration_model_for(last, set, o.assess), shape, set, fo))
     release_params.push_back(f.params);
-  auto report = force_law_from_tracks(data, set, shape, last, last.values(), o.assess.fit.engine,
-                                      {}, release_params);
+  const auto histories = measured_histories(data, set, shape);
+  const EngineOptions& engine = o.assess.fit.engine;
+  auto report =
+      force_law_from_histories(histories, shape, last, last.values(), engine, {}, release_params);
   if (!report) return report;
   std::vector<std::string> warnings;
   const Model with_law = with_force_law(last, last.values(), *report, &warnings);
@@ -86,7 +104,22 @@ std::optional<ForceLawReport> add_force_law_rung(Ladder& l, const Model& base, c
   for (const std::string& w : warnings) rung.law += " [" + w + "]";
   if (rung.added.empty()) return report;
   rung.effects = with_law.effect_names();
-  rung.assessment = assess(with_law, shape, set, o.assess);
+  // Leak-free: split j's model carries the law its training histories give.
+  const std::vector<std::string> full_terms = selected_terms(*report);
+  const SplitModel split_model = [&](const std::vector<std::size_t>& train) {
+    std::vector<std::optional<MeasuredHistory>> h;
+    std::vector<std::vector<double>> p;
+    for (std::size_t i : train) {
+      h.push_back(histories[i]);
+      p.push_back(release_params[i]);
+    }
+    const auto r = force_law_from_histories(h, shape, last, last.values(), engine, {}, p);
+    ++rung.split_discoveries;
+    if (!r) return last;
+    if (selected_terms(*r) == full_terms) ++rung.split_same_terms;
+    return with_force_law(last, last.values(), *r);
+  };
+  rung.assessment = assess(with_law, shape, set, o.assess, split_model);
   rung.adequacy = adequacy(rung.assessment, l.floor);
   l.rungs.push_back(std::move(rung));
   return report;

@@ -286,6 +286,49 @@ TEST(Assess, AHeldOutPredictionIgnoresItsOutputsThroughAModelFittedOnTheSet) {
     EXPECT_EQ(start.values()[i], start.spec(i).nominal) << start.spec(i).name;
 }
 
+// A split model (the ladder's force-law rung: a law discovered on each split's training
+// histories) is made from the training releases alone: the maker below sets a fixed drag from
+// the mean measured V_out^y of the releases it is given, so that a maker handed a test release
+// would move the victim's prediction when the victim's outputs move. It is not handed one: the
+// victim's held-out prediction is the same bit for bit, each split's model is kept, and the
+// maker saw exactly each split's training releases.
+TEST(Assess, ASplitModelIsMadeFromItsTrainingReleasesAlone) {
+  const auto [set, moved] = victim_sets();
+  AssessOptions o;
+  o.folds = 4;
+  o.repeats = 1;
+  const Model base = Model::paper();
+  auto maker = [&](const ImpactSet& s, std::vector<std::vector<std::size_t>>& seen) {
+    return [&s, &seen, base](const std::vector<std::size_t>& train) {
+      seen.push_back(train);
+      double vy = 0;
+      for (std::size_t i : train) vy += s.impacts[i].vout[kVy];
+      Model m = base.with_effect("term_inertial_drag", /*at_neutral=*/true);
+      m.set("c_inertial_drag", 20.0 * std::abs(vy) / static_cast<double>(train.size()));
+      m.set_calibrated("c_inertial_drag", false);
+      return m;
+    };
+  };
+  std::vector<std::vector<std::size_t>> seen_a, seen_b;
+  const Model full = base.with_effect("term_inertial_drag", true);
+  const Assessment a = assess(full, Shape::cylinder(), set, o, maker(set, seen_a));
+  const Assessment b = assess(full, Shape::cylinder(), moved, o, maker(moved, seen_b));
+  ASSERT_EQ(a.fold_models.size(), a.cv.splits());
+  ASSERT_EQ(seen_a.size(), a.cv.splits());
+  for (std::size_t j = 0; j < a.cv.splits(); ++j) {
+    EXPECT_EQ(seen_a[j], a.cv.train[j]);
+    // The victim's outputs enter the drag of the splits that train on it, and only those.
+    const bool trains_on_victim = std::find(a.cv.train[j].begin(), a.cv.train[j].end(),
+                                            kVictim) != a.cv.train[j].end();
+    const std::size_t d = a.fold_models[j].index("c_inertial_drag");
+    EXPECT_EQ(a.fold_models[j].values()[d] != b.fold_models[j].values()[d], trains_on_victim);
+    EXPECT_EQ(a.fold_params[j][d], a.fold_models[j].values()[d]);  // held, not calibrated
+  }
+  for (int k = 0; k < 3; ++k)
+    EXPECT_EQ(a.heldout_predictions[kVictim].value[k], b.heldout_predictions[kVictim].value[k])
+        << "component " << k;
+}
+
 TEST(Assess, CrossValidationDesignIsAPartitionPerRepeat) {
   const CvDesign cv = make_cv_design(23, 5, 3, 7);
   ASSERT_EQ(cv.splits(), 15u);
