@@ -214,55 +214,47 @@ LawConfidenceSet confidence_set_of(const Diagnosis& d, const std::vector<std::st
   return out;
 }
 
-}  // namespace
+// Phase 1: every candidate of the family scored by the robust score test at the base model's
+// calibration (no candidate calibrated), with the family-wise max-T adjustment.
+struct Scored {
+  std::vector<std::string> names;  ///< the family, in registry (or --candidates) order
+  std::vector<double> r;           ///< signature correlation per candidate (NaN: not testable)
+  std::vector<std::optional<Model>> models;  ///< each candidate's model, for the confidence set
+  std::vector<detail::Score> scores;
+  stats::ScoreTests tests;
+  std::vector<std::size_t> order;  ///< candidates by decreasing score statistic
+};
 
-Diagnosis diagnose(const Model& model, const Shape& shape, const ImpactSet& set,
-                   const DiagnoseOptions& o) {
-  return diagnose(compare(model, shape, set, o), model, shape, set, o);
-}
-
-Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, const ImpactSet& set,
-                   const DiagnoseOptions& options) {
-  require_valid(options.problems(), "diagnosis::diagnose");
-  const DiagnoseOptions o = resolve_scale(set, options);
-  const auto t0 = std::chrono::steady_clock::now();
-  Diagnosis d;
-  d.baseline = std::move(baseline);
-  const Baseline& b = d.baseline;
-  const Assessment& base = b.base;
-  const EffectRegistry& registry = detail::registry_of(o);
-  // The base model as calibrated on this set (kn too when its contact features enter the error).
-  const Model warm =
-      with_values(calibration_model_for(model, set, o.assess), base.population.params);
-  const detail::Directions dirs = detail::base_directions(warm, shape, set, base, o.assess);
-
+Scored score_family(const Model& model, const Model& warm, const detail::Directions& dirs,
+                    const Shape& shape, const ImpactSet& set, const EffectRegistry& registry,
+                    const DiagnoseOptions& o) {
+  Scored sc;
   // The family: every registered effect not in the model (catalog, plugins, generated laws)
-  // that is a default candidate (not the force terms), or the candidates named. Each is tested by
-  // the robust score test (no calibration) and the family-wise error is controlled by the step-down
-  // max-T adjustment over all of them.
-  std::vector<std::string> names;
+  // that is a default candidate (not the force terms), or the candidates named. Each is tested
+  // by the robust score test (no calibration) and the family-wise error is controlled by the
+  // step-down max-T adjustment over all of them.
   if (!o.candidates.empty()) {
-    names = o.candidates;
+    sc.names = o.candidates;
   } else {
     for (const Effect* e : registry.all())
-      if (e->default_candidate() && !model.has_effect(e->name())) names.emplace_back(e->name());
+      if (e->default_candidate() && !model.has_effect(e->name())) sc.names.emplace_back(e->name());
   }
-  std::vector<double> r(names.size(), NAN);
+  const std::size_t n = sc.names.size();
+  sc.r.assign(n, NAN);
+  sc.models.resize(n);
+  sc.scores.resize(n);
   std::vector<stats::ScoreColumn> columns;
-  // Each candidate's model and directions, kept for the confidence set of laws.
-  std::vector<std::optional<Model>> cand_models(names.size());
-  std::vector<detail::Score> scores(names.size());
-  for (std::size_t h = 0; h < names.size(); ++h) {
+  for (std::size_t h = 0; h < n; ++h) {
     try {
       std::vector<std::size_t> added;
       std::vector<std::string> pnames;
-      const Model cand = candidate_model(warm, {names[h]}, registry, added, pnames);
-      detail::Score sc =
+      const Model cand = candidate_model(warm, {sc.names[h]}, registry, added, pnames);
+      detail::Score score =
           detail::score_of(dirs, cand, shape, set, added, o.assess, o.probe_fraction, h);
-      r[h] = sc.r;
-      for (const auto& col : sc.columns) columns.push_back(col);
-      scores[h] = std::move(sc);
-      cand_models[h] = cand;
+      sc.r[h] = score.r;
+      for (const auto& col : score.columns) columns.push_back(col);
+      sc.scores[h] = std::move(score);
+      sc.models[h] = cand;
     } catch (const std::exception&) {
       // Not testable here (e.g. its parameters clash with the model's): p = 1 below.
     }
@@ -271,46 +263,52 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
   // only the held-out route can support a candidate.
   const auto q = static_cast<std::size_t>(dirs.X.cols());
   if (set.size() <= q + 1) columns.clear();
-  const stats::ScoreTests tests = stats::robust_score_tests(
-      columns, names.size(),
+  sc.tests = stats::robust_score_tests(
+      columns, n,
       {.nuisance = q, .mcb_level = o.alpha / 2, .draws = o.score_draws, .seed = o.assess.fit.seed});
-  d.family_size = names.size();
-
-  // The candidates calibrated: all named ones, else the `screen` of largest score statistic.
-  std::vector<std::size_t> order(names.size());
-  for (std::size_t h = 0; h < order.size(); ++h) order[h] = h;
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
-    return tests.statistic[x] > tests.statistic[y];
+  sc.order.resize(n);
+  for (std::size_t h = 0; h < n; ++h) sc.order[h] = h;
+  std::stable_sort(sc.order.begin(), sc.order.end(), [&](std::size_t x, std::size_t y) {
+    return sc.tests.statistic[x] > sc.tests.statistic[y];
   });
-  const std::size_t calibrate = o.candidates.empty() ? o.screen : names.size();
+  return sc;
+}
+
+// Supported first, then by penalised held-out error.
+bool by_rank(const Candidate& x, const Candidate& y) {
+  if (x.supported != y.supported) return x.supported;
+  return x.penalised_heldout < y.penalised_heldout;
+}
+
+// Phase 2: the candidates calibrated (all named ones, else the `screen` of largest score
+// statistic; the rest go to d.screened_out), judged leak-free, supported by either route under
+// family-wise control, and ranked.
+void rank_singles(Diagnosis& d, const Scored& sc, const Judge& judge, int threads,
+                  const DiagnoseOptions& o) {
+  const std::size_t calibrate = o.candidates.empty() ? o.screen : sc.names.size();
   std::vector<std::vector<std::string>> jobs;
   std::vector<std::size_t> job_of;
-  for (std::size_t k = 0; k < order.size(); ++k) {
-    const std::size_t h = order[k];
+  for (std::size_t k = 0; k < sc.order.size(); ++k) {
+    const std::size_t h = sc.order[k];
     if (k < calibrate) {
-      jobs.push_back({names[h]});
+      jobs.push_back({sc.names[h]});
       job_of.push_back(h);
     } else {
-      d.screened_out.push_back(
-          {names[h], r[h], tests.statistic[h], tests.p_value[h], tests.p_adjusted[h]});
+      d.screened_out.push_back({sc.names[h], sc.r[h], sc.tests.statistic[h], sc.tests.p_value[h],
+                                sc.tests.p_adjusted[h]});
     }
   }
-
-  const int threads = std::max(
-      1, std::min<int>(o.assess.fit.threads > 0 ? o.assess.fit.threads : omp_get_max_threads(),
-                       static_cast<int>(std::max<std::size_t>(1, jobs.size()))));
-  const Judge judge{warm, shape, set, b, o, registry, threads > 1 ? 1 : o.assess.fit.threads};
   Progress progress("diagnose", jobs.size(), o.progress);
-  d.ranking =
-      judge_all(judge, jobs, std::vector<const Assessment*>(jobs.size(), &base), threads, progress);
+  d.ranking = judge_all(judge, jobs, std::vector<const Assessment*>(jobs.size(), &d.baseline.base),
+                        threads, progress);
   progress.finish();
   for (std::size_t k = 0; k < d.ranking.size(); ++k) {
     Candidate& c = d.ranking[k];
     const std::size_t h = job_of[k];
-    c.signature_r = r[h];
-    c.t = tests.statistic[h];
-    c.p_value = tests.p_value[h];
-    c.p_adjusted = tests.p_adjusted[h];
+    c.signature_r = sc.r[h];
+    c.t = sc.tests.statistic[h];
+    c.p_value = sc.tests.p_value[h];
+    c.p_adjusted = sc.tests.p_adjusted[h];
     c.family_size = d.family_size;
   }
   // The second route: the held-out drop's corrected test, Holm over the whole family (the
@@ -324,73 +322,66 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
     c.supported = c.error.empty() && c.error_drop > 0 &&
                   (c.p_adjusted < o.alpha / 2 || c.p_holm < o.alpha / 2);
   }
-
-  // Supported first, then by penalised held-out error.
-  auto by_rank = [](const Candidate& x, const Candidate& y) {
-    if (x.supported != y.supported) return x.supported;
-    return x.penalised_heldout < y.penalised_heldout;
-  };
   std::stable_sort(d.ranking.begin(), d.ranking.end(), by_rank);
+}
 
-  // A sparse search over pairs, tested after the singles (a fixed sequence: only when the best
-  // single is supported, so the family-wise level holds), when that single leaves the model
-  // above its floor.
+// Phase 3: a sparse search over pairs, tested after the singles (a fixed sequence: only when
+// the best single is supported, so the family-wise level holds), when that single leaves the
+// model above its floor.
+void add_pairs(Diagnosis& d, const Scored& sc, const Judge& judge, int threads,
+               const ImpactSet& set, const DiagnoseOptions& o) {
   const bool top_supported = !d.ranking.empty() && d.ranking.front().supported;
-  if (o.pairs && top_supported && !d.ranking.front().adequacy.adequate) {
-    const Candidate& first = d.ranking.front();
-    std::vector<std::vector<std::string>> pair_jobs;
-    // Its partners: the next candidates by score statistic with an unadjusted score p below
-    // alpha, calibrated or not (with --screen 1 only the first one was).
-    for (std::size_t h : order)
-      if (names[h] != first.effect && tests.p_value[h] < o.alpha &&
-          pair_jobs.size() + 1 < o.pair_pool)
-        pair_jobs.push_back({first.effect, names[h]});
-    if (!pair_jobs.empty()) {
-      Progress pp("pairs", pair_jobs.size(), o.progress);
-      auto pairs = judge_all(judge, pair_jobs,
-                             std::vector<const Assessment*>(pair_jobs.size(), &first.assessment),
-                             threads, pp);
-      pp.finish();
-      // A pair must beat its first effect alone (corrected test on the splits): otherwise its
-      // second effect is a passenger (seen: ploughing + depth_friction with a_mu = 0.5 1/m,
-      // doing nothing, ranked first by chance). The partners were picked by the same data's
-      // scores, so the test is Bonferroni over every partner that could have been picked (each
-      // candidate but the first), not over the pairs tried: the union bound over all of them
-      // holds whichever the data chose (issue 31, 5e).
-      const double nn = static_cast<double>(set.size());
-      const double n_test = nn / static_cast<double>(base.cv.folds);
-      const std::size_t partners = std::max<std::size_t>(1, names.size() - 1);
-      const double level = o.alpha / static_cast<double>(partners);
-      for (Candidate& c : pairs) {
-        if (c.error.empty()) {
-          std::vector<double> dj(base.cv.splits());
-          for (std::size_t j = 0; j < dj.size(); ++j)
-            dj[j] = log_ratio(first.assessment.split_error[j], c.assessment.split_error[j]);
-          const stats::ResampledTest t = stats::corrected_resampled_t(dj, n_test, nn - n_test);
-          c.beats_first = std::isfinite(t.p_value) && t.p_value < level;
-          c.t = t.t;
-          c.p_value = std::isfinite(t.p_value) ? t.p_value : 1.0;
-          c.p_adjusted = c.p_holm = std::min(1.0, c.p_value * static_cast<double>(partners));
-        }
-        c.family_size = partners;
-        c.signature_r = first.signature_r;
-        c.supported = c.error.empty() && c.beats_first && c.error_drop > first.error_drop;
-      }
-      // Only now: `first` refers into d.ranking, which the insertion may reallocate.
-      for (auto& c : pairs) d.ranking.push_back(std::move(c));
-      std::stable_sort(d.ranking.begin(), d.ranking.end(), by_rank);
+  if (!o.pairs || !top_supported || d.ranking.front().adequacy.adequate) return;
+  const Candidate& first = d.ranking.front();
+  std::vector<std::vector<std::string>> pair_jobs;
+  // Its partners: the next candidates by score statistic with an unadjusted score p below
+  // alpha, calibrated or not (with --screen 1 only the first one was).
+  for (std::size_t h : sc.order)
+    if (sc.names[h] != first.effect && sc.tests.p_value[h] < o.alpha &&
+        pair_jobs.size() + 1 < o.pair_pool)
+      pair_jobs.push_back({first.effect, sc.names[h]});
+  if (pair_jobs.empty()) return;
+  Progress pp("pairs", pair_jobs.size(), o.progress);
+  auto pairs =
+      judge_all(judge, pair_jobs,
+                std::vector<const Assessment*>(pair_jobs.size(), &first.assessment), threads, pp);
+  pp.finish();
+  // A pair must beat its first effect alone (corrected test on the splits): otherwise its
+  // second effect is a passenger (seen: ploughing + depth_friction with a_mu = 0.5 1/m, doing
+  // nothing, ranked first by chance). The partners were picked by the same data's scores, so the
+  // test is Bonferroni over every partner that could have been picked (each candidate but the
+  // first), not over the pairs tried: the union bound over all of them holds whichever the data
+  // chose (issue 31, 5e).
+  const Assessment& base = d.baseline.base;
+  const double nn = static_cast<double>(set.size());
+  const double n_test = nn / static_cast<double>(base.cv.folds);
+  const std::size_t partners = std::max<std::size_t>(1, sc.names.size() - 1);
+  const double level = o.alpha / static_cast<double>(partners);
+  for (Candidate& c : pairs) {
+    if (c.error.empty()) {
+      std::vector<double> dj(base.cv.splits());
+      for (std::size_t j = 0; j < dj.size(); ++j)
+        dj[j] = log_ratio(first.assessment.split_error[j], c.assessment.split_error[j]);
+      const stats::ResampledTest t = stats::corrected_resampled_t(dj, n_test, nn - n_test);
+      c.beats_first = std::isfinite(t.p_value) && t.p_value < level;
+      c.t = t.t;
+      c.p_value = std::isfinite(t.p_value) ? t.p_value : 1.0;
+      c.p_adjusted = c.p_holm = std::min(1.0, c.p_value * static_cast<double>(partners));
     }
+    c.family_size = partners;
+    c.signature_r = first.signature_r;
+    c.supported = c.error.empty() && c.beats_first && c.error_drop > first.error_drop;
   }
-  for (Candidate& c : d.ranking)
-    if (c.error.empty()) c.evidence = detail::evidence_of(c, b, o);
-  d.confidence_set =
-      confidence_set_of(d, names, cand_models, scores, tests, dirs, warm, shape, set, registry, o);
-  d.detectable_candidates = detail::detectable_candidates(
-      dirs, names, cand_models, scores, tests, registry, b.base.use, o.alpha, shape, set, o.assess);
-  d.detectable = detail::minimum_detectable(d.detectable_candidates);
+  // Only now: `first` refers into d.ranking, which the insertion may reallocate.
+  for (auto& c : pairs) d.ranking.push_back(std::move(c));
+  std::stable_sort(d.ranking.begin(), d.ranking.end(), by_rank);
+}
 
+// Phase 5: the verdict, from the ranking first (it never contradicts it), then the floor, the
+// power and the trends.
+void decide_verdict(Diagnosis& d, const DiagnoseOptions& o) {
+  const Baseline& b = d.baseline;
   d.adequate_z = o.adequate_z;
-  // The verdict, from the ranking first (it never contradicts it).
   const Candidate* best =
       !d.ranking.empty() && d.ranking.front().supported ? &d.ranking.front() : nullptr;
   if (best) {
@@ -405,8 +396,8 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
         if (t.significant) trends.push_back(describe(t));
     if (b.adequacy.adequate) {
       // Within the floor is not enough: a law these data could not see would leave the error
-      // there too (issue 31, 5b: on the lab's narrow incident states an effect the oracle sees at
-      // z = 7-18 left the held-out error within the fitted floor in 24 of 68 sets).
+      // there too (issue 31, 5b: on the lab's narrow incident states an effect the oracle sees
+      // at z = 7-18 left the held-out error within the fitted floor in 24 of 68 sets).
       for (const Detectable& r : d.detectable)
         if (!(r.z_80 <= o.adequate_z)) d.underpowered.push_back(r.family);
       d.verdict = d.underpowered.empty() ? "adequate" : "inconclusive";
@@ -422,8 +413,52 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
     d.unexplained = detail::unexplained_after(best->assessment, b.floor, best->adequacy, b.features,
                                               o.trends, "after adding " + best->effect);
   else
-    d.unexplained = detail::unexplained_after(base, b.floor, b.adequacy, b.features, o.trends,
+    d.unexplained = detail::unexplained_after(b.base, b.floor, b.adequacy, b.features, o.trends,
                                               "base model", &b.residual_trends);
+}
+
+}  // namespace
+
+Diagnosis diagnose(const Model& model, const Shape& shape, const ImpactSet& set,
+                   const DiagnoseOptions& o) {
+  return diagnose(compare(model, shape, set, o), model, shape, set, o);
+}
+
+Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, const ImpactSet& set,
+                   const DiagnoseOptions& options) {
+  require_valid(options.problems(), "diagnosis::diagnose");
+  const DiagnoseOptions o = resolve_scale(set, options);
+  const auto t0 = std::chrono::steady_clock::now();
+  Diagnosis d;
+  d.baseline = std::move(baseline);
+  const Baseline& b = d.baseline;
+  const EffectRegistry& registry = detail::registry_of(o);
+  // The base model as calibrated on this set (kn too when its contact features enter the error).
+  const Model warm =
+      with_values(calibration_model_for(model, set, o.assess), b.base.population.params);
+  const detail::Directions dirs = detail::base_directions(warm, shape, set, b.base, o.assess);
+  // Phases 1-3: score the family, calibrate and rank the best, try pairs after the best.
+  const Scored sc = score_family(model, warm, dirs, shape, set, registry, o);
+  d.family_size = sc.names.size();
+  const int threads = std::max(
+      1,
+      std::min<int>(
+          o.assess.fit.threads > 0 ? o.assess.fit.threads : omp_get_max_threads(),
+          static_cast<int>(std::max<std::size_t>(
+              1, std::min(sc.names.size(), o.candidates.empty() ? o.screen : sc.names.size())))));
+  const Judge judge{warm, shape, set, b, o, registry, threads > 1 ? 1 : o.assess.fit.threads};
+  rank_singles(d, sc, judge, threads, o);
+  add_pairs(d, sc, judge, threads, set, o);
+  // Phase 4: what the ranking rests on, the laws the data cannot exclude, what they could see.
+  for (Candidate& c : d.ranking)
+    if (c.error.empty()) c.evidence = detail::evidence_of(c, b, o);
+  d.confidence_set = confidence_set_of(d, sc.names, sc.models, sc.scores, sc.tests, dirs, warm,
+                                       shape, set, registry, o);
+  d.detectable_candidates =
+      detail::detectable_candidates(dirs, sc.names, sc.models, sc.scores, sc.tests, registry,
+                                    b.base.use, o.alpha, shape, set, o.assess);
+  d.detectable = detail::minimum_detectable(d.detectable_candidates);
+  decide_verdict(d, o);
   d.seconds = seconds_since(t0) + b.seconds;
   return d;
 }
