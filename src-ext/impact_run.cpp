@@ -268,11 +268,12 @@ std::vector<double> surface_profile(Liggghts& lmp, const BedFiles& bed, double b
   return profile_from(lmp.local_atoms(), bed, bin_m, lmp.comm());
 }
 
-ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Comm comm) {
+namespace {
+
+// The result's identity before anything runs: the impact, the bed, its parameters.
+ImpactResult start_result(const ImpactSpec& spec, const ImpactContext& ctx) {
   const Decks& decks = *ctx.decks;
   const BedFiles& bed = ctx.bed;
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
   ImpactResult r;
   r.id = spec.id;
   r.bed_key = bed.key;
@@ -286,25 +287,21 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
     const auto it = spec.params.block.find(p.name);
     r.block_values[p.name] = it == spec.params.block.end() ? p.default_value : it->second;
   }
-  const Shape shape = Shape::resolve(spec.shape);
-  if (!bed.settled) {
-    r.status = "bed_not_settled";
-    r.message = "the bed " + bed.prefix + " did not meet its settling criterion";
-    return r;
-  }
-  if (const std::string why = validate_setup(spec, shape, decks, bed); !why.empty()) {
-    r.status = "invalid";
-    r.message = why;
-    return r;
-  }
-  if (rank == 0) fs::create_directories(ctx.work_dir);
-  MPI_Barrier(comm);
-  const std::string out = (fs::path(ctx.work_dir) / "impact").string();
+  return r;
+}
 
+// The impact deck's variables: decks, bed, output prefix, the incident state, the overrides, the
+// replica's block seed, and the dump folders (created before any rank opens them).
+std::vector<std::pair<std::string, std::string>> deck_variables(const ImpactSpec& spec,
+                                                                const ImpactContext& ctx,
+                                                                const Shape& shape,
+                                                                const std::string& out, int rank,
+                                                                MPI_Comm comm) {
+  const Decks& decks = *ctx.decks;
   std::vector<std::pair<std::string, std::string>> vars = {
       {"deck_dir", decks.impact_dir},
       {"common", decks.common},
-      {"bed", bed.prefix},
+      {"bed", ctx.bed.prefix},
       {"template_in", ctx.template_include},
       {"out", out},
       {"shape", shape.name},
@@ -316,7 +313,6 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
   for (const auto& [k, v] : spec.params.run) vars.emplace_back(k, v);
   if (spec.seed && !spec.params.run.count("block_seed"))
     vars.emplace_back("block_seed", std::to_string(liggghts_seed(*spec.seed, 1)));
-  // The deck's dump folders (ParaView frames, picture frames): created before any rank opens them.
   const auto dump_into = [&](const std::string& dir, const char* prefix, long every) {
     const std::string abs = fs::absolute(dir).string();
     if (rank == 0) fs::create_directories(abs);
@@ -326,97 +322,107 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
   };
   if (ctx.vtk_every > 0) dump_into(ctx.vtk_dir, "vtk", ctx.vtk_every);
   if (!ctx.picture_dir.empty()) dump_into(ctx.picture_dir, "pic", kDefaultVtkEvery);
+  return vars;
+}
 
-  const auto start = std::chrono::steady_clock::now();
-  const double cpu_start = process_cpu_s();
-  const double crater_bin = 2 * bed.r_max_m;
-  std::vector<double> before, after;
+/// What the LIGGGHTS run leaves beside the result's fields.
+struct Simulated {
+  std::vector<double> before, after;  ///< surface profiles before and after (crater)
   double block_mass = 0, t_max = 0, deck_contact_end = -1;
-  std::vector<std::pair<double, double>> overlaps;  // (t, largest grain overlap / d)
-  {
-    Liggghts lmp(comm, (fs::path(ctx.work_dir) / "log.liggghts").string(),
-                 (fs::path(ctx.work_dir) / "screen.txt").string(), vars);
-    lmp.file(decks.impact_dir + "/setup.in");
-    r.block_spheres = static_cast<long>(lmp.number("block_nspheres").value_or(0));
-    r.dt_s = lmp.timestep_s();
-    // The restart carries the bed's step count on: count the impact's own steps.
-    const long first_step = lmp.step();
-    block_mass = lmp.number("block_mass_kg").value_or(0);
-    if (block_mass > 0) r.block_mass_kg = block_mass;
-    t_max = lmp.number("t_max_s").value_or(0);
-    const long chunk = static_cast<long>(lmp.number("chunk_steps").value_or(100));
-    const long expected = bed.grains + r.block_spheres;
-    if (lmp.natoms() != expected) {
-      r.status = "not_inserted";
-      r.message = fmt::format("{} atoms after the block insertion, expected {} grains + {} spheres",
-                              lmp.natoms(), bed.grains, r.block_spheres);
-    } else {
-      before = surface_profile(lmp, bed, crater_bin);
-      // The grains' largest overlap at every record (the deck cannot compute it: its
-      // compute pair/gran/local must exist before the bed's first run).
-      lmp.start_overlap_probe(static_cast<long>(lmp.number("record_every").value_or(10)),
-                              kBlockAtomType);
-      ChunkRun run;
-      run.chunk_steps = chunk;
-      run.check_file = decks.impact_dir + "/check.in";
-      run.done_variable = "impact_done";
-      run.body = "block";
-      run.state_variables = {"bx", "by", "bvx", "bvy", "bw"};
-      run.expected_atoms = expected;
-      // A few grains thrown out of the box by the block (the triangles' vertices splash them
-      // over the top) do not change the block's motion; a lost block sphere, or more than a
-      // hundredth of the grains, ends the run (the deck's check.in applies the same rule). The
-      // grains group is fixed at set-up and loses the atoms that leave the box: the rest of the
-      // atoms are the block's spheres.
-      run.atoms_lost = [&](double t) -> std::string {
-        const long grains_now = static_cast<long>(lmp.number("grain_atoms").value_or(0));
-        const long block_now = lmp.natoms() - grains_now;
-        const long grains_lost = bed.grains - grains_now;
-        if (block_now != r.block_spheres || grains_lost > (bed.grains + 99) / 100)
-          return fmt::format(
-              "{} atoms at t = {:.4f} s, expected {} ({} of {} block spheres): grains or the "
-              "block left the box (time step too large?)",
-              lmp.natoms(), t, expected, block_now, r.block_spheres);
-        r.grains_lost = grains_lost;
-        return "";
-      };
-      if (ctx.progress) run.progress = [&](double t) { ctx.progress(t, t_max); };
-      const ChunkOutcome outcome = run_chunks(lmp, run);
-      overlaps = lmp.overlap_samples();
-      r.status = outcome.status;
-      r.message = outcome.message;
-      r.rayleigh_fraction = outcome.rayleigh_fraction;
-      r.hertz_fraction = outcome.hertz_fraction;
-      // After a failure found by the driver the block state may be gone or meaningless: the
-      // deck's summary would evaluate it, so it is written only when the deck itself stopped.
-      if (outcome.deck_stopped) {
-        deck_contact_end = lmp.number("t_contact_end").value_or(-1);
-        lmp.file(decks.impact_dir + "/finish.in");
-        after = surface_profile(lmp, bed, crater_bin);
-      }
-    }
-    r.steps = lmp.step() - first_step;
-    r.sim_time_s = lmp.time_s();
-  }
-  r.wall_s = seconds_since(start);
-  // CPU time summed over the instance's ranks: the cost in core-seconds, which the other load of
-  // a shared machine does not inflate the way it inflates the wall time.
-  r.cpu_s = process_cpu_s() - cpu_start;
-  MPI_Allreduce(MPI_IN_PLACE, &r.cpu_s, 1, MPI_DOUBLE, MPI_SUM, comm);
-  if (rank != 0) return r;
-  if (!ctx.picture_dir.empty()) {
-    // A picture that cannot be cut (no frame in contact) never fails the impact itself.
-    try {
-      r.snapshot = snapshot_from_frames(ctx.picture_dir, spec.id, r.dt_s);
-    } catch (const std::exception& e) {
-      std::cerr << "ricochet: warning: no impact picture for " << spec.id << ": " << e.what()
-                << "\n";
-    }
-    std::error_code ec;
-    fs::remove_all(ctx.picture_dir, ec);
-  }
+  std::vector<std::pair<double, double>> overlaps;  ///< (t, largest grain overlap / d)
+};
 
-  // ---- Extraction (rank 0 of the instance reads the deck's track file)
+// The impact itself: the deck's set-up, the run in chunks under the driver's checks, and the
+// deck's finish; status, steps and times into r.
+Simulated simulate(const ImpactContext& ctx,
+                   const std::vector<std::pair<std::string, std::string>>& vars, double crater_bin,
+                   ImpactResult& r, MPI_Comm comm) {
+  const Decks& decks = *ctx.decks;
+  const BedFiles& bed = ctx.bed;
+  Simulated sim;
+  Liggghts lmp(comm, (fs::path(ctx.work_dir) / "log.liggghts").string(),
+               (fs::path(ctx.work_dir) / "screen.txt").string(), vars);
+  lmp.file(decks.impact_dir + "/setup.in");
+  r.block_spheres = static_cast<long>(lmp.number("block_nspheres").value_or(0));
+  r.dt_s = lmp.timestep_s();
+  // The restart carries the bed's step count on: count the impact's own steps.
+  const long first_step = lmp.step();
+  sim.block_mass = lmp.number("block_mass_kg").value_or(0);
+  if (sim.block_mass > 0) r.block_mass_kg = sim.block_mass;
+  sim.t_max = lmp.number("t_max_s").value_or(0);
+  const long chunk = static_cast<long>(lmp.number("chunk_steps").value_or(100));
+  const long expected = bed.grains + r.block_spheres;
+  if (lmp.natoms() != expected) {
+    r.status = "not_inserted";
+    r.message = fmt::format("{} atoms after the block insertion, expected {} grains + {} spheres",
+                            lmp.natoms(), bed.grains, r.block_spheres);
+  } else {
+    sim.before = surface_profile(lmp, bed, crater_bin);
+    // The grains' largest overlap at every record (the deck cannot compute it: its compute
+    // pair/gran/local must exist before the bed's first run).
+    lmp.start_overlap_probe(static_cast<long>(lmp.number("record_every").value_or(10)),
+                            kBlockAtomType);
+    ChunkRun run;
+    run.chunk_steps = chunk;
+    run.check_file = decks.impact_dir + "/check.in";
+    run.done_variable = "impact_done";
+    run.body = "block";
+    run.state_variables = {"bx", "by", "bvx", "bvy", "bw"};
+    run.expected_atoms = expected;
+    // A few grains thrown out of the box by the block (the triangles' vertices splash them over
+    // the top) do not change the block's motion; a lost block sphere, or more than a hundredth
+    // of the grains, ends the run (the deck's check.in applies the same rule). The grains group
+    // is fixed at set-up and loses the atoms that leave the box: the rest of the atoms are the
+    // block's spheres.
+    run.atoms_lost = [&](double t) -> std::string {
+      const long grains_now = static_cast<long>(lmp.number("grain_atoms").value_or(0));
+      const long block_now = lmp.natoms() - grains_now;
+      const long grains_lost = bed.grains - grains_now;
+      if (block_now != r.block_spheres || grains_lost > (bed.grains + 99) / 100)
+        return fmt::format(
+            "{} atoms at t = {:.4f} s, expected {} ({} of {} block spheres): grains or the "
+            "block left the box (time step too large?)",
+            lmp.natoms(), t, expected, block_now, r.block_spheres);
+      r.grains_lost = grains_lost;
+      return "";
+    };
+    if (ctx.progress) run.progress = [&](double t) { ctx.progress(t, sim.t_max); };
+    const ChunkOutcome outcome = run_chunks(lmp, run);
+    sim.overlaps = lmp.overlap_samples();
+    r.status = outcome.status;
+    r.message = outcome.message;
+    r.rayleigh_fraction = outcome.rayleigh_fraction;
+    r.hertz_fraction = outcome.hertz_fraction;
+    // After a failure found by the driver the block state may be gone or meaningless: the
+    // deck's summary would evaluate it, so it is written only when the deck itself stopped.
+    if (outcome.deck_stopped) {
+      sim.deck_contact_end = lmp.number("t_contact_end").value_or(-1);
+      lmp.file(decks.impact_dir + "/finish.in");
+      sim.after = surface_profile(lmp, bed, crater_bin);
+    }
+  }
+  r.steps = lmp.step() - first_step;
+  r.sim_time_s = lmp.time_s();
+  return sim;
+}
+
+// The picture of the impact from the deck's frames; a picture that cannot be cut (no frame in
+// contact) never fails the impact itself.
+void attach_snapshot(ImpactResult& r, const ImpactSpec& spec, const ImpactContext& ctx) {
+  if (ctx.picture_dir.empty()) return;
+  try {
+    r.snapshot = snapshot_from_frames(ctx.picture_dir, spec.id, r.dt_s);
+  } catch (const std::exception& e) {
+    std::cerr << "ricochet: warning: no impact picture for " << spec.id << ": " << e.what() << "\n";
+  }
+  std::error_code ec;
+  fs::remove_all(ctx.picture_dir, ec);
+}
+
+// The deck's track file into r.track, with the overlap samples joined by time (they are taken at
+// the track's steps). False when it cannot be read (the status says why).
+bool read_track(ImpactResult& r, const std::string& out,
+                const std::vector<std::pair<double, double>>& overlaps) {
   try {
     r.track = read_deck_track(out + ".track.txt");
     r.track.block_mass_kg = r.block_mass_kg;
@@ -425,9 +431,8 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
       r.status = "extraction_failed";
       r.message = e.what();
     }
-    return r;
+    return false;
   }
-  // The overlap samples are taken at the track's steps: join them by time.
   if (!overlaps.empty()) {
     std::size_t k = 0;
     for (std::size_t i = 0; i < r.track.size(); ++i) {
@@ -437,8 +442,12 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
         r.track.overlap_d_max[i] = overlaps[k].second;
     }
   }
-  const BlockTrack& tr = r.track;
-  for (double p : tr.penetration) r.penetration_max_m = std::max(r.penetration_max_m, p);
+  for (double p : r.track.penetration) r.penetration_max_m = std::max(r.penetration_max_m, p);
+  return true;
+}
+
+// The messages of the statuses the deck and the driver end a run with.
+void explain_status(ImpactResult& r, double t_max) {
   if (r.status == "no_rebound")
     r.message = fmt::format(
         "the block stayed in the bed (slower than v_rest_mps while in contact), "
@@ -450,18 +459,25 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
     r.message =
         "the block came too close to an end wall (setup.in: x_wall_front, x_wall_back): "
         "use a longer bed";
-  if (!r.ok()) return r;
+}
 
-  // DEM contact-force window: the deck's criterion (check.in) at full record resolution, from the
-  // first touch to the last touch before the deck's own separation time (check.in samples chunk
-  // ends; later touches are grains thrown up with the block, whose impulses are negligible).
+// DEM contact-force window: the deck's criterion (check.in) at full record resolution, from the
+// first touch to the last touch before the deck's own separation time (check.in samples chunk
+// ends; later touches are grains thrown up with the block, whose impulses are negligible). The
+// velocities at its ends and the energy lost over it into r; the window's record indices, or
+// nullopt (status set) without a contact force.
+std::optional<std::pair<std::size_t, std::size_t>> force_window(ImpactResult& r,
+                                                                const ImpactSpec& spec,
+                                                                const ImpactContext& ctx,
+                                                                const Shape& shape,
+                                                                const Simulated& sim) {
+  const BlockTrack& tr = r.track;
   const double threshold =
-      run_param(spec, decks, "f_contact_frac") * block_mass * kDeckGravity_mps2;
-  const double deck_end = deck_contact_end;
+      run_param(spec, *ctx.decks, "f_contact_frac") * sim.block_mass * kDeckGravity_mps2;
   std::size_t i0 = tr.size(), i1 = tr.size();
   for (std::size_t i = 0; i < tr.size(); ++i) {
-    if (tr.t[i] > deck_end) break;
-    if (std::hypot(tr.fcx[i], tr.fcy[i]) > threshold && tr.penetration[i] > -2 * bed.r_max_m) {
+    if (tr.t[i] > sim.deck_contact_end) break;
+    if (std::hypot(tr.fcx[i], tr.fcy[i]) > threshold && tr.penetration[i] > -2 * ctx.bed.r_max_m) {
       if (i0 == tr.size()) i0 = i;
       i1 = i;
     }
@@ -469,7 +485,7 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
   if (i0 == tr.size()) {
     r.status = "extraction_failed";
     r.message = "no contact force in the recorded track";
-    return r;
+    return std::nullopt;
   }
   i1 = std::min(i1 + 1, tr.size() - 1);  // first record after the last contact
   r.force_contact_start_s = tr.t[i0];
@@ -478,60 +494,68 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
   r.v_end_direct = {tr.vx[i1], tr.vy[i1], tr.w[i1]};
   // Energy lost over the contact, kinetic plus potential, for the lab-length block (the slab
   // carries block_mass / shape.mass_kg of it).
-  const double scale = shape.mass_kg / block_mass;
-  const double e0 = tr.ke_block[i0] + block_mass * kDeckGravity_mps2 * tr.y[i0];
-  const double e1 = tr.ke_block[i1] + block_mass * kDeckGravity_mps2 * tr.y[i1];
+  const double scale = shape.mass_kg / sim.block_mass;
+  const double e0 = tr.ke_block[i0] + sim.block_mass * kDeckGravity_mps2 * tr.y[i0];
+  const double e1 = tr.ke_block[i1] + sim.block_mass * kDeckGravity_mps2 * tr.y[i1];
   r.energy_dissipated_J = (e0 - e1) * scale;
   r.energy_dissipated_frac = (e0 - e1) / tr.ke_block[i0];
+  return std::pair{i0, i1};
+}
 
-  // Crater: largest drop of the surface profile under the block's path during the contact, and
-  // the width of the contiguous bins around it that dropped by more than a grain radius.
-  if (!before.empty() && before.size() == after.size()) {
-    const double reach = shape.bounding_radius();
-    const auto n = before.size();
-    std::size_t best = n;
-    for (std::size_t b = 0; b < n; ++b) {
-      const double xb = (static_cast<double>(b) + 0.5) * crater_bin;
-      if (xb < tr.x[i0] - reach || xb > tr.x[i1] + reach) continue;
-      const double drop = before[b] - after[b];
-      if (std::isfinite(drop) && (best == n || drop > before[best] - after[best])) best = b;
-    }
-    if (best < n) {
-      r.crater_depth_m = std::max(0.0, before[best] - after[best]);
-      std::size_t lo = best, hi = best;
-      auto dropped = [&](std::size_t b) { return before[b] - after[b] > bed.r_max_m; };
-      if (dropped(best)) {
-        while (lo > 0 && dropped(lo - 1)) --lo;
-        while (hi + 1 < n && dropped(hi + 1)) ++hi;
-        r.crater_width_m = static_cast<double>(hi - lo + 1) * crater_bin;
-      }
-    }
+// Crater: largest drop of the surface profile under the block's path during the contact
+// (records i0..i1), and the width of the contiguous bins around it that dropped by more than a
+// grain radius.
+void measure_crater(ImpactResult& r, const Simulated& sim, const Shape& shape, double r_max_m,
+                    double crater_bin, std::size_t i0, std::size_t i1) {
+  const auto& before = sim.before;
+  const auto& after = sim.after;
+  if (before.empty() || before.size() != after.size()) return;
+  const double reach = shape.bounding_radius();
+  const auto n = before.size();
+  std::size_t best = n;
+  for (std::size_t b = 0; b < n; ++b) {
+    const double xb = (static_cast<double>(b) + 0.5) * crater_bin;
+    if (xb < r.track.x[i0] - reach || xb > r.track.x[i1] + reach) continue;
+    const double drop = before[b] - after[b];
+    if (std::isfinite(drop) && (best == n || drop > before[best] - after[best])) best = b;
   }
+  if (best == n) return;
+  r.crater_depth_m = std::max(0.0, before[best] - after[best]);
+  std::size_t lo = best, hi = best;
+  auto dropped = [&](std::size_t b) { return before[b] - after[b] > r_max_m; };
+  if (!dropped(best)) return;
+  while (lo > 0 && dropped(lo - 1)) --lo;
+  while (hi + 1 < n && dropped(hi + 1)) ++hi;
+  r.crater_width_m = static_cast<double>(hi - lo + 1) * crater_bin;
+}
 
-  // V_in and V_out with the lab's reconstruction on camera-like frames.
+// V_in and V_out with the lab's reconstruction on camera-like frames, and the release in the
+// impact-set schema. False (status set) when it fails or is not a rebound.
+bool extract_release(ImpactResult& r, const ImpactSpec& spec, const ImpactContext& ctx,
+                     const Shape& shape) {
   kinematics::ReconstructOptions ro;
   std::string window = ctx.extract.window;
   if (window.empty()) window = "force";
   if (window == "ground") {
-    ro.ground_y_m = bed.z_surface_m;
+    ro.ground_y_m = ctx.bed.z_surface_m;
     ro.contact_radius_m = shape.depth_below_centroid(spec.alpha_in_rad);
   } else if (window == "force") {
     ro.contact_start_s = r.force_contact_start_s;
     ro.contact_end_s = r.force_contact_end_s;
   }
   try {
-    r.reconstruction = kinematics::reconstruct(frames(tr, ctx.extract.fps), ro);
+    r.reconstruction = kinematics::reconstruct(frames(r.track, ctx.extract.fps), ro);
   } catch (const std::exception& e) {
     r.status = "extraction_failed";
     r.message = std::string("reconstruction: ") + e.what();
-    return r;
+    return false;
   }
   const auto& rec = r.reconstruction;
   if (!(rec.vout[kVy] > 0) || !(rec.vin[kVy] < 0)) {
     r.status = "extraction_failed";
     r.message = fmt::format("reconstructed vin_y = {:.3f}, vout_y = {:.3f} m/s: not a rebound",
                             rec.vin[kVy], rec.vout[kVy]);
-    return r;
+    return false;
   }
   r.impact = kinematics::to_impact(rec, spec.id, shape.name);
   Impact& im = r.impact;
@@ -545,6 +569,52 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
   r.message = fmt::format("V_out = ({:.3f} m/s, {:.3f} m/s, {:.2f} rad/s)", rec.vout[kVx],
                           rec.vout[kVy], rec.vout[kW]);
   if (r.grains_lost > 0) r.message += fmt::format("; {} grain(s) left the box", r.grains_lost);
+  return true;
+}
+
+}  // namespace
+
+ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Comm comm) {
+  const BedFiles& bed = ctx.bed;
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  ImpactResult r = start_result(spec, ctx);
+  const Shape shape = Shape::resolve(spec.shape);
+  if (!bed.settled) {
+    r.status = "bed_not_settled";
+    r.message = "the bed " + bed.prefix + " did not meet its settling criterion";
+    return r;
+  }
+  if (const std::string why = validate_setup(spec, shape, *ctx.decks, bed); !why.empty()) {
+    r.status = "invalid";
+    r.message = why;
+    return r;
+  }
+  if (rank == 0) fs::create_directories(ctx.work_dir);
+  MPI_Barrier(comm);
+  const std::string out = (fs::path(ctx.work_dir) / "impact").string();
+  const auto vars = deck_variables(spec, ctx, shape, out, rank, comm);
+
+  const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = process_cpu_s();
+  const double crater_bin = 2 * bed.r_max_m;
+  const Simulated sim = simulate(ctx, vars, crater_bin, r, comm);
+  r.wall_s = seconds_since(start);
+  // CPU time summed over the instance's ranks: the cost in core-seconds, which the other load of
+  // a shared machine does not inflate the way it inflates the wall time.
+  r.cpu_s = process_cpu_s() - cpu_start;
+  MPI_Allreduce(MPI_IN_PLACE, &r.cpu_s, 1, MPI_DOUBLE, MPI_SUM, comm);
+  if (rank != 0) return r;
+  attach_snapshot(r, spec, ctx);
+
+  // ---- Extraction (rank 0 of the instance reads the deck's track file)
+  if (!read_track(r, out, sim.overlaps)) return r;
+  explain_status(r, sim.t_max);
+  if (!r.ok()) return r;
+  const auto window = force_window(r, spec, ctx, shape, sim);
+  if (!window) return r;
+  measure_crater(r, sim, shape, bed.r_max_m, crater_bin, window->first, window->second);
+  extract_release(r, spec, ctx, shape);
   return r;
 }
 
