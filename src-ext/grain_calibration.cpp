@@ -62,23 +62,12 @@ OT::KrigingResult fit_kriging(const OT::Sample& u, const OT::Sample& y, double n
   return algo.getResult();
 }
 
-}  // namespace
-
-GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const Decks& decks,
-                                        const ImpactSet& target,
-                                        const GrainCalibrationOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
-  GrainCalibrationResult r;
-  r.source = campaign_h5;
-  if (target.impacts.size() < 2)
-    throw InputError(target.source, 0, "vout", "the target needs at least 2 impacts");
-  ImpactSet set = read_impact_set_h5(campaign_h5);
-  set = filter_nonempty(set, options.where, campaign_h5);
-  for (const auto& e : read_campaign_index(campaign_h5))
-    if (e.status != "rebound") ++r.failed;
-  const auto grain = campaign_grain_parameters(campaign_h5, decks);
-
-  // The surrogate's inputs: given, or every grain parameter that the campaign varies.
+// The surrogate's inputs: given, or every grain parameter that the campaign varies (the bed's
+// seed aside), each with its deck default.
+void choose_inputs(GrainCalibrationResult& r, const ImpactSet& set,
+                   const std::map<std::string, std::map<std::string, std::string>>& grain,
+                   const Decks& decks, const GrainCalibrationOptions& options) {
+  const std::string& campaign_h5 = r.source;
   r.parameters = options.parameters;
   if (r.parameters.empty()) {
     std::map<std::string, std::set<std::string>> values;
@@ -91,7 +80,6 @@ GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const De
   if (r.parameters.empty())
     throw InputError(campaign_h5, 0, "/dem/index/params",
                      "the campaign varies no grain parameter: nothing to calibrate");
-  const std::size_t d = r.parameters.size();
   for (const auto& p : r.parameters) {
     const auto dot = p.find('.');
     const std::string section = p.substr(0, dot),
@@ -103,8 +91,14 @@ GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const De
       throw InputError(campaign_h5, 0, p, "unknown grain parameter (use bed.NAME or block.NAME)");
     r.deck_default.push_back(parse_number(it->default_value, "<decks>", p));
   }
+}
 
-  // Design points: replicas share every surrogate input.
+// Design points (replicas share every surrogate input) with their replica means, the pooled
+// within-point sd, and the sampled box. Returns the mean number of replicas per point.
+double gather_points(GrainCalibrationResult& r, const ImpactSet& set,
+                     const std::map<std::string, std::map<std::string, std::string>>& grain) {
+  const std::string& campaign_h5 = r.source;
+  const std::size_t d = r.parameters.size();
   std::map<std::vector<double>, std::size_t> index;
   std::vector<std::array<std::vector<double>, 3>> samples;
   for (const auto& im : set.impacts) {
@@ -144,7 +138,6 @@ GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const De
   double mean_replicas = 0;
   for (const auto& p : r.points)
     mean_replicas += static_cast<double>(p.replicas) / static_cast<double>(n);
-
   r.lower.assign(d, 0.0);
   r.upper.assign(d, 0.0);
   for (std::size_t k = 0; k < d; ++k) {
@@ -156,15 +149,11 @@ GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const De
     if (!(r.upper[k] > r.lower[k]))
       throw InputError(campaign_h5, 0, r.parameters[k], "takes one value only among the rebounds");
   }
-  auto scaled = [&](const std::vector<double>& x) {
-    OT::Point u(d);
-    for (std::size_t k = 0; k < d; ++k) u[k] = (x[k] - r.lower[k]) / (r.upper[k] - r.lower[k]);
-    return u;
-  };
-  OT::Sample u(n, d);
-  for (std::size_t i = 0; i < n; ++i) u[i] = scaled(r.points[i].x);
+  return mean_replicas;
+}
 
-  // The target: the measured rebounds' mean and standard deviation.
+// The target: the measured rebounds' mean and standard deviation.
+void target_moments(GrainCalibrationResult& r, const ImpactSet& target) {
   r.target_n = target.impacts.size();
   for (int c = 0; c < 3; ++c) {
     double m = 0, s = 0;
@@ -174,27 +163,18 @@ GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const De
     r.target_mean[c] = m;
     r.target_sd[c] = std::sqrt(s / static_cast<double>(r.target_n - 1));
   }
+}
 
-  // The search designs first: lhs_unit_design takes the OpenTURNS generator's lock itself.
-  const auto search_u = fit::lhs_unit_design(d, options.search_n, options.seed + 1);
-  auto local = fit::lhs_unit_design(d, options.search_n / 4, options.seed + 2);
-  // OpenTURNS's random generator is process-wide (fit/design.hpp): hold it for the whole fit.
-  std::lock_guard<std::mutex> lock(fit::openturns_rng_mutex());
-  // OpenTURNS warns whenever it narrows the kriging scale bounds to the data's range ("for
-  // coherency"): noise for the user, the bounds are ours. Warnings off while this fit runs.
-  struct QuietWarnings {
-    OT::Log::Severity flags = OT::Log::Flags();
-    QuietWarnings() { OT::Log::Show(flags & ~OT::Log::WARN); }
-    ~QuietWarnings() { OT::Log::Show(flags); }
-  } quiet;
-  OT::RandomGenerator::SetSeed(options.seed);
+// One kriging model per component on the scaled inputs u, with the replicas' noise, and its
+// leave-one-out check (the full fit's covariance parameters, hyperparameters not refitted).
+Surrogate fit_surrogate(GrainCalibrationResult& r, const OT::Sample& u, double mean_replicas) {
+  const std::size_t n = r.points.size(), d = r.parameters.size();
   Surrogate sur;
   for (int c = 0; c < 3; ++c) {
     OT::Sample y(n, 1);
     for (std::size_t i = 0; i < n; ++i) y(i, 0) = r.points[i].mean[c];
     const double noise = r.replicate_sd[c] * r.replicate_sd[c] / mean_replicas;
     sur.models.push_back(fit_kriging(u, y, noise, nullptr));
-    // Leave-one-out with the full fit's covariance parameters (hyperparameters not refitted).
     const OT::CovarianceModel cov = sur.models.back().getCovarianceModel();
     double press = 0, var = 0, ybar = 0;
     for (std::size_t i = 0; i < n; ++i) ybar += y(i, 0) / static_cast<double>(n);
@@ -213,15 +193,19 @@ GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const De
     r.q2[c] = 1.0 - press / var;
     r.rmse_loo[c] = std::sqrt(press / static_cast<double>(n));
   }
+  return sur;
+}
 
-  // Sobol indices on the surrogate (Saltelli 2010 estimators, OpenTURNS), inputs uniform on the
-  // sampled box.
+// Sobol indices on the surrogate (Saltelli 2010 estimators, OpenTURNS), inputs uniform on the
+// sampled box, with bootstrap intervals.
+void sobol_on_surrogate(GrainCalibrationResult& r, const Surrogate& sur, std::size_t sobol_n) {
+  const std::size_t d = r.parameters.size();
   const OT::ComposedDistribution unit(
       OT::ComposedDistribution::DistributionCollection(d, OT::Uniform(0.0, 1.0)));
-  const OT::Sample sobol_in = OT::SobolIndicesExperiment(unit, options.sobol_n).generate();
+  const OT::Sample sobol_in = OT::SobolIndicesExperiment(unit, sobol_n).generate();
   for (int c = 0; c < 3; ++c) {
     OT::SaltelliSensitivityAlgorithm algo(sobol_in, sur.models[c].getMetaModel()(sobol_in),
-                                          options.sobol_n);
+                                          sobol_n);
     algo.setBootstrapSize(200);
     const OT::Point f = algo.getFirstOrderIndices(), t = algo.getTotalOrderIndices();
     const OT::Interval fi = algo.getFirstOrderIndicesInterval(),
@@ -235,9 +219,15 @@ GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const De
       r.total_hi[c].push_back(ti.getUpperBound()[k]);
     }
   }
+}
 
-  // The calibrated point: the smallest expected misfit J over a space-filling search, then a
-  // second search in a box a tenth as wide around the best candidate.
+// The calibrated point: the smallest expected misfit J over a space-filling search (search_u),
+// then a second search in a box a tenth as wide around the best candidate (local: a unit
+// design, moved there). Returns the best point in unit coordinates.
+OT::Point search_best(GrainCalibrationResult& r, const Surrogate& sur,
+                      const std::vector<double>& search_u, std::vector<double> local,
+                      std::size_t search_n) {
+  const std::size_t d = r.parameters.size();
   auto misfit = [&](const OT::Sample& s, std::vector<double>& j, std::vector<char>* ok) {
     j.assign(s.getSize(), 0.0);
     if (ok) ok->assign(s.getSize(), 1);
@@ -258,7 +248,7 @@ GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const De
       for (std::size_t k = 0; k < d; ++k) s(i, k) = flat[i * d + k];
     return s;
   };
-  const OT::Sample search = to_sample(search_u, options.search_n);
+  const OT::Sample search = to_sample(search_u, search_n);
   std::vector<double> j;
   std::vector<char> ok;
   misfit(search, j, &ok);
@@ -267,10 +257,10 @@ GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const De
       static_cast<double>(std::count(ok.begin(), ok.end(), 1)) / static_cast<double>(ok.size());
   OT::Point ubest = search[best];
   double jbest = j[best];
-  for (std::size_t i = 0; i < options.search_n / 4; ++i)
+  for (std::size_t i = 0; i < search_n / 4; ++i)
     for (std::size_t k = 0; k < d; ++k)
       local[i * d + k] = std::clamp(ubest[k] + 0.1 * (local[i * d + k] - 0.5), 0.0, 1.0);
-  const OT::Sample near = to_sample(local, options.search_n / 4);
+  const OT::Sample near = to_sample(local, search_n / 4);
   misfit(near, j, nullptr);
   best = static_cast<std::size_t>(std::min_element(j.begin(), j.end()) - j.begin());
   if (j[best] < jbest) {
@@ -284,9 +274,12 @@ GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const De
     r.best_mean[c] = sur.models[c].getMetaModel()(ubest)[0];
     r.best_sd[c] = std::sqrt(std::max(0.0, sur.models[c].getConditionalMarginalVariance(ubest)));
   }
+  return ubest;
+}
 
-  // The abacus: one parameter at a time through the calibrated point.
-  const std::size_t grid_n = 41;
+// The abacus: one parameter at a time through the calibrated point (unit coordinates ubest).
+void abacus(GrainCalibrationResult& r, const Surrogate& sur, const OT::Point& ubest) {
+  const std::size_t d = r.parameters.size(), grid_n = 41;
   r.grid.resize(d);
   r.curve_mean.resize(d);
   r.curve_sd.resize(d);
@@ -306,6 +299,49 @@ GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const De
       }
     }
   }
+}
+
+}  // namespace
+
+GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const Decks& decks,
+                                        const ImpactSet& target,
+                                        const GrainCalibrationOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  GrainCalibrationResult r;
+  r.source = campaign_h5;
+  if (target.impacts.size() < 2)
+    throw InputError(target.source, 0, "vout", "the target needs at least 2 impacts");
+  ImpactSet set = read_impact_set_h5(campaign_h5);
+  set = filter_nonempty(set, options.where, campaign_h5);
+  for (const auto& e : read_campaign_index(campaign_h5))
+    if (e.status != "rebound") ++r.failed;
+  const auto grain = campaign_grain_parameters(campaign_h5, decks);
+  choose_inputs(r, set, grain, decks, options);
+  const double mean_replicas = gather_points(r, set, grain);
+  const std::size_t n = r.points.size(), d = r.parameters.size();
+  OT::Sample u(n, d);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t k = 0; k < d; ++k)
+      u(i, k) = (r.points[i].x[k] - r.lower[k]) / (r.upper[k] - r.lower[k]);
+  target_moments(r, target);
+
+  // The search designs first: lhs_unit_design takes the OpenTURNS generator's lock itself.
+  const auto search_u = fit::lhs_unit_design(d, options.search_n, options.seed + 1);
+  const auto local = fit::lhs_unit_design(d, options.search_n / 4, options.seed + 2);
+  // OpenTURNS's random generator is process-wide (fit/design.hpp): hold it for the whole fit.
+  std::lock_guard<std::mutex> lock(fit::openturns_rng_mutex());
+  // OpenTURNS warns whenever it narrows the kriging scale bounds to the data's range ("for
+  // coherency"): noise for the user, the bounds are ours. Warnings off while this fit runs.
+  struct QuietWarnings {
+    OT::Log::Severity flags = OT::Log::Flags();
+    QuietWarnings() { OT::Log::Show(flags & ~OT::Log::WARN); }
+    ~QuietWarnings() { OT::Log::Show(flags); }
+  } quiet;
+  OT::RandomGenerator::SetSeed(options.seed);
+  const Surrogate sur = fit_surrogate(r, u, mean_replicas);
+  sobol_on_surrogate(r, sur, options.sobol_n);
+  const OT::Point ubest = search_best(r, sur, search_u, local, options.search_n);
+  abacus(r, sur, ubest);
   r.seconds = seconds_since(start);
   return r;
 }
