@@ -719,8 +719,7 @@ std::vector<double> floor_on_heldout_scale(const Assessment& a, const NoiseFloor
 
 Adequacy adequacy(const Assessment& a, const NoiseFloor& floor) {
   Adequacy q;
-  const double n = static_cast<double>(a.heldout.per_release.size());
-  const double n_train = n * static_cast<double>(a.folds - 1) / static_cast<double>(a.folds);
+  const double n_train = a.cv.train_size();
   const double p = static_cast<double>(a.calibrated.size());
   const double inflate = 1.0 + p / std::max(1.0, n_train);
   const std::vector<double> f = floor_on_heldout_scale(a, floor);

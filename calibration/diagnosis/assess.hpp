@@ -298,6 +298,10 @@ struct CvDesign {
   std::vector<std::vector<std::size_t>> test;   ///< per split, held-out releases (ascending)
   std::vector<std::vector<std::size_t>> train;  ///< per split, training releases (ascending)
   std::size_t splits() const { return test.size(); }
+  /// The mean size of a test fold, n / folds, and of a training set, n - n / folds: the sizes
+  /// of the corrected resampled t-test (Nadeau & Bengio 2003) and of the floor's inflation.
+  double test_size() const { return static_cast<double>(n) / static_cast<double>(folds); }
+  double train_size() const { return static_cast<double>(n) - test_size(); }
 };
 /// Throws std::invalid_argument unless 2 <= folds <= n and repeats >= 1.
 CvDesign make_cv_design(std::size_t n, std::size_t folds, std::size_t repeats, std::uint64_t seed);

@@ -96,14 +96,13 @@ struct Judge {
       std::vector<double> split_drop(base.cv.splits());
       for (std::size_t j = 0; j < split_drop.size(); ++j)
         split_drop[j] = log_ratio(base.split_error[j], c.assessment.split_error[j]);
-      const double n = static_cast<double>(set.size());
-      const double n_test = n / static_cast<double>(base.cv.folds);
-      const stats::ResampledTest t = stats::corrected_resampled_t(split_drop, n_test, n - n_test);
+      const stats::ResampledTest t =
+          stats::corrected_resampled_t(split_drop, base.cv.test_size(), base.cv.train_size());
       c.drop_se = std::isfinite(t.t) && t.t != 0 ? std::fabs(c.error_drop / t.t) : NAN;
       c.heldout_t = t.t;
       c.heldout_p = std::isfinite(t.p_value) ? t.p_value : 1.0;
-      c.penalty =
-          static_cast<double>(added.size()) * b.floor.value.mean / std::max(1.0, n - n_test);
+      c.penalty = static_cast<double>(added.size()) * b.floor.value.mean /
+                  std::max(1.0, base.cv.train_size());
       c.penalised_heldout = c.heldout_error + c.penalty;
     } catch (const std::exception& e) {
       c.error = e.what();
@@ -329,7 +328,7 @@ void rank_singles(Diagnosis& d, const Scored& sc, const Judge& judge, int thread
 // the best single is supported, so the family-wise level holds), when that single leaves the
 // model above its floor.
 void add_pairs(Diagnosis& d, const Scored& sc, const Judge& judge, int threads,
-               const ImpactSet& set, const DiagnoseOptions& o) {
+               const DiagnoseOptions& o) {
   const bool top_supported = !d.ranking.empty() && d.ranking.front().supported;
   if (!o.pairs || !top_supported || d.ranking.front().adequacy.adequate) return;
   const Candidate& first = d.ranking.front();
@@ -353,8 +352,6 @@ void add_pairs(Diagnosis& d, const Scored& sc, const Judge& judge, int threads,
   // first), not over the pairs tried: the union bound over all of them holds whichever the data
   // chose (issue 31, 5e).
   const Assessment& base = d.baseline.base;
-  const double nn = static_cast<double>(set.size());
-  const double n_test = nn / static_cast<double>(base.cv.folds);
   const std::size_t partners = std::max<std::size_t>(1, sc.names.size() - 1);
   const double level = o.alpha / static_cast<double>(partners);
   for (Candidate& c : pairs) {
@@ -362,7 +359,8 @@ void add_pairs(Diagnosis& d, const Scored& sc, const Judge& judge, int threads,
       std::vector<double> dj(base.cv.splits());
       for (std::size_t j = 0; j < dj.size(); ++j)
         dj[j] = log_ratio(first.assessment.split_error[j], c.assessment.split_error[j]);
-      const stats::ResampledTest t = stats::corrected_resampled_t(dj, n_test, nn - n_test);
+      const stats::ResampledTest t =
+          stats::corrected_resampled_t(dj, base.cv.test_size(), base.cv.train_size());
       c.beats_first = std::isfinite(t.p_value) && t.p_value < level;
       c.t = t.t;
       c.p_value = std::isfinite(t.p_value) ? t.p_value : 1.0;
@@ -448,7 +446,7 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
               1, std::min(sc.names.size(), o.candidates.empty() ? o.screen : sc.names.size())))));
   const Judge judge{warm, shape, set, b, o, registry, threads > 1 ? 1 : o.assess.fit.threads};
   rank_singles(d, sc, judge, threads, o);
-  add_pairs(d, sc, judge, threads, set, o);
+  add_pairs(d, sc, judge, threads, o);
   // Phase 4: what the ranking rests on, the laws the data cannot exclude, what they could see.
   for (Candidate& c : d.ranking)
     if (c.error.empty()) c.evidence = detail::evidence_of(c, b, o);
