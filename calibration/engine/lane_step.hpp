@@ -1,6 +1,6 @@
 // One step of the engine for one lane, or for one vector of lanes: the arithmetic of velocity
 // Verlet and of a vertex's contact with the ground, written once and shared by the generic batch
-// loops (engine.cpp, T = double inside vectorised loops over the lane arrays) and the fused
+// loops (engine/lane_batch.hpp, T = double inside vectorised loops over the lane arrays) and the fused
 // kernel (paper_kernel.hpp, T = Lanes held in registers). The effects' contact law is shared the
 // same way (effects/normal.hpp, tangential.hpp, rolling.hpp). Internal to the engine.
 //

@@ -1,7 +1,7 @@
 // The engine's fused kernel: every model that holds the paper's law (effects normal + tangential
 // + rolling, Garcia et al. 2020 Eq. 3, 5, 6), on flat ground, in one loop whose state stays in
 // vector registers. The hot path of calibration, Monte Carlo, Sobol and every diagnosis. Internal
-// to engine.cpp.
+// to the integrator (engine/lane_batch.hpp).
 //
 // Why: the generic engine streams some ninety lane arrays through memory per step, one loop per
 // stage and effect (the price of composing effects at run time), about 80 cycles per collision
@@ -13,7 +13,7 @@
 // contact's inputs, factors and forces in small chunk arrays.
 //
 // Same arithmetic: the integrator and a vertex's contact are the per-lane functions of
-// engine/lane_step.hpp, which the generic path (LaneBatch::step and slot_step in engine.cpp)
+// engine/lane_step.hpp, which the generic path (LaneBatch::step and slot_step in engine/lane_batch.hpp)
 // calls too, so results are bit for bit those of the generic path (test
 // Engine.FusedKernelIsTheGenericPathBitForBit).
 #pragma once

@@ -1,4 +1,4 @@
-// law_force_along (path_force.hpp): the engine's contact step (engine.cpp, LaneBatch::contacts)
+// law_force_along (path_force.hpp): the engine's contact step (engine/lane_batch.hpp, LaneBatch::contacts)
 // with one lane and the block placed on the path instead of integrated.
 #include "engine/path_force.hpp"
 
@@ -110,7 +110,7 @@ std::vector<PathForce> law_force_along(const Model& model, const Shape& shape,
       if (!(active > 0.0))
         for (std::size_t e = 0; e < effects.size(); ++e)
           for (double& v : state[e * slots + s]) v = 0.0;
-      // The contact force acts at the contact point (engine.cpp, add_contact), the body force
+      // The contact force acts at the contact point (engine/lane_batch.hpp, add_contact), the body force
       // at the centre of mass.
       const double fcx = fn * nx + ft * ny, fcy = fn * ny - ft * nx;
       f.fx_N += fcx + fxb;
