@@ -205,6 +205,13 @@ void derive_floor_terms(NoiseFloor& f, const ImpactSet& set,
     f.per_release[i] = e;
   }
   f.value = mean_se(f.per_release);
+  f.orientation_share = 0;
+  for (std::size_t i = 0; i < n && i < f.orientation.size(); ++i) {
+    const Obs d = error_scale(set.impacts[i], o);
+    for (int k = 0; k < kObservables; ++k)
+      if (use[k])
+        f.orientation_share += f.orientation[i][k] / (d[k] * d[k]) / static_cast<double>(n);
+  }
 }
 
 NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const double> params,
@@ -236,6 +243,15 @@ NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const d
   }
   // The sigma of each observable per release (physical units) before scaling.
   std::vector<Obs> var(n);
+  // The prediction's spread over the unknown orientation (0 for discs and known alpha_in), at
+  // the set's incident states: every source below gets its term.
+  const bool sampled =
+      !shape.is_disc() && std::any_of(set.impacts.begin(), set.impacts.end(),
+                                      [](const Impact& im) { return !im.alpha_in.has_value(); });
+  std::vector<ObsPrediction> base;
+  if (sampled || f.replicate_groups < 2) base = predict_observables(model, shape, params, set, o);
+  f.orientation.assign(n, Obs{});
+  bool any_spread = false;
   if (f.replicate_groups >= 2) {
     f.source = "replicates";
     f.description = fmt::format(
@@ -244,7 +260,17 @@ NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const d
         "({} degrees of freedom): measurement noise and release-to-release variability",
         f.replicate_groups, dof);
     for (std::size_t i = 0; i < n; ++i)
-      for (int k = 0; k < kObservables; ++k) var[i][k] = use[k] ? pooled[k] : 0.0;
+      for (int k = 0; k < kObservables; ++k) {
+        if (!use[k]) continue;
+        // The replicates' measured spread holds the true orientation's variance: only the
+        // prediction's own spread is added (e_i counts it, (mean - m)^2 + spread^2).
+        const double spread = sampled ? base[i].spread[k] : 0.0;
+        any_spread = any_spread || spread > 0;
+        f.orientation[i][k] = spread * spread;
+        var[i][k] = pooled[k] + f.orientation[i][k];
+      }
+    if (any_spread)
+      f.description += ", plus the spread of the prediction over the unknown block orientation";
   } else {
     bool declared = true;
     for (const auto& im : set.impacts) declared = declared && im.sigma_vout.has_value();
@@ -260,7 +286,6 @@ NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const d
 
     // V_in uncertainty propagated through the calibrated model: forward differences over a step
     // of the mean V_in uncertainty of each component.
-    const auto base = predict_observables(model, shape, params, set, o);
     std::array<std::vector<ObsPrediction>, 3> shifted;
     Vel3 step{};
     for (int j = 0; j < 3; ++j) {
@@ -271,7 +296,6 @@ NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const d
       for (auto& im : moved.impacts) im.vin[j] += step[j];
       shifted[j] = predict_observables(model, shape, params, moved, o);
     }
-    bool any_spread = false;
     for (std::size_t i = 0; i < n; ++i) {
       const Impact& im = set.impacts[i];
       const Vel3 sin = im.sigma_vin ? *im.sigma_vin : o.sigma_vin;
@@ -291,7 +315,8 @@ NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const d
         any_spread = any_spread || spread > 0;
         // The truth's orientation and the prediction's are both unknown: the expected
         // error of the true model counts the spread twice (once for each).
-        var[i][k] = meas_sd[k] * meas_sd[k] + prop + 2.0 * spread * spread;
+        f.orientation[i][k] = 2.0 * spread * spread;
+        var[i][k] = meas_sd[k] * meas_sd[k] + prop + f.orientation[i][k];
       }
     }
     f.description =
@@ -747,14 +772,17 @@ nlohmann::json to_json(const Obs& o, const std::array<bool, kObservables>& use) 
 }
 
 nlohmann::json to_json(const NoiseFloor& f, const std::array<bool, kObservables>& use) {
-  return {{"value", f.value.mean},
-          {"se", f.value.se},
-          {"source", f.source},
-          {"description", f.description},
-          {"per_component", to_json(f.term_mean, use)},
-          {"sigma", to_json(f.sigma_mean, use)},
-          {"nearest_neighbour", f.nearest_neighbour},
-          {"replicate_groups", f.replicate_groups}};
+  nlohmann::json j = {{"value", f.value.mean},
+                      {"se", f.value.se},
+                      {"source", f.source},
+                      {"description", f.description},
+                      {"per_component", to_json(f.term_mean, use)},
+                      {"sigma", to_json(f.sigma_mean, use)},
+                      {"nearest_neighbour", f.nearest_neighbour},
+                      {"replicate_groups", f.replicate_groups}};
+  // The orientation term only where there is one (a set of known orientation reads as before).
+  if (f.orientation_share > 0) j["orientation_term"] = f.orientation_share;
+  return j;
 }
 
 }  // namespace ricochet::diagnosis

@@ -45,7 +45,11 @@
 // differences: the model is run from a measured, hence noisy, incident state) and s_alpha^2
 // twice the variance of the prediction over the unknown orientation of non-disc blocks without
 // alpha_in (the true and the predicted orientations are both unknown): neither is the model's
-// fault.
+// fault. That orientation term is part of the floor whatever the source of the measurement
+// noise (issue 35): with replicates it is added once (the replicates' spread already holds the
+// true orientation's), and it is not rescaled when the noise is fitted (scatter.hpp): it comes
+// from the model at the set's incident states, not from the measurement. A set with alpha_in
+// has no such term: its orientation is known.
 // A model is "adequate" when its held-out error is not significantly above the floor, tested
 // release by release (paired: a release with a large floor also has a large expected error):
 //   x_i = e_i^heldout - Delta_i (1 + p / n_train),   adequate  <=>  mean(x) <= 2 SE(x)
@@ -280,6 +284,10 @@ struct NoiseFloor {
   /// differences between neighbours' incident states.
   double nearest_neighbour = 0;
   std::size_t replicate_groups = 0;
+  /// Per release, per observable: the orientation term of `variance` (physical units squared;
+  /// 0 for discs and known alpha_in), included in it.
+  std::vector<Obs> orientation;
+  double orientation_share = 0;  ///< the orientation term's part of value.mean (floor units)
 };
 NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const double> params,
                        const ImpactSet& set, const std::array<bool, kObservables>& use,

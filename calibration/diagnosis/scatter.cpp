@@ -12,11 +12,13 @@ namespace ricochet::diagnosis {
 namespace {
 
 // Negative log-likelihood of the held-out residuals under measurement variances g_k^2 s (g the
-// per-observable scale of the noise, 1 unless it is fitted) plus the parameter scatter tau
-// (scatter.hpp), up to a constant.
+// per-observable scale of the noise, 1 unless it is fitted) plus the orientation term a (the
+// model's spread over an unknown orientation: not measurement noise, never rescaled) plus the
+// parameter scatter tau (scatter.hpp), up to a constant.
 struct Likelihood {
   std::vector<Eigen::VectorXd> r;               // per release: residuals of used observables
   std::vector<Eigen::VectorXd> s;               // per release: measurement variances
+  std::vector<Eigen::VectorXd> a;               // per release: orientation variances
   std::vector<std::vector<Eigen::VectorXd>> j;  // per release, per parameter: derivatives
 
   double nll(const std::vector<double>& tau, const std::vector<double>& g) const {
@@ -24,7 +26,7 @@ struct Likelihood {
     for (std::size_t i = 0; i < r.size(); ++i) {
       Eigen::VectorXd sg = s[i];
       for (Eigen::Index k = 0; k < sg.size(); ++k)
-        sg[k] *= g[static_cast<std::size_t>(k)] * g[static_cast<std::size_t>(k)];
+        sg[k] = sg[k] * (g[static_cast<std::size_t>(k)] * g[static_cast<std::size_t>(k)]) + a[i][k];
       Eigen::MatrixXd cov = sg.asDiagonal();
       for (std::size_t p = 0; p < tau.size(); ++p)
         cov.noalias() += tau[p] * tau[p] * j[i][p] * j[i][p].transpose();
@@ -116,6 +118,7 @@ PopulationScatter population_scatter(const Model& warm, const Shape& shape, cons
   Likelihood L;
   L.r.assign(n, Eigen::VectorXd(static_cast<Eigen::Index>(obs.size())));
   L.s.assign(n, Eigen::VectorXd(static_cast<Eigen::Index>(obs.size())));
+  L.a.assign(n, Eigen::VectorXd::Zero(static_cast<Eigen::Index>(obs.size())));
   L.j.assign(n, std::vector<Eigen::VectorXd>(
                     cal.size(), Eigen::VectorXd(static_cast<Eigen::Index>(obs.size()))));
   const double n_train = static_cast<double>(n) * static_cast<double>(base.folds - 1) /
@@ -141,7 +144,10 @@ PopulationScatter population_scatter(const Model& warm, const Shape& shape, cons
       const auto kk = static_cast<Eigen::Index>(k);
       const double r = base.heldout.residual[i][obs[k]];
       L.r[i][kk] = std::isfinite(r) ? r : 0.0;
-      L.s[i][kk] = std::max(floor.variance[i][obs[k]] * inflate, 1e-30);
+      // The orientation term apart: a fitted noise scale must not shrink it (issue 35).
+      const double a = i < floor.orientation.size() ? floor.orientation[i][obs[k]] : 0.0;
+      L.s[i][kk] = std::max((floor.variance[i][obs[k]] - a) * inflate, 1e-30);
+      L.a[i][kk] = a * inflate;
     }
   // Without replicates or declared uncertainties the measurement noise is fitted too (issue
   // 31, 5b): the fallback's variances give its shape per release, a scale g_k per observable
@@ -165,8 +171,11 @@ PopulationScatter population_scatter(const Model& warm, const Shape& shape, cons
 
   if (out.noise_fitted) {
     for (std::size_t i = 0; i < n; ++i)
-      for (std::size_t k = 0; k < obs.size(); ++k)
-        out.measurement.variance[i][obs[k]] *= best_fit.g[k] * best_fit.g[k];
+      for (std::size_t k = 0; k < obs.size(); ++k) {
+        const double a = i < floor.orientation.size() ? floor.orientation[i][obs[k]] : 0.0;
+        out.measurement.variance[i][obs[k]] =
+            (out.measurement.variance[i][obs[k]] - a) * (best_fit.g[k] * best_fit.g[k]) + a;
+      }
     derive_floor_terms(out.measurement, set, base.use, o);
     out.measurement.source = "fitted";
     std::string sd;

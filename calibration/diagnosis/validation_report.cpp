@@ -99,6 +99,11 @@ std::string headline_of(const ReportSection& s) {
         : b.floor.source == "declared" ? "the set's declared uncertainties"
                                        : "the lab's uncertainties (paper Table 1)",
         g3(b.floor.nearest_neighbour));
+  // An unknown orientation is part of the floor (assess.hpp): say how much, so that a ratio
+  // against it is not read as a ratio against the measurement alone.
+  if (b.floor.orientation_share > 0)
+    fails += fmt::format(" (the floor {} includes {} from the spread over the unknown orientation)",
+                         g3(b.floor.value.mean), g3(b.floor.orientation_share));
   if (!b.adequacy.adequate && worst >= 0)
     fails += fmt::format(", worst on {} ({} x its own floor)", kObservableLabels[worst],
                          ratio(worst_ratio));
