@@ -22,6 +22,7 @@
 #include "engine/shape.hpp"
 #include "fit/fit.hpp"
 #include "kinematics/reconstruct.hpp"
+#include "kinematics/track_forces.hpp"
 #include "stats/lab_gap.hpp"
 #include "stats/paired.hpp"
 #include "support/program_test.hpp"
@@ -238,6 +239,8 @@ void OptionDefaults::reconstruct() {
   const kinematics::ReconstructOptions rc;
   expect("reconstruct", "--k-sigma", rc.detection_k_sigma);
   expect("reconstruct", "--guard", static_cast<double>(rc.detection_guard_points));
+  expect("reconstruct", "--smooth",
+         static_cast<double>(kinematics::TrackForceOptions{}.half_window));
   EXPECT_NE(help("reconstruct").find(fmt::format("(default {:g})", rc.gravity_mps2.value_or(0))),
             std::string::npos);
   // The label written into the impact set's shape column when none is given: the command
