@@ -20,6 +20,7 @@
 #include "kinematics/track_forces.hpp"
 #include "report/plot.hpp"
 #include "shared_options.hpp"
+#include "stats/robust.hpp"
 
 namespace ricochet::cli {
 namespace {
@@ -207,29 +208,28 @@ void write_releases(const ReconstructCliOptions& o, const std::vector<Release>& 
 /// (docs/diagnosis.md, "Forces from video"; scripts/video-forces.sh).
 constexpr double kBlurFraction = 1.0 / 3.0;
 
-/// Summary of the force track for the text and JSON outputs.
+/// Summary of a release's force track for the text and JSON outputs.
 struct ForceSummary {
   double span_s = 0, peak_fcy_N = 0, sigma_at_peak_N = 0, median_sigma_fcy_N = 0;
-  std::size_t peak_index = 0;
+  double contact_s = 0;  ///< the reconstruction's contact window [s]
+  bool blurred = false;  ///< span_s > kBlurFraction * contact_s
 };
 
-ForceSummary summarize_forces(const kinematics::Track& tr, const BlockTrack& b, std::size_t k) {
+ForceSummary summarize_forces(const Release& rel, std::size_t k) {
+  const BlockTrack& b = *rel.forces;
   ForceSummary s;
-  std::vector<double> spans, sig;
+  std::vector<double> spans;
+  std::size_t peak = 0;
   for (std::size_t i = 0; i < b.size(); ++i) {
-    spans.push_back(kinematics::smoothing_span_s(tr, i, k));
-    if (std::isfinite(b.sigma_fcy[i])) sig.push_back(b.sigma_fcy[i]);
-    if (b.fcy[i] > b.fcy[s.peak_index]) s.peak_index = i;
+    spans.push_back(kinematics::smoothing_span_s(rel.tracked, i, k));
+    if (b.fcy[i] > b.fcy[peak]) peak = i;
   }
-  auto median = [](std::vector<double> v) {
-    if (v.empty()) return std::nan("");
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-    return v[v.size() / 2];
-  };
-  s.span_s = median(spans);
-  s.median_sigma_fcy_N = median(sig);
-  s.peak_fcy_N = b.fcy[s.peak_index];
-  s.sigma_at_peak_N = b.sigma_fcy[s.peak_index];
+  s.span_s = stats::robust_summarize(spans).median;
+  s.median_sigma_fcy_N = stats::robust_summarize(b.sigma_fcy).median;  // NaN entries skipped
+  s.peak_fcy_N = b.fcy[peak];
+  s.sigma_at_peak_N = b.sigma_fcy[peak];
+  s.contact_s = rel.r.contact_end_s - rel.r.contact_start_s;
+  s.blurred = s.span_s > kBlurFraction * s.contact_s;
   return s;
 }
 
@@ -317,12 +317,11 @@ json result_json(const ReconstructCliOptions& o, const Release& rel,
                   {"source", r.sigma_source}};
   doc["rms_residual_m"] = {{"before", r.rms_residual_before_m}, {"after", r.rms_residual_after_m}};
   if (rel.forces) {
-    const ForceSummary f = summarize_forces(rel.tracked, *rel.forces, o.smooth);
-    const double contact_s = r.contact_end_s - r.contact_start_s;
+    const ForceSummary f = summarize_forces(rel, o.smooth);
     doc["track_forces"] = {{"half_window_frames", o.smooth},
                            {"span_s", f.span_s},
-                           {"span_over_contact", f.span_s / contact_s},
-                           {"blurred", f.span_s > kBlurFraction * contact_s},
+                           {"span_over_contact", f.span_s / f.contact_s},
+                           {"blurred", f.blurred},
                            {"peak_fcy_N", f.peak_fcy_N},
                            {"sigma_at_peak_N", f.sigma_at_peak_N},
                            {"median_sigma_fcy_N", f.median_sigma_fcy_N},
@@ -354,18 +353,17 @@ void print_text(const ReconstructCliOptions& o, const Release& rel,
     std::cout << fmt::format("  {} tracked points beyond {:.1f} sigma kept in the fits\n",
                              r.flagged_points, o.k_sigma);
   if (rel.forces) {
-    const ForceSummary f = summarize_forces(rel.tracked, *rel.forces, o.smooth);
+    const ForceSummary f = summarize_forces(rel, o.smooth);
     std::cout << fmt::format(
         "  contact force from the accelerations ({}-frame fits, time resolution {:.1f} ms): "
         "peak fcy {:.0f} +- {:.0f} N (s.e.), median s.e. {:.0f} N\n",
         2 * o.smooth + 1, 1e3 * f.span_s, f.peak_fcy_N, f.sigma_at_peak_N, f.median_sigma_fcy_N);
-    const double contact_s = r.contact_end_s - r.contact_start_s;
-    if (f.span_s > kBlurFraction * contact_s)
+    if (f.blurred)
       std::cout << fmt::format(
           "  warning: one fit spans {:.1f} ms, more than a third of the {:.1f} ms contact window: "
           "the force's shape is blurred beyond its standard errors (a higher frame rate or a "
           "smaller --smooth)\n",
-          1e3 * f.span_s, 1e3 * contact_s);
+          1e3 * f.span_s, 1e3 * f.contact_s);
   }
   for (const std::string& f : rel.figures) std::cout << "wrote " << f << "\n";
 }

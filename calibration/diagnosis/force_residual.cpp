@@ -114,9 +114,7 @@ std::optional<ForceLawReport> force_law_from_tracks(
     const std::string& data, const ImpactSet& set, const Shape& shape, const Model& model,
     std::span<const double> params, const EngineOptions& engine,
     const stats::SparseOptions& options, const std::vector<std::vector<double>>& release_params) {
-  if (!release_params.empty() && release_params.size() != set.size())
-    throw std::invalid_argument(
-        "force_law_from_tracks: release_params is not aligned with the set");
+  // measured_histories is aligned with the set: force_law_from_histories checks release_params.
   return force_law_from_histories(measured_histories(data, set, shape), shape, model, params,
                                   engine, options, release_params);
 }

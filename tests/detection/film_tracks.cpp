@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "impact/block_track.hpp"
+#include "stats/robust.hpp"
 #include "stats/track_summary.hpp"
 #include "truth_video.hpp"
 
@@ -32,11 +33,8 @@ using namespace ricochet;
 
 namespace {
 
-double median(std::vector<double> v) {
-  if (v.empty()) return std::nan("");
-  std::sort(v.begin(), v.end());
-  const std::size_t m = v.size() / 2;
-  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+double median(const std::vector<double>& v) {
+  return stats::robust_summarize(v).median;
 }
 
 // Linear interpolation of column c of track h at time t (inside h's records).
@@ -81,8 +79,8 @@ int film(const std::string& file, const std::string& dir, double radius,
 int compare(const std::string& file, const std::string& video_file, bool as_json) {
   std::vector<double> err2, se, z, peak_ratio;
   std::size_t releases = 0;
+  const auto source_ids = block_track_ids(file);
   for (const std::string& id : block_track_ids(video_file)) {
-    const auto source_ids = block_track_ids(file);
     if (std::find(source_ids.begin(), source_ids.end(), id) == source_ids.end()) continue;
     BlockTrack rec = read_block_track(file, id), vid = read_block_track(video_file, id);
     rec.pad();
