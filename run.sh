@@ -13,12 +13,18 @@ usage() { echo "usage: ./run.sh main|test|build|bench [args]" >&2; exit 2; }
 [ $# -ge 1 ] || usage
 what=$1; shift
 
+# install_missing LIST...: the Debian packages of the lists (scripts/packages*.txt) not yet
+# installed. `main` needs only scripts/packages.txt (the program and its job); `test` and `bench`
+# add scripts/packages-test.txt (GoogleTest, Google Benchmark, clang for the fuzz target, Chromium
+# for the report's reading test, perf): about half of a fresh machine's download (issue 34).
 install_missing() {
-  local missing=()
-  while read -r pkg; do
-    [[ -z "$pkg" || "$pkg" == \#* ]] && continue
-    dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || missing+=("$pkg")
-  done < scripts/packages.txt
+  local missing=() list pkg
+  for list in "$@"; do
+    while read -r pkg; do
+      [[ -z "$pkg" || "$pkg" == \#* ]] && continue
+      dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || missing+=("$pkg")
+    done < "$list"
+  done
   if [ ${#missing[@]} -gt 0 ]; then
     echo "run.sh: installing ${missing[*]}" >&2
     local sudo=""
@@ -27,12 +33,20 @@ install_missing() {
     DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
   fi
 }
+MAIN_PACKAGES=(scripts/packages.txt)
+ALL_PACKAGES=(scripts/packages.txt scripts/packages-test.txt)
 
-# build [TARGET...]: every target, or only those named (the main job needs only the program:
-# not the tests, benchmarks and fuzz targets, about half the build; issue 34).
+# build WITH_TESTS [TARGET...]: configure (tests, benchmarks and fuzz targets ON or OFF: `main`
+# configures without them, so that it needs neither their packages nor their build; `test` turns
+# them on in the same tree), then build every target, or only those named.
 build() {
+  local with_tests=$1; shift
   if [ ! -f "$BUILD/CMakeCache.txt" ]; then
-    cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >&2
+    cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DRICOCHET_BUILD_TESTS="$with_tests" \
+      -DRICOCHET_BUILD_BENCHMARKS="$with_tests" -DRICOCHET_BUILD_FUZZ="$with_tests" >&2
+  elif [ "$with_tests" = ON ] && ! grep -q '^RICOCHET_BUILD_TESTS:BOOL=ON' "$BUILD/CMakeCache.txt"; then
+    cmake -S "$ROOT" -B "$BUILD" -DRICOCHET_BUILD_TESTS=ON -DRICOCHET_BUILD_BENCHMARKS=ON \
+      -DRICOCHET_BUILD_FUZZ=ON >&2
   fi
   local targets=()
   for t in "$@"; do targets+=(--target "$t"); done
@@ -40,19 +54,19 @@ build() {
 }
 
 case "$what" in
-  build) install_missing; build ;;
+  build) install_missing "${ALL_PACKAGES[@]}"; build ON ;;
   main)
-    install_missing; build ricochet
+    install_missing "${MAIN_PACKAGES[@]}"; build OFF ricochet
     exec "$ROOT/scripts/main-job.sh" "$BUILD" "$@"
     ;;
   test)
-    install_missing; build
+    install_missing "${ALL_PACKAGES[@]}"; build ON
     "$ROOT/scripts/main-job.sh" "$BUILD" --quick
     cd "$BUILD"
     exec ctest --no-tests=error --output-on-failure -j "$JOBS" "$@"
     ;;
   bench)
-    install_missing; build
+    install_missing "${ALL_PACKAGES[@]}"; build ON
     exec "$ROOT/scripts/bench.sh" "$BUILD" "$@"
     ;;
   *) usage ;;
