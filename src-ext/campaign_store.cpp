@@ -15,14 +15,13 @@
 #include <stdexcept>
 
 #include "common/h5.hpp"
+#include "common/nan.hpp"
 
 namespace ricochet::dem {
 
 namespace fs = std::filesystem;
 
-namespace {
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-}  // namespace
+namespace {}  // namespace
 
 const std::vector<std::string>& campaign_value_names() {
   static const std::vector<std::string> names = [] {

@@ -15,6 +15,7 @@
 
 #include "chunk_run.hpp"
 #include "common/clock.hpp"
+#include "common/nan.hpp"
 #include "impact_run.hpp"
 #include "liggghts.hpp"
 
@@ -24,7 +25,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr std::size_t kColumns = 11;
 
 double process_cpu_s() {

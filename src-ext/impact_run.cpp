@@ -1,6 +1,7 @@
 #include "impact_run.hpp"
 
 #include "common/clock.hpp"
+#include "common/nan.hpp"
 #include "frames.hpp"
 
 #include <sys/resource.h>
@@ -28,7 +29,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Atom type of the block's spheres (impact/setup.in: `group block type 2`, common/materials.in).
 constexpr int kBlockAtomType = 2;
 

@@ -1,5 +1,6 @@
 // The second stage of the confidence set of laws (encompassing.hpp).
 #include "diagnosis/encompassing.hpp"
+#include "common/nan.hpp"
 
 #include <openturns/OT.hxx>
 
@@ -14,7 +15,6 @@
 namespace ricochet::diagnosis::detail {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // The smallest non-nested move that counts, |(I - P_a)(I - P_b) d|^2 in whitened units summed
 // over the set: below it the move would carry less than a third of one noise standard deviation.
 constexpr double kMinMove = 0.1;

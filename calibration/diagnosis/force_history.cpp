@@ -1,6 +1,7 @@
 // The force-history error of a calibrated model and the discovered law as a model
 // (force_history.hpp).
 #include "diagnosis/force_history.hpp"
+#include "common/nan.hpp"
 
 #include <fmt/format.h>
 
@@ -16,8 +17,6 @@
 namespace ricochet::diagnosis {
 
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // Sums of squared residuals and sample counts per component.
 struct Squares {

@@ -1,5 +1,6 @@
 // The throws that would decide between rival laws (throw_design.hpp).
 #include "diagnosis/throw_design.hpp"
+#include "common/nan.hpp"
 
 #include <fmt/format.h>
 #include <openturns/OT.hxx>
@@ -37,8 +38,6 @@ WideBox box_of(const ImpactSet& set) {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // A point of the unit cube mapped into the box.
 Vel3 in_box(const WideBox& b, double u0, double u1, double u2) {

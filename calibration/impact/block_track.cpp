@@ -9,11 +9,10 @@
 
 #include "common/error.hpp"
 #include "common/h5.hpp"
+#include "common/nan.hpp"
 
 namespace ricochet {
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // The columns in the writer's order: name, SI unit, member.
 struct ColumnDef {

@@ -10,6 +10,7 @@
 
 #include "common/csv.hpp"
 #include "common/error.hpp"
+#include "common/nan.hpp"
 #include "impact/impact_set.hpp"
 #include "impact/schema_detail.hpp"
 
@@ -18,8 +19,6 @@ namespace ricochet {
 using namespace impact_detail;
 
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // One header column as declared in the file.
 struct FileColumn {

@@ -2,6 +2,7 @@
 // The CSV form lives in impact_csv.cpp, the HDF5 form in impact_h5.cpp. This file must stay free
 // of HDF5 so that the fuzz target can compile it alone.
 #include "impact/impact_set.hpp"
+#include "common/nan.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -326,8 +327,6 @@ void RowAssembler::finish(Impact&& m, ImpactSet& set, std::size_t line) {
 using namespace impact_detail;
 
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 const char* const kDerivedFeatures[] = {
     "vin_x",    "vin_y",    "win",         "vout_x",           "vout_y", "wout",

@@ -1,5 +1,6 @@
 // track_with_forces (track_forces.hpp): local quadratic fits, Savitzky & Golay (1964).
 #include "kinematics/track_forces.hpp"
+#include "common/nan.hpp"
 
 #include <Eigen/Dense>
 
@@ -10,8 +11,6 @@
 
 namespace ricochet::kinematics {
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // First frame of the 2k + 1 frames fitted around frame i: centred, shifted inward at the ends.
 std::size_t window_start(std::size_t i, std::size_t n, std::size_t k) {

@@ -1,5 +1,6 @@
 // Paired comparison of two conditions of the same impacts (paired.hpp).
 #include "stats/paired.hpp"
+#include "common/nan.hpp"
 
 #include <fmt/format.h>
 #include <openturns/DistFunc.hxx>
@@ -17,8 +18,6 @@
 
 namespace ricochet::stats {
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 PairedComponent component(const std::vector<double>& d, const PairedOptions& o) {
   PairedComponent c;

@@ -8,10 +8,10 @@
 #include <random>
 #include <stdexcept>
 
+#include "common/nan.hpp"
+
 namespace ricochet::stats {
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 std::vector<double> finite_values(std::span<const double> x) {
   std::vector<double> out;
@@ -19,12 +19,6 @@ std::vector<double> finite_values(std::span<const double> x) {
   for (double v : x)
     if (!std::isnan(v)) out.push_back(v);
   return out;
-}
-
-OT::Sample to_sample(const std::vector<double>& x) {
-  OT::Sample s(x.size(), 1);
-  for (std::size_t i = 0; i < x.size(); ++i) s(i, 0) = x[i];
-  return s;
 }
 
 }  // namespace

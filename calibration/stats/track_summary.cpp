@@ -6,10 +6,11 @@
 #include <cmath>
 #include <set>
 
+#include "common/nan.hpp"
+
 namespace ricochet::stats {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // A contact force below this fraction of the track's largest is rounding, not a touch.
 constexpr double kForceRoundoff = 1e-9;
 // The contact criterion of the impact deck (liggghts-inputs/impact/setup.in: f_contact_frac, in
