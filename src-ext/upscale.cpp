@@ -159,130 +159,145 @@ double number_or_nan(const std::string& s) {
 
 }  // namespace
 
+namespace {
+
+// Fitted parameters per impact against the incident state (|V_in|, then omega_in), one series
+// per group, with each impact's near-optimal interval.
+report::Figure parameters_figure(const UpscaleResult& r) {
+  const auto& names = r.impacts.front().fit.names;
+  const auto& calibrated = r.impacts.front().fit.calibrated;
+  report::Figure fig;
+  fig.title =
+      "Equivalent contact parameters of resolved impacts (" + r.shape + ", " + r.source + ")";
+  fig.columns = static_cast<int>(calibrated.size());
+  fig.height_px = 800;
+  for (const char* axis : {"speed_in", "win"}) {
+    for (std::size_t c : calibrated) {
+      report::Panel p;
+      p.title = names[c];
+      p.xlabel = std::string(axis) == "speed_in" ? "|V_in| [m/s]" : "omega_in [rad/s]";
+      p.ylabel = names[c];
+      for (const auto& g : r.groups) {
+        report::Series s;
+        s.title = g.key;
+        s.style = "errorbars";
+        for (std::size_t i : g.members) {
+          const Impact& im = r.set.impacts[i];
+          const auto& f = r.impacts[i].fit;
+          s.x.push_back(std::string(axis) == "speed_in" ? std::hypot(im.vin[kVx], im.vin[kVy])
+                                                        : im.vin[kW]);
+          s.y.push_back(f.params[c]);
+          const auto* iv = f.interval(names[c]);
+          s.ylo.push_back(iv ? iv->lo : f.params[c]);
+          s.yhi.push_back(iv ? iv->hi : f.params[c]);
+        }
+        p.series.push_back(s);
+      }
+      p.key = r.groups.size() > 4 ? "off" : "";
+      fig.panels.push_back(p);
+    }
+  }
+  return fig;
+}
+
+// Abacus: the group fits (and each impact's) against the grouping parameter `by`, whose value
+// per group is xs.
+report::Figure abacus_figure(const UpscaleResult& r, const std::string& by,
+                             const std::vector<double>& xs) {
+  const auto& names = r.impacts.front().fit.names;
+  const auto& calibrated = r.impacts.front().fit.calibrated;
+  report::Figure fig;
+  fig.title = "Abacus: equivalent parameters against " + by + " (" + r.shape + ")";
+  fig.columns = static_cast<int>(calibrated.size());
+  for (std::size_t c : calibrated) {
+    report::Panel p;
+    p.title = names[c];
+    p.xlabel = by;
+    p.ylabel = names[c];
+    report::Series groups, impacts;
+    groups.title = "group fit (near-optimal interval)";
+    groups.style = "errorbars";
+    impacts.title = "per impact";
+    impacts.style = "points";
+    impacts.point_type = 6;
+    for (std::size_t k = 0; k < r.groups.size(); ++k) {
+      const auto& g = r.groups[k];
+      groups.x.push_back(xs[k]);
+      groups.y.push_back(g.population.params[c]);
+      const auto it =
+          std::find_if(g.population.intervals.begin(), g.population.intervals.end(),
+                       [&](const fit::ParameterInterval& iv) { return iv.name == names[c]; });
+      groups.ylo.push_back(it != g.population.intervals.end() ? it->lo : g.population.params[c]);
+      groups.yhi.push_back(it != g.population.intervals.end() ? it->hi : g.population.params[c]);
+      for (std::size_t i : g.members) {
+        impacts.x.push_back(xs[k]);
+        impacts.y.push_back(r.impacts[i].fit.params[c]);
+      }
+    }
+    p.series = {groups, impacts};
+    fig.panels.push_back(p);
+  }
+  return fig;
+}
+
+// The gap to the lab: ECDFs of V_out.
+report::Figure vout_against_lab_figure(const UpscaleResult& r) {
+  report::Figure fig;
+  fig.title = "Reflected velocities: resolved impacts vs lab (" + r.shape + ")";
+  const char* labels[3] = {"V_out^x [m/s]", "V_out^y [m/s]", "omega_out [rad/s]"};
+  for (int c = 0; c < 3; ++c) {
+    std::vector<double> dem, measured;
+    for (const auto& im : r.set.impacts) dem.push_back(im.vout[c]);
+    for (const auto& im : r.lab.impacts) measured.push_back(im.vout[c]);
+    fig.panels.push_back(
+        report::ecdf_panel(labels[c], labels[c],
+                           {{"LIGGGHTS (" + std::to_string(dem.size()) + ")", dem},
+                            {"lab (" + std::to_string(measured.size()) + ")", measured}}));
+  }
+  return fig;
+}
+
+// The gap to the lab: ECDFs of the parameters calibrated on both sides by one engine.
+report::Figure parameters_against_lab_figure(const UpscaleResult& r) {
+  const auto& names = r.impacts.front().fit.names;
+  report::Figure fig;
+  fig.title = "Equivalent contact parameters: resolved impacts vs lab releases, one engine (" +
+              r.shape + ")";
+  for (std::size_t c : r.impacts.front().fit.calibrated) {
+    std::vector<double> dem, measured;
+    for (const auto& u : r.impacts) dem.push_back(u.fit.params[c]);
+    for (const auto& f : r.lab_fits) measured.push_back(f.params[c]);
+    fig.panels.push_back(report::ecdf_panel(
+        names[c], names[c],
+        {{"LIGGGHTS, per impact (" + std::to_string(dem.size()) + ")", dem},
+         {"lab, per release (" + std::to_string(measured.size()) + ")", measured}}));
+  }
+  return fig;
+}
+
+}  // namespace
+
 std::vector<std::string> write_upscale_figures(const UpscaleResult& r, const std::string& dir) {
   std::vector<std::string> written;
   fs::create_directories(dir);
   if (r.impacts.empty()) return written;
-  const auto& names = r.impacts.front().fit.names;
-  const auto& calibrated = r.impacts.front().fit.calibrated;
-
-  // Fitted parameters per impact against the incident state, one series per group.
-  {
-    report::Figure fig;
-    fig.title =
-        "Equivalent contact parameters of resolved impacts (" + r.shape + ", " + r.source + ")";
-    fig.columns = static_cast<int>(calibrated.size());
-    fig.height_px = 800;
-    for (const char* axis : {"speed_in", "win"}) {
-      for (std::size_t c : calibrated) {
-        report::Panel p;
-        p.title = names[c];
-        p.xlabel = std::string(axis) == "speed_in" ? "|V_in| [m/s]" : "omega_in [rad/s]";
-        p.ylabel = names[c];
-        for (const auto& g : r.groups) {
-          report::Series s;
-          s.title = g.key;
-          s.style = "errorbars";
-          for (std::size_t i : g.members) {
-            const Impact& im = r.set.impacts[i];
-            const auto& f = r.impacts[i].fit;
-            s.x.push_back(std::string(axis) == "speed_in" ? std::hypot(im.vin[kVx], im.vin[kVy])
-                                                          : im.vin[kW]);
-            s.y.push_back(f.params[c]);
-            const auto* iv = f.interval(names[c]);
-            s.ylo.push_back(iv ? iv->lo : f.params[c]);
-            s.yhi.push_back(iv ? iv->hi : f.params[c]);
-          }
-          p.series.push_back(s);
-        }
-        p.key = r.groups.size() > 4 ? "off" : "";
-        fig.panels.push_back(p);
-      }
-    }
-    const std::string path = (fs::path(dir) / "upscale_parameters.svg").string();
+  const auto emit = [&](const report::Figure& fig, const std::string& file) {
+    const std::string path = (fs::path(dir) / file).string();
     report::render(fig, path);
     written.push_back(path);
-  }
-
-  // Abacuses: group fits against each numeric grouping parameter.
+  };
+  emit(parameters_figure(r), "upscale_parameters.svg");
   for (const auto& by : r.by) {
     std::vector<double> xs;
     for (const auto& g : r.groups) xs.push_back(number_or_nan(g.grain.at(by)));
     if (std::none_of(xs.begin(), xs.end(), [](double v) { return std::isfinite(v); })) continue;
-    report::Figure fig;
-    fig.title = "Abacus: equivalent parameters against " + by + " (" + r.shape + ")";
-    fig.columns = static_cast<int>(calibrated.size());
-    for (std::size_t c : calibrated) {
-      report::Panel p;
-      p.title = names[c];
-      p.xlabel = by;
-      p.ylabel = names[c];
-      report::Series groups, impacts;
-      groups.title = "group fit (near-optimal interval)";
-      groups.style = "errorbars";
-      impacts.title = "per impact";
-      impacts.style = "points";
-      impacts.point_type = 6;
-      for (std::size_t k = 0; k < r.groups.size(); ++k) {
-        const auto& g = r.groups[k];
-        groups.x.push_back(xs[k]);
-        groups.y.push_back(g.population.params[c]);
-        const auto it =
-            std::find_if(g.population.intervals.begin(), g.population.intervals.end(),
-                         [&](const fit::ParameterInterval& iv) { return iv.name == names[c]; });
-        groups.ylo.push_back(it != g.population.intervals.end() ? it->lo : g.population.params[c]);
-        groups.yhi.push_back(it != g.population.intervals.end() ? it->hi : g.population.params[c]);
-        for (std::size_t i : g.members) {
-          impacts.x.push_back(xs[k]);
-          impacts.y.push_back(r.impacts[i].fit.params[c]);
-        }
-      }
-      p.series = {groups, impacts};
-      fig.panels.push_back(p);
-    }
     std::string file = "upscale_abacus_" + by + ".svg";
     std::replace(file.begin(), file.end(), '.', '_');
     file.replace(file.size() - 4, 4, ".svg");
-    const std::string path = (fs::path(dir) / file).string();
-    report::render(fig, path);
-    written.push_back(path);
+    emit(abacus_figure(r, by, xs), file);
   }
-
-  // The gap to the lab: ECDFs of V_out, then of the parameters calibrated on both sides.
-  if (!r.lab.impacts.empty()) {
-    report::Figure fig;
-    fig.title = "Reflected velocities: resolved impacts vs lab (" + r.shape + ")";
-    const char* labels[3] = {"V_out^x [m/s]", "V_out^y [m/s]", "omega_out [rad/s]"};
-    for (int c = 0; c < 3; ++c) {
-      std::vector<double> dem, measured;
-      for (const auto& im : r.set.impacts) dem.push_back(im.vout[c]);
-      for (const auto& im : r.lab.impacts) measured.push_back(im.vout[c]);
-      fig.panels.push_back(
-          report::ecdf_panel(labels[c], labels[c],
-                             {{"LIGGGHTS (" + std::to_string(dem.size()) + ")", dem},
-                              {"lab (" + std::to_string(measured.size()) + ")", measured}}));
-    }
-    const std::string path = (fs::path(dir) / "upscale_vs_lab.svg").string();
-    report::render(fig, path);
-    written.push_back(path);
-  }
-  if (!r.lab_fits.empty()) {
-    report::Figure fig;
-    fig.title = "Equivalent contact parameters: resolved impacts vs lab releases, one engine (" +
-                r.shape + ")";
-    for (std::size_t c : calibrated) {
-      std::vector<double> dem, measured;
-      for (const auto& u : r.impacts) dem.push_back(u.fit.params[c]);
-      for (const auto& f : r.lab_fits) measured.push_back(f.params[c]);
-      fig.panels.push_back(report::ecdf_panel(
-          names[c], names[c],
-          {{"LIGGGHTS, per impact (" + std::to_string(dem.size()) + ")", dem},
-           {"lab, per release (" + std::to_string(measured.size()) + ")", measured}}));
-    }
-    const std::string path = (fs::path(dir) / "upscale_parameters_vs_lab.svg").string();
-    report::render(fig, path);
-    written.push_back(path);
-  }
+  if (!r.lab.impacts.empty()) emit(vout_against_lab_figure(r), "upscale_vs_lab.svg");
+  if (!r.lab_fits.empty()) emit(parameters_against_lab_figure(r), "upscale_parameters_vs_lab.svg");
   // The campaign's picture (/dem/snapshot), when it has one.
   if (const auto snap = read_snapshot(r.source)) {
     const std::string path = (fs::path(dir) / "impact_picture.png").string();

@@ -95,12 +95,6 @@ class VlenArena {
   std::unordered_set<void*> blocks_;
 };
 
-std::string parent_of(const std::string& path) {
-  const auto slash = path.find_last_of('/');
-  if (slash == std::string::npos || slash == 0) return "/";
-  return path.substr(0, slash);
-}
-
 }  // namespace
 
 bool is_hdf5(const std::string& path) {

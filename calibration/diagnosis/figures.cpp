@@ -59,196 +59,205 @@ int height_for(std::size_t panels, int per_row = 330) {
   return static_cast<int>(std::max<std::size_t>(1, rows)) * per_row;
 }
 
+// A figure of one panel per item in rows of up to four, each panel `panel_width_px` wide.
+Figure grid_figure(std::string title, std::size_t panels, int panel_width_px, int panel_height_px) {
+  Figure f;
+  f.title = std::move(title);
+  f.columns = columns_for(panels);
+  f.width_px = panel_width_px * f.columns;
+  f.height_px = height_for(panels, panel_height_px);
+  return f;
+}
+
+// Measured values of observable k: held-out prediction plus residual, in plot units.
+std::vector<double> measured(const Assessment& a, std::size_t n, int k) {
+  std::vector<double> y;
+  for (std::size_t i = 0; i < n; ++i)
+    y.push_back((a.heldout_predictions[i].value[k] + a.heldout.residual[i][k]) * plot_scale(k));
+  return y;
+}
+std::vector<double> predicted(const Assessment& a, std::size_t n, int k) {
+  std::vector<double> x;
+  for (std::size_t i = 0; i < n; ++i)
+    x.push_back(a.heldout_predictions[i].value[k] * plot_scale(k));
+  return x;
+}
+
+NamedFigure measured_against_predicted(const Assessment& a, std::size_t n,
+                                       const std::vector<int>& used, const std::string& title) {
+  Figure f = grid_figure(title + ": measured against held-out predicted", used.size(), 330, 340);
+  for (int k : used) {
+    const std::vector<double> x = predicted(a, n, k), y = measured(a, n, k);
+    auto [lo1, hi1] = range_of(x);
+    auto [lo2, hi2] = range_of(y);
+    const double lo = std::min(lo1, lo2), hi = std::max(hi1, hi2);
+    Panel p;
+    p.title = kObservableLabels[k];
+    p.xlabel = fmt::format("predicted [{}]", plot_unit(k));
+    p.ylabel = fmt::format("measured [{}]", plot_unit(k));
+    p.key = "";  // the default: under the plot, never over data
+    p.series.push_back(points("releases", x, y, colour::kBlue));
+    if (std::isfinite(lo)) p.series.push_back(line("1:1", {lo, hi}, {lo, hi}, colour::kGrey));
+    f.panels.push_back(p);
+  }
+  return {"measured-vs-predicted",
+          "Measured against held-out predicted values (each release predicted by a "
+          "population fit that did not see it); the grey line is 1:1.",
+          f};
+}
+
+NamedFigure distributions(const Baseline& b, std::size_t n, const std::vector<int>& used,
+                          const std::string& title) {
+  Figure f = grid_figure(title + ": measured and predicted distributions", used.size(), 330, 340);
+  for (int k : used) {
+    f.panels.push_back(report::ecdf_panel(
+        fmt::format("{} (KS D = {:.2f}, p = {:.2g})", kObservableLabels[k], b.ks[k].statistic,
+                    b.ks[k].p_value),
+        fmt::format("{} [{}]", kObservableLabels[k], plot_unit(k)),
+        {{"measured", measured(b.base, n, k)}, {"predicted (held-out)", predicted(b.base, n, k)}}));
+  }
+  return {"cdfs",
+          "Empirical CDFs of the measured and held-out predicted values, with the "
+          "two-sample Kolmogorov-Smirnov statistic and p-value.",
+          f};
+}
+
+// Residuals of observable k against every impact feature.
+NamedFigure residuals_against_features(const Baseline& b, std::size_t n, int k,
+                                       const std::string& title) {
+  Figure f = grid_figure(
+      fmt::format("{}: {} residual (measured - held-out predicted) against impact features", title,
+                  kObservableLabels[k]),
+      b.features.size(), 300, 300);
+  std::vector<double> y;
+  for (std::size_t i = 0; i < n; ++i) y.push_back(b.base.heldout.residual[i][k] * plot_scale(k));
+  for (const auto& feat : b.features) {
+    Panel p;
+    const Trend* t = find_trend(b.residual_trends, residual_quantity(k), feat.name);
+    p.title = t && std::isfinite(t->r) ? fmt::format("r = {:.2f}, p = {:.2g}", t->r, t->p) : "";
+    p.xlabel = feat.label;
+    p.ylabel = fmt::format("residual [{}]", plot_unit(k));
+    p.key = "off";
+    p.series.push_back(points("releases", feat.values, y,
+                              t && t->significant ? colour::kVermillion : colour::kBlue));
+    auto [lo, hi] = range_of(feat.values);
+    if (std::isfinite(lo)) p.series.push_back(line("zero", {lo, hi}, {0.0, 0.0}, colour::kGrey));
+    f.panels.push_back(p);
+  }
+  return {std::string("residuals-") + kObservableNames[k],
+          fmt::format("{} residuals against each impact feature; red panels show a "
+                      "significant trend (Pearson p < 0.01), the strongest hint of "
+                      "missing physics.",
+                      kObservableLabels[k]),
+          f};
+}
+
+// The per-release calibrated parameter `c` against every impact feature.
+NamedFigure parameter_against_features(const Baseline& b, std::size_t n, std::size_t c,
+                                       const std::string& title) {
+  const std::string name = b.release_fits.front().names[c];
+  Figure f =
+      grid_figure(fmt::format("{}: per-release calibrated {} against impact features", title, name),
+                  b.features.size(), 300, 300);
+  for (const auto& feat : b.features) {
+    std::vector<double> xi, yi, xn, yn;
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto* iv = b.release_fits[i].interval(name);
+      const bool ok = !iv || iv->status == fit::Identifiability::kIdentified;
+      (ok ? xi : xn).push_back(feat.values[i]);
+      (ok ? yi : yn).push_back(b.release_fits[i].params[c]);
+    }
+    const Trend* t = find_trend(b.parameter_trends, parameter_quantity(name), feat.name);
+    Panel p;
+    p.title = t && std::isfinite(t->r) ? fmt::format("r = {:.2f}, p = {:.2g}", t->r, t->p) : "";
+    p.xlabel = feat.label;
+    p.ylabel = name;
+    p.key = "off";
+    p.series.push_back(
+        points("identified", xi, yi, t && t->significant ? colour::kVermillion : colour::kBlue));
+    p.series.push_back(points("not identified", xn, yn, colour::kGrey, 6));
+    f.panels.push_back(p);
+  }
+  return {"parameter-" + name,
+          fmt::format("Per-release calibrated {} against each impact feature (filled: "
+                      "identified; open grey: only bounded). A constant that drifts "
+                      "with a feature absorbs missing physics.",
+                      name),
+          f};
+}
+
+// Held-out error against the noise floor, per release and per regime.
+NamedFigure errors_per_release_and_regime(const Baseline& b, const ImpactSet& set,
+                                          const std::string& title) {
+  const std::size_t n = set.size();
+  Figure f;
+  f.title = title + ": held-out error per release and per regime";
+  f.columns = 2;
+  f.width_px = 1100;
+  f.height_px = 380;
+  Panel p1;
+  p1.title = "per release (sorted by |V_in|)";
+  p1.xlabel = "|V_in| [m/s]";
+  p1.ylabel = "error (Eq. 7 and contact terms)";
+  p1.key = "";  // the default: under the plot, never over data
+  std::vector<double> x, e, fl;
+  for (std::size_t i = 0; i < n; ++i) {
+    x.push_back(std::hypot(set.impacts[i].vin[0], set.impacts[i].vin[1]));
+    e.push_back(b.base.heldout.per_release[i]);
+    fl.push_back(b.floor.per_release[i]);
+  }
+  p1.series.push_back(points("held-out error", x, e, colour::kVermillion));
+  p1.series.push_back(points("noise floor", x, fl, colour::kBluishGreen, 6));
+  Panel p2;
+  p2.title = "per regime (mean +- 1 SE)";
+  p2.xlabel = "regime (1 = slowest)";
+  p2.ylabel = "mean error";
+  p2.key = "";  // the default: under the plot, never over data
+  Series s;
+  s.title = "held-out error";
+  s.style = "errorbars";
+  s.color = colour::kVermillion;
+  Series sf = s;
+  sf.title = "noise floor";
+  sf.color = colour::kBluishGreen;
+  for (std::size_t r = 0; r < b.regimes.size(); ++r) {
+    const auto& g = b.regimes[r];
+    s.x.push_back(static_cast<double>(r + 1));
+    s.y.push_back(g.heldout.mean);
+    s.ylo.push_back(g.heldout.mean - g.heldout.se);
+    s.yhi.push_back(g.heldout.mean + g.heldout.se);
+    sf.x.push_back(static_cast<double>(r + 1) + 0.1);
+    sf.y.push_back(g.floor.mean);
+    sf.ylo.push_back(g.floor.mean - g.floor.se);
+    sf.yhi.push_back(g.floor.mean + g.floor.se);
+  }
+  p2.series = {s, sf};
+  p2.xmin = 0.5;
+  p2.xmax = static_cast<double>(b.regimes.size()) + 0.6;
+  p2.ymin = 0;
+  f.panels = {p1, p2};
+  return {"errors",
+          "Held-out error per release and per regime (thirds of the releases by "
+          "|V_in|) against the noise floor.",
+          f};
+}
+
 }  // namespace
 
 std::vector<NamedFigure> compare_figures(const Baseline& b, const ImpactSet& set,
                                          const std::string& title) {
-  std::vector<NamedFigure> out;
-  const Assessment& a = b.base;
   const std::size_t n = set.size();
   std::vector<int> used;
   for (int k = 0; k < kObservables; ++k)
-    if (a.use[k]) used.push_back(k);
-
-  // Measured against predicted (held-out).
-  {
-    Figure f;
-    f.title = title + ": measured against held-out predicted";
-    f.columns = columns_for(used.size());
-    f.width_px = 330 * f.columns;
-    f.height_px = height_for(used.size(), 340);
-    for (int k : used) {
-      std::vector<double> x, y;
-      for (std::size_t i = 0; i < n; ++i) {
-        x.push_back(a.heldout_predictions[i].value[k] * plot_scale(k));
-        y.push_back((a.heldout_predictions[i].value[k] + a.heldout.residual[i][k]) * plot_scale(k));
-      }
-      auto [lo1, hi1] = range_of(x);
-      auto [lo2, hi2] = range_of(y);
-      const double lo = std::min(lo1, lo2), hi = std::max(hi1, hi2);
-      Panel p;
-      p.title = kObservableLabels[k];
-      p.xlabel = fmt::format("predicted [{}]", plot_unit(k));
-      p.ylabel = fmt::format("measured [{}]", plot_unit(k));
-      p.key = "";  // the default: under the plot, never over data
-      p.series.push_back(points("releases", x, y, colour::kBlue));
-      if (std::isfinite(lo)) p.series.push_back(line("1:1", {lo, hi}, {lo, hi}, colour::kGrey));
-      f.panels.push_back(p);
-    }
-    out.push_back({"measured-vs-predicted",
-                   "Measured against held-out predicted values (each release predicted by a "
-                   "population fit that did not see it); the grey line is 1:1.",
-                   f});
-  }
-
-  // CDFs.
-  {
-    Figure f;
-    f.title = title + ": measured and predicted distributions";
-    f.columns = columns_for(used.size());
-    f.width_px = 330 * f.columns;
-    f.height_px = height_for(used.size(), 340);
-    for (int k : used) {
-      std::vector<double> meas, pred;
-      for (std::size_t i = 0; i < n; ++i) {
-        pred.push_back(a.heldout_predictions[i].value[k] * plot_scale(k));
-        meas.push_back((a.heldout_predictions[i].value[k] + a.heldout.residual[i][k]) *
-                       plot_scale(k));
-      }
-      Panel p =
-          report::ecdf_panel(fmt::format("{} (KS D = {:.2f}, p = {:.2g})", kObservableLabels[k],
-                                         b.ks[k].statistic, b.ks[k].p_value),
-                             fmt::format("{} [{}]", kObservableLabels[k], plot_unit(k)),
-                             {{"measured", meas}, {"predicted (held-out)", pred}});
-      f.panels.push_back(p);
-    }
-    out.push_back({"cdfs",
-                   "Empirical CDFs of the measured and held-out predicted values, with the "
-                   "two-sample Kolmogorov-Smirnov statistic and p-value.",
-                   f});
-  }
-
-  // Residuals against features, one figure per observable.
-  for (int k : used) {
-    Figure f;
-    f.title = fmt::format("{}: {} residual (measured - held-out predicted) against impact features",
-                          title, kObservableLabels[k]);
-    f.columns = columns_for(b.features.size());
-    f.width_px = 300 * f.columns;
-    f.height_px = height_for(b.features.size(), 300);
-    std::vector<double> y;
-    for (std::size_t i = 0; i < n; ++i) y.push_back(a.heldout.residual[i][k] * plot_scale(k));
-    for (const auto& feat : b.features) {
-      Panel p;
-      const Trend* t = find_trend(b.residual_trends, residual_quantity(k), feat.name);
-      p.title = t && std::isfinite(t->r) ? fmt::format("r = {:.2f}, p = {:.2g}", t->r, t->p) : "";
-      p.xlabel = feat.label;
-      p.ylabel = fmt::format("residual [{}]", plot_unit(k));
-      p.key = "off";
-      p.series.push_back(points("releases", feat.values, y,
-                                t && t->significant ? colour::kVermillion : colour::kBlue));
-      auto [lo, hi] = range_of(feat.values);
-      if (std::isfinite(lo)) p.series.push_back(line("zero", {lo, hi}, {0.0, 0.0}, colour::kGrey));
-      f.panels.push_back(p);
-    }
-    out.push_back({std::string("residuals-") + kObservableNames[k],
-                   fmt::format("{} residuals against each impact feature; red panels show a "
-                               "significant trend (Pearson p < 0.01), the strongest hint of "
-                               "missing physics.",
-                               kObservableLabels[k]),
-                   f});
-  }
-
-  // Per-release calibrated parameters against features.
-  if (!b.release_fits.empty()) {
-    for (std::size_t c : b.release_fits.front().calibrated) {
-      const std::string name = b.release_fits.front().names[c];
-      Figure f;
-      f.title = fmt::format("{}: per-release calibrated {} against impact features", title, name);
-      f.columns = columns_for(b.features.size());
-      f.width_px = 300 * f.columns;
-      f.height_px = height_for(b.features.size(), 300);
-      for (const auto& feat : b.features) {
-        std::vector<double> xi, yi, xn, yn;
-        for (std::size_t i = 0; i < n; ++i) {
-          const auto* iv = b.release_fits[i].interval(name);
-          const bool ok = !iv || iv->status == fit::Identifiability::kIdentified;
-          (ok ? xi : xn).push_back(feat.values[i]);
-          (ok ? yi : yn).push_back(b.release_fits[i].params[c]);
-        }
-        const Trend* t = find_trend(b.parameter_trends, parameter_quantity(name), feat.name);
-        Panel p;
-        p.title = t && std::isfinite(t->r) ? fmt::format("r = {:.2f}, p = {:.2g}", t->r, t->p) : "";
-        p.xlabel = feat.label;
-        p.ylabel = name;
-        p.key = "off";
-        p.series.push_back(points("identified", xi, yi,
-                                  t && t->significant ? colour::kVermillion : colour::kBlue));
-        p.series.push_back(points("not identified", xn, yn, colour::kGrey, 6));
-        f.panels.push_back(p);
-      }
-      out.push_back({"parameter-" + name,
-                     fmt::format("Per-release calibrated {} against each impact feature (filled: "
-                                 "identified; open grey: only bounded). A constant that drifts "
-                                 "with a feature absorbs missing physics.",
-                                 name),
-                     f});
-    }
-  }
-
-  // Error per release and per regime.
-  {
-    Figure f;
-    f.title = title + ": held-out error per release and per regime";
-    f.columns = 2;
-    f.width_px = 1100;
-    f.height_px = 380;
-    Panel p1;
-    p1.title = "per release (sorted by |V_in|)";
-    p1.xlabel = "|V_in| [m/s]";
-    p1.ylabel = "error (Eq. 7 and contact terms)";
-    p1.key = "";  // the default: under the plot, never over data
-    std::vector<double> x, e, fl;
-    for (std::size_t i = 0; i < n; ++i) {
-      x.push_back(std::hypot(set.impacts[i].vin[0], set.impacts[i].vin[1]));
-      e.push_back(a.heldout.per_release[i]);
-      fl.push_back(b.floor.per_release[i]);
-    }
-    p1.series.push_back(points("held-out error", x, e, colour::kVermillion));
-    p1.series.push_back(points("noise floor", x, fl, colour::kBluishGreen, 6));
-    Panel p2;
-    p2.title = "per regime (mean +- 1 SE)";
-    p2.xlabel = "regime (1 = slowest)";
-    p2.ylabel = "mean error";
-    p2.key = "";  // the default: under the plot, never over data
-    Series s;
-    s.title = "held-out error";
-    s.style = "errorbars";
-    s.color = colour::kVermillion;
-    Series sf = s;
-    sf.title = "noise floor";
-    sf.color = colour::kBluishGreen;
-    for (std::size_t r = 0; r < b.regimes.size(); ++r) {
-      const auto& g = b.regimes[r];
-      s.x.push_back(static_cast<double>(r + 1));
-      s.y.push_back(g.heldout.mean);
-      s.ylo.push_back(g.heldout.mean - g.heldout.se);
-      s.yhi.push_back(g.heldout.mean + g.heldout.se);
-      sf.x.push_back(static_cast<double>(r + 1) + 0.1);
-      sf.y.push_back(g.floor.mean);
-      sf.ylo.push_back(g.floor.mean - g.floor.se);
-      sf.yhi.push_back(g.floor.mean + g.floor.se);
-    }
-    p2.series = {s, sf};
-    p2.xmin = 0.5;
-    p2.xmax = static_cast<double>(b.regimes.size()) + 0.6;
-    p2.ymin = 0;
-    f.panels = {p1, p2};
-    out.push_back({"errors",
-                   "Held-out error per release and per regime (thirds of the releases by "
-                   "|V_in|) against the noise floor.",
-                   f});
-  }
+    if (b.base.use[k]) used.push_back(k);
+  std::vector<NamedFigure> out;
+  out.push_back(measured_against_predicted(b.base, n, used, title));
+  out.push_back(distributions(b, n, used, title));
+  for (int k : used) out.push_back(residuals_against_features(b, n, k, title));
+  if (!b.release_fits.empty())
+    for (std::size_t c : b.release_fits.front().calibrated)
+      out.push_back(parameter_against_features(b, n, c, title));
+  out.push_back(errors_per_release_and_regime(b, set, title));
   return out;
 }
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -164,6 +165,119 @@ std::uint64_t round_seed(std::uint64_t seed, std::uint64_t round) {
 
 }  // namespace
 
+namespace {
+
+// Silverman's bandwidth of the smoothed bootstrap of the lab design, per component (zero for the
+// wide design, which does not resample).
+Vel3 silverman_bandwidth(const SynthOptions& o) {
+  Vel3 bandwidth{};
+  if (o.design != Design::kLab) return bandwidth;
+  const double m = static_cast<double>(o.incident.size());
+  for (int k = 0; k < 3; ++k) {
+    double mean = 0, sq = 0;
+    for (const auto& im : o.incident.impacts) mean += im.vin[k] / m;
+    for (const auto& im : o.incident.impacts) sq += (im.vin[k] - mean) * (im.vin[k] - mean);
+    const double sd = m > 1 ? std::sqrt(sq / (m - 1)) : 0.0;
+    bandwidth[k] = 1.06 * sd * std::pow(m, -0.2);
+  }
+  return bandwidth;
+}
+
+// The true incident state, orientation and parameter row of each draw of one round, from the
+// uniform row r of that draw (the columns kPick ... kScatter).
+void draw_cases(const Model& truth, const Shape& shape, const SynthOptions& o,
+                const std::vector<double>& u, std::size_t dim, const Vel3& bandwidth,
+                const std::vector<std::size_t>& scatter_index, std::vector<CollisionCase>& cases,
+                std::vector<double>& params) {
+  const std::size_t P = truth.parameter_count();
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const double* r = u.data() + i * dim;
+    Vel3 vin{};
+    if (o.design == Design::kLab) {
+      const std::size_t pick =
+          std::min(o.incident.size() - 1, static_cast<std::size_t>(r[kPick] * o.incident.size()));
+      const auto z01 = box_muller(r[kDesign], r[kDesign + 1]);
+      const auto z23 = box_muller(r[kDesign + 2], r[kDesign + 3]);
+      const Vel3 z{z01[0], z01[1], z23[0]};
+      for (int k = 0; k < 3; ++k) vin[k] = o.incident.impacts[pick].vin[k] + bandwidth[k] * z[k];
+      // A kernel draw may leave the physical side: keep the block falling.
+      vin[kVy] = std::min(vin[kVy], -0.05);
+    } else {
+      vin[kVx] = o.wide.vin_x[0] + (o.wide.vin_x[1] - o.wide.vin_x[0]) * r[kDesign];
+      vin[kVy] = o.wide.vin_y[0] + (o.wide.vin_y[1] - o.wide.vin_y[0]) * r[kDesign + 1];
+      vin[kW] = o.wide.win[0] + (o.wide.win[1] - o.wide.win[0]) * r[kDesign + 2];
+    }
+    cases[i].vin = vin;
+    cases[i].alpha_rad =
+        shape.is_disc()
+            ? 0.0
+            : o.alpha_range_rad[0] + (o.alpha_range_rad[1] - o.alpha_range_rad[0]) * r[kAlpha];
+    std::copy(truth.values().begin(), truth.values().end(), params.begin() + i * P);
+    for (std::size_t s = 0; s < scatter_index.size(); ++s) {
+      const std::size_t j = scatter_index[s];
+      const double z = box_muller(r[kScatter + 2 * s], r[kScatter + 2 * s + 1])[0];
+      params[i * P + j] =
+          std::clamp(truth.values()[j] + o.scatter[s].second * z, truth.lower(j), truth.upper(j));
+    }
+  }
+}
+
+// The measured release of draw i (true state plus measurement noise from the kNoise columns of
+// r), or nothing when the truth did not rebound or the noise flips a sign; `truth_row` gets the
+// true state for the truth file.
+std::optional<Impact> measured_release(const SynthOptions& o, const Shape& shape, const double* r,
+                                       const CollisionCase& cc, const CollisionResult& c,
+                                       nlohmann::json& truth_row) {
+  std::array<double, 8> z{};
+  for (int p = 0; p < 4; ++p) {
+    const auto zz = box_muller(r[kNoise + 2 * p], r[kNoise + 2 * p + 1]);
+    z[2 * p] = zz[0];
+    z[2 * p + 1] = zz[1];
+  }
+  Impact im;
+  for (int k = 0; k < 3; ++k) {
+    im.vin[k] = cc.vin[k] + o.noise.vin[k] * z[k];
+    im.vout[k] = c.vout[k] + o.noise.vout[k] * z[3 + k];
+  }
+  if (c.status != CollisionStatus::kOk || !(im.vin[kVy] < 0) || !(im.vout[kVy] > 0))
+    return std::nullopt;
+  im.shape = shape.name;
+  im.sigma_vin = o.noise.vin;
+  im.sigma_vout = o.noise.vout;
+  if (!shape.is_disc() && o.write_alpha) im.alpha_in = cc.alpha_rad;
+  if (o.write_penetration) {
+    im.penetration = std::max(0.0, c.max_penetration_m + o.noise.penetration_m * z[6]);
+    im.extra.push_back(o.noise.penetration_m);
+  }
+  if (o.write_contact_duration) {
+    im.contact_duration = std::max(0.0, c.contact_duration_s + o.noise.contact_duration_s * z[7]);
+    im.extra.push_back(o.noise.contact_duration_s);
+  }
+  truth_row = {{"vin", {cc.vin[0], cc.vin[1], cc.vin[2]}},
+               {"vout", {c.vout[0], c.vout[1], c.vout[2]}},
+               {"alpha_rad", cc.alpha_rad},
+               {"penetration_m", c.max_penetration_m},
+               {"contact_duration_s", c.contact_duration_s}};
+  return im;
+}
+
+std::vector<std::string> synth_comments(const SynthOptions& o, const Shape& shape, std::size_t size,
+                                        std::size_t rejected) {
+  const NoiseSpec& n = o.noise;
+  return {
+      "Ricochet impact set v1. Synthetic: `ricochet synth`, the reduced engine on drawn incident "
+      "states with measurement noise.",
+      fmt::format("{} releases of shape {}, seed {}, design {}, {} draws redrawn.", size,
+                  shape.name, o.seed, design_name(o.design), rejected),
+      fmt::format("Noise (1 sd): V_in {} m/s, {} m/s, {} rad/s; V_out {} m/s, {} m/s, {} rad/s; "
+                  "penetration {} m; contact duration {} s.",
+                  n.vin[0], n.vin[1], n.vin[2], n.vout[0], n.vout[1], n.vout[2], n.penetration_m,
+                  n.contact_duration_s),
+      "The truth model is not part of this file."};
+}
+
+}  // namespace
+
 SynthResult synthesize(const Model& truth, const Shape& shape, const SynthOptions& o) {
   require_valid(o.problems(), "diagnosis::synthesize");
   if (o.design == Design::kLab && o.incident.empty())
@@ -174,25 +288,11 @@ SynthResult synthesize(const Model& truth, const Shape& shape, const SynthOption
   for (const auto& [name, sd] : o.scatter)
     scatter_index.push_back(truth.index(name));  // throws for an unknown name
   const std::size_t dim = kScatter + 2 * o.scatter.size();
-
-  // Silverman's bandwidth of the smoothed bootstrap, per component.
-  Vel3 bandwidth{};
-  if (o.design == Design::kLab) {
-    const double m = static_cast<double>(o.incident.size());
-    for (int k = 0; k < 3; ++k) {
-      double mean = 0, sq = 0;
-      for (const auto& im : o.incident.impacts) mean += im.vin[k] / m;
-      for (const auto& im : o.incident.impacts) sq += (im.vin[k] - mean) * (im.vin[k] - mean);
-      const double sd = m > 1 ? std::sqrt(sq / (m - 1)) : 0.0;
-      bandwidth[k] = 1.06 * sd * std::pow(m, -0.2);
-    }
-  }
+  const Vel3 bandwidth = silverman_bandwidth(o);
 
   SynthResult out;
   ImpactSet& set = out.set;
   set.source = "ricochet synth";
-  const bool disc = shape.is_disc();
-  const bool features = o.write_penetration || o.write_contact_duration;
   if (o.write_penetration) {
     set.extra_names.push_back(kSigmaPenetration);
     set.extra_units.push_back("m");
@@ -201,7 +301,6 @@ SynthResult synthesize(const Model& truth, const Shape& shape, const SynthOption
     set.extra_names.push_back(kSigmaContactDuration);
     set.extra_units.push_back("s");
   }
-  (void)features;
   nlohmann::json true_states = nlohmann::json::array();
 
   std::uint64_t round = 0;
@@ -218,97 +317,31 @@ SynthResult synthesize(const Model& truth, const Shape& shape, const SynthOption
 
     std::vector<CollisionCase> cases(draws);
     std::vector<double> params(draws * P);
-    for (std::size_t i = 0; i < draws; ++i) {
-      const double* r = u.data() + i * dim;
-      Vel3 vin{};
-      if (o.design == Design::kLab) {
-        const std::size_t pick =
-            std::min(o.incident.size() - 1, static_cast<std::size_t>(r[kPick] * o.incident.size()));
-        const auto z01 = box_muller(r[kDesign], r[kDesign + 1]);
-        const auto z23 = box_muller(r[kDesign + 2], r[kDesign + 3]);
-        const Vel3 z{z01[0], z01[1], z23[0]};
-        for (int k = 0; k < 3; ++k) vin[k] = o.incident.impacts[pick].vin[k] + bandwidth[k] * z[k];
-        // A kernel draw may leave the physical side: keep the block falling.
-        vin[kVy] = std::min(vin[kVy], -0.05);
-      } else {
-        vin[kVx] = o.wide.vin_x[0] + (o.wide.vin_x[1] - o.wide.vin_x[0]) * r[kDesign];
-        vin[kVy] = o.wide.vin_y[0] + (o.wide.vin_y[1] - o.wide.vin_y[0]) * r[kDesign + 1];
-        vin[kW] = o.wide.win[0] + (o.wide.win[1] - o.wide.win[0]) * r[kDesign + 2];
-      }
-      cases[i].vin = vin;
-      cases[i].alpha_rad =
-          disc ? 0.0
-               : o.alpha_range_rad[0] + (o.alpha_range_rad[1] - o.alpha_range_rad[0]) * r[kAlpha];
-      std::copy(truth.values().begin(), truth.values().end(), params.begin() + i * P);
-      for (std::size_t s = 0; s < scatter_index.size(); ++s) {
-        const std::size_t j = scatter_index[s];
-        const double z = box_muller(r[kScatter + 2 * s], r[kScatter + 2 * s + 1])[0];
-        params[i * P + j] =
-            std::clamp(truth.values()[j] + o.scatter[s].second * z, truth.lower(j), truth.upper(j));
-      }
-    }
+    draw_cases(truth, shape, o, u, dim, bandwidth, scatter_index, cases, params);
     const auto res = simulate_batch(truth, shape, cases, params, o.engine);
 
     for (std::size_t i = 0; i < draws && set.size() < o.n; ++i) {
-      const double* r = u.data() + i * dim;
-      std::array<double, 8> z{};
-      for (int p = 0; p < 4; ++p) {
-        const auto zz = box_muller(r[kNoise + 2 * p], r[kNoise + 2 * p + 1]);
-        z[2 * p] = zz[0];
-        z[2 * p + 1] = zz[1];
-      }
-      const CollisionResult& c = res[i];
-      Impact im;
-      for (int k = 0; k < 3; ++k) {
-        im.vin[k] = cases[i].vin[k] + o.noise.vin[k] * z[k];
-        im.vout[k] = c.vout[k] + o.noise.vout[k] * z[3 + k];
-      }
-      if (c.status != CollisionStatus::kOk || !(im.vin[kVy] < 0) || !(im.vout[kVy] > 0)) {
+      nlohmann::json row;
+      std::optional<Impact> im =
+          measured_release(o, shape, u.data() + i * dim, cases[i], res[i], row);
+      if (!im) {
         ++out.rejected;
         continue;
       }
-      im.id = fmt::format("{}{:03d}", o.id_prefix, set.size() + 1);
-      im.shape = shape.name;
-      im.sigma_vin = o.noise.vin;
-      im.sigma_vout = o.noise.vout;
-      if (!disc && o.write_alpha) im.alpha_in = cases[i].alpha_rad;
-      if (o.write_penetration) {
-        im.penetration = std::max(0.0, c.max_penetration_m + o.noise.penetration_m * z[6]);
-        im.extra.push_back(o.noise.penetration_m);
-      }
-      if (o.write_contact_duration) {
-        im.contact_duration =
-            std::max(0.0, c.contact_duration_s + o.noise.contact_duration_s * z[7]);
-        im.extra.push_back(o.noise.contact_duration_s);
-      }
-      nlohmann::json t = {{"id", im.id},
-                          {"vin", {cases[i].vin[0], cases[i].vin[1], cases[i].vin[2]}},
-                          {"vout", {c.vout[0], c.vout[1], c.vout[2]}},
-                          {"alpha_rad", cases[i].alpha_rad},
-                          {"penetration_m", c.max_penetration_m},
-                          {"contact_duration_s", c.contact_duration_s}};
+      im->id = fmt::format("{}{:03d}", o.id_prefix, set.size() + 1);
+      nlohmann::json t = {{"id", im->id}};
+      t.update(row);
       if (!scatter_index.empty()) {
         nlohmann::json p = nlohmann::json::object();
         for (std::size_t j : scatter_index) p[std::string(truth.spec(j).name)] = params[i * P + j];
         t["params"] = p;
       }
       true_states.push_back(std::move(t));
-      set.impacts.push_back(std::move(im));
+      set.impacts.push_back(std::move(*im));
     }
   }
 
-  const NoiseSpec& n = o.noise;
-  set.comments = {
-      "Ricochet impact set v1. Synthetic: `ricochet synth`, the reduced engine on drawn incident "
-      "states with measurement noise.",
-      fmt::format("{} releases of shape {}, seed {}, design {}, {} draws redrawn.", set.size(),
-                  shape.name, o.seed, design_name(o.design), out.rejected),
-      fmt::format("Noise (1 sd): V_in {} m/s, {} m/s, {} rad/s; V_out {} m/s, {} m/s, {} rad/s; "
-                  "penetration {} m; contact duration {} s.",
-                  n.vin[0], n.vin[1], n.vin[2], n.vout[0], n.vout[1], n.vout[2], n.penetration_m,
-                  n.contact_duration_s),
-      "The truth model is not part of this file."};
-
+  set.comments = synth_comments(o, shape, set.size(), out.rejected);
   nlohmann::json scatter = nlohmann::json::object();
   for (const auto& [name, sd] : o.scatter) scatter[name] = sd;
   out.truth = {{"model", truth.to_json()},

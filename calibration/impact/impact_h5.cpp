@@ -61,34 +61,74 @@ struct H5Column {
 namespace {
 
 // The reader proper. `field` names what is being read, for the errors of the HDF5 layer.
-ImpactSet read_h5(const h5::File& f, const std::string& path, std::string& field) {
-  const h5::File* file = &f;
-  const std::string group = "/impacts";
+void check_schema(const h5::File& file, const std::string& path, const std::string& group,
+                  std::string& field) {
   field = "impacts";
-  if (!file->exists(group))
+  if (!file.exists(group))
     throw InputError(path, 0, "impacts", "no group /impacts: not a Ricochet impact set");
   field = "schema";
-  if (!file->has_attr(group, "schema"))
+  if (!file.has_attr(group, "schema"))
     throw InputError(path, 0, "schema", "group /impacts has no 'schema' attribute");
-  const std::string schema = file->attr_string(group, "schema");
+  const std::string schema = file.attr_string(group, "schema");
   if (schema != kSchema)
     throw InputError(path, 0, "schema",
                      "unsupported schema '" + schema + "' (this version reads " + kSchema + ")");
+}
 
-  ImpactSet set;
-  set.source = path;
-  std::vector<std::string> names;
+// The column order: the `columns` attribute, else the group's datasets (by name).
+std::vector<std::string> column_names(const h5::File& file, const std::string& group,
+                                      std::string& field) {
   field = "columns";
-  if (file->has_attr(group, "columns")) {
-    names = split_commas(file->attr_string(group, "columns"));
-  } else {
-    for (const auto& n : file->list(group))
-      if (n != "comments") names.push_back(n);
-  }
+  if (file.has_attr(group, "columns")) return split_commas(file.attr_string(group, "columns"));
+  std::vector<std::string> names;
+  for (const auto& n : file.list(group))
+    if (n != "comments") names.push_back(n);
+  return names;
+}
 
+// The values of a numeric column in SI units, checked against its unit attribute; an extra
+// column (no spec) is registered in `set`.
+void read_numeric(const h5::File& file, const std::string& path, const std::string& dset,
+                  H5Column& col, ImpactSet& set) {
+  const std::string& name = col.name;
+  std::vector<std::size_t> dims;
+  try {
+    col.values = file.read_doubles(dset, &dims);
+  } catch (const std::runtime_error&) {
+    throw InputError(path, 0, name, "numeric column must be a dataset of numbers");
+  }
+  if (dims.size() != 1) throw InputError(path, 0, name, "dataset must be one-dimensional");
+  if (!file.has_attr(dset, "unit"))
+    throw InputError(path, 0, name, "numeric dataset has no 'unit' attribute");
+  std::string unit;
+  try {
+    unit = file.attr_string(dset, "unit");
+  } catch (const std::runtime_error&) {
+    throw InputError(path, 0, name, "attribute 'unit' must be a string");
+  }
+  const Unit* u = find_unit(unit);
+  if (!u)
+    throw InputError(path, 0, name,
+                     "unknown unit '" + unit + "'; known units: " + units_of(Dim::kText));
+  if (col.spec && u->dim != col.spec->dim)
+    throw InputError(path, 0, name,
+                     "unit '" + unit + "' is not a " + dim_name(col.spec->dim) +
+                         " unit; use one of " + units_of(col.spec->dim));
+  for (double& v : col.values) v *= u->to_si;
+  if (!col.spec) {
+    col.extra_index = set.extra_names.size();
+    set.extra_names.push_back(name);
+    set.extra_units.push_back(si_unit(u->dim));
+  }
+}
+
+// Every listed column, read whole; all of one length.
+std::vector<H5Column> read_columns(const h5::File& file, const std::string& path,
+                                   const std::string& group, const std::vector<std::string>& names,
+                                   ImpactSet& set,
+                                   std::unordered_map<std::string, std::size_t>& seen,
+                                   std::size_t& n_rows, std::string& field) {
   std::vector<H5Column> columns;
-  std::unordered_map<std::string, std::size_t> seen;
-  std::size_t n_rows = 0;
   bool have_rows = false;
   for (const auto& name : names) {
     H5Column col;
@@ -100,45 +140,17 @@ ImpactSet read_h5(const h5::File& f, const std::string& path, std::string& field
     if (!seen.emplace(name, columns.size()).second)
       throw InputError(path, 0, name, "duplicate column");
     const std::string dset = group + "/" + name;
-    if (!file->exists(dset)) throw InputError(path, 0, name, "column listed but no dataset");
+    if (!file.exists(dset)) throw InputError(path, 0, name, "column listed but no dataset");
     std::size_t size = 0;
     if (col.spec && col.spec->dim == Dim::kText) {
       try {
-        col.text = file->read_strings(dset);
+        col.text = file.read_strings(dset);
       } catch (const std::runtime_error&) {
         throw InputError(path, 0, name, "text column must be a string dataset");
       }
       size = col.text.size();
     } else {
-      std::vector<std::size_t> dims;
-      try {
-        col.values = file->read_doubles(dset, &dims);
-      } catch (const std::runtime_error&) {
-        throw InputError(path, 0, name, "numeric column must be a dataset of numbers");
-      }
-      if (dims.size() != 1) throw InputError(path, 0, name, "dataset must be one-dimensional");
-      if (!file->has_attr(dset, "unit"))
-        throw InputError(path, 0, name, "numeric dataset has no 'unit' attribute");
-      std::string unit;
-      try {
-        unit = file->attr_string(dset, "unit");
-      } catch (const std::runtime_error&) {
-        throw InputError(path, 0, name, "attribute 'unit' must be a string");
-      }
-      const Unit* u = find_unit(unit);
-      if (!u)
-        throw InputError(path, 0, name,
-                         "unknown unit '" + unit + "'; known units: " + units_of(Dim::kText));
-      if (col.spec && u->dim != col.spec->dim)
-        throw InputError(path, 0, name,
-                         "unit '" + unit + "' is not a " + dim_name(col.spec->dim) +
-                             " unit; use one of " + units_of(col.spec->dim));
-      for (double& v : col.values) v *= u->to_si;
-      if (!col.spec) {
-        col.extra_index = set.extra_names.size();
-        set.extra_names.push_back(name);
-        set.extra_units.push_back(si_unit(u->dim));
-      }
+      read_numeric(file, path, dset, col, set);
       size = col.values.size();
     }
     if (have_rows && size != n_rows)
@@ -149,6 +161,11 @@ ImpactSet read_h5(const h5::File& f, const std::string& path, std::string& field
     have_rows = true;
     columns.push_back(std::move(col));
   }
+  return columns;
+}
+
+void check_required(const std::string& path,
+                    const std::unordered_map<std::string, std::size_t>& seen) {
   for (const auto& spec : schema_columns())
     if (spec.required && !seen.contains(spec.name))
       throw InputError(path, 0, spec.name,
@@ -160,11 +177,14 @@ ImpactSet read_h5(const h5::File& f, const std::string& path, std::string& field
       if (any && !seen.contains(s + c))
         throw InputError(path, 0, s + c, "missing dataset: " + s + "x, y and w come together");
   }
+}
 
-  field = "";
+// Row i of every column into one impact; rows are named index + 1 in errors.
+void assemble_rows(const std::string& path, const std::vector<H5Column>& columns,
+                   std::size_t n_rows, ImpactSet& set) {
   RowAssembler rows(path, "value is NaN", "row");
   for (std::size_t i = 0; i < n_rows; ++i) {
-    const std::size_t line = i + 1;  // errors name the row as index + 1
+    const std::size_t line = i + 1;
     Impact m;
     m.extra.assign(set.extra_names.size(), std::nan(""));
     for (const H5Column& c : columns) {
@@ -186,9 +206,24 @@ ImpactSet read_h5(const h5::File& f, const std::string& path, std::string& field
     }
     rows.finish(std::move(m), set, line);
   }
-  if (file->exists(group + "/comments")) {
+}
+
+ImpactSet read_h5(const h5::File& file, const std::string& path, std::string& field) {
+  const std::string group = "/impacts";
+  check_schema(file, path, group, field);
+  ImpactSet set;
+  set.source = path;
+  const std::vector<std::string> names = column_names(file, group, field);
+  std::unordered_map<std::string, std::size_t> seen;
+  std::size_t n_rows = 0;
+  const std::vector<H5Column> columns =
+      read_columns(file, path, group, names, set, seen, n_rows, field);
+  check_required(path, seen);
+  field = "";
+  assemble_rows(path, columns, n_rows, set);
+  if (file.exists(group + "/comments")) {
     try {
-      set.comments = file->read_strings(group + "/comments");
+      set.comments = file.read_strings(group + "/comments");
     } catch (const std::runtime_error&) {
       throw InputError(path, 0, "comments", "comments must be a string dataset");
     }

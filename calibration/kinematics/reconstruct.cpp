@@ -16,6 +16,7 @@
 #include "common/csv.hpp"
 #include "common/error.hpp"
 #include "common/units.hpp"
+#include "stats/median.hpp"
 
 namespace ricochet::kinematics {
 namespace {
@@ -166,13 +167,7 @@ SideFit fit_side(const Track& tr, const std::vector<std::size_t>& idx, double t_
 // ---------------------------------------------------------------------------------------------
 // Noise scale and automatic window detection
 
-double median(std::vector<double> v) {
-  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  if (v.size() % 2) return *mid;
-  return 0.5 * (*mid + *std::max_element(v.begin(), mid));
-}
+using stats::median;
 
 /// Deviations of each interior point from the straight line through its two neighbours, divided
 /// by their standard deviation for unit white noise (sqrt(1 + w1^2 + w2^2)), then centred on
@@ -529,115 +524,128 @@ Track read_track_csv(const std::string& path, std::optional<double> pixel_size_m
   return parse_track_csv(text.str(), path, pixel_size_m, image_y_down);
 }
 
-Reconstruction reconstruct(const Track& track, const ReconstructOptions& options) {
-  check_track(track);
-  const std::size_t n = track.t.size();
+namespace {
+
+// The free-flight points on each side of the contact window.
+struct Sides {
+  std::vector<std::size_t> before, after;
+};
+
+void check_options(const ReconstructOptions& options) {
   const auto& g = options.gravity_mps2;
   if (g && !std::isfinite(*g)) throw std::invalid_argument("reconstruct: gravity must be finite");
-  Reconstruction rec;
-  std::vector<std::size_t> before, after;
-
   if (options.contact_start_s.has_value() != options.contact_end_s.has_value())
     throw std::invalid_argument("reconstruct: give both ends of the contact window, or neither");
   if (options.ground_y_m.has_value() != options.contact_radius_m.has_value())
     throw std::invalid_argument(
         "reconstruct: the ground-level criterion needs both the ground level and the contact "
         "radius");
+}
 
-  if (options.contact_start_s) {
-    rec.window_method = "given";
-    rec.contact_start_s = *options.contact_start_s;
-    rec.contact_end_s = *options.contact_end_s;
-    if (!(rec.contact_start_s < rec.contact_end_s))
-      throw std::invalid_argument("reconstruct: the contact window must have start < end");
-    for (std::size_t i = 0; i < n; ++i) {
-      if (track.t[i] <= rec.contact_start_s) before.push_back(i);
-      if (track.t[i] >= rec.contact_end_s) after.push_back(i);
-    }
-  } else if (options.ground_y_m) {
-    // Paper Fig. 8b: contact while the centre is within one radius of the ground surface.
-    rec.window_method = "ground-level";
-    rec.window_detected = true;
-    const double level = *options.ground_y_m + *options.contact_radius_m;
-    std::size_t c0 = n, c1 = 0;
-    for (std::size_t i = 0; i < n; ++i)
-      if (track.y[i] <= level) {
-        c0 = std::min(c0, i);
-        c1 = i;
-      }
-    if (c0 == n)
-      throw std::invalid_argument(
-          "reconstruct: the block centre never comes within the contact "
-          "radius of the ground level");
-    for (std::size_t i = 0; i < c0; ++i) before.push_back(i);
-    for (std::size_t i = c1 + 1; i < n; ++i) after.push_back(i);
-    if (before.size() < 3 || after.size() < 3)
-      throw std::invalid_argument(
-          "reconstruct: fewer than 3 free-flight points on one side of "
-          "the ground contact");
-    const SideFit fb = fit_side(track, before, track.t[before.back()], g);
-    const SideFit fa = fit_side(track, after, track.t[after.front()], g);
-    rec.contact_start_s = crossing_time(fb.y, level, true, track.t[c0 - 1], track.t[c0]);
-    rec.contact_end_s = crossing_time(fa.y, level, false, track.t[c1], track.t[c1 + 1]);
-    if (!(rec.contact_start_s < rec.contact_end_s))
-      throw std::invalid_argument(
-          "reconstruct: the free-flight fits cross the contact level in "
-          "the wrong order (check --ground and --radius)");
-  } else {
-    rec.window_method = "ballistic-residuals";
-    rec.window_detected = true;
-    const std::size_t seed =
-        options.detection_seed_points ? options.detection_seed_points : (g ? 5 : 6);
-    if (seed < (g ? 3u : 4u))
-      throw std::invalid_argument("reconstruct: the detection needs at least " +
-                                  std::to_string(g ? 3 : 4) + " seed points");
-    if (n < 2 * seed + 1)
-      throw std::invalid_argument("reconstruct: a track of " + std::to_string(n) +
-                                  " points is too short for the automatic window detection (" +
-                                  std::to_string(seed) + " seed points on each side)");
-    const NoiseScale noise = detection_noise(track, g);
-    std::vector<double> z2_lead, z2_trail;
-    const std::vector<double> lead =
-        window_costs(track, true, seed, options.detection_k_sigma, noise, g, z2_lead);
-    const std::vector<double> trail =
-        window_costs(track, false, seed, options.detection_k_sigma, noise, g, z2_trail);
-    const auto [b, a] = best_windows(lead, trail);
-    if (b >= n)
-      throw std::invalid_argument("reconstruct: the track is too short to detect a contact window");
-    const double k2 = options.detection_k_sigma * options.detection_k_sigma;
-    for (std::size_t i = 0; i <= b; ++i) {
-      before.push_back(i);
-      if (z2_lead[i] > k2) ++rec.flagged_points;
-    }
-    for (std::size_t i = a; i < n; ++i) {
-      after.push_back(i);
-      if (z2_trail[i] > k2) ++rec.flagged_points;
-    }
-    // Without any contact the incoming window alone would extend to the last point.
-    if (std::min_element(lead.begin(), lead.end()) == lead.end() - 1)
-      throw std::invalid_argument(
-          "reconstruct: no contact detected: the whole track is one ballistic flight within the "
-          "noise (give the window with --window)");
-    for (std::size_t k = 0; k < options.detection_guard_points && before.size() > 3; ++k)
-      before.pop_back();
-    for (std::size_t k = 0; k < options.detection_guard_points && after.size() > 3; ++k)
-      after.erase(after.begin());
-    rec.contact_start_s = track.t[before.back()];
-    rec.contact_end_s = track.t[after.front()];
+// The window the caller gives.
+Sides given_window(const Track& track, const ReconstructOptions& options, Reconstruction& rec) {
+  Sides s;
+  rec.window_method = "given";
+  rec.contact_start_s = *options.contact_start_s;
+  rec.contact_end_s = *options.contact_end_s;
+  if (!(rec.contact_start_s < rec.contact_end_s))
+    throw std::invalid_argument("reconstruct: the contact window must have start < end");
+  for (std::size_t i = 0; i < track.t.size(); ++i) {
+    if (track.t[i] <= rec.contact_start_s) s.before.push_back(i);
+    if (track.t[i] >= rec.contact_end_s) s.after.push_back(i);
   }
+  return s;
+}
 
-  if (before.size() < 3 || after.size() < 3)
+// Paper Fig. 8b: contact while the centre is within one radius of the ground surface; the ends
+// are where the free-flight fits cross that level.
+Sides ground_level_window(const Track& track, const ReconstructOptions& options,
+                          Reconstruction& rec) {
+  const std::size_t n = track.t.size();
+  const auto& g = options.gravity_mps2;
+  Sides s;
+  rec.window_method = "ground-level";
+  rec.window_detected = true;
+  const double level = *options.ground_y_m + *options.contact_radius_m;
+  std::size_t c0 = n, c1 = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (track.y[i] <= level) {
+      c0 = std::min(c0, i);
+      c1 = i;
+    }
+  if (c0 == n)
     throw std::invalid_argument(
-        "reconstruct: fewer than 3 points on one side of the contact window (" +
-        std::to_string(before.size()) + " before, " + std::to_string(after.size()) + " after)");
-  rec.points_before = before.size();
-  rec.points_after = after.size();
+        "reconstruct: the block centre never comes within the contact "
+        "radius of the ground level");
+  for (std::size_t i = 0; i < c0; ++i) s.before.push_back(i);
+  for (std::size_t i = c1 + 1; i < n; ++i) s.after.push_back(i);
+  if (s.before.size() < 3 || s.after.size() < 3)
+    throw std::invalid_argument(
+        "reconstruct: fewer than 3 free-flight points on one side of "
+        "the ground contact");
+  const SideFit fb = fit_side(track, s.before, track.t[s.before.back()], g);
+  const SideFit fa = fit_side(track, s.after, track.t[s.after.front()], g);
+  rec.contact_start_s = crossing_time(fb.y, level, true, track.t[c0 - 1], track.t[c0]);
+  rec.contact_end_s = crossing_time(fa.y, level, false, track.t[c1], track.t[c1 + 1]);
+  if (!(rec.contact_start_s < rec.contact_end_s))
+    throw std::invalid_argument(
+        "reconstruct: the free-flight fits cross the contact level in "
+        "the wrong order (check --ground and --radius)");
+  return s;
+}
 
-  const SideFit fb = fit_side(track, before, rec.contact_start_s, g);
-  const SideFit fa = fit_side(track, after, rec.contact_end_s, g);
+// The automatic window: the longest leading and trailing runs consistent with ballistic flight
+// within the noise (window_costs, best_windows), less the guard points.
+Sides ballistic_window(const Track& track, const ReconstructOptions& options, Reconstruction& rec) {
+  const std::size_t n = track.t.size();
+  const auto& g = options.gravity_mps2;
+  Sides s;
+  rec.window_method = "ballistic-residuals";
+  rec.window_detected = true;
+  const std::size_t seed =
+      options.detection_seed_points ? options.detection_seed_points : (g ? 5 : 6);
+  if (seed < (g ? 3u : 4u))
+    throw std::invalid_argument("reconstruct: the detection needs at least " +
+                                std::to_string(g ? 3 : 4) + " seed points");
+  if (n < 2 * seed + 1)
+    throw std::invalid_argument("reconstruct: a track of " + std::to_string(n) +
+                                " points is too short for the automatic window detection (" +
+                                std::to_string(seed) + " seed points on each side)");
+  const NoiseScale noise = detection_noise(track, g);
+  std::vector<double> z2_lead, z2_trail;
+  const std::vector<double> lead =
+      window_costs(track, true, seed, options.detection_k_sigma, noise, g, z2_lead);
+  const std::vector<double> trail =
+      window_costs(track, false, seed, options.detection_k_sigma, noise, g, z2_trail);
+  const auto [b, a] = best_windows(lead, trail);
+  if (b >= n)
+    throw std::invalid_argument("reconstruct: the track is too short to detect a contact window");
+  const double k2 = options.detection_k_sigma * options.detection_k_sigma;
+  for (std::size_t i = 0; i <= b; ++i) {
+    s.before.push_back(i);
+    if (z2_lead[i] > k2) ++rec.flagged_points;
+  }
+  for (std::size_t i = a; i < n; ++i) {
+    s.after.push_back(i);
+    if (z2_trail[i] > k2) ++rec.flagged_points;
+  }
+  // Without any contact the incoming window alone would extend to the last point.
+  if (std::min_element(lead.begin(), lead.end()) == lead.end() - 1)
+    throw std::invalid_argument(
+        "reconstruct: no contact detected: the whole track is one ballistic flight within the "
+        "noise (give the window with --window)");
+  for (std::size_t k = 0; k < options.detection_guard_points && s.before.size() > 3; ++k)
+    s.before.pop_back();
+  for (std::size_t k = 0; k < options.detection_guard_points && s.after.size() > 3; ++k)
+    s.after.erase(s.after.begin());
+  rec.contact_start_s = track.t[s.before.back()];
+  rec.contact_end_s = track.t[s.after.front()];
+  return s;
+}
 
-  // Noise levels: given, or pooled residual variances of both sides (x and y share the pointing
-  // noise; theta has its own).
+// Noise levels: given, or pooled residual variances of both sides (x and y share the pointing
+// noise; theta has its own).
+void noise_levels(const Track& track, const SideFit& fb, const SideFit& fa, Reconstruction& rec) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const std::size_t dof_pos = fb.dof_pos() + fa.dof_pos();
   const std::size_t dof_th = fb.dof_theta() + fa.dof_theta();
@@ -656,38 +664,65 @@ Reconstruction reconstruct(const Track& track, const ReconstructOptions& options
     rec.sigma_theta_rad = std::sqrt(2.0) * track.sigma_position_m / track.mark_radius_m;
   else
     rec.sigma_theta_rad = dof_th > 0 ? std::sqrt(rss_th / static_cast<double>(dof_th)) : nan;
+}
 
-  auto velocities = [&](const SideFit& f, double te, Vel3& v, Vel3& sv, Vel3& pos) {
-    pos[0] = f.x.value(te);
-    pos[1] = f.y.value(te);
-    pos[2] = f.has_theta ? f.theta.value(te) : nan;
-    v[kVx] = f.x.derivative(te);
-    v[kVy] = f.y.derivative(te);
-    sv[kVx] = rec.sigma_position_m * f.x.derivative_sd_unit(te);
-    sv[kVy] = rec.sigma_position_m * f.y.derivative_sd_unit(te);
-    v[kW] = f.has_theta ? f.theta.derivative(te) : nan;
-    sv[kW] = f.has_theta ? rec.sigma_theta_rad * f.theta.derivative_sd_unit(te) : nan;
-  };
-  velocities(fb, rec.contact_start_s, rec.vin, rec.sigma_vin, rec.position_in);
-  velocities(fa, rec.contact_end_s, rec.vout, rec.sigma_vout, rec.position_out);
+// Position, velocity and its standard error of one side's fit at the window's end te.
+void side_state(const SideFit& f, double te, const Reconstruction& rec, Vel3& v, Vel3& sv,
+                Vel3& pos) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  pos[0] = f.x.value(te);
+  pos[1] = f.y.value(te);
+  pos[2] = f.has_theta ? f.theta.value(te) : nan;
+  v[kVx] = f.x.derivative(te);
+  v[kVy] = f.y.derivative(te);
+  sv[kVx] = rec.sigma_position_m * f.x.derivative_sd_unit(te);
+  sv[kVy] = rec.sigma_position_m * f.y.derivative_sd_unit(te);
+  v[kW] = f.has_theta ? f.theta.derivative(te) : nan;
+  sv[kW] = f.has_theta ? rec.sigma_theta_rad * f.theta.derivative_sd_unit(te) : nan;
+}
 
-  // Fitted gravity: y = ... + c2 tau^2 with tau = dt / scale, so g = -2 c2 / scale^2.
-  auto gravity = [&](const SideFit& f, double& gv, double& sg) {
-    if (g) {
-      gv = *g;
-      sg = 0;
-    } else {
-      const double s2 = f.y.scale * f.y.scale;
-      gv = -2 * f.y.coef[2] / s2;
-      sg = 2 * rec.sigma_position_m * std::sqrt(f.y.cov_unit(2, 2)) / s2;
-    }
-  };
-  gravity(fb, rec.gravity_before_mps2, rec.sigma_gravity_before_mps2);
-  gravity(fa, rec.gravity_after_mps2, rec.sigma_gravity_after_mps2);
+// Gravity of one side: imposed, or fitted from y = ... + c2 tau^2 with tau = dt / scale, so
+// g = -2 c2 / scale^2.
+void side_gravity(const SideFit& f, const std::optional<double>& g, double sigma_position_m,
+                  double& gv, double& sg) {
+  if (g) {
+    gv = *g;
+    sg = 0;
+  } else {
+    const double s2 = f.y.scale * f.y.scale;
+    gv = -2 * f.y.coef[2] / s2;
+    sg = 2 * sigma_position_m * std::sqrt(f.y.cov_unit(2, 2)) / s2;
+  }
+}
+
+}  // namespace
+
+Reconstruction reconstruct(const Track& track, const ReconstructOptions& options) {
+  check_track(track);
+  check_options(options);
+  Reconstruction rec;
+  const Sides s = options.contact_start_s ? given_window(track, options, rec)
+                  : options.ground_y_m    ? ground_level_window(track, options, rec)
+                                          : ballistic_window(track, options, rec);
+  if (s.before.size() < 3 || s.after.size() < 3)
+    throw std::invalid_argument(
+        "reconstruct: fewer than 3 points on one side of the contact window (" +
+        std::to_string(s.before.size()) + " before, " + std::to_string(s.after.size()) + " after)");
+  rec.points_before = s.before.size();
+  rec.points_after = s.after.size();
+
+  const auto& g = options.gravity_mps2;
+  const SideFit fb = fit_side(track, s.before, rec.contact_start_s, g);
+  const SideFit fa = fit_side(track, s.after, rec.contact_end_s, g);
+  noise_levels(track, fb, fa, rec);
+  side_state(fb, rec.contact_start_s, rec, rec.vin, rec.sigma_vin, rec.position_in);
+  side_state(fa, rec.contact_end_s, rec, rec.vout, rec.sigma_vout, rec.position_out);
+  side_gravity(fb, g, rec.sigma_position_m, rec.gravity_before_mps2, rec.sigma_gravity_before_mps2);
+  side_gravity(fa, g, rec.sigma_position_m, rec.gravity_after_mps2, rec.sigma_gravity_after_mps2);
   rec.rms_residual_before_m =
-      std::sqrt((fb.x.rss + fb.y.rss) / (2.0 * static_cast<double>(before.size())));
+      std::sqrt((fb.x.rss + fb.y.rss) / (2.0 * static_cast<double>(s.before.size())));
   rec.rms_residual_after_m =
-      std::sqrt((fa.x.rss + fa.y.rss) / (2.0 * static_cast<double>(after.size())));
+      std::sqrt((fa.x.rss + fa.y.rss) / (2.0 * static_cast<double>(s.after.size())));
   return rec;
 }
 

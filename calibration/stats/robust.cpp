@@ -6,30 +6,21 @@
 #include <limits>
 #include <stdexcept>
 
+#include "common/nan.hpp"
+#include "stats/median.hpp"
 #include "stats/stats.hpp"
 
 namespace ricochet::stats {
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-double median_of(std::vector<double> v) {
-  if (v.empty()) return kNaN;
-  const std::size_t h = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(h), v.end());
-  const double upper = v[h];
-  if (v.size() % 2 == 1) return upper;
-  return 0.5 * (upper + *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(h)));
-}
 
 // Median and raw MAD (unscaled) of the finite values.
 std::pair<double, double> median_and_mad(std::span<const double> x) {
   std::vector<double> v;
   for (double a : x)
     if (!std::isnan(a)) v.push_back(a);
-  const double med = median_of(v);
+  const double med = median(v);
   for (double& a : v) a = std::abs(a - med);
-  return {med, median_of(std::move(v))};
+  return {med, median(std::move(v))};
 }
 
 // Least-squares slope of y on x (NaN pairs skipped) and its standard error,
