@@ -3,7 +3,8 @@
 # finished step returns at once, an interrupted one resumes from its file):
 #   lane A: the stiffness plateau's 1.5e10 Pa level (scripts/stiffness-plateau.sh), then the floor
 #           check at that level (liggghts-inputs/campaigns/wall-stiffness-1.5e10.toml, into
-#           results/wall-stiffness-1.5e10/);
+#           results/wall-stiffness-1.5e10/), then the convergence at 1.5e9 Pa (width, depth, grain
+#           size: liggghts-inputs/campaigns/convergence-1.5e9.toml, into results/convergence-1.5e9/);
 #   lane B: the sphere drop on the 1.5e9 Pa bed (scripts/plateau-drop.sh), then the sand-only
 #           recalibration at 1.5e9 Pa (liggghts-inputs/campaigns/sand-calibration-1.5e9.toml,
 #           into results/sand-calibration/, the plan of docs/resolved-model.md).
@@ -24,6 +25,8 @@ cd "$ROOT" || exit 1
   PLATEAU_DESIGN=stiffness-plateau-1.5e10 scripts/stiffness-plateau.sh
   PLATEAU_DESIGN=wall-stiffness-1.5e10 PLATEAU_OUT=results/wall-stiffness-1.5e10 \
     PLATEAU_FILE=wall-stiffness-1.5e10 scripts/stiffness-plateau.sh
+  PLATEAU_DESIGN=convergence-1.5e9 PLATEAU_OUT=results/convergence-1.5e9 \
+    PLATEAU_FILE=convergence-1.5e9 scripts/stiffness-plateau.sh
 } &
 lane_a=$!
 {
