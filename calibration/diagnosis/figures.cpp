@@ -69,6 +69,16 @@ Figure grid_figure(std::string title, std::size_t panels, int panel_width_px, in
   return f;
 }
 
+// A figure of a fixed layout: `columns` panels in a row, width_px x height_px in all.
+Figure fixed_figure(std::string title, int columns, int width_px, int height_px) {
+  Figure f;
+  f.title = std::move(title);
+  f.columns = columns;
+  f.width_px = width_px;
+  f.height_px = height_px;
+  return f;
+}
+
 // Measured values of observable k: held-out prediction plus residual, in plot units.
 std::vector<double> measured(const Assessment& a, std::size_t n, int k) {
   std::vector<double> y;
@@ -190,11 +200,7 @@ NamedFigure parameter_against_features(const Baseline& b, std::size_t n, std::si
 NamedFigure errors_per_release_and_regime(const Baseline& b, const ImpactSet& set,
                                           const std::string& title) {
   const std::size_t n = set.size();
-  Figure f;
-  f.title = title + ": held-out error per release and per regime";
-  f.columns = 2;
-  f.width_px = 1100;
-  f.height_px = 380;
+  Figure f = fixed_figure(title + ": held-out error per release and per regime", 2, 1100, 380);
   Panel p1;
   p1.title = "per release (sorted by |V_in|)";
   p1.xlabel = "|V_in| [m/s]";
@@ -262,11 +268,8 @@ std::vector<NamedFigure> compare_figures(const Baseline& b, const ImpactSet& set
 }
 
 std::vector<NamedFigure> diagnose_figures(const Diagnosis& d, const std::string& title) {
-  Figure f;
-  f.title = title + ": held-out error with each candidate effect added";
-  f.columns = 1;
-  f.width_px = 1100;
-  f.height_px = 420;
+  Figure f =
+      fixed_figure(title + ": held-out error with each candidate effect added", 1, 1100, 420);
   Panel p;
   p.xlabel = "0 = base model; 1, 2, ... = candidates in ranking order";
   p.ylabel = "held-out error (mean +- 1 SE)";
@@ -331,11 +334,7 @@ NamedFigure lab_gap_figure(const ImpactSet& set, const ImpactSet& lab, const sta
       {"vout_y", "V_out^y [m/s]"},
       {"wout", "omega_out [rad/s]"},
       {"slip_out", "exit slip V_out^x + omega_out R [m/s]"}};
-  Figure f;
-  f.title = title + " against the lab";
-  f.columns = 2;
-  f.width_px = 1200;
-  f.height_px = 900;
+  Figure f = fixed_figure(title + " against the lab", 2, 1200, 900);
   for (const auto& [name, label] : quantities) {
     const bool slip = std::string(name) == "slip_out";
     if (slip && !std::isfinite(disc_radius_m)) continue;
@@ -354,11 +353,7 @@ NamedFigure lab_gap_figure(const ImpactSet& set, const ImpactSet& lab, const sta
 }
 
 std::vector<NamedFigure> ladder_figures(const Ladder& l, const std::string& title) {
-  Figure f;
-  f.title = title + ": the model ladder";
-  f.columns = 2;
-  f.width_px = 1200;
-  f.height_px = 560;
+  Figure f = fixed_figure(title + ": the model ladder", 2, 1200, 560);
   Panel p1;
   p1.title = "error falling towards the noise floor";
   p1.xlabel = "rung (0 = base; each adds one effect)";
