@@ -82,6 +82,87 @@ FileColumn parse_header_cell(const std::string& cell, const std::string& file, s
   return col;
 }
 
+// The header row: the columns, checked for duplicates and for the required ones. Returns
+// whether the file gives no reflected column at all (an incident-state file, allowed only when
+// `incident_only`).
+bool parse_header(std::string_view line, const std::string& name, std::size_t line_no,
+                  bool incident_only, ImpactSet& set, std::vector<FileColumn>& columns) {
+  const auto cells = csv_split(line, name, line_no,
+                               [](std::size_t i) { return "column " + std::to_string(i + 1); });
+  std::unordered_map<std::string, std::size_t> seen;
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    columns.push_back(parse_header_cell(cells[i], name, line_no, i, set));
+    if (!seen.emplace(columns.back().name, i).second)
+      throw InputError(name, line_no, columns.back().name, "duplicate column");
+  }
+  const bool any_vout = seen.contains("vout_x") || seen.contains("vout_y") || seen.contains("wout");
+  const bool no_vout = incident_only && !any_vout;
+  for (const auto& spec : schema_columns()) {
+    const bool reflected =
+        spec.col == Col::kVoutX || spec.col == Col::kVoutY || spec.col == Col::kWout;
+    if (spec.required && !seen.contains(spec.name) && !(reflected && no_vout))
+      throw InputError(name, line_no, spec.name,
+                       incident_only && reflected
+                           ? "missing column: vout_x, vout_y and wout come together (or none, "
+                             "for incident states)"
+                           : "missing required column");
+  }
+  // The uncertainty of a velocity is all three components or none.
+  for (const char* group : {"sigma_vin_", "sigma_vout_"}) {
+    const std::string g(group);
+    const bool any = seen.contains(g + "x") || seen.contains(g + "y") || seen.contains(g + "w");
+    for (const char* c : {"x", "y", "w"})
+      if (any && !seen.contains(g + c))
+        throw InputError(name, line_no, g + c,
+                         "missing column: " + g + "x, " + g + "y and " + g + "w come together");
+  }
+  return no_vout;
+}
+
+// One data row: its cells, in SI units, into one release of `set`.
+void parse_row(std::string_view line, const std::string& name, std::size_t line_no,
+               const std::vector<FileColumn>& columns, bool no_vout, ImpactSet& set,
+               RowAssembler& rows) {
+  auto column_name = [&](std::size_t i) {
+    return i < columns.size() ? columns[i].name : "column " + std::to_string(i + 1);
+  };
+  const auto cells = csv_split(line, name, line_no, column_name);
+  if (cells.size() != columns.size()) {
+    const std::size_t at = std::min(cells.size(), columns.size());
+    throw InputError(name, line_no, column_name(at),
+                     "row has " + std::to_string(cells.size()) + " cells, the header has " +
+                         std::to_string(columns.size()));
+  }
+  Impact m;
+  if (no_vout) m.vout = {kNaN, kNaN, kNaN};
+  m.extra.assign(set.extra_names.size(), kNaN);
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const FileColumn& c = columns[i];
+    const std::string& cell = cells[i];
+    if (c.spec && c.spec->dim == Dim::kText) {
+      if (c.spec->col == Col::kId) m.id = cell;
+      if (c.spec->col == Col::kShape) m.shape = cell;
+      if (c.spec->col == Col::kOperator && !cell.empty()) m.op = cell;
+      if (c.spec->col == Col::kReplicate && !cell.empty()) m.replicate = cell;
+      if (cell.empty() && c.spec->required)
+        throw InputError(name, line_no, c.name, "empty cell; every release needs one");
+      continue;
+    }
+    const bool required = c.spec && c.spec->required;
+    if (cell.empty()) {
+      if (required) throw InputError(name, line_no, c.name, "empty cell");
+      continue;  // an optional value that this release does not have
+    }
+    double v = 0;
+    if (!parse_number(cell, v))
+      throw InputError(name, line_no, c.name, "not a number (or out of range): '" + cell + "'");
+    if (!std::isfinite(v))
+      throw InputError(name, line_no, c.name, "value is not finite (NaN or inf): '" + cell + "'");
+    rows.store(m, c.spec, c.extra_index, v * c.to_si);
+  }
+  rows.finish(std::move(m), set, line_no);
+}
+
 // The reader of both entry points: `incident_only` (parse_incident_states_csv) lets the three
 // reflected columns be absent together; each release's vout is then NaN.
 ImpactSet parse_csv(const std::string& text, const std::string& name, bool incident_only) {
@@ -110,81 +191,12 @@ ImpactSet parse_csv(const std::string& text, const std::string& name, bool incid
       continue;
     }
     if (trim(line).empty()) continue;
-
     if (!have_header) {
-      const auto cells = csv_split(line, name, line_no,
-                                   [](std::size_t i) { return "column " + std::to_string(i + 1); });
-      std::unordered_map<std::string, std::size_t> seen;
-      for (std::size_t i = 0; i < cells.size(); ++i) {
-        columns.push_back(parse_header_cell(cells[i], name, line_no, i, set));
-        if (!seen.emplace(columns.back().name, i).second)
-          throw InputError(name, line_no, columns.back().name, "duplicate column");
-      }
-      const bool any_vout =
-          seen.contains("vout_x") || seen.contains("vout_y") || seen.contains("wout");
-      no_vout = incident_only && !any_vout;
-      for (const auto& spec : schema_columns()) {
-        const bool reflected =
-            spec.col == Col::kVoutX || spec.col == Col::kVoutY || spec.col == Col::kWout;
-        if (spec.required && !seen.contains(spec.name) && !(reflected && no_vout))
-          throw InputError(name, line_no, spec.name,
-                           incident_only && reflected
-                               ? "missing column: vout_x, vout_y and wout come together (or none, "
-                                 "for incident states)"
-                               : "missing required column");
-      }
-      // The uncertainty of a velocity is all three components or none.
-      for (const char* group : {"sigma_vin_", "sigma_vout_"}) {
-        const std::string g(group);
-        const bool any = seen.contains(g + "x") || seen.contains(g + "y") || seen.contains(g + "w");
-        for (const char* c : {"x", "y", "w"})
-          if (any && !seen.contains(g + c))
-            throw InputError(name, line_no, g + c,
-                             "missing column: " + g + "x, " + g + "y and " + g + "w come together");
-      }
+      no_vout = parse_header(line, name, line_no, incident_only, set, columns);
       have_header = true;
       continue;
     }
-
-    auto column_name = [&](std::size_t i) {
-      return i < columns.size() ? columns[i].name : "column " + std::to_string(i + 1);
-    };
-    const auto cells = csv_split(line, name, line_no, column_name);
-    if (cells.size() != columns.size()) {
-      const std::size_t at = std::min(cells.size(), columns.size());
-      throw InputError(name, line_no, column_name(at),
-                       "row has " + std::to_string(cells.size()) + " cells, the header has " +
-                           std::to_string(columns.size()));
-    }
-    Impact m;
-    if (no_vout) m.vout = {kNaN, kNaN, kNaN};
-    m.extra.assign(set.extra_names.size(), kNaN);
-    // Which sigma components this row gives, to refuse a partial triple.
-    for (std::size_t i = 0; i < cells.size(); ++i) {
-      const FileColumn& c = columns[i];
-      const std::string& cell = cells[i];
-      if (c.spec && c.spec->dim == Dim::kText) {
-        if (c.spec->col == Col::kId) m.id = cell;
-        if (c.spec->col == Col::kShape) m.shape = cell;
-        if (c.spec->col == Col::kOperator && !cell.empty()) m.op = cell;
-        if (c.spec->col == Col::kReplicate && !cell.empty()) m.replicate = cell;
-        if (cell.empty() && c.spec->required)
-          throw InputError(name, line_no, c.name, "empty cell; every release needs one");
-        continue;
-      }
-      const bool required = c.spec && c.spec->required;
-      if (cell.empty()) {
-        if (required) throw InputError(name, line_no, c.name, "empty cell");
-        continue;  // an optional value that this release does not have
-      }
-      double v = 0;
-      if (!parse_number(cell, v))
-        throw InputError(name, line_no, c.name, "not a number (or out of range): '" + cell + "'");
-      if (!std::isfinite(v))
-        throw InputError(name, line_no, c.name, "value is not finite (NaN or inf): '" + cell + "'");
-      rows.store(m, c.spec, c.extra_index, v * c.to_si);
-    }
-    rows.finish(std::move(m), set, line_no);
+    parse_row(line, name, line_no, columns, no_vout, set, rows);
   }
   if (!have_header)
     throw InputError(
