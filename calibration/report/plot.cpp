@@ -271,8 +271,9 @@ void run_gnuplot(const fs::path& script, const fs::path& log, const fs::path& cw
 
 }  // namespace
 
-void render(const Figure& figure, const std::string& path) {
-  const std::string ext = fs::path(path).extension().string();
+namespace {
+
+void check_figure(const Figure& figure, const std::string& path, const std::string& ext) {
   if (ext != ".svg" && ext != ".png")
     throw std::invalid_argument("plot: cannot write '" + path +
                                 "': the figure formats are .svg and .png");
@@ -283,14 +284,14 @@ void render(const Figure& figure, const std::string& path) {
   for (std::size_t p = 0; p < figure.panels.size(); ++p)
     for (std::size_t k = 0; k < figure.panels[p].series.size(); ++k)
       check_series(figure.panels[p], p, figure.panels[p].series[k], k);
+}
 
-  TempDir dir;
+// The terminal, the output file, the project's style and the multiplot layout.
+void figure_preamble(std::ostringstream& script, const Figure& figure, const std::string& ext,
+                     const std::string& produced_name) {
   const std::size_t columns =
       std::min<std::size_t>(static_cast<std::size_t>(figure.columns), figure.panels.size());
   const std::size_t rows = (figure.panels.size() + columns - 1) / columns;
-
-  std::ostringstream script;
-  const std::string produced_name = "figure" + ext;
   if (ext == ".svg")
     script << "set terminal svg size " << figure.width_px << "," << figure.height_px << " dynamic "
            << (figure.enhanced_text ? "enhanced" : "noenhanced")
@@ -309,80 +310,96 @@ void render(const Figure& figure, const std::string& path) {
   script << "set multiplot layout " << rows << "," << columns;
   if (!figure.title.empty()) script << " title " << quote(figure.title);
   script << "\n";
+}
 
-  for (std::size_t p = 0; p < figure.panels.size(); ++p) {
-    const Panel& panel = figure.panels[p];
-    script << "reset\n";
-    script << "set title " << quote(panel.title) << "\n";
-    script << "set xlabel " << quote(panel.xlabel) << "\n";
-    script << "set ylabel " << quote(panel.ylabel) << "\n";
-    script << "set grid\n";
-    script << key_clause(panel.key);
-    script << (panel.logx ? "set logscale x\n" : "unset logscale x\n");
-    script << (panel.logy ? "set logscale y\n" : "unset logscale y\n");
-    std::vector<std::string> items;
-    std::size_t drawn_total = 0;
-    for (std::size_t k = 0; k < panel.series.size(); ++k) {
-      const Series& s = panel.series[k];
-      const std::string file = "p" + std::to_string(p) + "_s" + std::to_string(k) + ".dat";
-      const std::size_t drawn = write_series(s, panel, dir.path() / file);
-      drawn_total += drawn;
-      // A series without drawable points keeps its legend entry (keyentry) so that the reader
-      // sees it is empty rather than silently missing.
-      if (drawn == 0)
-        items.push_back("keyentry " + style_clause(s) + " title " + quote(s.title + " (no data)"));
-      else
-        items.push_back(quote(file) + " " + using_clause(s) + " " + style_clause(s) + " title " +
-                        quote(s.title));
-    }
-    // gnuplot refuses to autoscale an axis without any point: give empty panels a unit box.
-    double xmin = panel.xmin, xmax = panel.xmax, ymin = panel.ymin, ymax = panel.ymax;
-    if (drawn_total == 0) {
-      const double lo = 1, hi = 10;
-      if (std::isnan(xmin)) xmin = panel.logx ? lo : 0;
-      if (std::isnan(xmax)) xmax = panel.logx ? hi : 1;
-      if (std::isnan(ymin)) ymin = panel.logy ? lo : 0;
-      if (std::isnan(ymax)) ymax = panel.logy ? hi : 1;
-    }
-    range(script, "x", xmin, xmax);
-    range(script, "y", ymin, ymax);
-    if (panel.equal_aspect) script << "set size ratio -1\n";
-    // viridis (van der Walt and Smith 2015), sampled at 5 stops: colour-blind-safe and
-    // readable in grey.
-    script << "set palette defined (0 '#440154', 1 '#3b528b', 2 '#21918c', 3 '#5ec962', "
-              "4 '#fde725')\n";
-    range(script, "cb", panel.cbmin, panel.cbmax);
-    if (!panel.cblabel.empty()) script << "set cblabel " << quote(panel.cblabel) << "\n";
-    if (!panel.colorbox) script << "unset colorbox\n";
-    // gnuplot cannot draw axes from legend entries alone (it asserts): a panel without any
-    // drawable point gets an invisible placeholder curve, so it still renders its frame, its
-    // title and the "(no data)" entries in its place of the grid.
-    if (drawn_total == 0) items.insert(items.begin(), "-1 notitle with lines lt nodraw");
-    {
-      script << "plot ";
-      for (std::size_t i = 0; i < items.size(); ++i) script << (i ? ", \\\n     " : "") << items[i];
-      script << "\n";
-    }
+// Panel p: its settings, its series written as data files in `dir`, and its plot command.
+void panel_script(std::ostringstream& script, const Panel& panel, std::size_t p,
+                  const fs::path& dir) {
+  script << "reset\n";
+  script << "set title " << quote(panel.title) << "\n";
+  script << "set xlabel " << quote(panel.xlabel) << "\n";
+  script << "set ylabel " << quote(panel.ylabel) << "\n";
+  script << "set grid\n";
+  script << key_clause(panel.key);
+  script << (panel.logx ? "set logscale x\n" : "unset logscale x\n");
+  script << (panel.logy ? "set logscale y\n" : "unset logscale y\n");
+  std::vector<std::string> items;
+  std::size_t drawn_total = 0;
+  for (std::size_t k = 0; k < panel.series.size(); ++k) {
+    const Series& s = panel.series[k];
+    const std::string file = "p" + std::to_string(p) + "_s" + std::to_string(k) + ".dat";
+    const std::size_t drawn = write_series(s, panel, dir / file);
+    drawn_total += drawn;
+    // A series without drawable points keeps its legend entry (keyentry) so that the reader
+    // sees it is empty rather than silently missing.
+    if (drawn == 0)
+      items.push_back("keyentry " + style_clause(s) + " title " + quote(s.title + " (no data)"));
+    else
+      items.push_back(quote(file) + " " + using_clause(s) + " " + style_clause(s) + " title " +
+                      quote(s.title));
   }
-  script << "unset multiplot\nset output\n";
+  // gnuplot refuses to autoscale an axis without any point: give empty panels a unit box.
+  double xmin = panel.xmin, xmax = panel.xmax, ymin = panel.ymin, ymax = panel.ymax;
+  if (drawn_total == 0) {
+    const double lo = 1, hi = 10;
+    if (std::isnan(xmin)) xmin = panel.logx ? lo : 0;
+    if (std::isnan(xmax)) xmax = panel.logx ? hi : 1;
+    if (std::isnan(ymin)) ymin = panel.logy ? lo : 0;
+    if (std::isnan(ymax)) ymax = panel.logy ? hi : 1;
+  }
+  range(script, "x", xmin, xmax);
+  range(script, "y", ymin, ymax);
+  if (panel.equal_aspect) script << "set size ratio -1\n";
+  // viridis (van der Walt and Smith 2015), sampled at 5 stops: colour-blind-safe and
+  // readable in grey.
+  script << "set palette defined (0 '#440154', 1 '#3b528b', 2 '#21918c', 3 '#5ec962', "
+            "4 '#fde725')\n";
+  range(script, "cb", panel.cbmin, panel.cbmax);
+  if (!panel.cblabel.empty()) script << "set cblabel " << quote(panel.cblabel) << "\n";
+  if (!panel.colorbox) script << "unset colorbox\n";
+  // gnuplot cannot draw axes from legend entries alone (it asserts): a panel without any
+  // drawable point gets an invisible placeholder curve, so it still renders its frame, its
+  // title and the "(no data)" entries in its place of the grid.
+  if (drawn_total == 0) items.insert(items.begin(), "-1 notitle with lines lt nodraw");
+  script << "plot ";
+  for (std::size_t i = 0; i < items.size(); ++i) script << (i ? ", \\\n     " : "") << items[i];
+  script << "\n";
+}
 
-  const fs::path script_path = dir.path() / "figure.gp";
+// Runs the script in `dir` and copies gnuplot's output to `path`.
+void run_script(const std::string& script, const fs::path& dir, const std::string& ext,
+                const std::string& produced_name, const std::string& path) {
+  const fs::path script_path = dir / "figure.gp";
   {
     std::ofstream out(script_path);
-    out << script.str();
+    out << script;
     if (!out) throw std::runtime_error("plot: cannot write " + script_path.string());
   }
-  run_gnuplot(script_path, dir.path() / "gnuplot.log", dir.path());
-
-  const fs::path produced = dir.path() / produced_name;
+  run_gnuplot(script_path, dir / "gnuplot.log", dir);
+  const fs::path produced = dir / produced_name;
   std::error_code ec;
   if (!fs::exists(produced) || fs::file_size(produced, ec) == 0)
     throw std::runtime_error("plot: gnuplot produced no " + ext.substr(1) + " output:\n" +
-                             read_file(dir.path() / "gnuplot.log"));
+                             read_file(dir / "gnuplot.log"));
   const fs::path dest(path);
   if (dest.has_parent_path()) fs::create_directories(dest.parent_path());
   fs::copy_file(produced, dest, fs::copy_options::overwrite_existing, ec);
   if (ec) throw std::runtime_error("plot: cannot write " + path + ": " + ec.message());
+}
+
+}  // namespace
+
+void render(const Figure& figure, const std::string& path) {
+  const std::string ext = fs::path(path).extension().string();
+  check_figure(figure, path, ext);
+  TempDir dir;
+  const std::string produced_name = "figure" + ext;
+  std::ostringstream script;
+  figure_preamble(script, figure, ext, produced_name);
+  for (std::size_t p = 0; p < figure.panels.size(); ++p)
+    panel_script(script, figure.panels[p], p, dir.path());
+  script << "unset multiplot\nset output\n";
+  run_script(script.str(), dir.path(), ext, produced_name, path);
 }
 
 Panel ecdf_panel(const std::string& title, const std::string& xlabel,
