@@ -97,13 +97,24 @@ std::string name_of(const Effect& e) {
 
 }  // namespace
 
-std::vector<std::string> check_effect_invariants(const Effect& effect) {
-  std::vector<std::string> problems;
-  const std::string who = name_of(effect);
-  const auto specs = effect.parameters();
+namespace {
 
-  // 1. Declarations.
-  for (const auto& p : specs) {
+using Problems = std::vector<std::string>;
+using BoundOf = double (*)(const ParameterSpec&);
+double at_lower(const ParameterSpec& p) {
+  return p.lower;
+}
+double at_nominal(const ParameterSpec& p) {
+  return p.nominal;
+}
+double at_upper(const ParameterSpec& p) {
+  return p.upper;
+}
+
+// 1. Declarations: names, units, bounds holding the nominal and neutral values, the equation and
+// its reference.
+void check_declarations(const Effect& effect, const std::string& who, Problems& problems) {
+  for (const auto& p : effect.parameters()) {
     if (p.name.empty() || p.unit.empty())
       problems.push_back(who + "a parameter lacks a name or a unit");
     if (!(p.lower <= p.nominal && p.nominal <= p.upper))
@@ -113,27 +124,26 @@ std::vector<std::string> check_effect_invariants(const Effect& effect) {
   }
   if (effect.equation().empty() || effect.reference().empty())
     problems.push_back(who + "equation and reference must be documented");
+}
 
-  const auto at_lower = [](const ParameterSpec& p) { return p.lower; };
-  const auto at_nominal = [](const ParameterSpec& p) { return p.nominal; };
-  const auto at_upper = [](const ParameterSpec& p) { return p.upper; };
+// 2. Out of contact: no force, state zero.
+void check_out_of_contact(const Effect& effect, const std::string& who, Problems& problems) {
+  Fixture fx(false, 1.0);
+  const Fixture before = fx;
+  const auto state = run(effect, fx, at_nominal, 3);
+  if (!unchanged(fx.fn, before.fn) || !unchanged(fx.ft, before.ft) ||
+      !unchanged(fx.moment, before.moment) || !unchanged(fx.fxb, before.fxb) ||
+      !unchanged(fx.fyb, before.fyb))
+    problems.push_back(who + "adds a force or moment out of contact");
+  for (const auto& s : state)
+    for (double v : s)
+      if (v != 0.0) problems.push_back(who + "keeps a non-zero state out of contact");
+}
 
-  // 2. Out of contact: no force, state zero.
-  {
-    Fixture fx(false, 1.0);
-    const Fixture before = fx;
-    const auto state = run(effect, fx, at_nominal, 3);
-    if (!unchanged(fx.fn, before.fn) || !unchanged(fx.ft, before.ft) ||
-        !unchanged(fx.moment, before.moment) || !unchanged(fx.fxb, before.fxb) ||
-        !unchanged(fx.fyb, before.fyb))
-      problems.push_back(who + "adds a force or moment out of contact");
-    for (const auto& s : state)
-      for (double v : s)
-        if (v != 0.0) problems.push_back(who + "keeps a non-zero state out of contact");
-  }
-
-  // 3 and 4. Stage discipline and finiteness at the bounds.
-  for (auto value_of : {+at_lower, +at_nominal, +at_upper}) {
+// 3 and 4. Stage discipline (an effect writes only its stage's output) and finite outputs, with
+// the parameters at each bound and the penetration from zero to ten times the fixture's.
+void check_stage_and_finiteness(const Effect& effect, const std::string& who, Problems& problems) {
+  for (BoundOf value_of : {at_lower, at_nominal, at_upper}) {
     for (double scale : {0.0, 0.1, 1.0, 10.0}) {
       Fixture fx(true, scale);
       const Fixture before = fx;
@@ -168,27 +178,24 @@ std::vector<std::string> check_effect_invariants(const Effect& effect) {
       }
     }
   }
-  if (!problems.empty()) return problems;
+}
 
-  // 5 and 6. In the real engine, added to the paper's law.
-  EffectRegistry registry = EffectRegistry::with_builtins();
-  if (!registry.contains(effect.name())) registry.add_borrowed(effect);
-  const Model base = Model::paper(registry);
-  Model model = base;
-  if (!base.has_effect(effect.name())) model = base.with_effect(effect.name(), false, registry);
-  const std::array<CollisionCase, 3> cases = {CollisionCase{{2.9, -2.3, -65.0}, 0.0},
-                                              CollisionCase{{0.0, -4.0, 0.0}, 0.0},
-                                              CollisionCase{{4.5, -3.5, -30.0}, 0.4}};
-  EngineOptions options;
-  options.max_time_s = 0.3;
+const std::array<CollisionCase, 3> kCases = {CollisionCase{{2.9, -2.3, -65.0}, 0.0},
+                                             CollisionCase{{0.0, -4.0, 0.0}, 0.0},
+                                             CollisionCase{{4.5, -3.5, -30.0}, 0.4}};
+
+// 5. In the real engine, added to the paper's law: no energy created, parameters at each bound,
+// both shapes.
+void check_energy(const Effect& effect, const Model& model, const EngineOptions& options,
+                  const std::string& who, Problems& problems) {
   for (const Shape& shape : {Shape::cylinder(), Shape::triangle()}) {
-    for (auto value_of : {+at_lower, +at_nominal, +at_upper}) {
+    for (BoundOf value_of : {at_lower, at_nominal, at_upper}) {
       std::vector<double> values = model.values();
-      for (const auto& p : specs) values[model.index(p.name)] = value_of(p);
+      for (const auto& p : effect.parameters()) values[model.index(p.name)] = value_of(p);
       // Resolve the stiffest spring at the bounds (stiffnesses up to 1e10 N m/rad).
       EngineOptions at_bounds = options;
       at_bounds.dt_s = std::min(options.dt_s, 0.02 * critical_time_step(model, shape, values));
-      for (const auto& c : cases) {
+      for (const auto& c : kCases) {
         const CollisionResult r = simulate(model, shape, c, values, at_bounds);
         const double gained = r.kinetic_out_J + r.potential_change_J - r.kinetic_in_J;
         // Tolerance: the integrator's own error on a perfectly elastic contact (e_n^2 = 1).
@@ -200,18 +207,45 @@ std::vector<std::string> check_effect_invariants(const Effect& effect) {
       }
     }
   }
+}
+
+// 6. At its neutral values (when every parameter has one) the effect leaves the paper's law as
+// it is.
+void check_neutral(const Effect& effect, const Model& base, const Model& model,
+                   const EngineOptions& options, const std::string& who, Problems& problems) {
+  const auto specs = effect.parameters();
   bool has_neutral = !specs.empty();
   for (const auto& p : specs) has_neutral = has_neutral && !std::isnan(p.neutral);
-  if (has_neutral && !base.has_effect(effect.name())) {
-    std::vector<double> values = model.values();
-    for (const auto& p : specs) values[model.index(p.name)] = p.neutral;
-    for (const auto& c : cases) {
-      const CollisionResult a = simulate(base, Shape::cylinder(), c, {}, options);
-      const CollisionResult b = simulate(model, Shape::cylinder(), c, values, options);
-      if (a.vout != b.vout)
-        problems.push_back(who + "at its neutral values it changes the paper's law");
-    }
+  if (!has_neutral || base.has_effect(effect.name())) return;
+  std::vector<double> values = model.values();
+  for (const auto& p : specs) values[model.index(p.name)] = p.neutral;
+  for (const auto& c : kCases) {
+    const CollisionResult a = simulate(base, Shape::cylinder(), c, {}, options);
+    const CollisionResult b = simulate(model, Shape::cylinder(), c, values, options);
+    if (a.vout != b.vout)
+      problems.push_back(who + "at its neutral values it changes the paper's law");
   }
+}
+
+}  // namespace
+
+std::vector<std::string> check_effect_invariants(const Effect& effect) {
+  Problems problems;
+  const std::string who = name_of(effect);
+  check_declarations(effect, who, problems);
+  check_out_of_contact(effect, who, problems);
+  check_stage_and_finiteness(effect, who, problems);
+  if (!problems.empty()) return problems;
+
+  EffectRegistry registry = EffectRegistry::with_builtins();
+  if (!registry.contains(effect.name())) registry.add_borrowed(effect);
+  const Model base = Model::paper(registry);
+  Model model = base;
+  if (!base.has_effect(effect.name())) model = base.with_effect(effect.name(), false, registry);
+  EngineOptions options;
+  options.max_time_s = 0.3;
+  check_energy(effect, model, options, who, problems);
+  check_neutral(effect, base, model, options, who, problems);
   return problems;
 }
 
