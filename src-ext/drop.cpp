@@ -178,6 +178,104 @@ void analyse_drop(DropResult& r, const DropAnalysisOptions& options) {
   }
 }
 
+namespace {
+
+// What would make LIGGGHTS stop or the drop meaningless, checked before LIGGGHTS runs: the
+// message, empty when the drop can run.
+std::string preflight_problem(const DropSpec& spec, const Decks& decks, const BedFiles& bed,
+                              const DropResult& r) {
+  const double h_start = drop_param(spec, decks, "h_start_m");
+  const double x_frac = drop_param(spec, decks, "x_drop_frac");
+  const double y_drop = drop_param(spec, decks, "y_drop_m");
+  const double R = 0.5 * r.D_sphere_m;
+  const double x = x_frac * bed.Lx_m;
+  const double z_top = bed.z_surface_m + std::min(h_start, spec.h_drop_m) + 2 * R;
+  if (!(spec.h_drop_m > 0)) return fmt::format("drop height {} m: must be > 0", spec.h_drop_m);
+  if (x - R < 2 * bed.r_max_m || x + R > bed.Lx_m - 2 * bed.r_max_m ||
+      std::abs(y_drop) + R > 0.5 * bed.Ly_m - 2 * bed.r_max_m)
+    return fmt::format(
+        "a sphere of diameter {} m at x = {} m, y = {} m does not fit the {} x {} m bed",
+        r.D_sphere_m, x, y_drop, bed.Lx_m, bed.Ly_m);
+  if (z_top > bed.z_box_top_m)
+    return fmt::format("the sphere's top would be at {:.3f} m, above the box top {:.3f} m", z_top,
+                       bed.z_box_top_m);
+  return "";
+}
+
+// The deck's variables of one drop.
+std::vector<std::pair<std::string, std::string>> drop_variables(const DropSpec& spec,
+                                                                const Decks& decks,
+                                                                const BedFiles& bed,
+                                                                const std::string& out) {
+  std::vector<std::pair<std::string, std::string>> vars = {
+      {"deck_dir", decks.root + "/drop"},
+      {"common", decks.common},
+      {"bed", bed.prefix},
+      {"out", out},
+      {"h_drop_m", shortest_number(spec.h_drop_m)}};
+  for (const auto& [k, v] : spec.block) vars.emplace_back(k, v);
+  for (const auto& [k, v] : spec.drop) vars.emplace_back(k, v);
+  if (spec.seed && !spec.drop.count("sphere_seed"))
+    vars.emplace_back("sphere_seed", std::to_string(liggghts_seed(*spec.seed, 1)));
+  return vars;
+}
+
+// The LIGGGHTS run: the sphere inserted, then chunks until the deck's stop criterion; fills the
+// status, time step, bulk density, steps and simulated time of `r`.
+void run_liggghts_drop(const DropContext& ctx, const BedFiles& bed,
+                       const std::vector<std::pair<std::string, std::string>>& vars,
+                       const std::string& deck_dir, MPI_Comm comm, DropResult& r) {
+  Liggghts lmp(comm, (fs::path(ctx.work_dir) / "log.liggghts").string(),
+               (fs::path(ctx.work_dir) / "screen.txt").string(), vars);
+  lmp.file(deck_dir + "/setup.in");
+  r.dt_s = lmp.timestep_s();
+  const long first_step = lmp.step();
+  r.rho_bulk = lmp.number("rho_bulk").value_or(kNaN);
+  const double t_max = lmp.number("t_max_s").value_or(0);
+  const long chunk = static_cast<long>(lmp.number("chunk_steps").value_or(100));
+  const long expected = bed.grains + 1;
+  if (lmp.natoms() != expected) {
+    r.status = "not_inserted";
+    r.message = fmt::format("{} atoms after the sphere's insertion, expected {} grains + 1",
+                            lmp.natoms(), bed.grains);
+  } else {
+    ChunkRun run;
+    run.chunk_steps = chunk;
+    run.check_file = deck_dir + "/check.in";
+    run.done_variable = "drop_done";
+    run.body = "sphere";
+    run.state_variables = {"sx", "sy", "sz", "svz"};
+    run.expected_atoms = expected;
+    if (ctx.progress) run.progress = [&](double t) { ctx.progress(t, t_max); };
+    const ChunkOutcome outcome = run_chunks(lmp, run);
+    r.status = outcome.status;
+    r.message = outcome.message;
+    if (outcome.deck_stopped) {
+      r.t_contact_s = lmp.number("t_contact_start").value_or(-1);
+      lmp.file(deck_dir + "/finish.in");
+    }
+  }
+  r.steps = lmp.step() - first_step;
+  r.sim_time_s = lmp.time_s();
+}
+
+// The one-line summary of an analysed drop, by status.
+void outcome_message(DropResult& r) {
+  if (r.status == "at_rest")
+    r.message = fmt::format("d = {:.4f} m after h = {:.3f} m (H = {:.4f} m), impact at {:.3f} m/s",
+                            r.depth_final_m, r.h_drop_m, r.H_total_m, r.v_impact_mps);
+  else if (r.status == "timeout")
+    r.message = fmt::format("still moving after t_max_s (depth {:.4f} m)", r.depth_final_m);
+  else if (r.status == "rebound")
+    r.message = fmt::format(
+        "bounced off the bed at {:.3f} m/s after an impact at {:.3f} m/s, largest depth {:.4f} m",
+        r.v_rebound_mps, r.v_impact_mps, r.depth_max_m);
+  else if (r.status == "bottom")
+    r.message = "the sphere reached the floor: use a deeper bed (bed.H_m)";
+}
+
+}  // namespace
+
 DropResult run_drop(const DropSpec& spec, const DropContext& ctx, MPI_Comm comm) {
   const Decks& decks = *ctx.decks;
   const BedFiles& bed = ctx.bed;
@@ -198,23 +296,7 @@ DropResult run_drop(const DropSpec& spec, const DropContext& ctx, MPI_Comm comm)
     r.message = "the bed " + bed.prefix + " did not meet its settling criterion";
     return r;
   }
-  // What would make LIGGGHTS stop or the drop meaningless, checked before LIGGGHTS runs.
-  const double h_start = drop_param(spec, decks, "h_start_m");
-  const double x_frac = drop_param(spec, decks, "x_drop_frac");
-  const double y_drop = drop_param(spec, decks, "y_drop_m");
-  const double R = 0.5 * r.D_sphere_m;
-  const double x = x_frac * bed.Lx_m;
-  const double z_top = bed.z_surface_m + std::min(h_start, spec.h_drop_m) + 2 * R;
-  if (!(spec.h_drop_m > 0))
-    r.message = fmt::format("drop height {} m: must be > 0", spec.h_drop_m);
-  else if (x - R < 2 * bed.r_max_m || x + R > bed.Lx_m - 2 * bed.r_max_m ||
-           std::abs(y_drop) + R > 0.5 * bed.Ly_m - 2 * bed.r_max_m)
-    r.message = fmt::format(
-        "a sphere of diameter {} m at x = {} m, y = {} m does not fit the {} x {} m bed",
-        r.D_sphere_m, x, y_drop, bed.Lx_m, bed.Ly_m);
-  else if (z_top > bed.z_box_top_m)
-    r.message = fmt::format("the sphere's top would be at {:.3f} m, above the box top {:.3f} m",
-                            z_top, bed.z_box_top_m);
+  r.message = preflight_problem(spec, decks, bed, r);
   if (!r.message.empty()) {
     r.status = "invalid";
     return r;
@@ -222,54 +304,9 @@ DropResult run_drop(const DropSpec& spec, const DropContext& ctx, MPI_Comm comm)
   if (rank == 0) fs::create_directories(ctx.work_dir);
   MPI_Barrier(comm);
   const std::string out = (fs::path(ctx.work_dir) / "drop").string();
-  const std::string deck_dir = decks.root + "/drop";
-  std::vector<std::pair<std::string, std::string>> vars = {
-      {"deck_dir", deck_dir},
-      {"common", decks.common},
-      {"bed", bed.prefix},
-      {"out", out},
-      {"h_drop_m", shortest_number(spec.h_drop_m)}};
-  for (const auto& [k, v] : spec.block) vars.emplace_back(k, v);
-  for (const auto& [k, v] : spec.drop) vars.emplace_back(k, v);
-  if (spec.seed && !spec.drop.count("sphere_seed"))
-    vars.emplace_back("sphere_seed", std::to_string(liggghts_seed(*spec.seed, 1)));
-
   const auto start = std::chrono::steady_clock::now();
   const double cpu_start = process_cpu_s();
-  {
-    Liggghts lmp(comm, (fs::path(ctx.work_dir) / "log.liggghts").string(),
-                 (fs::path(ctx.work_dir) / "screen.txt").string(), vars);
-    lmp.file(deck_dir + "/setup.in");
-    r.dt_s = lmp.timestep_s();
-    const long first_step = lmp.step();
-    r.rho_bulk = lmp.number("rho_bulk").value_or(kNaN);
-    const double t_max = lmp.number("t_max_s").value_or(0);
-    const long chunk = static_cast<long>(lmp.number("chunk_steps").value_or(100));
-    const long expected = bed.grains + 1;
-    if (lmp.natoms() != expected) {
-      r.status = "not_inserted";
-      r.message = fmt::format("{} atoms after the sphere's insertion, expected {} grains + 1",
-                              lmp.natoms(), bed.grains);
-    } else {
-      ChunkRun run;
-      run.chunk_steps = chunk;
-      run.check_file = deck_dir + "/check.in";
-      run.done_variable = "drop_done";
-      run.body = "sphere";
-      run.state_variables = {"sx", "sy", "sz", "svz"};
-      run.expected_atoms = expected;
-      if (ctx.progress) run.progress = [&](double t) { ctx.progress(t, t_max); };
-      const ChunkOutcome outcome = run_chunks(lmp, run);
-      r.status = outcome.status;
-      r.message = outcome.message;
-      if (outcome.deck_stopped) {
-        r.t_contact_s = lmp.number("t_contact_start").value_or(-1);
-        lmp.file(deck_dir + "/finish.in");
-      }
-    }
-    r.steps = lmp.step() - first_step;
-    r.sim_time_s = lmp.time_s();
-  }
+  run_liggghts_drop(ctx, bed, drop_variables(spec, decks, bed, out), decks.root + "/drop", comm, r);
   r.wall_s = seconds_since(start);
   r.cpu_s = process_cpu_s() - cpu_start;
   MPI_Allreduce(MPI_IN_PLACE, &r.cpu_s, 1, MPI_DOUBLE, MPI_SUM, comm);
@@ -284,17 +321,7 @@ DropResult run_drop(const DropSpec& spec, const DropContext& ctx, MPI_Comm comm)
     return r;
   }
   analyse_drop(r, ctx.analysis);
-  if (r.status == "at_rest")
-    r.message = fmt::format("d = {:.4f} m after h = {:.3f} m (H = {:.4f} m), impact at {:.3f} m/s",
-                            r.depth_final_m, r.h_drop_m, r.H_total_m, r.v_impact_mps);
-  else if (r.status == "timeout")
-    r.message = fmt::format("still moving after t_max_s (depth {:.4f} m)", r.depth_final_m);
-  else if (r.status == "rebound")
-    r.message = fmt::format(
-        "bounced off the bed at {:.3f} m/s after an impact at {:.3f} m/s, largest depth {:.4f} m",
-        r.v_rebound_mps, r.v_impact_mps, r.depth_max_m);
-  else if (r.status == "bottom")
-    r.message = "the sphere reached the floor: use a deeper bed (bed.H_m)";
+  outcome_message(r);
   return r;
 }
 
