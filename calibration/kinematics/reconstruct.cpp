@@ -15,6 +15,7 @@
 
 #include "common/csv.hpp"
 #include "common/error.hpp"
+#include "common/nan.hpp"
 #include "common/units.hpp"
 #include "stats/median.hpp"
 
@@ -646,7 +647,6 @@ Sides ballistic_window(const Track& track, const ReconstructOptions& options, Re
 // Noise levels: given, or pooled residual variances of both sides (x and y share the pointing
 // noise; theta has its own).
 void noise_levels(const Track& track, const SideFit& fb, const SideFit& fa, Reconstruction& rec) {
-  const double nan = std::numeric_limits<double>::quiet_NaN();
   const std::size_t dof_pos = fb.dof_pos() + fa.dof_pos();
   const std::size_t dof_th = fb.dof_theta() + fa.dof_theta();
   const double rss_pos = fb.x.rss + fb.y.rss + fa.x.rss + fa.y.rss;
@@ -656,29 +656,28 @@ void noise_levels(const Track& track, const SideFit& fb, const SideFit& fa, Reco
     rec.sigma_position_m = track.sigma_position_m;
   } else {
     rec.sigma_source = "residuals";
-    rec.sigma_position_m = dof_pos > 0 ? std::sqrt(rss_pos / static_cast<double>(dof_pos)) : nan;
+    rec.sigma_position_m = dof_pos > 0 ? std::sqrt(rss_pos / static_cast<double>(dof_pos)) : kNaN;
   }
   if (track.sigma_theta_rad > 0)
     rec.sigma_theta_rad = track.sigma_theta_rad;
   else if (track.sigma_position_m > 0 && track.mark_radius_m > 0)
     rec.sigma_theta_rad = std::sqrt(2.0) * track.sigma_position_m / track.mark_radius_m;
   else
-    rec.sigma_theta_rad = dof_th > 0 ? std::sqrt(rss_th / static_cast<double>(dof_th)) : nan;
+    rec.sigma_theta_rad = dof_th > 0 ? std::sqrt(rss_th / static_cast<double>(dof_th)) : kNaN;
 }
 
 // Position, velocity and its standard error of one side's fit at the window's end te.
 void side_state(const SideFit& f, double te, const Reconstruction& rec, Vel3& v, Vel3& sv,
                 Vel3& pos) {
-  const double nan = std::numeric_limits<double>::quiet_NaN();
   pos[0] = f.x.value(te);
   pos[1] = f.y.value(te);
-  pos[2] = f.has_theta ? f.theta.value(te) : nan;
+  pos[2] = f.has_theta ? f.theta.value(te) : kNaN;
   v[kVx] = f.x.derivative(te);
   v[kVy] = f.y.derivative(te);
   sv[kVx] = rec.sigma_position_m * f.x.derivative_sd_unit(te);
   sv[kVy] = rec.sigma_position_m * f.y.derivative_sd_unit(te);
-  v[kW] = f.has_theta ? f.theta.derivative(te) : nan;
-  sv[kW] = f.has_theta ? rec.sigma_theta_rad * f.theta.derivative_sd_unit(te) : nan;
+  v[kW] = f.has_theta ? f.theta.derivative(te) : kNaN;
+  sv[kW] = f.has_theta ? rec.sigma_theta_rad * f.theta.derivative_sd_unit(te) : kNaN;
 }
 
 // Gravity of one side: imposed, or fitted from y = ... + c2 tau^2 with tau = dt / scale, so

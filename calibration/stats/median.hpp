@@ -4,15 +4,16 @@
 
 #include <algorithm>
 #include <cstddef>
-#include <limits>
 #include <vector>
+
+#include "common/nan.hpp"
 
 namespace ricochet::stats {
 
 /// Median of `v` (taken by value: it is reordered): the middle value, or the mean of the two
 /// middle values for an even count; NaN for an empty sample. The values must not be NaN.
 inline double median(std::vector<double> v) {
-  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
+  if (v.empty()) return kNaN;
   const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
   std::nth_element(v.begin(), mid, v.end());
   if (v.size() % 2 == 1) return *mid;
