@@ -23,11 +23,13 @@ an elastic indentation goes as E^-2/5, a contact time as E^-2/5, the time step a
 
 --svg draws, with gnuplot, V_out^y of every state against E_grain (replica mean and sd) and the
 largest penetration against E_grain with the elastic E^-2/5 slope for reference.
+--tracks OUT.svg draws the tracks of one state and seed at every level (--track-of, default
+cyl-s0): the normal contact force, the penetration and V_y against time (/dem/tracks, read with
+h5dump).
 """
 import argparse
 import importlib.util
 import json
-import math
 import os
 import statistics
 import subprocess
@@ -51,6 +53,8 @@ def main():
     ap.add_argument("build")
     ap.add_argument("campaign")
     ap.add_argument("--svg", help="the figure (SVG; PNG when the name ends in .png)")
+    ap.add_argument("--tracks", help="the tracks' figure (SVG; PNG when the name ends in .png)")
+    ap.add_argument("--track-of", default="cyl-s0", help="state and seed of --tracks")
     a = ap.parse_args()
 
     index = read_index(a.campaign)
@@ -92,6 +96,54 @@ def main():
 
     if a.svg:
         draw(a.svg, index, tracks)
+    if a.tracks:
+        draw_tracks(a.tracks, a.campaign, sorted(
+            (i for i in index if i.split("-", 1)[1] == a.track_of), key=lambda i: parse_id(i)[0]))
+
+
+def terminal_for(path, height=420):
+    return (f"pngcairo size 1000,{height} font 'sans,10'" if path.endswith(".png") else
+            f"svg size 1000,{height} font 'sans,12' background rgb 'white'")
+
+
+def draw_tracks(out, campaign, ids):
+    """fcy [N], penetration [mm] and vy [m/s] against t [s] of each impact's /dem/tracks/ID."""
+    with tempfile.TemporaryDirectory() as tmp:
+        plots = {"fcy": [], "pen": [], "vy": []}
+        for iid in ids:
+            body = _ct.h5_column(campaign, f"/dem/tracks/{iid}")
+            rows = []
+            for line in body.splitlines():
+                try:
+                    r = [float(x) for x in line.replace(",", " ").split()]
+                except ValueError:  # the attributes' lines (column names, conventions)
+                    continue
+                if len(r) >= 10:
+                    rows.append(r)
+            path = os.path.join(tmp, f"{iid}.dat")
+            with open(path, "w") as f:
+                for r in rows:  # columns: t x y theta vx vy w fcx fcy penetration ...
+                    f.write(f"{r[0]} {r[8]} {1e3 * r[9]} {r[5]}\n")
+            level = iid.split("-")[0][1:]
+            plots["fcy"].append(f"'{path}' u 1:2 w l lw 1.5 t 'E = {level} Pa'")
+            plots["pen"].append(f"'{path}' u 1:3 w l lw 1.5 notitle")
+            plots["vy"].append(f"'{path}' u 1:4 w l lw 1.5 notitle")
+        script = f"""
+set terminal {terminal_for(out, 380)}
+set output '{out}'
+set multiplot layout 1,3
+set xlabel 't [s]'
+set key top right
+set ylabel 'normal contact force [N]'
+plot {', '.join(plots['fcy'])}
+set ylabel 'penetration [mm]'
+plot {', '.join(plots['pen'])}
+set ylabel 'V_y [m/s]'
+plot {', '.join(plots['vy'])}
+unset multiplot
+"""
+        subprocess.run(["gnuplot"], input=script, text=True, check=True)
+        print(f"figure: {out}")
 
 
 def draw(svg, index, tracks):
@@ -116,10 +168,8 @@ def draw(svg, index, tracks):
                             f"{statistics.fmean(p)} {sp}\n")
             plots_v.append(f"'{path}' u 1:2:3 w yerrorlines lw 1.5 t '{state}'")
             plots_p.append(f"'{path}' u 1:4:5 w yerrorlines lw 1.5 notitle")
-        terminal = ("pngcairo size 1000,420 font 'sans,10'" if svg.endswith(".png") else
-                    "svg size 1000,420 font 'sans,12' background rgb 'white'")
         script = f"""
-set terminal {terminal}
+set terminal {terminal_for(svg)}
 set output '{svg}'
 set multiplot layout 1,2
 set logscale x
