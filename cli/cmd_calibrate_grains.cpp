@@ -2,8 +2,11 @@
 // calibrated against measured rebounds through a kriging surrogate of a sampled campaign
 // ([design.sample]), with its leave-one-out validation and Sobol indices. See
 // docs/commands/calibrate-grains.md and docs/resolved-model.md ("Calibration of the grains").
+#include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,6 +17,7 @@
 #include "fit/fit.hpp"
 #include "grain_calibration.hpp"
 #include "impact/impact_set.hpp"
+#include "mpi_session.hpp"
 #include "params.hpp"
 #include "shared_options.hpp"
 #include "stats/lab_gap.hpp"
@@ -38,6 +42,9 @@ void run(const Options& o) {
       filter_nonempty(read_impact_set(o.lab), o.lab_where, o.lab, "--lab-where"), shape);
   const std::size_t n_matching = lab.size();
   if (o.without_gross_errors) lab = stats::without_gross_errors(lab, &dropped);
+  // Measuring the beds' packing runs LIGGGHTS, which needs MPI.
+  std::optional<MpiSession> mpi;
+  if (!o.calibration.bed_cache.empty()) mpi.emplace();
   const auto r = dem::calibrate_grains(o.campaign, decks, lab, o.calibration);
   std::vector<std::string> figures;
   if (!o.figures.empty()) figures = dem::write_grain_calibration_figures(r, o.figures);
@@ -84,6 +91,22 @@ void run(const Options& o) {
       "  expected misfit J = {:.2f}; {:.1f} % of the sampled box is within 0.5 target sd on every "
       "component\n",
       r.best_misfit, 100 * r.acceptable_fraction);
+  if (std::isfinite(r.best_solid_fraction)) {
+    double lo = 1, hi = 0;
+    for (const auto& p : r.points) {
+      lo = std::min(lo, p.solid_fraction);
+      hi = std::max(hi, p.solid_fraction);
+    }
+    std::cout << fmt::format(
+        "  packing: the design's beds have solid fractions {:.3f} .. {:.3f} (LOO Q2 {:.2f}); "
+        "calibrated point {:.3f} +- {:.3f}",
+        lo, hi, r.solid_fraction_q2, r.best_solid_fraction, r.best_solid_fraction_sd);
+    if (r.solid_fraction_band.size() == 2)
+      std::cout << fmt::format(", searched within [{:.3f}, {:.3f}] ({:.1f} % of the box)",
+                               r.solid_fraction_band[0], r.solid_fraction_band[1],
+                               100 * r.admissible_fraction);
+    std::cout << "\n";
+  }
   for (const auto& f : figures) std::cout << "  figure: " << f << "\n";
 }
 
@@ -110,6 +133,15 @@ void add_calibrate_grains_command(CLI::App& app) {
                 "on any velocity; stats/lab_gap.hpp): the target is the rest's mean and sd");
   sub->add_option("--parameters", o->calibration.parameters,
                   "Surrogate inputs, e.g. bed.mu_gg block.mur_gb (default: those that vary)");
+  sub->add_option("--bed-cache", o->calibration.bed_cache,
+                  "The campaign's bed cache folder: measure each design point's solid fraction "
+                  "on its bed (LIGGGHTS reads the restart files)")
+      ->check(CLI::ExistingDirectory);
+  sub->add_option("--solid-fraction", o->calibration.solid_fraction,
+                  "LO,HI: search the calibrated point only where the solid fraction's surrogate "
+                  "is within [LO, HI] (a sand-like bed; needs --bed-cache)")
+      ->delimiter(',')
+      ->expected(2);
   // Not applied to --lab (as upscale): the filter may name the campaign's own columns.
   add_where_option(sub, o->calibration.where, "the campaign's impacts");
   add_figures_option(sub, o->figures);

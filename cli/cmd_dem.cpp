@@ -159,6 +159,7 @@ struct BedOptions {
   CommonOptions common;
   OutputOptions output;
   bool dry_run = false;
+  std::optional<std::uint64_t> seed;  ///< replica, as a campaign's `seed` (unless bed.seed is set)
 };
 
 void run_bed_on_rank(const BedOptions& o, const MpiSession& mpi) {
@@ -167,6 +168,8 @@ void run_bed_on_rank(const BedOptions& o, const MpiSession& mpi) {
   for (const auto& s : o.common.sets) dem::apply_set_option(decks, s, ov);
   if (!ov.block.empty() || !ov.run.empty())
     throw InputError("<command line>", 0, "--set", "a bed takes bed.* parameters only");
+  if (o.seed && !ov.bed.count("seed"))
+    ov.bed["seed"] = std::to_string(dem::liggghts_seed(static_cast<std::int64_t>(*o.seed)));
   if (o.dry_run) {
     const std::string key = dem::bed_key(decks, ov.bed);
     const std::string prefix = (fs::path(o.common.cache) / ("bed-" + key)).string();
@@ -181,18 +184,25 @@ void run_bed_on_rank(const BedOptions& o, const MpiSession& mpi) {
   bool built = false;
   double wall = 0;
   const auto bed = dem::ensure_bed(decks, ov.bed, o.common.cache, MPI_COMM_WORLD, &built, &wall);
+  const dem::BedPacking packing = dem::measure_packing(bed, MPI_COMM_WORLD);
   if (mpi.rank() != 0) return;
   json j = bed_json(bed);
   j["built"] = built;
   j["wall_s"] = wall;
   j["ranks"] = mpi.size();
+  j["grain_volume_m3"] = packing.grain_volume_m3;
+  j["solid_fraction"] = packing.solid_fraction;
+  j["bulk_density_kg_m3"] = packing.bulk_density_kg_m3;
   if (o.output.json)
     print_json(j);
   else
-    std::cout << fmt::format("bed {} ({}): {} grains, surface at {:.4f} m, dt {:.3g} s, {}{}\n",
-                             bed.key, bed.mode, bed.grains, bed.z_surface_m, bed.dt_s,
-                             built ? fmt::format("built in {:.0f} s", wall) : "from the cache",
-                             bed.settled ? "" : " -- NOT SETTLED");
+    std::cout << fmt::format(
+        "bed {} ({}): {} grains, surface at {:.4f} m, solid fraction {:.3f} (bulk density {:.0f} "
+        "kg/m^3), dt {:.3g} s, {}{}\n",
+        bed.key, bed.mode, bed.grains, bed.z_surface_m, packing.solid_fraction,
+        packing.bulk_density_kg_m3, bed.dt_s,
+        built ? fmt::format("built in {:.0f} s", wall) : "from the cache",
+        bed.settled ? "" : " -- NOT SETTLED");
 }
 
 void run_bed(const BedOptions& o) {
@@ -417,6 +427,9 @@ void add_dem_command(CLI::App& app) {
   add_common(b, bed->common);
   b->add_flag("--json", bed->output.json, "Print one machine-readable JSON document on stdout");
   b->add_flag("--dry-run", bed->dry_run, "Print the bed's cache key and whether it is cached");
+  add_seed_option(b, bed->seed,
+                  "the replica: the bed of a campaign impact with this `seed` (default: the "
+                  "decks' bed seed)");
   b->callback([bed] { run_bed(*bed); });
 
   auto imp = std::make_shared<ImpactOptions>();

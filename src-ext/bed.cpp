@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -117,6 +118,38 @@ BedFiles ensure_bed(const Decks& decks, const std::map<std::string, std::string>
   BedFiles b = read_bed_files(prefix);
   b.key = key;
   return b;
+}
+
+BedPacking measure_packing(const BedFiles& bed, MPI_Comm comm) {
+  const std::string restart = bed.prefix + ".restart";
+  if (!fs::exists(restart)) throw std::runtime_error("bed: no restart file " + restart);
+  const auto rho = bed.values.find("rho_grain");
+  if (rho == bed.values.end())
+    throw std::runtime_error("bed: " + bed.prefix + ".params has no value for rho_grain");
+  // The impact deck's set-up (liggghts-inputs/impact/setup.in) before its read_restart.
+  Liggghts lmp(comm, bed.prefix + ".packing.log", bed.prefix + ".packing.screen", {});
+  for (const char* line :
+       {"atom_style granular", "atom_modify map array", "boundary f f f", "newton off",
+        "communicate single vel yes", "units si", "processors * * *"})
+    lmp.command(line);
+  lmp.command("read_restart " + restart);
+  const Liggghts::LocalAtoms atoms = lmp.local_atoms();
+  double local[2] = {0, 0};  // grains, volume
+  for (std::size_t i = 0; i < atoms.radius.size(); ++i) {
+    if (atoms.type[i] != 1) continue;  // in.bed's grains are type 1
+    local[0] += 1;
+    local[1] += 4.0 / 3.0 * M_PI * std::pow(atoms.radius[i], 3);
+  }
+  double total[2] = {0, 0};
+  MPI_Allreduce(local, total, 2, MPI_DOUBLE, MPI_SUM, comm);
+  if (total[0] < 1) throw std::runtime_error("bed: " + restart + " holds no grain (type 1)");
+  BedPacking p;
+  p.grains = static_cast<long>(total[0]);
+  p.grain_volume_m3 = total[1];
+  p.bed_volume_m3 = bed.Lx_m * bed.Ly_m * bed.z_surface_m;
+  p.solid_fraction = p.grain_volume_m3 / p.bed_volume_m3;
+  p.bulk_density_kg_m3 = p.solid_fraction * std::strtod(rho->second.c_str(), nullptr);
+  return p;
 }
 
 }  // namespace ricochet::dem

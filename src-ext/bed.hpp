@@ -38,4 +38,24 @@ BedFiles ensure_bed(const Decks& decks, const std::map<std::string, std::string>
                     const std::string& cache_dir, MPI_Comm comm, bool* built = nullptr,
                     double* wall_s = nullptr);
 
+/// The packing of a built bed, measured on its restart file (issue 32, item 2: the bulk
+/// constraint of a sand-like bed).
+///   solid fraction  phi = sum_i (4/3) pi r_i^3 / (Lx Ly z_surface)
+/// over every grain of the bed (in.bed: floor at z = 0, levelled surface z_surface, the mean top
+/// of the top layer; the grains that stand above it are few and count whole), and the bulk density
+/// rho_b = phi rho_grain. The same definition as a soil's dry density over its container's volume
+/// (Lambe and Whitman 1969, Soil Mechanics, ch. 3).
+struct BedPacking {
+  long grains = 0;                ///< grains in the restart file
+  double grain_volume_m3 = 0;     ///< sum of the grains' volumes [m^3]
+  double bed_volume_m3 = 0;       ///< Lx Ly z_surface [m^3]
+  double solid_fraction = 0;      ///< grain_volume / bed_volume [-]
+  double bulk_density_kg_m3 = 0;  ///< solid_fraction x rho_grain [kg/m^3]
+};
+
+/// Measures `bed`'s packing (collective on `comm`): a LIGGGHTS instance reads PREFIX.restart and
+/// sums the grains' volumes over the ranks; its log and screen go to PREFIX.packing.{log,screen}.
+/// Throws std::runtime_error naming the file when the restart is missing or holds no grain.
+BedPacking measure_packing(const BedFiles& bed, MPI_Comm comm);
+
 }  // namespace ricochet::dem

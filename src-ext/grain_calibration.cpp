@@ -4,12 +4,16 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <openturns/OT.hxx>
+#include <optional>
 #include <set>
 
+#include "bed.hpp"
 #include "campaign_store.hpp"
 #include "common/clock.hpp"
 #include "common/error.hpp"
@@ -38,6 +42,7 @@ double parse_number(const std::string& text, const std::string& file, const std:
 // One kriging model per V_out component, on inputs scaled to [0, 1].
 struct Surrogate {
   std::vector<OT::KrigingResult> models;
+  std::optional<OT::KrigingResult> packing;  ///< solid fraction, with bed_cache
   Vel3 predict_mean(const OT::Point& u) const {
     Vel3 m{};
     for (int c = 0; c < 3; ++c) m[c] = models[c].getMetaModel()(u)[0];
@@ -196,6 +201,59 @@ Surrogate fit_surrogate(GrainCalibrationResult& r, const OT::Sample& u, double m
   return sur;
 }
 
+// Each design point's solid fraction: the mean over the beds its replicas were hit on (one bed per
+// point in a [design.sample] campaign), each measured once on its restart file.
+void measure_points_packing(GrainCalibrationResult& r, const std::string& campaign_h5,
+                            const std::string& cache) {
+  std::map<std::string, std::string> bed_of;
+  for (const auto& e : read_campaign_index(campaign_h5)) bed_of[e.id] = e.bed_key;
+  std::map<std::string, double> phi_of;
+  for (auto& p : r.points) {
+    double sum = 0;
+    for (const auto& id : p.ids) {
+      const std::string& key = bed_of[id];
+      const std::string prefix = (std::filesystem::path(cache) / ("bed-" + key)).string();
+      if (key.empty() || !std::filesystem::exists(prefix + ".params"))
+        throw InputError(campaign_h5, 0, "/dem/index/bed_key",
+                         "impact " + id + ": its bed " + (key.empty() ? "(no key)" : key) +
+                             " is not in the bed cache " + cache + " (--bed-cache)");
+      auto it = phi_of.find(key);
+      if (it == phi_of.end())
+        it =
+            phi_of
+                .emplace(key, measure_packing(read_bed_files(prefix), MPI_COMM_SELF).solid_fraction)
+                .first;
+      sum += it->second;
+    }
+    p.solid_fraction = sum / static_cast<double>(p.ids.size());
+  }
+}
+
+// The solid fraction's kriging over the scaled inputs (no nugget: a bed is measured exactly) and
+// its leave-one-out Q2, as for V_out.
+OT::KrigingResult fit_packing(GrainCalibrationResult& r, const OT::Sample& u) {
+  const std::size_t n = r.points.size(), d = r.parameters.size();
+  OT::Sample y(n, 1);
+  for (std::size_t i = 0; i < n; ++i) y(i, 0) = r.points[i].solid_fraction;
+  OT::KrigingResult model = fit_kriging(u, y, 0.0, nullptr);
+  const OT::CovarianceModel cov = model.getCovarianceModel();
+  double press = 0, var = 0, ybar = 0;
+  for (std::size_t i = 0; i < n; ++i) ybar += y(i, 0) / static_cast<double>(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    OT::Sample ui(0, d), yi(0, 1);
+    for (std::size_t j = 0; j < n; ++j)
+      if (j != i) {
+        ui.add(u[j]);
+        yi.add(y[j]);
+      }
+    r.points[i].solid_fraction_loo = fit_kriging(ui, yi, 0.0, &cov).getMetaModel()(u[i])[0];
+    press += std::pow(y(i, 0) - r.points[i].solid_fraction_loo, 2);
+    var += std::pow(y(i, 0) - ybar, 2);
+  }
+  r.solid_fraction_q2 = var > 0 ? 1.0 - press / var : NAN;
+  return model;
+}
+
 // Sobol indices on the surrogate (Saltelli 2010 estimators, OpenTURNS), inputs uniform on the
 // sampled box, with bootstrap intervals.
 void sobol_on_surrogate(GrainCalibrationResult& r, const Surrogate& sur, std::size_t sobol_n) {
@@ -228,9 +286,18 @@ OT::Point search_best(GrainCalibrationResult& r, const Surrogate& sur,
                       const std::vector<double>& search_u, std::vector<double> local,
                       std::size_t search_n) {
   const std::size_t d = r.parameters.size();
+  // Outside the solid-fraction band (with one) a point is not a sand-like bed: J = +inf.
+  const bool banded = sur.packing && r.solid_fraction_band.size() == 2;
+  std::size_t admissible = 0;
   auto misfit = [&](const OT::Sample& s, std::vector<double>& j, std::vector<char>* ok) {
     j.assign(s.getSize(), 0.0);
     if (ok) ok->assign(s.getSize(), 1);
+    if (banded) {
+      const OT::Sample phi = sur.packing->getMetaModel()(s);
+      for (std::size_t i = 0; i < s.getSize(); ++i)
+        if (phi(i, 0) < r.solid_fraction_band[0] || phi(i, 0) > r.solid_fraction_band[1])
+          j[i] = std::numeric_limits<double>::infinity();
+    }
     for (int c = 0; c < 3; ++c) {
       const OT::Sample m = sur.models[c].getMetaModel()(s);
       const OT::Sample v = sur.models[c].getConditionalMarginalVariance(s);
@@ -255,6 +322,20 @@ OT::Point search_best(GrainCalibrationResult& r, const Surrogate& sur,
   std::size_t best = static_cast<std::size_t>(std::min_element(j.begin(), j.end()) - j.begin());
   r.acceptable_fraction =
       static_cast<double>(std::count(ok.begin(), ok.end(), 1)) / static_cast<double>(ok.size());
+  admissible = static_cast<std::size_t>(
+      std::count_if(j.begin(), j.end(), [](double v) { return std::isfinite(v); }));
+  r.admissible_fraction = static_cast<double>(admissible) / static_cast<double>(j.size());
+  if (admissible == 0) {
+    double lo = 1, hi = 0;
+    for (const auto& p : r.points) {
+      lo = std::min(lo, p.solid_fraction);
+      hi = std::max(hi, p.solid_fraction);
+    }
+    throw InputError(r.source, 0, "--solid-fraction",
+                     fmt::format("no point of the sampled box has a predicted solid fraction in "
+                                 "[{:.3f}, {:.3f}]; the design's beds span [{:.3f}, {:.3f}]",
+                                 r.solid_fraction_band[0], r.solid_fraction_band[1], lo, hi));
+  }
   OT::Point ubest = search[best];
   double jbest = j[best];
   for (std::size_t i = 0; i < search_n / 4; ++i)
@@ -273,6 +354,11 @@ OT::Point search_best(GrainCalibrationResult& r, const Surrogate& sur,
   for (int c = 0; c < 3; ++c) {
     r.best_mean[c] = sur.models[c].getMetaModel()(ubest)[0];
     r.best_sd[c] = std::sqrt(std::max(0.0, sur.models[c].getConditionalMarginalVariance(ubest)));
+  }
+  if (sur.packing) {
+    r.best_solid_fraction = sur.packing->getMetaModel()(ubest)[0];
+    r.best_solid_fraction_sd =
+        std::sqrt(std::max(0.0, sur.packing->getConditionalMarginalVariance(ubest)));
   }
   return ubest;
 }
@@ -315,9 +401,20 @@ GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const De
   set = filter_nonempty(set, options.where, campaign_h5);
   for (const auto& e : read_campaign_index(campaign_h5))
     if (e.status != "rebound") ++r.failed;
+  if (!options.solid_fraction.empty()) {
+    const auto& b = options.solid_fraction;
+    if (options.bed_cache.empty())
+      throw InputError("<command line>", 0, "--solid-fraction",
+                       "needs the campaign's bed cache (--bed-cache) to measure the beds");
+    if (b.size() != 2 || !(b[0] > 0 && b[0] < b[1] && b[1] < 1))
+      throw InputError("<command line>", 0, "--solid-fraction",
+                       "expects LO,HI with 0 < LO < HI < 1");
+    r.solid_fraction_band = b;
+  }
   const auto grain = campaign_grain_parameters(campaign_h5, decks);
   choose_inputs(r, set, grain, decks, options);
   const double mean_replicas = gather_points(r, set, grain);
+  if (!options.bed_cache.empty()) measure_points_packing(r, campaign_h5, options.bed_cache);
   const std::size_t n = r.points.size(), d = r.parameters.size();
   OT::Sample u(n, d);
   for (std::size_t i = 0; i < n; ++i)
@@ -338,7 +435,8 @@ GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const De
     ~QuietWarnings() { OT::Log::Show(flags); }
   } quiet;
   OT::RandomGenerator::SetSeed(options.seed);
-  const Surrogate sur = fit_surrogate(r, u, mean_replicas);
+  Surrogate sur = fit_surrogate(r, u, mean_replicas);
+  if (!options.bed_cache.empty()) sur.packing = fit_packing(r, u);
   sobol_on_surrogate(r, sur, options.sobol_n);
   const OT::Point ubest = search_best(r, sur, search_u, local, options.search_n);
   abacus(r, sur, ubest);
@@ -380,12 +478,22 @@ std::string grain_calibration_json(const GrainCalibrationResult& r) {
   for (std::size_t k = 0; k < r.parameters.size(); ++k) best[r.parameters[k]] = r.best[k];
   j["calibrated"] = best;
   j["misfit"] = r.best_misfit;
+  if (std::isfinite(r.best_solid_fraction))
+    j["packing"] = {{"solid_fraction_band", r.solid_fraction_band},
+                    {"calibrated_solid_fraction", r.best_solid_fraction},
+                    {"calibrated_solid_fraction_sd", r.best_solid_fraction_sd},
+                    {"q2_loo", r.solid_fraction_q2},
+                    {"admissible_fraction", r.admissible_fraction}};
   j["acceptable_fraction"] = r.acceptable_fraction;
   j["target_impacts"] = r.target_n;
   json pts = json::array();
-  for (const auto& p : r.points)
-    pts.push_back(
-        {{"x", p.x}, {"mean", p.mean}, {"loo", p.loo}, {"replicas", p.replicas}, {"ids", p.ids}});
+  for (const auto& p : r.points) {
+    json q = {
+        {"x", p.x}, {"mean", p.mean}, {"loo", p.loo}, {"replicas", p.replicas}, {"ids", p.ids}};
+    if (std::isfinite(p.solid_fraction))
+      q["solid_fraction"] = {p.solid_fraction, p.solid_fraction_loo};
+    pts.push_back(q);
+  }
   j["points"] = pts;
   j["seconds"] = r.seconds;
   return j.dump();

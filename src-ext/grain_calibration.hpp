@@ -14,6 +14,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,13 @@ struct GrainCalibrationOptions {
   std::uint64_t seed = 1;        ///< OpenTURNS seed of the Sobol and search samples
   std::size_t sobol_n = 20000;   ///< base sample size of the Saltelli estimator on the surrogate
   std::size_t search_n = 20000;  ///< candidate points of the misfit search before the local polish
+  /// The campaign's bed cache folder (its `cache_dir`): when set, each design point's bed packing
+  /// is measured on its restart file (bed.hpp, measure_packing; needs MPI initialised) and a
+  /// kriging surrogate of the solid fraction is fitted beside V_out's.
+  std::string bed_cache;
+  /// Bulk constraint of a sand-like bed [lo, hi] (needs bed_cache): the calibrated point is
+  /// searched only where the solid fraction's kriging mean is within it. Empty: no constraint.
+  std::vector<double> solid_fraction;
 };
 
 /// One design point: a set of grain parameters and its replicas' mean rebound.
@@ -39,6 +47,8 @@ struct GrainPoint {
   Vel3 loo{};             ///< leave-one-out prediction of `mean`
   std::size_t replicas = 0;
   std::vector<std::string> ids;
+  double solid_fraction = NAN;  ///< measured on the point's bed(s) (mean), NaN without bed_cache
+  double solid_fraction_loo = NAN;  ///< leave-one-out prediction of `solid_fraction`
 };
 
 struct GrainCalibrationResult {
@@ -59,6 +69,11 @@ struct GrainCalibrationResult {
   std::vector<double> best;     ///< the calibrated parameters
   Vel3 best_mean{}, best_sd{};  ///< surrogate mean and standard deviation at `best`
   double best_misfit = 0;       ///< J(best)
+  /// With bed_cache: the solid fraction's surrogate at `best` (mean, sd), its leave-one-out Q2,
+  /// the band searched (empty without one) and the share of the sampled box inside it.
+  double best_solid_fraction = NAN, best_solid_fraction_sd = NAN, solid_fraction_q2 = NAN;
+  std::vector<double> solid_fraction_band;
+  double admissible_fraction = 1;
   /// Fraction of the sampled box where every component's surrogate mean is within 0.5 target
   /// standard deviations of the target mean (the acceptable set: how unique `best` is).
   double acceptable_fraction = 0;

@@ -65,6 +65,31 @@ std::string mpirun(int np) {
          " ";
 }
 
+// `dem bed` reports the packing it measures on the restart, and `--seed N` names the bed a
+// campaign's impacts with `seed = N` are hit on (the bed seed is the (2N+1)-th prime above 10000:
+// 10061 for N = 2), so that a campaign's beds can be measured one by one.
+TEST(DemBed, ReportsThePackingAndTheReplicaSeedNamesTheCampaignsBed) {
+  std::string bed = std::string(RICOCHET_BIN) + " dem bed --cache " + RICOCHET_TEST_CACHE +
+                    " --decks " + RICOCHET_SOURCE_DIR + "/liggghts-inputs";
+  for (const auto& a : kTestBed)
+    if (a.rfind("bed.", 0) == 0) bed += " --set " + a;  // the block's parameters are an impact's
+  const auto [status, out] = shell(bed + " --json 2>&1");
+  ASSERT_EQ(status, 0) << out;
+  const auto j = nlohmann::json::parse(out);
+  const double phi = j["solid_fraction"].get<double>();
+  EXPECT_GT(phi, 0.50);
+  EXPECT_LT(phi, 0.66);
+  EXPECT_NEAR(j["bulk_density_kg_m3"].get<double>(), 2650 * phi, 1e-6 * 2650);
+  const auto key = [&](const std::string& args) {
+    const auto [st, o] = shell(bed + args + " --dry-run --json 2>&1");
+    EXPECT_EQ(st, 0) << o;
+    return st == 0 ? nlohmann::json::parse(o)["key"].get<std::string>() : std::string();
+  };
+  EXPECT_EQ(key(" --seed 2"), key(" --set bed.seed=10061"));
+  EXPECT_NE(key(" --seed 2"), key(" --seed 1"));
+  EXPECT_EQ(key(" --seed 2 --set bed.seed=10007"), key(" --set bed.seed=10007"));
+}
+
 TEST(DemEndToEnd, SameImpactOnTwoMpiRanks) {
   const fs::path work = temp_dir("mpi");
   const std::string common = std::string(" dem impact --json --cache ") + RICOCHET_TEST_CACHE +

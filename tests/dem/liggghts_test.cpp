@@ -4,6 +4,7 @@
 //
 // The bed is built once into RICOCHET_TEST_CACHE and reused by every test (the cache is keyed by
 // the bed parameters and locked while a bed is built).
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <mpi.h>
 #include <unistd.h>
@@ -18,11 +19,15 @@
 #include <sstream>
 #include <thread>
 
+#include "bed.hpp"
 #include "campaign.hpp"
 #include "common/h5.hpp"
 #include "dem_support.hpp"
+#include "grain_calibration.hpp"
 #include "impact/impact_set.hpp"
 #include "impact_run.hpp"
+#include "liggghts.hpp"
+#include "synthetic_campaign.hpp"
 
 namespace {
 
@@ -158,6 +163,97 @@ TEST(DemEndToEnd, OneImpactThroughLiggghtsExtractionAndHdf5) {
   EXPECT_GT(r.steps, 1000);
   EXPECT_LT(r.steps, 20000);  // the impact's own steps, not the bed's
   EXPECT_GT(r.cpu_s, 0.0);
+}
+
+// The packing measured on the restart against LIGGGHTS's own bookkeeping: the grains' mass, which
+// it computed from each grain's density and radius at insertion (mass(all) / rho_grain is the
+// volume by another path than measure_packing's sum of (4/3) pi r^3).
+TEST(BedPacking, SolidFractionAgreesWithLiggghtsMassAndIsAPacking) {
+  ImpactSpec spec;
+  spec.params = test_overrides();
+  const BedFiles bed =
+      ensure_bed(decks(), bed_overrides(spec), RICOCHET_TEST_CACHE, MPI_COMM_WORLD);
+  const BedPacking p = measure_packing(bed, MPI_COMM_WORLD);
+  EXPECT_EQ(p.grains, bed.grains);
+  const double rho = std::stod(bed.values.at("rho_grain"));
+  const fs::path work = temp_dir("packing");
+  double mass_kg = 0;
+  {
+    Liggghts lmp(MPI_COMM_WORLD, (work / "log").string(), (work / "screen").string(), {});
+    for (const char* line : {"atom_style granular", "atom_modify map array", "boundary f f f",
+                             "newton off", "communicate single vel yes", "units si"})
+      lmp.command(line);
+    lmp.command("read_restart " + bed.prefix + ".restart");
+    lmp.command("variable m equal mass(all)");
+    mass_kg = lmp.number("m").value();
+  }
+  EXPECT_NEAR(p.grain_volume_m3, mass_kg / rho, 1e-9 * p.grain_volume_m3);
+  EXPECT_NEAR(p.solid_fraction, mass_kg / rho / (bed.Lx_m * bed.Ly_m * bed.z_surface_m), 1e-9);
+  EXPECT_DOUBLE_EQ(p.bulk_density_kg_m3, p.solid_fraction * rho);
+  // Poured polydisperse spheres settle between random loose (about 0.55) and random close
+  // packing (about 0.64; Scott and Kilgour 1969); a wrong radius power or a wrong bed volume
+  // lands far outside.
+  EXPECT_GT(p.solid_fraction, 0.50);
+  EXPECT_LT(p.solid_fraction, 0.66);
+}
+
+// calibrate-grains's bulk constraint on a synthetic campaign (synthetic_campaign.hpp) whose design
+// points sit on beds of known solid fraction: each point's bed is the test bed's restart under its
+// own key, with a levelled surface set so that phi = 0.50 + 0.30 (mu_gg - 0.5), a packing that
+// densifies with friction as no poured sand does, on purpose: the target (mu_gg = 0.78, phi 0.584)
+// then lies outside the band [0.52, 0.56], and the search must give up some V_out^x to stay in it.
+TEST(BedPacking, CalibrateGrainsMeasuresEachPointsBedAndKeepsTheOptimumInTheBand) {
+  ImpactSpec spec;
+  spec.params = test_overrides();
+  const BedFiles bed =
+      ensure_bed(decks(), bed_overrides(spec), RICOCHET_TEST_CACHE, MPI_COMM_WORLD);
+  const double phi0 = measure_packing(bed, MPI_COMM_WORLD).solid_fraction;
+  const fs::path dir = temp_dir("packing-band");
+  const fs::path cache = dir / "cache";
+  fs::create_directories(cache);
+  auto phi_of = [](double mu) { return 0.50 + 0.30 * (mu - 0.5); };
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  std::string path;
+  if (rank == 0) {
+    path = test::make_campaign(dir, 24, [&](double mu, double, double) {
+      const std::string key = fmt::format("synth{:.4f}", mu);
+      const fs::path prefix = cache / ("bed-" + key);
+      if (fs::exists(prefix.string() + ".params")) return key;
+      fs::copy_file(bed.prefix + ".restart", prefix.string() + ".restart");
+      std::ifstream in(bed.prefix + ".params");
+      std::ofstream out(prefix.string() + ".params");
+      for (std::string line; std::getline(in, line);)
+        out << (line.rfind("variable z_surface_m ", 0) == 0
+                    ? fmt::format("variable z_surface_m string {:.17g}",
+                                  bed.z_surface_m * phi0 / phi_of(mu))
+                    : line)
+            << "\n";
+      return key;
+    });
+  }
+  if (rank != 0) GTEST_SKIP() << "calibrate-grains measures on MPI_COMM_SELF: rank 0 only";
+  GrainCalibrationOptions o;
+  o.sobol_n = 2000;
+  o.search_n = 8000;
+  o.bed_cache = cache.string();
+  const auto free = calibrate_grains(path, decks(), test::target_set(), o);
+  o.solid_fraction = {0.52, 0.56};
+  const auto banded = calibrate_grains(path, decks(), test::target_set(), o);
+  ASSERT_EQ(banded.parameters[1], "bed.mu_gg");
+  for (const auto& p : banded.points) EXPECT_NEAR(p.solid_fraction, phi_of(p.x[1]), 2e-4);
+  EXPECT_GT(banded.solid_fraction_q2, 0.99);
+  // Unconstrained, the calibrated point is the target's, outside the band.
+  EXPECT_NEAR(free.best[1], 0.78, 0.05);
+  EXPECT_GT(free.best_solid_fraction, 0.57);
+  // Constrained: inside the band, at its dense edge (the closest to the target's friction).
+  EXPECT_GE(banded.best_solid_fraction, 0.52);
+  EXPECT_LE(banded.best_solid_fraction, 0.56);
+  EXPECT_NEAR(banded.best_solid_fraction, 0.56, 0.01);
+  EXPECT_NEAR(banded.best[1], 0.70, 0.04);
+  // The band holds mu_gg in [0.567, 0.70]: 27 % of the sampled range [0.5, 1.0].
+  EXPECT_NEAR(banded.admissible_fraction, 0.133 / 0.5, 0.03);
+  EXPECT_GT(banded.best_misfit, free.best_misfit);
 }
 
 TEST(DemFailures, InsertionOutsideTheBedIsRefusedBeforeLiggghts) {

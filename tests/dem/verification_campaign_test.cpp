@@ -1,0 +1,71 @@
+// scripts/verification-campaign.py: the design it writes from a grain calibration is read by the
+// campaign reader as the plan asks (docs/resolved-model.md, "Recalibration with what sand has"):
+// every lab state once, release k on the bed of replica seed k mod 3, the calibrated grains (and
+// the tied parameter its source's value), the sampled campaign's stiffness, window and first
+// position. And a calibrated parameter the campaign did not sample is refused, naming the file.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "campaign_design.hpp"
+#include "dem_support.hpp"
+#include "impact/impact_set.hpp"
+
+namespace {
+
+using namespace ricochet;
+using namespace ricochet::dem;
+namespace fs = std::filesystem;
+
+const std::string kSource = RICOCHET_SOURCE_DIR;
+
+int run_script(const fs::path& json, const fs::path& out, const fs::path& err) {
+  const std::string cmd = "python3 " + kSource + "/scripts/verification-campaign.py " + kSource +
+                          "/liggghts-inputs/campaigns/sand-calibration-1.5e9.toml " +
+                          json.string() + " " + kSource + "/data/lab/cylinders.csv --beds 3 " +
+                          "--name check --out " + out.string() + " > /dev/null 2> " + err.string();
+  const int status = std::system(cmd.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(VerificationCampaign, EveryLabStateOnThreeBedsOfTheCalibratedGrains) {
+  if (std::system("python3 -c 'import tomllib' 2> /dev/null") != 0)
+    GTEST_SKIP() << "python3 with tomllib (3.11) is needed";
+  const fs::path dir = fs::temp_directory_path() / ("dem-verify-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "cal.json")
+      << R"({"calibrated": {"bed.mu_gg": 0.612345, "bed.mur_gg": 0.31, "block.mu_gb": 0.52,
+           "bed.e_gg": 0.71, "block.e_gb": 0.64, "bed.mu_pour": 0.2}})";
+  ASSERT_EQ(run_script(dir / "cal.json", dir / "design.toml", dir / "err"), 0);
+  const CampaignDesign d = read_campaign_design((dir / "design.toml").string(), test::decks());
+  const ImpactSet lab = read_impact_set(kSource + "/data/lab/cylinders.csv");
+  ASSERT_EQ(d.impacts.size(), lab.size());
+  EXPECT_EQ(d.extract.window, "ground");
+  for (std::size_t k = 0; k < lab.size(); ++k) {
+    const ImpactSpec& s = d.impacts[k];
+    EXPECT_EQ(s.id, lab.impacts[k].id);
+    for (int c = 0; c < 3; ++c) EXPECT_DOUBLE_EQ(s.vin[c], lab.impacts[k].vin[c]) << s.id;
+    ASSERT_TRUE(s.seed.has_value());
+    EXPECT_EQ(*s.seed, static_cast<std::int64_t>(k % 3)) << s.id;
+    EXPECT_DOUBLE_EQ(std::stod(s.params.bed.at("E_grain_Pa")), 1.5e9);
+    EXPECT_DOUBLE_EQ(std::stod(s.params.bed.at("mu_gg")), 0.6123);  // 4 significant digits
+    EXPECT_DOUBLE_EQ(std::stod(s.params.bed.at("mu_pour")), 0.2);
+    EXPECT_DOUBLE_EQ(std::stod(s.params.block.at("e_gb")), 0.64);
+    EXPECT_DOUBLE_EQ(std::stod(s.params.block.at("mur_gb")), 0.31);  // tied to bed.mur_gg
+    EXPECT_DOUBLE_EQ(std::stod(s.params.run.at("x_impact_frac")), 0.26);
+  }
+  std::ofstream(dir / "bad.json") << R"({"calibrated": {"bed.H_m": 0.3}})";
+  EXPECT_EQ(run_script(dir / "bad.json", dir / "bad.toml", dir / "err"), 2);
+  std::ifstream err(dir / "err");
+  const std::string message((std::istreambuf_iterator<char>(err)), {});
+  EXPECT_NE(message.find("bad.json: bed.H_m is not a [design.sample] parameter"), std::string::npos)
+      << message;
+  fs::remove_all(dir);
+}
+
+}  // namespace
