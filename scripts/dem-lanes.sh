@@ -5,6 +5,9 @@
 #      liggghts-inputs/campaigns/sand-calibration-1.5e9.toml into results/sand-calibration/, the
 #      plan of docs/resolved-model.md): everything after it (the held-out check, the blind
 #      triangles and the main job on the calibrated bed) waits for it;
+#   1b. then the calibration itself (calibrate-grains with the solid-fraction band) and its
+#      verification campaign (every lab state on three beds of the calibrated grains, into
+#      results/sand-verification/), on both cores;
 #   2. then two lanes of one core each:
 #      lane A: the stiffness plateau's 1.5e10 Pa level up to its pre-registered minimum (the
 #              cylinder and the triangle states T18, T02, T10: the design's first 75 impacts,
@@ -12,7 +15,8 @@
 #              results/wall-stiffness-1.5e10/), the convergence at 1.5e9 Pa (width, depth, grain
 #              size: convergence-1.5e9.toml, into results/convergence-1.5e9/), then the level's
 #              other three triangle states;
-#      lane B: the sphere drop on the 1.5e9 Pa box bed (scripts/plateau-drop.sh).
+#      lane B: the sphere drop on the 1.5e9 Pa box bed (scripts/plateau-drop.sh), then the
+#              packing-scatter beds' solid fractions (scripts/packing-scatter-beds.sh).
 # Start it at the beginning of a session and let it run; a session's end stops it, the next
 # start resumes it:
 #
@@ -23,11 +27,38 @@ set -uo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 cd "$ROOT" || exit 1
 # Runs started by hand hold their locks: wait for them before taking both cores.
-mkdir -p results/plateau results/plateau-drop
+mkdir -p results/plateau results/plateau-drop results/sand-calibration
+flock results/sand-calibration/campaign.lock true
 flock results/plateau/campaign.lock true
 flock results/plateau-drop/drop.lock true
 PLATEAU_DESIGN=sand-calibration-1.5e9 PLATEAU_OUT=results/sand-calibration \
   PLATEAU_FILE=sand-calibration-1.5e9 PLATEAU_RANKS=2 scripts/stiffness-plateau.sh
+# 1b. As soon as its 40 impacts are in: the calibration by the plan (the calibration half's
+#     target, the six sampled parameters (block.mur_gb is tied to bed.mur_gg, a copy, not an
+#     input), the solid-fraction band [0.56, 0.62] measured on the design's own beds, seed 4),
+#     then its verification campaign (scripts/verification-campaign.py: every lab state on three
+#     beds) on both cores, before the lanes. The calibration runs the tree's program (a minute of
+#     analysis; --bed-cache is newer than the campaign's pinned program) under the build lock.
+CAL=results/sand-calibration
+if [ "$(h5ls "$CAL/sand-calibration-1.5e9.h5/dem/index/id" 2>/dev/null | grep -o '{[0-9]*' | tr -d '{')" = 40 ] \
+   && [ ! -f "$CAL/calibrate-grains.json" ]; then
+  flock /tmp/ricochet-build.lock build/cli/ricochet calibrate-grains "$CAL/sand-calibration-1.5e9.h5" \
+    --lab data/lab/cylinders.csv --seed 4 \
+    --lab-where "$(scripts/lab-split.py data/lab/cylinders.csv 3201 --where calibration)" \
+    --parameters bed.mu_gg bed.mur_gg block.mu_gb bed.e_gg block.e_gb bed.mu_pour \
+    --bed-cache "$CAL/dem-cache" --solid-fraction 0.56,0.62 --decks "$CAL/pinned/liggghts-inputs" \
+    --figures "$CAL/figures" --out "$CAL/calibrate-grains.json" > "$CAL/calibrate-grains.txt" 2>&1
+  echo "== $(date '+%F %T') calibrate-grains ended with status $?" >> "$CAL/campaign.log"
+fi
+if [ -f "$CAL/calibrate-grains.json" ]; then
+  [ -f "$CAL/sand-verification-1.5e9.toml" ] ||
+    scripts/verification-campaign.py liggghts-inputs/campaigns/sand-calibration-1.5e9.toml \
+      "$CAL/calibrate-grains.json" data/lab/cylinders.csv --beds 3 \
+      --name sand-verification-1.5e9 --out "$CAL/sand-verification-1.5e9.toml" >> "$CAL/campaign.log" 2>&1
+  PLATEAU_DESIGN=sand-verification-1.5e9 PLATEAU_DESIGN_PATH="$CAL/sand-verification-1.5e9.toml" \
+    PLATEAU_OUT=results/sand-verification PLATEAU_FILE=sand-verification-1.5e9 PLATEAU_RANKS=2 \
+    scripts/stiffness-plateau.sh
+fi
 {
   PLATEAU_DESIGN=stiffness-plateau-1.5e10 PLATEAU_FIRST=75 scripts/stiffness-plateau.sh
   PLATEAU_DESIGN=wall-stiffness-1.5e10 PLATEAU_OUT=results/wall-stiffness-1.5e10 \
@@ -37,6 +68,10 @@ PLATEAU_DESIGN=sand-calibration-1.5e9 PLATEAU_OUT=results/sand-calibration \
   PLATEAU_DESIGN=stiffness-plateau-1.5e10 scripts/stiffness-plateau.sh
 } &
 lane_a=$!
-scripts/plateau-drop.sh &
+{
+  scripts/plateau-drop.sh
+  mkdir -p results/packing-scatter
+  scripts/packing-scatter-beds.sh > results/packing-scatter/table.md 2> results/packing-scatter/error.log
+} &
 lane_b=$!
 wait "$lane_a" "$lane_b"

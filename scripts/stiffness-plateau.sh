@@ -35,6 +35,8 @@
 #       PLATEAU_FILE=wall-stiffness nohup setsid scripts/stiffness-plateau.sh > /dev/null 2>&1 &
 # When the campaign ends the script prints the status counts; the table and figure of
 # docs/resolved-model.md are made from the file afterwards.
+# - PLATEAU_DESIGN_PATH (environment, optional): a design file elsewhere than
+#   liggghts-inputs/campaigns/ (a generated one: scripts/verification-campaign.py).
 # - PLATEAU_RANKS (environment, default 1): MPI ranks; with the design's ranks_per_impact = 1,
 #   2 ranks run two impacts at a time (both cores of this machine).
 # - PLATEAU_FIRST=N (environment, optional): run only the design's first N impacts (a campaign
@@ -48,7 +50,7 @@ source "$ROOT/scripts/pin-program.sh"
 OUT=$ROOT/${PLATEAU_OUT:-results/plateau}
 FILE=${PLATEAU_FILE:-stiffness-plateau}
 NAME=${PLATEAU_DESIGN:-stiffness-plateau}
-DESIGN=$ROOT/liggghts-inputs/campaigns/$NAME.toml
+DESIGN=${PLATEAU_DESIGN_PATH:-$ROOT/liggghts-inputs/campaigns/$NAME.toml}
 [ -f "$DESIGN" ] || { echo "no design $DESIGN" >&2; exit 2; }
 mkdir -p "$OUT"
 LOG=$OUT/campaign.log
