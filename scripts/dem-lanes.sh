@@ -5,9 +5,9 @@
 #      liggghts-inputs/campaigns/sand-calibration-1.5e9.toml into results/sand-calibration/, the
 #      plan of docs/resolved-model.md): everything after it (the held-out check, the blind
 #      triangles and the main job on the calibrated bed) waits for it;
-#   1b. then the calibration itself (calibrate-grains with the solid-fraction band) and its
+#   1b. then the calibration itself (calibrate-grains with the solid-fraction band), its
 #      verification campaign (every lab state on three beds of the calibrated grains, into
-#      results/sand-verification/), on both cores;
+#      results/sand-verification/) and the blind triangles on those grains, on both cores;
 #   2. then two lanes of one core each:
 #      lane A: the stiffness plateau's 1.5e10 Pa level up to its pre-registered minimum (the
 #              cylinder and the triangle states T18, T02, T10: the design's first 75 impacts,
@@ -58,6 +58,14 @@ if [ -f "$CAL/calibrate-grains.json" ]; then
   PLATEAU_DESIGN=sand-verification-1.5e9 PLATEAU_DESIGN_PATH="$CAL/sand-verification-1.5e9.toml" \
     PLATEAU_OUT=results/sand-verification PLATEAU_FILE=sand-verification-1.5e9 PLATEAU_RANKS=2 \
     scripts/stiffness-plateau.sh
+  # 1c. The blind triangles on the same grains (the verification's first bed, its cache).
+  [ -f "$CAL/sand-blind-triangles-1.5e9.toml" ] ||
+    scripts/verification-campaign.py liggghts-inputs/campaigns/sand-calibration-1.5e9.toml \
+      "$CAL/calibrate-grains.json" data/lab/triangles.csv --blind-triangles \
+      --name sand-blind-triangles-1.5e9 --out "$CAL/sand-blind-triangles-1.5e9.toml" >> "$CAL/campaign.log" 2>&1
+  PLATEAU_DESIGN=sand-blind-triangles-1.5e9 \
+    PLATEAU_DESIGN_PATH="$CAL/sand-blind-triangles-1.5e9.toml" PLATEAU_OUT=results/sand-verification \
+    PLATEAU_FILE=sand-blind-triangles-1.5e9 PLATEAU_RANKS=2 scripts/stiffness-plateau.sh
 fi
 {
   PLATEAU_DESIGN=stiffness-plateau-1.5e10 PLATEAU_FIRST=75 scripts/stiffness-plateau.sh

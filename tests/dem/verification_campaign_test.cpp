@@ -2,13 +2,16 @@
 // campaign reader as the plan asks (docs/resolved-model.md, "Recalibration with what sand has"):
 // every lab state once, release k on the bed of replica seed k mod 3, the calibrated grains (and
 // the tied parameter its source's value), the sampled campaign's stiffness, window and first
-// position. And a calibrated parameter the campaign did not sample is refused, naming the file.
+// position; with --blind-triangles, the blind triangle check on the same grains. And a calibrated
+// parameter the campaign did not sample is refused, naming the file.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <string>
 
 #include "campaign_design.hpp"
@@ -23,11 +26,13 @@ namespace fs = std::filesystem;
 
 const std::string kSource = RICOCHET_SOURCE_DIR;
 
-int run_script(const fs::path& json, const fs::path& out, const fs::path& err) {
+int run_script(const fs::path& json, const fs::path& out, const fs::path& err,
+               const std::string& lab = "cylinders.csv", const std::string& extra = "") {
   const std::string cmd = "python3 " + kSource + "/scripts/verification-campaign.py " + kSource +
                           "/liggghts-inputs/campaigns/sand-calibration-1.5e9.toml " +
-                          json.string() + " " + kSource + "/data/lab/cylinders.csv --beds 3 " +
-                          "--name check --out " + out.string() + " > /dev/null 2> " + err.string();
+                          json.string() + " " + kSource + "/data/lab/" + lab + " --beds 3 " +
+                          "--name check --out " + out.string() + extra + " > /dev/null 2> " +
+                          err.string();
   const int status = std::system(cmd.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
@@ -59,6 +64,27 @@ TEST(VerificationCampaign, EveryLabStateOnThreeBedsOfTheCalibratedGrains) {
     EXPECT_DOUBLE_EQ(std::stod(s.params.block.at("mur_gb")), 0.31);  // tied to bed.mur_gg
     EXPECT_DOUBLE_EQ(std::stod(s.params.run.at("x_impact_frac")), 0.26);
   }
+  // The blind triangles: every lab triangle once, one stratified orientation each over the
+  // prism's period, on the verification's first bed, the force window and 25 ms of free flight.
+  ASSERT_EQ(run_script(dir / "cal.json", dir / "tri.toml", dir / "err", "triangles.csv",
+                       " --blind-triangles"),
+            0);
+  const CampaignDesign t = read_campaign_design((dir / "tri.toml").string(), test::decks());
+  const ImpactSet tri = read_impact_set(kSource + "/data/lab/triangles.csv");
+  ASSERT_EQ(t.impacts.size(), tri.size());
+  EXPECT_EQ(t.extract.window, "force");
+  std::set<double> alphas;
+  for (std::size_t k = 0; k < tri.size(); ++k) {
+    const ImpactSpec& s = t.impacts[k];
+    EXPECT_EQ(s.shape, "triangle");
+    for (int c = 0; c < 3; ++c) EXPECT_DOUBLE_EQ(s.vin[c], tri.impacts[k].vin[c]) << k;
+    EXPECT_LE(std::abs(s.alpha_in_rad), M_PI / 3 + 1e-12);
+    alphas.insert(s.alpha_in_rad);
+    EXPECT_EQ(s.seed.value_or(-1), 0);
+    EXPECT_DOUBLE_EQ(std::stod(s.params.run.at("t_pre_s")), 0.025);
+    EXPECT_DOUBLE_EQ(std::stod(s.params.bed.at("mu_gg")), 0.6123);
+  }
+  EXPECT_EQ(alphas.size(), tri.size());
   std::ofstream(dir / "bad.json") << R"({"calibrated": {"bed.H_m": 0.3}})";
   EXPECT_EQ(run_script(dir / "bad.json", dir / "bad.toml", dir / "err"), 2);
   std::ifstream err(dir / "err");
