@@ -170,33 +170,44 @@ void target_moments(GrainCalibrationResult& r, const ImpactSet& target) {
   }
 }
 
+// Leave-one-out check of a kriging fitted to (u, y) with covariance `cov` (the full fit's
+// parameters, not refitted): each point predicted by the others, into `loo`; returns
+// {Q2 = 1 - PRESS / sum (y - mean y)^2, RMSE}.
+std::array<double, 2> leave_one_out(const OT::Sample& u, const OT::Sample& y, double noise,
+                                    const OT::CovarianceModel& cov, std::vector<double>& loo) {
+  const std::size_t n = u.getSize(), d = u.getDimension();
+  loo.assign(n, 0.0);
+  double press = 0, var = 0, ybar = 0;
+  for (std::size_t i = 0; i < n; ++i) ybar += y(i, 0) / static_cast<double>(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    OT::Sample ui(0, d), yi(0, 1);
+    for (std::size_t j = 0; j < n; ++j)
+      if (j != i) {
+        ui.add(u[j]);
+        yi.add(y[j]);
+      }
+    loo[i] = fit_kriging(ui, yi, noise, &cov).getMetaModel()(u[i])[0];
+    press += std::pow(y(i, 0) - loo[i], 2);
+    var += std::pow(y(i, 0) - ybar, 2);
+  }
+  return {var > 0 ? 1.0 - press / var : NAN, std::sqrt(press / static_cast<double>(n))};
+}
+
 // One kriging model per component on the scaled inputs u, with the replicas' noise, and its
-// leave-one-out check (the full fit's covariance parameters, hyperparameters not refitted).
+// leave-one-out check.
 Surrogate fit_surrogate(GrainCalibrationResult& r, const OT::Sample& u, double mean_replicas) {
-  const std::size_t n = r.points.size(), d = r.parameters.size();
+  const std::size_t n = r.points.size();
   Surrogate sur;
   for (int c = 0; c < 3; ++c) {
     OT::Sample y(n, 1);
     for (std::size_t i = 0; i < n; ++i) y(i, 0) = r.points[i].mean[c];
     const double noise = r.replicate_sd[c] * r.replicate_sd[c] / mean_replicas;
     sur.models.push_back(fit_kriging(u, y, noise, nullptr));
-    const OT::CovarianceModel cov = sur.models.back().getCovarianceModel();
-    double press = 0, var = 0, ybar = 0;
-    for (std::size_t i = 0; i < n; ++i) ybar += y(i, 0) / static_cast<double>(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      OT::Sample ui(0, d), yi(0, 1);
-      for (std::size_t j = 0; j < n; ++j)
-        if (j != i) {
-          ui.add(u[j]);
-          yi.add(y[j]);
-        }
-      const auto res = fit_kriging(ui, yi, noise, &cov);
-      r.points[i].loo[c] = res.getMetaModel()(u[i])[0];
-      press += std::pow(y(i, 0) - r.points[i].loo[c], 2);
-      var += std::pow(y(i, 0) - ybar, 2);
-    }
-    r.q2[c] = 1.0 - press / var;
-    r.rmse_loo[c] = std::sqrt(press / static_cast<double>(n));
+    std::vector<double> loo;
+    const auto [q2, rmse] = leave_one_out(u, y, noise, sur.models.back().getCovarianceModel(), loo);
+    for (std::size_t i = 0; i < n; ++i) r.points[i].loo[c] = loo[i];
+    r.q2[c] = q2;
+    r.rmse_loo[c] = rmse;
   }
   return sur;
 }
@@ -232,25 +243,13 @@ void measure_points_packing(GrainCalibrationResult& r, const std::string& campai
 // The solid fraction's kriging over the scaled inputs (no nugget: a bed is measured exactly) and
 // its leave-one-out Q2, as for V_out.
 OT::KrigingResult fit_packing(GrainCalibrationResult& r, const OT::Sample& u) {
-  const std::size_t n = r.points.size(), d = r.parameters.size();
+  const std::size_t n = r.points.size();
   OT::Sample y(n, 1);
   for (std::size_t i = 0; i < n; ++i) y(i, 0) = r.points[i].solid_fraction;
   OT::KrigingResult model = fit_kriging(u, y, 0.0, nullptr);
-  const OT::CovarianceModel cov = model.getCovarianceModel();
-  double press = 0, var = 0, ybar = 0;
-  for (std::size_t i = 0; i < n; ++i) ybar += y(i, 0) / static_cast<double>(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    OT::Sample ui(0, d), yi(0, 1);
-    for (std::size_t j = 0; j < n; ++j)
-      if (j != i) {
-        ui.add(u[j]);
-        yi.add(y[j]);
-      }
-    r.points[i].solid_fraction_loo = fit_kriging(ui, yi, 0.0, &cov).getMetaModel()(u[i])[0];
-    press += std::pow(y(i, 0) - r.points[i].solid_fraction_loo, 2);
-    var += std::pow(y(i, 0) - ybar, 2);
-  }
-  r.solid_fraction_q2 = var > 0 ? 1.0 - press / var : NAN;
+  std::vector<double> loo;
+  r.solid_fraction_q2 = leave_one_out(u, y, 0.0, model.getCovarianceModel(), loo)[0];
+  for (std::size_t i = 0; i < n; ++i) r.points[i].solid_fraction_loo = loo[i];
   return model;
 }
 

@@ -52,6 +52,13 @@ fs::path temp_dir(const std::string& name) {
   return d;
 }
 
+// The test bed (built once into the test cache).
+BedFiles test_bed() {
+  ImpactSpec spec;
+  spec.params = test_overrides();
+  return ensure_bed(decks(), bed_overrides(spec), RICOCHET_TEST_CACHE, MPI_COMM_WORLD);
+}
+
 ImpactResult run(ImpactSpec spec, const fs::path& work, ExtractOptions extract = {}) {
   ImpactContext ctx;
   ctx.decks = &decks();
@@ -169,10 +176,7 @@ TEST(DemEndToEnd, OneImpactThroughLiggghtsExtractionAndHdf5) {
 // it computed from each grain's density and radius at insertion (mass(all) / rho_grain is the
 // volume by another path than measure_packing's sum of (4/3) pi r^3).
 TEST(BedPacking, SolidFractionAgreesWithLiggghtsMassAndIsAPacking) {
-  ImpactSpec spec;
-  spec.params = test_overrides();
-  const BedFiles bed =
-      ensure_bed(decks(), bed_overrides(spec), RICOCHET_TEST_CACHE, MPI_COMM_WORLD);
+  const BedFiles bed = test_bed();
   const BedPacking p = measure_packing(bed, MPI_COMM_WORLD);
   EXPECT_EQ(p.grains, bed.grains);
   const double rho = std::stod(bed.values.at("rho_grain"));
@@ -203,10 +207,7 @@ TEST(BedPacking, SolidFractionAgreesWithLiggghtsMassAndIsAPacking) {
 // densifies with friction as no poured sand does, on purpose: the target (mu_gg = 0.78, phi 0.584)
 // then lies outside the band [0.52, 0.56], and the search must give up some V_out^x to stay in it.
 TEST(BedPacking, CalibrateGrainsMeasuresEachPointsBedAndKeepsTheOptimumInTheBand) {
-  ImpactSpec spec;
-  spec.params = test_overrides();
-  const BedFiles bed =
-      ensure_bed(decks(), bed_overrides(spec), RICOCHET_TEST_CACHE, MPI_COMM_WORLD);
+  const BedFiles bed = test_bed();
   const double phi0 = measure_packing(bed, MPI_COMM_WORLD).solid_fraction;
   const fs::path dir = temp_dir("packing-band");
   const fs::path cache = dir / "cache";
