@@ -133,8 +133,9 @@ def main(argv: list) -> int:
             out += ["", f"[{section}]"]
             out += [f"{k} = {toml_value(v)}" for k, v in sorted(tables[section].items())]
     if a.blind_triangles:
-        rel = os.path.relpath(os.path.abspath(a.lab), os.path.dirname(os.path.abspath(a.out)))
-        out += ["", "[design]", 'shape = "triangle"', f"incident_from = {json.dumps(rel)}",
+        # Absolute: the campaign scripts run a pinned copy of the design from another folder.
+        lab_path = os.path.abspath(a.lab)
+        out += ["", "[design]", 'shape = "triangle"', f"incident_from = {json.dumps(lab_path)}",
                 "alpha_in_deg_sample = { range = [-60.0, 60.0], seed = 1 }", "seeds = [0]"]
         lab = []
     for k, (rid, shape, vx, vy, w) in enumerate(lab):
