@@ -168,8 +168,7 @@ void run_bed_on_rank(const BedOptions& o, const MpiSession& mpi) {
   for (const auto& s : o.common.sets) dem::apply_set_option(decks, s, ov);
   if (!ov.block.empty() || !ov.run.empty())
     throw InputError("<command line>", 0, "--set", "a bed takes bed.* parameters only");
-  if (o.seed && !ov.bed.count("seed"))
-    ov.bed["seed"] = std::to_string(dem::liggghts_seed(static_cast<std::int64_t>(*o.seed)));
+  if (o.seed) ov.bed = dem::with_replica_seed(ov.bed, static_cast<std::int64_t>(*o.seed));
   if (o.dry_run) {
     const std::string key = dem::bed_key(decks, ov.bed);
     const std::string prefix = (fs::path(o.common.cache) / ("bed-" + key)).string();

@@ -63,9 +63,7 @@ std::vector<DeckParam> repose_deck_params(const Decks& decks) {
 }
 
 std::map<std::string, std::string> drop_bed_overrides(const DropSpec& spec) {
-  auto bed = spec.bed;
-  if (spec.seed && !bed.count("seed")) bed["seed"] = std::to_string(liggghts_seed(*spec.seed, 0));
-  return bed;
+  return with_replica_seed(spec.bed, spec.seed);
 }
 
 const std::vector<std::string>& DropTrack::column_names() {

@@ -107,9 +107,7 @@ kinematics::Track frames(const BlockTrack& tr, double fps) {
 }  // namespace
 
 std::map<std::string, std::string> bed_overrides(const ImpactSpec& spec) {
-  auto bed = spec.params.bed;
-  if (spec.seed && !bed.count("seed")) bed["seed"] = std::to_string(liggghts_seed(*spec.seed, 0));
-  return bed;
+  return with_replica_seed(spec.params.bed, spec.seed);
 }
 
 namespace {

@@ -130,6 +130,12 @@ std::int64_t liggghts_seed(std::int64_t replica, std::int64_t offset) {
   return n;
 }
 
+std::map<std::string, std::string> with_replica_seed(std::map<std::string, std::string> bed,
+                                                     const std::optional<std::int64_t>& replica) {
+  if (replica && !bed.count("seed")) bed["seed"] = std::to_string(liggghts_seed(*replica, 0));
+  return bed;
+}
+
 void check_param(const Decks& decks, const std::string& section, const std::string& name,
                  const std::string& value, const std::string& file, std::size_t line) {
   const std::string field = section + "." + name;

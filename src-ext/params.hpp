@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -84,6 +85,10 @@ std::string bed_key(const Decks& decks, const std::map<std::string, std::string>
 /// The k-th prime above 10000 (k >= 1): maps a replica seed 0, 1, 2... to LIGGGHTS seeds, which
 /// must be primes above 10000.
 std::int64_t liggghts_seed(std::int64_t replica, std::int64_t offset = 0);
+/// `bed` with the bed seed of `replica` (liggghts_seed(replica)) unless `bed` sets `seed` itself
+/// or there is no replica: the bed of an impact, a drop or `dem bed --seed`.
+std::map<std::string, std::string> with_replica_seed(std::map<std::string, std::string> bed,
+                                                     const std::optional<std::int64_t>& replica);
 bool is_prime(std::int64_t n);
 
 }  // namespace ricochet::dem

@@ -141,7 +141,9 @@ TEST(DemEndToEnd, OneImpactThroughLiggghtsExtractionAndHdf5) {
     ASSERT_TRUE(std::isfinite(back.overlap_d_max[i])) << i;
     torque_max = std::max(torque_max, std::abs(back.torque[i]));
     overlap_max = std::max(overlap_max, back.overlap_d_max[i]);
-    if (i > 0) EXPECT_LE(back.t[i] - back.t[i - 1], 2e-4 * (1 + 1e-9)) << i;
+    if (i > 0) {
+      EXPECT_LE(back.t[i] - back.t[i - 1], 2e-4 * (1 + 1e-9)) << i;
+    }
   }
   EXPECT_GT(torque_max, 0.0);
   EXPECT_GT(overlap_max, 0.0);
