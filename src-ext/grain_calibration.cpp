@@ -10,6 +10,7 @@
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <openturns/OT.hxx>
+#include <openturns/TBB.hxx>
 #include <optional>
 #include <set>
 
@@ -287,7 +288,6 @@ OT::Point search_best(GrainCalibrationResult& r, const Surrogate& sur,
   const std::size_t d = r.parameters.size();
   // Outside the solid-fraction band (with one) a point is not a sand-like bed: J = +inf.
   const bool banded = sur.packing && r.solid_fraction_band.size() == 2;
-  std::size_t admissible = 0;
   auto misfit = [&](const OT::Sample& s, std::vector<double>& j, std::vector<char>* ok) {
     j.assign(s.getSize(), 0.0);
     if (ok) ok->assign(s.getSize(), 1);
@@ -321,15 +321,11 @@ OT::Point search_best(GrainCalibrationResult& r, const Surrogate& sur,
   std::size_t best = static_cast<std::size_t>(std::min_element(j.begin(), j.end()) - j.begin());
   r.acceptable_fraction =
       static_cast<double>(std::count(ok.begin(), ok.end(), 1)) / static_cast<double>(ok.size());
-  admissible = static_cast<std::size_t>(
+  const auto admissible = static_cast<std::size_t>(
       std::count_if(j.begin(), j.end(), [](double v) { return std::isfinite(v); }));
   r.admissible_fraction = static_cast<double>(admissible) / static_cast<double>(j.size());
   if (admissible == 0) {
-    double lo = 1, hi = 0;
-    for (const auto& p : r.points) {
-      lo = std::min(lo, p.solid_fraction);
-      hi = std::max(hi, p.solid_fraction);
-    }
+    const auto [lo, hi] = solid_fraction_range(r);
     throw InputError(r.source, 0, "--solid-fraction",
                      fmt::format("no point of the sampled box has a predicted solid fraction in "
                                  "[{:.3f}, {:.3f}]; the design's beds span [{:.3f}, {:.3f}]",
@@ -433,6 +429,14 @@ GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const De
     QuietWarnings() { OT::Log::Show(flags & ~OT::Log::WARN); }
     ~QuietWarnings() { OT::Log::Show(flags); }
   } quiet;
+  // OpenTURNS splits the kriging's evaluations over TBB threads, whose reductions sum in a
+  // scheduling-dependent order: the same command gave results differing in the last digits from
+  // run to run. One thread while this fit runs keeps a calibration reproducible bit for bit.
+  struct OneThread {
+    OT::UnsignedInteger threads = OT::TBB::GetThreadsNumber();
+    OneThread() { OT::TBB::SetThreadsNumber(1); }
+    ~OneThread() { OT::TBB::SetThreadsNumber(threads); }
+  } one_thread;
   OT::RandomGenerator::SetSeed(options.seed);
   Surrogate sur = fit_surrogate(r, u, mean_replicas);
   if (!options.bed_cache.empty()) sur.packing = fit_packing(r, u);
@@ -441,6 +445,16 @@ GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const De
   abacus(r, sur, ubest);
   r.seconds = seconds_since(start);
   return r;
+}
+
+std::array<double, 2> solid_fraction_range(const GrainCalibrationResult& r) {
+  std::array<double, 2> range = {NAN, NAN};
+  for (const auto& p : r.points)
+    if (std::isfinite(p.solid_fraction)) {
+      range[0] = std::isnan(range[0]) ? p.solid_fraction : std::min(range[0], p.solid_fraction);
+      range[1] = std::isnan(range[1]) ? p.solid_fraction : std::max(range[1], p.solid_fraction);
+    }
+  return range;
 }
 
 std::string grain_calibration_json(const GrainCalibrationResult& r) {
