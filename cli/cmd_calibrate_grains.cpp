@@ -2,7 +2,6 @@
 // calibrated against measured rebounds through a kriging surrogate of a sampled campaign
 // ([design.sample]), with its leave-one-out validation and Sobol indices. See
 // docs/commands/calibrate-grains.md and docs/resolved-model.md ("Calibration of the grains").
-#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <memory>
@@ -92,11 +91,7 @@ void run(const Options& o) {
       "component\n",
       r.best_misfit, 100 * r.acceptable_fraction);
   if (std::isfinite(r.best_solid_fraction)) {
-    double lo = 1, hi = 0;
-    for (const auto& p : r.points) {
-      lo = std::min(lo, p.solid_fraction);
-      hi = std::max(hi, p.solid_fraction);
-    }
+    const auto [lo, hi] = dem::solid_fraction_range(r);
     std::cout << fmt::format(
         "  packing: the design's beds have solid fractions {:.3f} .. {:.3f} (LOO Q2 {:.2f}); "
         "calibrated point {:.3f} +- {:.3f}",

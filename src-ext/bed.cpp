@@ -126,13 +126,8 @@ BedPacking measure_packing(const BedFiles& bed, MPI_Comm comm) {
   const auto rho = bed.values.find("rho_grain");
   if (rho == bed.values.end())
     throw std::runtime_error("bed: " + bed.prefix + ".params has no value for rho_grain");
-  // The impact deck's set-up (liggghts-inputs/impact/setup.in) before its read_restart.
   Liggghts lmp(comm, bed.prefix + ".packing.log", bed.prefix + ".packing.screen", {});
-  for (const char* line :
-       {"atom_style granular", "atom_modify map array", "boundary f f f", "newton off",
-        "communicate single vel yes", "units si", "processors * * *"})
-    lmp.command(line);
-  lmp.command("read_restart " + restart);
+  lmp.read_bed_restart(restart);
   const Liggghts::LocalAtoms atoms = lmp.local_atoms();
   double local[2] = {0, 0};  // grains, volume
   for (std::size_t i = 0; i < atoms.radius.size(); ++i) {

@@ -93,6 +93,10 @@ GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const De
                                         const ImpactSet& target,
                                         const GrainCalibrationOptions& options);
 
+/// The smallest and largest measured solid fraction of the design's beds (NaN without
+/// bed_cache).
+std::array<double, 2> solid_fraction_range(const GrainCalibrationResult& r);
+
 /// JSON document (nlohmann dump) of a result: keys documented in docs/commands/calibrate-grains.md.
 std::string grain_calibration_json(const GrainCalibrationResult& r);
 

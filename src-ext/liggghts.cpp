@@ -178,6 +178,15 @@ void Liggghts::command(const std::string& line) {
   lammps_command(lmp_, l.data());
 }
 
+void Liggghts::read_bed_restart(const std::string& restart_path) {
+  // liggghts-inputs/impact/setup.in and drop/setup.in, before their read_restart.
+  for (const char* line :
+       {"atom_style granular", "atom_modify map array", "boundary f f f", "newton off",
+        "communicate single vel yes", "units si", "processors * * *"})
+    command(line);
+  command("read_restart " + restart_path);
+}
+
 std::optional<std::string> Liggghts::string(const std::string& name) {
   auto* lmp = static_cast<LAMMPS_NS::LAMMPS*>(lmp_);
   std::string n = name;

@@ -34,6 +34,9 @@ class Liggghts {
   void file(const std::string& path);
   /// Runs one command (lammps_command).
   void command(const std::string& line);
+  /// Reads a bed's restart file into this fresh instance, after the set-up the impact and drop
+  /// decks give before their own read_restart (granular atoms, fixed boundaries, SI units).
+  void read_bed_restart(const std::string& restart_path);
 
   /// Value of an equal-style variable (evaluated now), or of a string/index variable parsed as
   /// a number. nullopt when the variable does not exist.
