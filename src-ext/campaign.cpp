@@ -104,81 +104,105 @@ CampaignSummary run_campaign(const CampaignDesign& design, const Decks& decks,
   pending.resize(static_cast<std::size_t>(n_pending));
   MPI_Bcast(pending.data(), n_pending, MPI_INT, 0, world);
 
-  // Beds first, each built once by one group, so that no two groups build the same bed. With a
-  // single group there is no one to share with, and building first would cost the design its
-  // order: a design laid out from cheap to expensive (a stiffness ladder, whose stiff beds take
-  // hours) would build every bed before its first impact. There each bed is built when the first
-  // impact that needs it comes (below).
-  std::vector<std::map<std::string, std::string>> beds;
-  std::set<std::string> keys;
+  // The schedule: waves of `groups` beds. In each wave every group builds one bed (each bed
+  // once, by one group), then the wave's impacts are dealt round robin over the groups. A bed's
+  // impacts thus come right after it: a design of many beds (the sand calibration: 20 beds of two
+  // impacts, half an hour each to build at 1.5e9 Pa) writes its first impacts within the first
+  // hour instead of after every bed, so a session that stops keeps impacts, not beds that a new
+  // machine would have to build again. With one group each bed is built when its first impact
+  // comes. Pending impacts are taken in design order within their bed, beds in the order
+  // of their first pending impact. One group keeps the design's order exactly (one wave): a design
+  // ordered from cheap to expensive, or the cylinder on every replica bed before the triangles
+  // (stiffness-plateau.toml), stopped early has what its order put first.
+  std::vector<std::string> wave_key;  // the wave of each pending impact (its bed key)
+  std::vector<std::string> bed_order;
   for (int i : pending) {
-    auto o = bed_overrides(design.impacts[static_cast<std::size_t>(i)]);
-    if (groups > 1 && keys.insert(bed_key(decks, o)).second) beds.push_back(o);
+    wave_key.push_back(
+        groups == 1 ? std::string("all")
+                    : bed_key(decks, bed_overrides(design.impacts[static_cast<std::size_t>(i)])));
+    if (std::find(bed_order.begin(), bed_order.end(), wave_key.back()) == bed_order.end())
+      bed_order.push_back(wave_key.back());
   }
-  for (std::size_t j = 0; j < beds.size(); ++j)
-    if (group != MPI_COMM_NULL && static_cast<int>(j % static_cast<std::size_t>(groups)) == color) {
+  const std::size_t G = static_cast<std::size_t>(groups);
+  for (std::size_t w0 = 0; w0 < bed_order.size(); w0 += G) {
+    const std::vector<std::string> wave(
+        bed_order.begin() + static_cast<std::ptrdiff_t>(w0),
+        bed_order.begin() + static_cast<std::ptrdiff_t>(std::min(w0 + G, bed_order.size())));
+    std::vector<int> todo;
+    for (std::size_t b = 0; b < wave.size(); ++b)
+      for (std::size_t n = 0; n < pending.size(); ++n)
+        if (wave_key[n] == wave[b]) todo.push_back(pending[n]);
+    if (groups > 1) {
+      // Each group builds its bed of the wave before any impact runs on it.
+      if (group != MPI_COMM_NULL && static_cast<std::size_t>(color) < wave.size()) {
+        const auto it =
+            std::find(wave_key.begin(), wave_key.end(), wave[static_cast<std::size_t>(color)]);
+        const ImpactSpec& first = design.impacts[static_cast<std::size_t>(
+            pending[static_cast<std::size_t>(it - wave_key.begin())])];
+        bool built = false;
+        double bed_wall = 0;
+        const BedFiles b =
+            ensure_bed(decks, bed_overrides(first), design.cache_dir, group, &built, &bed_wall);
+        if (grank == 0 && built)
+          std::cerr << fmt::format("[dem] bed {}: {} grains built in {:.0f} s (group {})\n", b.key,
+                                   b.grains, bed_wall, color);
+      }
+      MPI_Barrier(world);
+    }
+    for (std::size_t n = 0; n < todo.size(); ++n) {
+      if (group == MPI_COMM_NULL || static_cast<int>(n % G) != color) continue;
+      const ImpactSpec& spec = design.impacts[static_cast<std::size_t>(todo[n])];
+      ImpactContext ctx;
+      ctx.decks = &decks;
+      if (grank == 0) {
+        // A line before the work (an impact on a stiff bed takes an hour, its bed longer): what
+        // runs now, and whether its bed must be built first.
+        const std::string key = bed_key(decks, bed_overrides(spec));
+        const std::string prefix = (fs::path(design.cache_dir) / ("bed-" + key)).string();
+        const bool cached = fs::exists(prefix + ".restart") && fs::exists(prefix + ".params");
+        std::cerr << fmt::format("[dem] starting {} (group {}), bed {}{}\n", spec.id, color, key,
+                                 cached ? "" : ": building it first");
+      }
       bool built = false;
       double bed_wall = 0;
-      const BedFiles b = ensure_bed(decks, beds[j], design.cache_dir, group, &built, &bed_wall);
+      ctx.bed = ensure_bed(decks, bed_overrides(spec), design.cache_dir, group, &built, &bed_wall);
       if (grank == 0 && built)
-        std::cerr << fmt::format("[dem] bed {}: {} grains built in {:.0f} s (group {})\n", b.key,
-                                 b.grains, bed_wall, color);
+        std::cerr << fmt::format("[dem] bed {}: {} grains built in {:.0f} s (group {})\n",
+                                 ctx.bed.key, ctx.bed.grains, bed_wall, color);
+      ctx.extract = design.extract;
+      ctx.work_dir = (fs::path(design.work_dir) / spec.id).string();
+      if (options.vtk_every > 0) {
+        ctx.vtk_dir = (fs::path(options.vtk_dir) / spec.id).string();
+        ctx.vtk_every = options.vtk_every;
+      }
+      // The campaign's picture (report, upscale --figures): its first impact.
+      if (options.picture && todo[n] == 0)
+        ctx.picture_dir = (fs::path(ctx.work_dir) / "picture-frames").string();
+      const Shape shape = Shape::resolve(spec.shape);
+      ctx.template_include = ensure_template(shape, ctx.bed, design.work_dir + "/templates", group);
+      ImpactProgress bar(spec.id, wrank == 0 && options.progress);
+      ctx.progress = bar.callback();
+      if (grank == 0) mark_running(options.out, spec.id, ctx.work_dir);
+      ImpactResult r;
+      try {
+        r = run_impact(spec, ctx, group);
+      } catch (const std::exception& e) {
+        r.id = spec.id;
+        r.status = "error";
+        r.message = e.what();
+        r.work_dir = ctx.work_dir;
+      }
+      bar.finish();
+      ++summary.ran;
+      if (grank == 0) {
+        append_result(options.out, r, spec, design.name);
+        const auto total = read_campaign_index(options.out).size();
+        std::cerr << fmt::format("[dem] {}/{} {} (group {}): {} in {:.0f} s, {}\n", total,
+                                 design.impacts.size(), spec.id, color, r.status, r.wall_s,
+                                 r.message);
+      }
     }
-  MPI_Barrier(world);
-
-  for (std::size_t n = 0; n < pending.size(); ++n) {
-    if (group == MPI_COMM_NULL || static_cast<int>(n % static_cast<std::size_t>(groups)) != color)
-      continue;
-    const ImpactSpec& spec = design.impacts[static_cast<std::size_t>(pending[n])];
-    ImpactContext ctx;
-    ctx.decks = &decks;
-    if (grank == 0) {
-      // A line before the work (an impact on a stiff bed takes an hour, its bed longer): what
-      // runs now, and whether its bed must be built first.
-      const std::string key = bed_key(decks, bed_overrides(spec));
-      const std::string prefix = (fs::path(design.cache_dir) / ("bed-" + key)).string();
-      const bool cached = fs::exists(prefix + ".restart") && fs::exists(prefix + ".params");
-      std::cerr << fmt::format("[dem] starting {} (group {}), bed {}{}\n", spec.id, color, key,
-                               cached ? "" : ": building it first");
-    }
-    bool built = false;
-    double bed_wall = 0;
-    ctx.bed = ensure_bed(decks, bed_overrides(spec), design.cache_dir, group, &built, &bed_wall);
-    if (grank == 0 && built)
-      std::cerr << fmt::format("[dem] bed {}: {} grains built in {:.0f} s (group {})\n",
-                               ctx.bed.key, ctx.bed.grains, bed_wall, color);
-    ctx.extract = design.extract;
-    ctx.work_dir = (fs::path(design.work_dir) / spec.id).string();
-    if (options.vtk_every > 0) {
-      ctx.vtk_dir = (fs::path(options.vtk_dir) / spec.id).string();
-      ctx.vtk_every = options.vtk_every;
-    }
-    // The campaign's picture (report, upscale --figures): its first impact.
-    if (options.picture && pending[n] == 0)
-      ctx.picture_dir = (fs::path(ctx.work_dir) / "picture-frames").string();
-    const Shape shape = Shape::resolve(spec.shape);
-    ctx.template_include = ensure_template(shape, ctx.bed, design.work_dir + "/templates", group);
-    ImpactProgress bar(spec.id, wrank == 0 && options.progress);
-    ctx.progress = bar.callback();
-    if (grank == 0) mark_running(options.out, spec.id, ctx.work_dir);
-    ImpactResult r;
-    try {
-      r = run_impact(spec, ctx, group);
-    } catch (const std::exception& e) {
-      r.id = spec.id;
-      r.status = "error";
-      r.message = e.what();
-      r.work_dir = ctx.work_dir;
-    }
-    bar.finish();
-    ++summary.ran;
-    if (grank == 0) {
-      append_result(options.out, r, spec, design.name);
-      const auto total = read_campaign_index(options.out).size();
-      std::cerr << fmt::format("[dem] {}/{} {} (group {}): {} in {:.0f} s, {}\n", total,
-                               design.impacts.size(), spec.id, color, r.status, r.wall_s,
-                               r.message);
-    }
+    MPI_Barrier(world);
   }
   MPI_Barrier(world);
   unsigned long ran = summary.ran;
