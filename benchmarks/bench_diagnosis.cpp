@@ -5,8 +5,10 @@
 // shape of the lab data (paper Appendix A), at the paper's time step dt = 1e-5 s.
 //
 //   BM_DiagnoseLab/0   28 cylinders
-//   BM_DiagnoseLab/1   31 triangles (orientation unknown: every prediction is an average over 6
-//                      orientations, and triangle collisions cost about 20x a cylinder's)
+//   BM_DiagnoseLab/1   31 triangles (orientation unknown: fits search on 6 orientations and
+//                      polish on 24, every prediction is an average over 24, cold fits run 32
+//                      starts; fit/orientation_rule.hpp; a triangle collision costs 6-10 cylinder
+//                      collisions)
 //   BM_CompareLab/0,1  compare only (base model, no candidates)
 // Counters: releases, candidates tried, the base held-out error and the noise floor (checks that
 // the fast path computes the right thing; docs/diagnosis.md lists the values).

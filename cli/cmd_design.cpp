@@ -59,6 +59,7 @@ const OptionNames kDesignNames = {{"budget", "--budget"},
                                   {"alpha", "--alpha"},
                                   {"max_passes", "--passes"},
                                   {"assess.fit.alpha.marginal_points", "--orientations"},
+                                  {"assess.fit.alpha.polish_points", "--polish-orientations"},
                                   {"assess.fit.engine.dt_s", "--dt"}};
 
 struct DesignCliOptions {
@@ -71,6 +72,7 @@ struct DesignCliOptions {
   std::uint64_t seed = diagnosis::DesignOptions{}.seed;
   int threads = diagnosis::DesignOptions{}.assess.fit.threads;
   int orientations = diagnosis::DesignOptions{}.assess.fit.alpha.marginal_points;
+  int polish_orientations = diagnosis::DesignOptions{}.assess.fit.alpha.polish_points;
   OutputOptions output;
   bool shape_given = false;
 };
@@ -144,6 +146,7 @@ void run(DesignCliOptions& o) {
   opt.assess.fit.threads = o.threads;
   opt.assess.fit.engine.dt_s = o.model.dt_s;
   if (o.orientations != 0) opt.assess.fit.alpha.marginal_points = o.orientations;
+  opt.assess.fit.alpha.polish_points = o.polish_orientations;
   refuse_problems(opt.problems(), kDesignNames);
   // The box's rules (WideBox::problems) on the ranges given; the others are the set's own.
   refuse_problems(given_box.problems(),
@@ -231,10 +234,7 @@ void add_design_command(CLI::App& app) {
   sub->add_option("--passes", o->design.max_passes, "Exchange passes at most")
       ->capture_default_str();
   show_range(sub, "--passes", diagnosis::DesignOptions::kPasses);
-  sub->add_option("--orientations", o->orientations,
-                  "Orientations averaged over for blocks without alpha_in, in " +
-                      fit::FitOptions::kMarginalPoints.text() + " (0: the default)")
-      ->capture_default_str();
+  add_orientation_options(sub, o->orientations, o->polish_orientations);
   add_seed_option(sub, o->seed,
                   "every random draw: the uniform draw compared with the plan, the "
                   "calibrations' start designs, the cross-validation's partitions and the "

@@ -55,9 +55,11 @@ void add_diagnosis_options(CLI::App* sub, diagnosis::OptionValues& v,
                   "Error denominators: set-mean (Eq. 7 floored at the set's mean magnitude) or "
                   "eq7 (the paper's)")
       ->capture_default_str();
-  sub->add_option("--orientations", v.orientations,
-                  "Orientations averaged over for blocks without alpha_in, in " +
-                      fit::FitOptions::kMarginalPoints.text() + " (0: the default)")
+  add_orientation_options(sub, v.orientations, v.polish_orientations);
+  sub->add_option("--orientation-starts", v.orientation_starts,
+                  "At least this many BOBYQA runs in every cold fit (full set and folds) of a "
+                  "set with releases of unknown orientation, in " +
+                      fit::FitOptions::kStarts.text())
       ->capture_default_str();
   add_threads_option(sub, v.threads);
   if (set.alpha) {
@@ -74,6 +76,8 @@ const OptionNames& diagnosis_option_names() {
                                     {"assess.folds", "--folds"},
                                     {"assess.repeats", "--repeats"},
                                     {"assess.fit.alpha.marginal_points", "--orientations"},
+                                    {"assess.fit.alpha.polish_points", "--polish-orientations"},
+                                    {"assess.marginal_starts", "--orientation-starts"},
                                     {"assess.fit.engine.dt_s", "--dt"}};
   return names;
 }

@@ -8,6 +8,7 @@
 #include "cli_common.hpp"
 #include "common/error.hpp"
 #include "engine/engine.hpp"
+#include "fit/fit.hpp"
 
 namespace ricochet::cli {
 
@@ -73,6 +74,18 @@ CLI::Option* add_threads_option(CLI::App* sub, int& threads) {
       sub->add_option("--threads", threads, "OpenMP threads (0 = all)")->capture_default_str();
   check_range(sub, "--threads", EngineOptions::kThreads.lo, EngineOptions::kThreads.hi);
   return o;
+}
+
+void add_orientation_options(CLI::App* sub, int& search_points, int& polish_points) {
+  sub->add_option("--orientations", search_points,
+                  "Orientations of the search rule for blocks without alpha_in, in " +
+                      fit::FitOptions::kMarginalPoints.text() + " (0: the default)")
+      ->capture_default_str();
+  sub->add_option("--polish-orientations", polish_points,
+                  "Orientations of the refined rule (the fits' polish, every prediction) for "
+                  "blocks without alpha_in, in " +
+                      fit::FitOptions::kPolishPoints.text() + " (0: the search rule throughout)")
+      ->capture_default_str();
 }
 
 }  // namespace ricochet::cli

@@ -49,4 +49,8 @@ CLI::Option* add_seed_option(CLI::App* sub, std::optional<std::uint64_t>& seed,
 /// Declares --threads (OpenMP threads, 0 = all; checked in [0, 4096]) on `sub`.
 CLI::Option* add_threads_option(CLI::App* sub, int& threads);
 
+/// Declares --orientations (the search rule of blocks without alpha_in; 0 = the default) and
+/// --polish-orientations (the refined rule; 0 = none) on `sub` (fit::AlphaOptions).
+void add_orientation_options(CLI::App* sub, int& search_points, int& polish_points);
+
 }  // namespace ricochet::cli

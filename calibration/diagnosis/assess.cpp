@@ -92,6 +92,33 @@ Obs measured_of(const Impact& im) {
 
 }  // namespace
 
+ObsPrediction ObsPrediction::half(int h) const {
+  ObsPrediction p = *this;
+  if (!has_halves) return p;
+  p.value = half_value[static_cast<std::size_t>(h)];
+  p.spread = half_spread[static_cast<std::size_t>(h)];
+  return p;
+}
+
+bool has_unknown_orientation(const Shape& shape, const ImpactSet& set) {
+  if (shape.is_disc()) return false;
+  return std::any_of(set.impacts.begin(), set.impacts.end(),
+                     [](const Impact& im) { return !im.alpha_in.has_value(); });
+}
+
+int cold_starts(int starts, const AssessOptions& o, const Shape& shape, const ImpactSet& set) {
+  return has_unknown_orientation(shape, set) ? std::max(starts, o.marginal_starts) : starts;
+}
+
+int full_set_starts(const AssessOptions& o, const fit::ErrorOptions& error, const Shape& shape,
+                    const ImpactSet& set) {
+  if (o.refine_start) return o.population_starts;
+  return cold_starts(fit::uses_contact_terms(error)
+                         ? std::max(o.population_starts, o.contact_population_starts)
+                         : o.population_starts,
+                     o, shape, set);
+}
+
 std::vector<ObsPrediction> to_observables(const std::vector<fit::Prediction>& predictions) {
   std::vector<ObsPrediction> out(predictions.size());
   for (std::size_t i = 0; i < predictions.size(); ++i) {
@@ -99,6 +126,14 @@ std::vector<ObsPrediction> to_observables(const std::vector<fit::Prediction>& pr
     out[i].value = {p.vout[0], p.vout[1], p.vout[2], p.penetration_m, p.contact_duration_s};
     out[i].spread = {p.vout_std[0], p.vout_std[1], p.vout_std[2], 0.0, 0.0};
     out[i].status = p.status;
+    out[i].has_halves = true;
+    for (std::size_t h = 0; h < 2; ++h) {
+      const Vel3& v = p.vout_half[h];
+      const Vel3& sd = p.vout_std_half[h];
+      out[i].half_value[h] = {v[0], v[1], v[2], p.penetration_half_m[h],
+                              p.contact_duration_half_s[h]};
+      out[i].half_spread[h] = {sd[0], sd[1], sd[2], 0.0, 0.0};
+    }
   }
   return out;
 }
@@ -164,9 +199,13 @@ ErrorReport error_report(const ImpactSet& set, const std::vector<ObsPrediction>&
   ErrorReport r;
   const double n = static_cast<double>(set.size());
   Obs sq{};
+  std::array<double, 2> half_error{};
   for (std::size_t i = 0; i < set.size(); ++i) {
     const Impact& im = set.impacts[i];
     const Obs t = error_terms(im, predictions[i], use, o);
+    for (int h = 0; h < 2; ++h)
+      for (double x : error_terms(im, predictions[i].half(h), use, o))
+        half_error[static_cast<std::size_t>(h)] += x / n;
     const Obs m = measured_of(im);
     Obs res{};
     double e = 0;
@@ -182,6 +221,8 @@ ErrorReport error_report(const ImpactSet& set, const std::vector<ObsPrediction>&
   }
   for (int k = 0; k < kObservables; ++k) r.rmse[k] = use[k] ? std::sqrt(sq[k]) : NAN;
   r.error = mean_se(r.per_release);
+  r.quadrature_error =
+      std::max(std::fabs(half_error[0] - r.error.mean), std::fabs(half_error[1] - r.error.mean));
   return r;
 }
 
@@ -564,7 +605,7 @@ std::vector<SplitOutcome> fit_splits(Assessment& a, const Model& model, const Sh
     if (warm) {
       pf = warm_split_fit(mj, shape, train, fj, o, *warm, j);
     } else {
-      fj.starts = o.fold_starts;
+      fj.starts = cold_starts(o.fold_starts, o, shape, train);
       pf = fit::calibrate_population(nominal_start(mj), shape, train, fj);
     }
     a.fold_params[j] = pf.params;
@@ -598,6 +639,7 @@ void pool_heldout(Assessment& a, const ImpactSet& set, const std::vector<SplitOu
   a.repeat_error.assign(R, std::vector<double>(n, NAN));
   std::vector<Obs> pred_sum(n, Obs{}), spread_sum(n, Obs{}), term_sum(n, Obs{}), inv_sum(n, Obs{});
   std::vector<int> worst(n, 0);
+  std::array<double, 2> half_sum{};  // summed errors with the half orientation rules
   for (std::size_t j = 0; j < splits.size(); ++j) {
     const std::vector<std::size_t>& test = a.cv.test[j];
     const AssessOptions& oj = splits[j].options;
@@ -617,6 +659,9 @@ void pool_heldout(Assessment& a, const ImpactSet& set, const std::vector<SplitOu
         inv_sum[i][k] += a.use[k] ? 1.0 / (d[k] * d[k]) : 0.0;
       }
       worst[i] = std::max(worst[i], static_cast<int>(pred[t].status));
+      for (int hh = 0; hh < 2; ++hh)
+        for (double x : error_terms(set.impacts[i], pred[t].half(hh), a.use, oj))
+          half_sum[static_cast<std::size_t>(hh)] += x;
       a.repeat_error[r][i] = e;
       sum += e;
     }
@@ -649,6 +694,9 @@ void pool_heldout(Assessment& a, const ImpactSet& set, const std::vector<SplitOu
   }
   for (int k = 0; k < kObservables; ++k) h.rmse[k] = a.use[k] ? std::sqrt(sq[k]) : NAN;
   h.error = mean_se(h.per_release);
+  const double scale = 1.0 / (rr * static_cast<double>(n));
+  h.quadrature_error = std::max(std::fabs(half_sum[0] * scale - h.error.mean),
+                                std::fabs(half_sum[1] * scale - h.error.mean));
 }
 
 // The fold optima are candidates for the full-set optimum too. On a rough objective (lab
@@ -700,9 +748,7 @@ Assessment assess_splits(const Model& model_in, const Shape& shape, const Impact
   a.use = observables_of(set, o);
   fit::FitOptions fo = fit_options_for(set, o);
   fo.intervals = false;
-  fo.starts = !o.refine_start && fit::uses_contact_terms(fo.error)
-                  ? std::max(o.population_starts, o.contact_population_starts)
-                  : o.population_starts;
+  fo.starts = full_set_starts(o, fo.error, shape, set);
   a.population = full_set_fit(model, shape, set, o, fo);
   if (warm) {
     if (warm->cv.n != n)

@@ -95,14 +95,8 @@ enum class ErrorScale {
 const char* error_scale_name(ErrorScale scale);
 
 struct AssessOptions {
-  /// Calibration settings (seed, starts, alpha handling, ...). Different from the fit module's
-  /// defaults: 6 orientations in the marginal grid of blocks without alpha_in instead of 12, for
-  /// speed (lab triangles: held-out error 0.893 with 6, 0.887 with 12; half the time).
-  fit::FitOptions fit = [] {
-    fit::FitOptions f;
-    f.alpha.marginal_points = 6;
-    return f;
-  }();
+  /// Calibration settings (seed, starts, alpha handling and its orientation rules, ...).
+  fit::FitOptions fit;
   /// k of the k-fold held-out error, at least 2; kLeaveOneOut: one fold per release. Resolved
   /// on a set of n releases by folds_for(n), the one place the clamp to n is decided.
   std::size_t folds = 5;
@@ -146,6 +140,13 @@ struct AssessOptions {
   /// Fold fits of a model as given (cold: the base model): BOBYQA runs from the best points of
   /// the model's values plus a Latin hypercube of 16 points per calibrated parameter.
   int fold_starts = 4;
+  /// At least this many BOBYQA runs in every cold fit (full set and folds) of a set with
+  /// releases of unknown orientation: averaged over a coarse orientation rule the objective is
+  /// rough (the contact sequence switches between cells), and few starts end in poor minima. On
+  /// the lab triangles (search rule 6, polish 24, 3 ends polished) the held-out error was 0.906
+  /// with 8 starts, 0.922 with 16, 0.884 with 32 and 0.883 with 64 (docs/diagnosis.md,
+  /// "Orientation average").
+  int marginal_starts = 32;
   /// Fold fits warm-started from the base model's fold optimum (candidates, rungs): a local
   /// refinement (BOBYQA runs, Latin hypercube points besides the warm start; negative = none).
   /// Why local: a candidate is the base model plus an effect; a free multi-start on a fold's
@@ -214,9 +215,27 @@ Obs error_scale(const Impact& impact, const AssessOptions& options);
 /// the spread over orientations.
 struct ObsPrediction {
   Obs value{};
-  Obs spread{};  ///< std over the orientation grid (0 for discs and known alpha_in)
+  Obs spread{};  ///< std over the orientation rule (0 for discs and known alpha_in)
   CollisionStatus status = CollisionStatus::kOk;
+  /// The value and spread over the even- and the odd-numbered points of the orientation rule
+  /// (fit::Prediction::vout_half; fit/orientation_rule.hpp), when `has_halves`.
+  std::array<Obs, 2> half_value{}, half_spread{};
+  bool has_halves = false;
+  /// The prediction of half rule h (h = 0, 1); the prediction itself without halves.
+  ObsPrediction half(int h) const;
 };
+
+/// Whether some release of `set` has an unknown orientation (a non-disc `shape` without
+/// alpha_in): its predictions are averages over an orientation rule.
+bool has_unknown_orientation(const Shape& shape, const ImpactSet& set);
+/// BOBYQA runs of a cold fit with `starts` asked: at least o.marginal_starts on a set with
+/// releases of unknown orientation.
+int cold_starts(int starts, const AssessOptions& o, const Shape& shape, const ImpactSet& set);
+/// BOBYQA runs of a full-set population fit: population_starts, for a model as given (not
+/// refine_start) at least contact_population_starts when `error` has contact terms, and at least
+/// marginal_starts (cold_starts) on a set with releases of unknown orientation.
+int full_set_starts(const AssessOptions& o, const fit::ErrorOptions& error, const Shape& shape,
+                    const ImpactSet& set);
 
 /// Observables of fit predictions (fit::predict).
 std::vector<ObsPrediction> to_observables(const std::vector<fit::Prediction>& predictions);
@@ -264,6 +283,10 @@ struct ErrorReport {
   MeanSe error;                     ///< mean e_i
   Obs term_mean{};                  ///< mean term per observable
   Obs rmse{};                       ///< root mean square residual, physical units
+  /// Quadrature error of `error.mean` over the unknown orientation: the larger difference of
+  /// the mean error computed with either half of the orientation rules from the full rules'
+  /// (fit/orientation_rule.hpp); 0 when no release has a rule.
+  double quadrature_error = 0;
 };
 ErrorReport error_report(const ImpactSet& set, const std::vector<ObsPrediction>& predictions,
                          const std::array<bool, kObservables>& use, const AssessOptions& options);

@@ -25,6 +25,8 @@ nlohmann::json to_json(const Assessment& a, const NoiseFloor& floor) {
           {"insample_se", a.insample.error.se},
           {"heldout_error", a.heldout.error.mean},
           {"heldout_se", a.heldout.error.se},
+          {"heldout_quadrature_error", a.heldout.quadrature_error},
+          {"insample_quadrature_error", a.insample.quadrature_error},
           {"folds", a.folds},
           {"split_errors", a.split_error},
           {"repeats", a.cv.repeats},

@@ -221,6 +221,13 @@ std::vector<std::string> unexplained_after(const Assessment& a, const NoiseFloor
       "{}: held-out error {:.4g} = {:.2f} x the noise floor {:.4g} ({})", who, a.heldout.error.mean,
       q.ratio, floor.value.mean,
       q.adequate ? "within the floor" : fmt::format("above the threshold {:.4g}", q.threshold)));
+  // The orientation average's own error (unknown orientation: fit/orientation_rule.hpp).
+  if (a.heldout.quadrature_error > 0)
+    out.push_back(fmt::format(
+        "{}: orientation quadrature error of the held-out error {:.2g} ({:.2g} % of it; the "
+        "half rules' difference)",
+        who, a.heldout.quadrature_error,
+        100.0 * a.heldout.quadrature_error / std::max(a.heldout.error.mean, 1e-300)));
   // Per-observable excess over the floor.
   for (int k = 0; k < kObservables; ++k) {
     if (!a.use[k]) continue;

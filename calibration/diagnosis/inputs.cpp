@@ -23,6 +23,8 @@ DiagnoseOptions make_options(const OptionValues& v) {
   o.assess.release_intervals = !v.no_intervals;
   o.assess.use_features = !v.no_features;
   if (v.orientations != 0) o.assess.fit.alpha.marginal_points = v.orientations;
+  o.assess.fit.alpha.polish_points = v.polish_orientations;
+  o.assess.marginal_starts = v.orientation_starts;
   if (v.error == "set-mean")
     o.assess.scale = ErrorScale::kSetMean;
   else if (v.error == "eq7")

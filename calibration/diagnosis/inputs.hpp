@@ -34,6 +34,10 @@ struct OptionValues {
   std::string error = error_scale_name(AssessOptions{}.scale);
   /// Marginal orientation grid of non-disc blocks without alpha_in (0 also means this default).
   int orientations = AssessOptions{}.fit.alpha.marginal_points;
+  /// The refined orientation rule (polish and predictions; 0: none).
+  int polish_orientations = AssessOptions{}.fit.alpha.polish_points;
+  /// BOBYQA runs of cold fits on sets of unknown orientation (AssessOptions::marginal_starts).
+  int orientation_starts = AssessOptions{}.marginal_starts;
   int threads = AssessOptions{}.fit.threads;      ///< OpenMP threads, 0 = all
   double dt_s = AssessOptions{}.fit.engine.dt_s;  ///< engine time step [s]
 };

@@ -34,6 +34,7 @@ OptionProblems AssessOptions::problems() const {
   check_range(p, "contact_population_starts", contact_population_starts, starts);
   check_range(p, "warm_starts", warm_starts, starts);
   check_range(p, "fold_starts", fold_starts, starts);
+  check_range(p, "marginal_starts", marginal_starts, starts);
   check_range(p, "fold_warm_starts", fold_warm_starts, starts);
   check_range(p, "fold_warm_design_points", fold_warm_design_points,
               fit::FitOptions::kDesignPoints);

@@ -110,9 +110,7 @@ std::vector<Rival> calibrate_rivals(const Model& base, const Shape& shape, const
   const Model model = calibration_model_for(base, set, o);
   fit::FitOptions fo = fit_options_for(set, o);
   fo.intervals = false;
-  fo.starts = fit::uses_contact_terms(fo.error)
-                  ? std::max(o.population_starts, o.contact_population_starts)
-                  : o.population_starts;
+  fo.starts = full_set_starts(o, fo.error, shape, set);
   b.fit = fit::calibrate_population(model, shape, set, fo);
   b.model = with_values(model, b.fit.params);
   b.law = detail::law_of(b.model, b.fit.params, b.model.effect_names(), registry);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 
 #include "common/clock.hpp"
@@ -13,6 +14,7 @@
 #include "fit/fibers.hpp"
 #include "fit/fit.hpp"
 #include "fit/optimize.hpp"
+#include "fit/orientation_rule.hpp"
 
 namespace ricochet::fit {
 
@@ -88,14 +90,6 @@ namespace {
 using detail::LocalResult;
 using detail::Problem;
 
-// Orientations of the marginal grid: midpoints of equal cells of [min, max].
-std::vector<double> alpha_grid(const AlphaOptions& a) {
-  const int n = std::max(1, a.marginal_points);
-  std::vector<double> g(n);
-  for (int k = 0; k < n; ++k) g[k] = a.min_rad + (a.max_rad - a.min_rad) * (k + 0.5) / n;
-  return g;
-}
-
 // The calibrated parameters of a fit (calibration_model) as the variables of a unit box:
 // linear between the bounds, or in log(value) for bounds spanning two decades (log_scaled).
 struct ParameterBox {
@@ -133,8 +127,10 @@ struct AlphaPlan {
   bool fitted = false;
 };
 
+// `points`: the size of the rule of a marginal release (AlphaOptions::marginal_points for a
+// population search, prediction_points() otherwise).
 AlphaPlan plan_alpha(const Shape& shape, const Impact& impact, const AlphaOptions& a,
-                     bool allow_fit) {
+                     bool allow_fit, int points) {
   AlphaPlan p;
   if (shape.is_disc()) {
     p.source = "none";
@@ -147,7 +143,7 @@ AlphaPlan plan_alpha(const Shape& shape, const Impact& impact, const AlphaOption
     p.fitted = true;
   } else {
     p.source = "marginal";
-    p.fixed = alpha_grid(a);
+    p.fixed = orientation_rule(a, points, a.rotate ? release_rotation(impact.id) : 0.5);
   }
   return p;
 }
@@ -385,7 +381,8 @@ ReleaseFit fit_release(detail::Simulator& sim, const Model& model, const Shape& 
                        const std::vector<double>& design) {
   const auto t0 = std::chrono::steady_clock::now();
   const ParameterBox box(model, options.error);
-  const AlphaPlan alpha = plan_alpha(shape, impact, options.alpha, true);
+  const AlphaPlan alpha =
+      plan_alpha(shape, impact, options.alpha, true, options.alpha.prediction_points());
   ReleaseProblem problem(sim, model, impact, options, box, alpha);
   const std::size_t d = problem.dim();
 
@@ -446,7 +443,7 @@ ReleaseFit fit_release(detail::Simulator& sim, const Model& model, const Shape& 
 std::size_t design_dim(const Model& model, const Shape& shape, const Impact& impact,
                        const FitOptions& options) {
   return ParameterBox(model, options.error).size() +
-         (plan_alpha(shape, impact, options.alpha, true).fitted ? 1 : 0);
+         (plan_alpha(shape, impact, options.alpha, true, 1).fitted ? 1 : 0);
 }
 
 }  // namespace
@@ -535,7 +532,7 @@ std::vector<Prediction> predict(const Model& model, const Shape& shape,
       plan.source = "given";
       plan.fixed = {alpha_rad[i]};
     } else {
-      plan = plan_alpha(shape, im, options.alpha, false);
+      plan = plan_alpha(shape, im, options.alpha, false, options.alpha.prediction_points());
     }
     out[i].alpha_source = plan.source;
     out[i].alpha_rad = plan.fixed.size() == 1 && plan.source != "none" ? plan.fixed[0] : NAN;
@@ -547,25 +544,34 @@ std::vector<Prediction> predict(const Model& model, const Shape& shape,
   engine.threads = options.threads;
   const auto res = simulate_batch(model, shape, cases, params, engine);
   for (std::size_t i = 0; i < set.size(); ++i) {
-    const std::size_t n = first[i + 1] - first[i];
-    Vel3 mean{}, sq{};
-    double h = 0, t = 0;
-    int worst = 0;
-    for (std::size_t c = first[i]; c < first[i + 1]; ++c) {
-      for (int k = 0; k < 3; ++k) {
-        mean[k] += res[c].vout[k] / static_cast<double>(n);
-        sq[k] += res[c].vout[k] * res[c].vout[k] / static_cast<double>(n);
+    std::vector<double> at;
+    const auto mean_of = [&](auto value) {
+      at.clear();
+      for (std::size_t c = first[i]; c < first[i + 1]; ++c) at.push_back(value(res[c]));
+      return rule_mean(at);
+    };
+    Prediction& p = out[i];
+    for (int k = 0; k < 3; ++k) {
+      const RuleMean m = mean_of([k](const CollisionResult& r) { return r.vout[k]; });
+      p.vout[k] = m.mean;
+      p.vout_std[k] = std::sqrt(std::max(0.0, m.mean_sq - m.mean * m.mean));
+      for (int h = 0; h < 2; ++h) {
+        p.vout_half[h][k] = m.half[h];
+        p.vout_std_half[h][k] = std::sqrt(std::max(0.0, m.half_sq[h] - m.half[h] * m.half[h]));
       }
-      h += res[c].max_penetration_m / static_cast<double>(n);
-      t += res[c].contact_duration_s / static_cast<double>(n);
-      worst = std::max(worst, static_cast<int>(res[c].status));
+      p.vout_quadrature_error[k] = m.error();
     }
-    out[i].vout = mean;
-    for (int k = 0; k < 3; ++k)
-      out[i].vout_std[k] = std::sqrt(std::max(0.0, sq[k] - mean[k] * mean[k]));
-    out[i].penetration_m = h;
-    out[i].contact_duration_s = t;
-    out[i].status = static_cast<CollisionStatus>(worst);
+    const RuleMean h = mean_of([](const CollisionResult& r) { return r.max_penetration_m; });
+    const RuleMean t = mean_of([](const CollisionResult& r) { return r.contact_duration_s; });
+    p.penetration_m = h.mean;
+    p.contact_duration_s = t.mean;
+    p.penetration_half_m = h.half;
+    p.contact_duration_half_s = t.half;
+    p.orientations = static_cast<int>(first[i + 1] - first[i]);
+    int worst = 0;
+    for (std::size_t c = first[i]; c < first[i + 1]; ++c)
+      worst = std::max(worst, static_cast<int>(res[c].status));
+    p.status = static_cast<CollisionStatus>(worst);
   }
   return out;
 }
@@ -590,11 +596,14 @@ namespace {
 // batch over the releases (and over the orientation grid of releases without alpha_in).
 class PopulationProblem final : public Problem {
  public:
+  // `points`: the orientation rule of marginal releases (search or polish rule).
   PopulationProblem(detail::Simulator& sim, const Model& model, const Shape& shape,
-                    const ImpactSet& set, const FitOptions& options, const ParameterBox& box)
+                    const ImpactSet& set, const FitOptions& options, const ParameterBox& box,
+                    int points)
       : sim_(sim), set_(set), options_(options), box_(box), base_(model.values()) {
     for (std::size_t i = 0; i < set.size(); ++i) {
-      const AlphaPlan plan = plan_alpha(shape, set.impacts[i], options.alpha, false);
+      const AlphaPlan plan = plan_alpha(shape, set.impacts[i], options.alpha, false, points);
+      marginal_ = marginal_ || plan.source == "marginal";
       for (double a : plan.fixed) {
         cases_.push_back({set.impacts[i].vin, a});
         owner_.push_back(i);
@@ -603,6 +612,8 @@ class PopulationProblem final : public Problem {
     }
   }
   std::size_t dim() const override { return box_.size(); }
+  /// Whether some release is averaged over an orientation rule.
+  bool marginal() const { return marginal_; }
 
   void params_of(const double* u, double* full) const {
     std::copy(base_.begin(), base_.end(), full);
@@ -645,6 +656,7 @@ class PopulationProblem final : public Problem {
   std::vector<CollisionCase> cases_;
   std::vector<std::size_t> owner_;
   std::vector<double> weight_;
+  bool marginal_ = false;
 };
 
 }  // namespace
@@ -660,15 +672,36 @@ PopulationFit calibrate_population(const Model& model, const Shape& shape, const
   // batches and spreads them over the threads.
   detail::FiberPool pool(model, shape,
                          pool_engine(options, options.threads > 0 ? options.threads : 0));
-  PopulationProblem problem(pool, model, shape, set, options, box);
+  PopulationProblem search(pool, model, shape, set, options, box, options.alpha.marginal_points);
+  // The refined rule (AlphaOptions::polish_points): the search's best ends are polished on it, and
+  // the intervals are walked on it. Without marginal releases, or without a distinct rule, the
+  // search's problem is the fit's.
+  const int fine_points = options.alpha.prediction_points();
+  std::optional<PopulationProblem> fine;
+  if (search.marginal() && fine_points != options.alpha.marginal_points)
+    fine.emplace(pool, model, shape, set, options, box, fine_points);
+  PopulationProblem& problem = fine ? *fine : search;
   PopulationFit fit;
   fit.names = model.parameter_names();
   fit.calibrated = box.index;
   pool.spawn([&] {
     std::vector<double> design_values;
     std::vector<LocalResult> ends;
-    const LocalResult best = detail::multi_start(problem, design, options.starts, options.xtol,
-                                                 options.max_evaluations, ends, design_values);
+    // The search only has to find the basins the polish refines (AlphaOptions::search_xtol).
+    LocalResult best = detail::multi_start(search, design, options.starts,
+                                           fine ? options.alpha.search_xtol : options.xtol,
+                                           options.max_evaluations, ends, design_values);
+    if (fine) {
+      // The model's own values (the design's first point) are a candidate too: a warm start
+      // (a fold's optimum polished on the full set) is already near a minimum of the fine rule,
+      // which the search rule's BOBYQA run may leave.
+      std::vector<LocalResult> from = ends;
+      from.push_back(best);
+      from.push_back({std::vector<double>(design.begin(), design.begin() + box.size()),
+                      design_values.empty() ? best.f : design_values[0]});
+      best = detail::polish(*fine, std::move(from), options.alpha.polish_ends, options.xtol,
+                            options.max_evaluations, ends);
+    }
     for (const auto& e : ends) fit.start_errors.push_back(e.f);
     fit.params = model.values();
     problem.params_of(best.u.data(), fit.params.data());
@@ -685,8 +718,11 @@ PopulationFit calibrate_population(const Model& model, const Shape& shape, const
                     std::max(1.0, best.f / sum_delta);
     if (options.intervals) {
       const double limit = best.f + fit.threshold;
+      // Only points evaluated on the interval's own rule are verified: a polished fit's design
+      // was scored on the search rule.
       std::vector<double> inside =
-          near_points(best, ends, design, design_values, box.size(), limit);
+          fine ? near_points(best, ends, {}, {}, box.size(), limit)
+               : near_points(best, ends, design, design_values, box.size(), limit);
       fit.intervals =
           intervals_of(problem, best, model, box, nullptr, 0.0, limit, options, std::move(inside));
     }
@@ -694,7 +730,7 @@ PopulationFit calibrate_population(const Model& model, const Shape& shape, const
   pool.run_all();
   fit.predictions = predict(model, shape, fit.params, set, options);
   fit.release_errors = prediction_errors(set, fit.predictions, options.error);
-  fit.evaluations = problem.evaluations;
+  fit.evaluations = search.evaluations + (fine ? fine->evaluations : 0);
   fit.seconds = seconds_since(t0);
   return fit;
 }

@@ -11,6 +11,11 @@ OptionProblems FitOptions::problems() const {
   check_range(p, "xtol", xtol, kUnitFraction);
   check_range(p, "interval_resolution", interval_resolution, kUnitFraction);
   check_range(p, "alpha.marginal_points", alpha.marginal_points, kMarginalPoints);
+  check_range(p, "alpha.polish_points", alpha.polish_points, kPolishPoints);
+  if (alpha.polish_points == 1)
+    p.push_back({"alpha.polish_points", "1 is no average: 0 (no polish) or at least 2"});
+  check_range(p, "alpha.polish_ends", alpha.polish_ends, kPolishEnds);
+  check_range(p, "alpha.search_xtol", alpha.search_xtol, kUnitFraction);
   check_range(p, "alpha.min_rad", alpha.min_rad, kAlphaRad);
   check_range(p, "alpha.max_rad", alpha.max_rad, kAlphaRad);
   if (!(alpha.min_rad < alpha.max_rad))

@@ -119,6 +119,32 @@ LocalResult multi_start(Problem& problem, const std::vector<double>& design, int
   return best;
 }
 
+LocalResult polish(Problem& problem, std::vector<LocalResult> from, int count, double xtol,
+                   int max_evaluations, std::vector<LocalResult>& ends) {
+  std::stable_sort(from.begin(), from.end(),
+                   [](const LocalResult& a, const LocalResult& b) { return a.f < b.f; });
+  std::vector<LocalResult> starts;
+  for (auto& r : from) {
+    if (static_cast<int>(starts.size()) >= count) break;
+    if (r.u.empty() ||
+        std::any_of(starts.begin(), starts.end(), [&](const LocalResult& s) { return s.u == r.u; }))
+      continue;
+    starts.push_back(std::move(r));
+  }
+  const std::vector<char> all(problem.dim(), 1);
+  ends.assign(starts.size(), LocalResult{});
+  std::vector<std::function<void()>> tasks;
+  for (std::size_t r = 0; r < starts.size(); ++r)
+    tasks.push_back([&, r] {
+      ends[r] = minimize_local(problem, starts[r].u, all, 0.05, xtol, max_evaluations);
+    });
+  problem.parallel(tasks);
+  LocalResult best;
+  for (const auto& e : ends)
+    if (e.f < best.f) best = e;
+  return best;
+}
+
 std::vector<UnitInterval> near_optimal_intervals(Problem& problem, const LocalResult& best,
                                                  double threshold, double resolution,
                                                  std::vector<double>& inside_points, double xtol) {

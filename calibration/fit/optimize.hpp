@@ -59,6 +59,13 @@ LocalResult multi_start(Problem& problem, const std::vector<double>& design, int
                         double xtol, int max_evaluations, std::vector<LocalResult>& ends,
                         std::vector<double>& design_values);
 
+/// Polish (issue 35: a search on a coarse orientation rule, refined on a fine one): BOBYQA on
+/// `problem` from the `count` best of `from` (by their f, on the coarse problem; duplicates
+/// dropped), in parallel tasks, initial step 0.05 (a refinement, not a search). Returns the best
+/// polished point; `ends` receives every polished end.
+LocalResult polish(Problem& problem, std::vector<LocalResult> from, int count, double xtol,
+                   int max_evaluations, std::vector<LocalResult>& ends);
+
 /// Near-optimal interval of every variable j: {u_j : min over the other variables of f <=
 /// threshold} (file comment of fit/fit.hpp). `inside_points` (row-major, in/out) holds verified
 /// near-optimal points and must contain the optimum. Each side of each variable is one walk
