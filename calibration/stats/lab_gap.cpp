@@ -171,6 +171,7 @@ nlohmann::json to_json(const ComponentGap& g) {
                       {"lab_std", g.measured.std},
                       {"difference", g.model.mean - g.measured.mean},
                       {"difference_in_lab_std", (g.model.mean - g.measured.mean) / g.measured.std},
+                      {"std_ratio", g.model.std / g.measured.std},
                       {"ks_statistic", g.ks.statistic},
                       {"ks_p_value", g.ks.p_value}};
   j["robust"] = {{"dem_median", g.model_robust.median},
@@ -189,9 +190,17 @@ nlohmann::json to_json(const ComponentGap& g) {
         {"ks_p_value", g.ks_core->p_value}};
   if (g.noisy)
     j["ks_with_lab_noise"] = {
-        {"sigma", g.noisy->sigma}, {"draws", g.noisy->draws},
-        {"seed", g.noise_seed},    {"median_p", g.noisy->median_p},
-        {"p10", g.noisy->p10},     {"share_p_above_0.05", g.noisy->share_p_above_005}};
+        {"sigma", g.noisy->sigma},
+        {"draws", g.noisy->draws},
+        {"seed", g.noise_seed},
+        {"median_p", g.noisy->median_p},
+        {"p10", g.noisy->p10},
+        {"share_p_above_0.05", g.noisy->share_p_above_005},
+        // The model's spread as the lab would read it: independent reading noise adds its
+        // variance, E[s^2 of model + noise] = s^2 + sigma^2 (issue 32's sd-ratio target is judged
+        // in measurement space).
+        {"std_ratio",
+         std::sqrt(g.model.std * g.model.std + g.noisy->sigma * g.noisy->sigma) / g.measured.std}};
   return j;
 }
 

@@ -230,6 +230,34 @@ TEST(LabGap, ResidualsMatchReleasesWhoseIdsHoldADash) {
   EXPECT_NEAR(p->sd[kVy], 0.0, 1e-12);
 }
 
+// The sd ratio in measurement space (issue 32's target): the model's values read with the lab's
+// noise have, on average, the variance s^2 + sigma^2; checked against the mean sample variance of
+// 4,000 noisy copies drawn here.
+TEST(LabGap, TheSdRatioWithLabNoiseIsTheNoisyModelsSpread) {
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> n(0.0, 1.0);
+  std::vector<double> model, lab;
+  for (int i = 0; i < 14; ++i) {
+    model.push_back(0.85 + 0.05 * n(rng));
+    lab.push_back(0.80 + 0.20 * n(rng));
+  }
+  const double sigma = 0.1;
+  const auto g = stats::component_gap("vy", model, lab, {}, stats::NoiseModel{sigma, 50, 3202});
+  const nlohmann::json j = stats::to_json(g);
+  EXPECT_NEAR(j.at("std_ratio").get<double>(), g.model.std / g.measured.std, 1e-12);
+  double mean_var = 0;
+  const int copies = 4000;
+  for (int c = 0; c < copies; ++c) {
+    std::vector<double> v = model;
+    double m = 0, q = 0;
+    for (double& x : v) m += (x += sigma * n(rng)) / static_cast<double>(v.size());
+    for (double x : v) q += (x - m) * (x - m) / static_cast<double>(v.size() - 1);
+    mean_var += q / copies;
+  }
+  EXPECT_NEAR(j.at("ks_with_lab_noise").at("std_ratio").get<double>(),
+              std::sqrt(mean_var) / g.measured.std, 0.02 * std::sqrt(mean_var) / g.measured.std);
+}
+
 TEST(LabGap, NoCoreWithoutGrossErrors) {
   const std::vector<double> a = {1, 2, 3, 4}, b = {1.5, 2.5, 3.5, 4.5};
   const auto g = stats::component_gap("x", a, b);
