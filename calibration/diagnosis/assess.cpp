@@ -92,6 +92,14 @@ Obs measured_of(const Impact& im) {
 
 }  // namespace
 
+Obs ObsPrediction::quadrature_error() const {
+  Obs e{};
+  if (!has_halves) return e;
+  for (int k = 0; k < kObservables; ++k)
+    e[k] = std::max(std::fabs(half_value[0][k] - value[k]), std::fabs(half_value[1][k] - value[k]));
+  return e;
+}
+
 ObsPrediction ObsPrediction::half(int h) const {
   ObsPrediction p = *this;
   if (!has_halves) return p;
@@ -640,6 +648,9 @@ void pool_heldout(Assessment& a, const ImpactSet& set, const std::vector<SplitOu
   std::vector<Obs> pred_sum(n, Obs{}), spread_sum(n, Obs{}), term_sum(n, Obs{}), inv_sum(n, Obs{});
   std::vector<int> worst(n, 0);
   std::array<double, 2> half_sum{};  // summed errors with the half orientation rules
+  // The held-out predictions' half-rule values and spreads, pooled like the predictions.
+  std::vector<std::array<Obs, 2>> half_value_sum(n), half_spread_sum(n);
+  std::vector<char> halves(n, 1);
   for (std::size_t j = 0; j < splits.size(); ++j) {
     const std::vector<std::size_t>& test = a.cv.test[j];
     const AssessOptions& oj = splits[j].options;
@@ -659,9 +670,15 @@ void pool_heldout(Assessment& a, const ImpactSet& set, const std::vector<SplitOu
         inv_sum[i][k] += a.use[k] ? 1.0 / (d[k] * d[k]) : 0.0;
       }
       worst[i] = std::max(worst[i], static_cast<int>(pred[t].status));
-      for (int hh = 0; hh < 2; ++hh)
-        for (double x : error_terms(set.impacts[i], pred[t].half(hh), a.use, oj))
-          half_sum[static_cast<std::size_t>(hh)] += x;
+      for (std::size_t hh = 0; hh < 2; ++hh) {
+        const ObsPrediction q = pred[t].half(static_cast<int>(hh));
+        for (double x : error_terms(set.impacts[i], q, a.use, oj)) half_sum[hh] += x;
+        for (int k = 0; k < kObservables; ++k) {
+          half_value_sum[i][hh][k] += q.value[k];
+          half_spread_sum[i][hh][k] += q.spread[k];
+        }
+      }
+      halves[i] = halves[i] && pred[t].has_halves;
       a.repeat_error[r][i] = e;
       sum += e;
     }
@@ -688,6 +705,12 @@ void pool_heldout(Assessment& a, const ImpactSet& set, const std::vector<SplitOu
       if (a.use[k]) sq[k] += res[k] * res[k] / static_cast<double>(n);
     }
     p.status = static_cast<CollisionStatus>(worst[i]);
+    p.has_halves = halves[i] != 0;
+    for (std::size_t hh = 0; hh < 2; ++hh)
+      for (int k = 0; k < kObservables; ++k) {
+        p.half_value[hh][k] = half_value_sum[i][hh][k] / rr;
+        p.half_spread[hh][k] = half_spread_sum[i][hh][k] / rr;
+      }
     h.per_release.push_back(e);
     h.terms.push_back(terms);
     h.residual.push_back(res);

@@ -223,6 +223,9 @@ struct ObsPrediction {
   bool has_halves = false;
   /// The prediction of half rule h (h = 0, 1); the prediction itself without halves.
   ObsPrediction half(int h) const;
+  /// Quadrature error of `value` per observable (SI units): max over the halves of
+  /// |half value - value|; 0 without halves (discs, known orientation give 0 anyway).
+  Obs quadrature_error() const;
 };
 
 /// Whether some release of `set` has an unknown orientation (a non-disc `shape` without

@@ -53,6 +53,8 @@ nlohmann::json to_json(const Baseline& b, const ImpactSet& set) {
         {"insample_error", b.base.insample.per_release[i]},
         {"noise_floor", b.floor.per_release[i]},
         {"heldout_predicted", to_json(b.base.heldout_predictions[i].value, b.base.use)},
+        {"heldout_quadrature_error",
+         to_json(b.base.heldout_predictions[i].quadrature_error(), b.base.use)},
         {"heldout_residual", to_json(b.base.heldout.residual[i], b.base.use)}};
     if (!b.release_fits.empty()) {
       nlohmann::json p = nlohmann::json::object();

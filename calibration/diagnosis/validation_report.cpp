@@ -245,12 +245,18 @@ void compare_section(report::HtmlPage& page, const ReportSection& s) {
   page.labelled("Noise floor",
                 fmt::format("{} from {} ({}). Nearest-neighbour check: {}.", g4(b.floor.value.mean),
                             b.floor.source, b.floor.description, g4(b.floor.nearest_neighbour)));
-  page.labelled(
-      "Verdict",
-      fmt::format("held-out error {} +- {} ({}-fold) = {} x the floor, adequacy "
-                  "threshold {}: {}",
-                  g4(a.heldout.error.mean), g3(a.heldout.error.se), a.folds, f2(b.adequacy.ratio),
-                  g4(b.adequacy.threshold), b.adequacy.adequate ? "adequate" : "not adequate"));
+  // An orientation-averaged set's error carries the average's own error (issue 35).
+  const std::string quadrature =
+      a.heldout.quadrature_error > 0
+          ? fmt::format(" (standard error; the orientation average's quadrature error {})",
+                        g3(a.heldout.quadrature_error))
+          : std::string();
+  page.labelled("Verdict",
+                fmt::format("held-out error {} +- {}{} ({}-fold) = {} x the floor, adequacy "
+                            "threshold {}: {}",
+                            g4(a.heldout.error.mean), g3(a.heldout.error.se), quadrature, a.folds,
+                            f2(b.adequacy.ratio), g4(b.adequacy.threshold),
+                            b.adequacy.adequate ? "adequate" : "not adequate"));
   std::vector<std::vector<std::string>> rows;
   for (int k = 0; k < kObservables; ++k)
     if (a.use[k])
