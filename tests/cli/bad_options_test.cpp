@@ -71,6 +71,8 @@ const std::vector<BadCase> kCases = {
     {"synth --n 0 --out s.csv", "field '--n': value 0 is outside [1, 1e+07]"},
     {"compare " + kCyl + " --repeats 0", "field '--repeats': value 0 is outside [1, 20]"},
     {"compare " + kCyl + " --orientations -1", "--orientations"},
+    {"compare " + kCyl + " --polish-orientations 1",
+     "field '--polish-orientations': 1 is no average: 0 (no polish) or at least 2"},
     {"diagnose " + kCyl + " --alpha 2", "field '--alpha': value 2 is outside (0, 1)"},
     {"diagnose " + kCyl + " --screen -1", "--screen"},
     {"ladder " + kCyl + " --auto 0", "--auto: value 0 is outside [1, 20]"},
