@@ -23,9 +23,18 @@
 #   nohup setsid scripts/dem-lanes.sh > /dev/null 2>&1 &
 #   tail results/sand-calibration/campaign.log results/plateau/campaign.log \
 #        results/plateau-drop/drop.log
+#
+# Where the results live: results/ of the work tree, which a new session may lay anew (beds and
+# campaign files lost). Unless results/ exists already, it is made a link to RICOCHET_RESULTS
+# (default: ricochet-results beside the checkout), which outlives the work tree on a machine that
+# is kept; on a new machine the campaigns resume from the impacts shipped in data/resolved/.
 set -uo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 cd "$ROOT" || exit 1
+if [ ! -e results ]; then
+  KEEP=${RICOCHET_RESULTS:-$(dirname "$ROOT")/ricochet-results}
+  mkdir -p "$KEEP" && ln -s "$KEEP" results
+fi
 # Runs started by hand hold their locks: wait for them before taking both cores.
 mkdir -p results/plateau results/plateau-drop results/sand-calibration
 flock results/sand-calibration/campaign.lock true
