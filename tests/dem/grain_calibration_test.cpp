@@ -6,7 +6,6 @@
 // the target's mean rebound.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -16,6 +15,7 @@
 #include "dem_support.hpp"
 #include "fit/design.hpp"
 #include "grain_calibration.hpp"
+#include "support/temp_dir_test.hpp"
 #include "synthetic_campaign.hpp"
 
 namespace {
@@ -23,16 +23,19 @@ namespace {
 using namespace ricochet;
 using namespace ricochet::dem;
 namespace fs = std::filesystem;
-using test::decks;
-using test::kReplicaScatter;
-using test::make_campaign;
-using test::target_set;
+using dem::test::decks;
+using dem::test::kReplicaScatter;
+using dem::test::make_campaign;
+using dem::test::target_set;
 
-TEST(GrainCalibration, SurrogateValidatesRanksParametersAndFindsTheTarget) {
-  const fs::path dir = fs::temp_directory_path() / ("dem-grains-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  const std::string path = make_campaign(dir, 24);
+// Each test writes its campaign into a fresh directory of its own (support/temp_dir_test.hpp).
+class GrainCalibration : public ricochet::test::TempDirTest {
+ protected:
+  GrainCalibration() : TempDirTest("dem-grains") {}
+};
+
+TEST_F(GrainCalibration, SurrogateValidatesRanksParametersAndFindsTheTarget) {
+  const std::string path = make_campaign(dir_, 24);
   GrainCalibrationOptions o;
   o.sobol_n = 5000;
   o.search_n = 8000;
@@ -56,17 +59,12 @@ TEST(GrainCalibration, SurrogateValidatesRanksParametersAndFindsTheTarget) {
     EXPECT_LT(std::abs(r.best_mean[c] - r.target_mean[c]), 0.5 * r.target_sd[c]) << c;
   EXPECT_GT(r.acceptable_fraction, 0.0);
   EXPECT_LT(r.acceptable_fraction, 0.2);  // e_gg is free, the two others are pinned
-  fs::remove_all(dir);
 }
 
 // The same campaign, target and seed give the same calibration bit for bit (OpenTURNS's
 // threaded kriging evaluations once made the last digits vary from run to run).
-TEST(GrainCalibration, ASeedGivesTheSameCalibrationBitForBit) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("dem-grains-repro-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  const std::string path = make_campaign(dir, 24);
+TEST_F(GrainCalibration, ASeedGivesTheSameCalibrationBitForBit) {
+  const std::string path = make_campaign(dir_, 24);
   GrainCalibrationOptions o;
   o.sobol_n = 2000;
   o.search_n = 4000;
@@ -79,14 +77,10 @@ TEST(GrainCalibration, ASeedGivesTheSameCalibrationBitForBit) {
   EXPECT_EQ(a.best_sd, b.best_sd);
   for (int c = 0; c < 3; ++c) EXPECT_EQ(a.total[c], b.total[c]) << c;
   for (std::size_t i = 0; i < a.points.size(); ++i) EXPECT_EQ(a.points[i].loo, b.points[i].loo);
-  fs::remove_all(dir);
 }
 
-TEST(GrainCalibration, TooFewDesignPointsIsAnErrorNamingTheFile) {
-  const fs::path dir = fs::temp_directory_path() / ("dem-grains-few-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  const std::string path = make_campaign(dir, 4);
+TEST_F(GrainCalibration, TooFewDesignPointsIsAnErrorNamingTheFile) {
+  const std::string path = make_campaign(dir_, 4);
   try {
     calibrate_grains(path, decks(), target_set(), {});
     FAIL() << "4 points for 3 parameters accepted";
@@ -94,15 +88,10 @@ TEST(GrainCalibration, TooFewDesignPointsIsAnErrorNamingTheFile) {
     EXPECT_EQ(e.file(), path);
     EXPECT_NE(std::string(e.what()).find("need at least 5"), std::string::npos) << e.what();
   }
-  fs::remove_all(dir);
 }
 
-TEST(GrainCalibration, ASolidFractionBandNeedsTheBedCacheAndAnOrderedRange) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("dem-grains-band-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  const std::string path = make_campaign(dir, 8);
+TEST_F(GrainCalibration, ASolidFractionBandNeedsTheBedCacheAndAnOrderedRange) {
+  const std::string path = make_campaign(dir_, 8);
   GrainCalibrationOptions o;
   o.solid_fraction = {0.56, 0.62};
   try {
@@ -112,10 +101,9 @@ TEST(GrainCalibration, ASolidFractionBandNeedsTheBedCacheAndAnOrderedRange) {
     EXPECT_EQ(e.field(), "--solid-fraction");
     EXPECT_NE(std::string(e.what()).find("--bed-cache"), std::string::npos) << e.what();
   }
-  o.bed_cache = dir.string();
+  o.bed_cache = dir_.string();
   o.solid_fraction = {0.62, 0.56};
   EXPECT_THROW(calibrate_grains(path, decks(), target_set(), o), InputError);
-  fs::remove_all(dir);
 }
 
 }  // namespace
