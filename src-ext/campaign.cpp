@@ -128,10 +128,10 @@ CampaignSummary run_campaign(const CampaignDesign& design, const Decks& decks,
     const std::vector<std::string> wave(
         bed_order.begin() + static_cast<std::ptrdiff_t>(w0),
         bed_order.begin() + static_cast<std::ptrdiff_t>(std::min(w0 + G, bed_order.size())));
-    std::vector<int> todo;
+    std::vector<int> wave_impacts;
     for (std::size_t b = 0; b < wave.size(); ++b)
       for (std::size_t n = 0; n < pending.size(); ++n)
-        if (wave_key[n] == wave[b]) todo.push_back(pending[n]);
+        if (wave_key[n] == wave[b]) wave_impacts.push_back(pending[n]);
     if (groups > 1) {
       // Each group builds its bed of the wave before any impact runs on it.
       if (group != MPI_COMM_NULL && static_cast<std::size_t>(color) < wave.size()) {
@@ -149,9 +149,9 @@ CampaignSummary run_campaign(const CampaignDesign& design, const Decks& decks,
       }
       MPI_Barrier(world);
     }
-    for (std::size_t n = 0; n < todo.size(); ++n) {
+    for (std::size_t n = 0; n < wave_impacts.size(); ++n) {
       if (group == MPI_COMM_NULL || static_cast<int>(n % G) != color) continue;
-      const ImpactSpec& spec = design.impacts[static_cast<std::size_t>(todo[n])];
+      const ImpactSpec& spec = design.impacts[static_cast<std::size_t>(wave_impacts[n])];
       ImpactContext ctx;
       ctx.decks = &decks;
       if (grank == 0) {
@@ -176,7 +176,7 @@ CampaignSummary run_campaign(const CampaignDesign& design, const Decks& decks,
         ctx.vtk_every = options.vtk_every;
       }
       // The campaign's picture (report, upscale --figures): its first impact.
-      if (options.picture && todo[n] == 0)
+      if (options.picture && wave_impacts[n] == 0)
         ctx.picture_dir = (fs::path(ctx.work_dir) / "picture-frames").string();
       const Shape shape = Shape::resolve(spec.shape);
       ctx.template_include = ensure_template(shape, ctx.bed, design.work_dir + "/templates", group);
