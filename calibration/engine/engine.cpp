@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <stdexcept>
 
@@ -120,12 +121,21 @@ double critical_time_step(const Model& model, const Shape& shape, std::span<cons
   return omega > 0.0 ? 2.0 / omega : INFINITY;
 }
 
+namespace {
+std::atomic<std::uint64_t> g_collisions{0};
+}  // namespace
+
+std::uint64_t collisions_simulated() {
+  return g_collisions.load(std::memory_order_relaxed);
+}
+
 CollisionResult simulate(const Model& model, const Shape& shape, const CollisionCase& collision,
                          std::span<const double> params, const EngineOptions& options,
                          Trace* trace) {
   if (params.empty()) params = model.values();
   std::span<const CollisionCase> cases(&collision, 1);
   validate(model, shape, options, cases, params, "simulate");
+  g_collisions.fetch_add(1, std::memory_order_relaxed);
   const Layout layout(model);
   CollisionResult result;
   dispatch(layout, shape, options, cases, params, true, &result, trace);
@@ -138,6 +148,7 @@ std::vector<CollisionResult> simulate_batch(const Model& model, const Shape& sha
                                             const EngineOptions& options) {
   if (params.empty()) params = model.values();
   validate(model, shape, options, cases, params, "simulate_batch");
+  g_collisions.fetch_add(cases.size(), std::memory_order_relaxed);
   const Layout layout(model);
   const std::size_t P = model.parameter_count();
   const bool broadcast = params.size() == P && !(cases.size() == 1 && P == 0);

@@ -20,6 +20,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <span>
 #include <string>
 #include <vector>
@@ -130,5 +131,9 @@ std::vector<CollisionResult> simulate_batch(const Model& model, const Shape& sha
                                             std::span<const CollisionCase> cases,
                                             std::span<const double> params = {},
                                             const EngineOptions& options = {});
+
+/// Collisions simulated by this process so far, by simulate and simulate_batch on every thread:
+/// the unit of the benchmarks' cost accounts (benchmarks/bench_diagnosis.cpp).
+std::uint64_t collisions_simulated();
 
 }  // namespace ricochet

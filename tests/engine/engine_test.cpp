@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <random>
 
 #include "common/error.hpp"
@@ -32,6 +33,22 @@ TEST(Engine, FrictionlessDropReturnsSqrtEn2) {
     EXPECT_EQ(r.vout[kVx], 0.0);
     EXPECT_EQ(r.vout[kW], 0.0);
   }
+}
+
+// The cost account counts every collision run, one by one or in a batch, and none that a bad
+// input refused (ctest runs each test in its own process: no other thread adds meanwhile).
+TEST(Engine, CollisionsSimulatedCountsEveryCollisionRun) {
+  const Model m = Model::paper();
+  const std::uint64_t before = collisions_simulated();
+  (void)simulate(m, Shape::cylinder(), kLabMean);
+  EXPECT_EQ(collisions_simulated() - before, 1u);
+  const std::vector<CollisionCase> cases(7, kLabMean);
+  (void)simulate_batch(m, Shape::triangle(), cases);
+  EXPECT_EQ(collisions_simulated() - before, 8u);
+  EngineOptions bad;
+  bad.dt_s = -1.0;
+  EXPECT_THROW((void)simulate_batch(m, Shape::cylinder(), cases, {}, bad), InputError);
+  EXPECT_EQ(collisions_simulated() - before, 8u);
 }
 
 // With gravity the drop still conserves energy exactly up to e_n^2 and the gravity work.
