@@ -91,11 +91,56 @@ if section diagnosis; then
     --benchmark_out_format=json --benchmark_counters_tabular=true
   python3 - "$OUT/diagnosis.json" <<'PY'
 import json, sys
-b = {x["name"]: x["real_time"] for x in json.load(open(sys.argv[1]))["benchmarks"]}
-ref = next(v for k, v in b.items() if k.startswith("BM_PlainScalarReference50k"))
-for k, v in b.items():
+runs = {x["name"]: x for x in json.load(open(sys.argv[1]))["benchmarks"]}
+ref = next(x["real_time"] for k, x in runs.items() if k.startswith("BM_PlainScalarReference50k"))
+for k, x in runs.items():
     if k.startswith("BM_DiagnoseLab") or k.startswith("BM_CompareLab"):
-        print(f"{k}: {v:.2f} s = {v / ref:.2f} x the reference's 50,000 collisions ({ref:.2f} s)")
+        v, n = x["real_time"], x["collisions"]
+        print(f"{k}: {v:.2f} s = {v / ref:.2f} x the reference's 50,000 collisions ({ref:.2f} s); "
+              f"{n / 1e6:.2f} million collisions at {n / v:,.0f}/s")
+# Issue 35, item 3's account: at the rate the triangle diagnosis itself ran, how many collisions
+# the target (10 x the reference) buys, against how many the converged diagnosis simulates.
+tri = next(x for k, x in runs.items() if k.startswith("BM_DiagnoseLab/1"))
+budget = 10 * ref * tri["collisions"] / tri["real_time"]
+print(f"triangles: the 10 x target ({10 * ref:.2f} s) buys {budget / 1e6:.2f} million triangle "
+      f"collisions at this rate; the diagnosis ran {tri['collisions'] / 1e6:.2f} million "
+      f"({tri['collisions'] / budget:.1f} x the budget)")
+PY
+fi
+
+if section force; then
+  echo "== Force-residual diagnosis (issue 33, item 5: 40 releases with histories in seconds on 2"
+  echo "   cores): the independent simulator's tracked set, a whole 'ricochet diagnose', against"
+  echo "   50,000 plain scalar collisions in the same run"
+  # A Katsuragi-Durian drag hidden in the simulator (the force-loop test's set, at 40 releases);
+  # its tracks record every 100 of its steps (about every 0.5 ms of contact).
+  "$BUILD/tests/detection/independent_truth" --family kd_drag --strength 1 --n 40 --design wide \
+    --scatter narrow --engine-numerics --seed 7301 --tracks --no-refit --out "$OUT/force40.h5" \
+    > /dev/null
+  python3 - "$BUILD" "$OUT/force40.h5" <<'PY'
+import json, statistics, subprocess, sys, time
+build, data = sys.argv[1], sys.argv[2]
+out = subprocess.run([f"{build}/benchmarks/bench_diagnosis", "--benchmark_format=json",
+                      "--benchmark_filter=BM_PlainScalarReference50k"],
+                     check=True, capture_output=True, text=True).stdout
+ref = json.loads(out)["benchmarks"][0]["real_time"]
+walls, docs = [], []
+for _ in range(3):
+    t0 = time.perf_counter()
+    r = subprocess.run([f"{build}/cli/ricochet", "diagnose", data, "--seed", "7301", "--json"],
+                       check=True, capture_output=True, text=True)
+    walls.append(time.perf_counter() - t0)
+    docs.append(json.loads(r.stdout))
+wall = statistics.median(walls)
+d = docs[walls.index(wall)]
+fl = d["force_law"]
+print(f"ricochet diagnose, {d['releases']} releases, {len(fl['ids'])} with histories "
+      f"({fl['samples']} contact samples): {wall:.2f} s whole process (median of 3) = "
+      f"{wall / ref:.2f} x the reference's 50,000 collisions ({ref:.2f} s)")
+print(f"  of which the diagnosis {d['seconds']:.2f} s and the force law (residuals, selection, "
+      f"bootstrap) {fl['seconds']:.2f} s")
+for law in fl["laws"]:
+    print(f"  {law['component']}: {law['text']}")
 PY
 fi
 

@@ -4,11 +4,13 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <set>
 #include <stdexcept>
 
+#include "common/clock.hpp"
 #include "common/error.hpp"
 #include "stats/robust.hpp"
 #include "stats/track_summary.hpp"
@@ -114,9 +116,12 @@ std::optional<ForceLawReport> force_law_from_tracks(
     const std::string& data, const ImpactSet& set, const Shape& shape, const Model& model,
     std::span<const double> params, const EngineOptions& engine,
     const stats::SparseOptions& options, const std::vector<std::vector<double>>& release_params) {
+  const auto t0 = std::chrono::steady_clock::now();
   // measured_histories is aligned with the set: force_law_from_histories checks release_params.
-  return force_law_from_histories(measured_histories(data, set, shape), shape, model, params,
-                                  engine, options, release_params);
+  auto report = force_law_from_histories(measured_histories(data, set, shape), shape, model, params,
+                                         engine, options, release_params);
+  if (report) report->seconds = seconds_since(t0);
+  return report;
 }
 
 std::optional<ForceLawReport> force_law_from_histories(
@@ -126,6 +131,7 @@ std::optional<ForceLawReport> force_law_from_histories(
   if (!release_params.empty() && release_params.size() != histories.size())
     throw std::invalid_argument(
         "force_law_from_histories: release_params is not aligned with the histories");
+  const auto t0 = std::chrono::steady_clock::now();
   ForceLawReport report;
   report.force_scale_min = std::numeric_limits<double>::infinity();
   report.force_scale_max = -std::numeric_limits<double>::infinity();
@@ -147,6 +153,7 @@ std::optional<ForceLawReport> force_law_from_histories(
   }
   if (residuals.size() < 2) return std::nullopt;
   report.laws = discover_force_law(residuals, options);
+  report.seconds = seconds_since(t0);
   return report;
 }
 
@@ -177,6 +184,7 @@ nlohmann::json to_json(const ForceLawReport& report) {
           {"force_scale", {report.force_scale_min, report.force_scale_max}},
           {"geometry_mismatch_m", report.geometry_mismatch_m},
           {"base", report.base},
+          {"seconds", report.seconds},
           {"laws", laws}};
 }
 

@@ -85,6 +85,9 @@ struct ForceLawReport {
   /// "population fit".
   std::string base;
   std::vector<ComponentLaw> laws;  ///< discover_force_law's
+  /// Wall time [s] of the residuals along the paths and the discovery (selection, bootstrap);
+  /// force_law_from_tracks adds the reading of the tracks.
+  double seconds = 0;
 };
 
 /// The histories `data` keeps (block_track_ids) of the releases of `set`, against `model` at
@@ -109,9 +112,9 @@ std::optional<ForceLawReport> force_law_from_histories(
     const stats::SparseOptions& options = {},
     const std::vector<std::vector<double>>& release_params = {});
 
-/// JSON: ids, samples, force_scale [min, max], geometry_mismatch_m, and per component its law:
-/// component, text, releases, samples, rms_residual, heldout_rms, and the selected terms (name,
-/// expression, unit, literature, coefficient, lo, hi, inclusion).
+/// JSON: ids, samples, force_scale [min, max], geometry_mismatch_m, seconds, and per component its
+/// law: component, text, releases, samples, rms_residual, heldout_rms, and the selected terms
+/// (name, expression, unit, literature, coefficient, lo, hi, inclusion).
 nlohmann::json to_json(const ForceLawReport& report);
 /// The laws found, in words: the text of every component with a selected term, joined by "; "
 /// (empty when nothing was found).

@@ -405,8 +405,8 @@ TEST_F(CmdDiagnosis, ReportShowsOneResolvedImpactInTime) {
 // track, the slab's forces scaled to the lab block by m_lab / m_slab (13.9 kg over the 0.06 m
 // slab's 2.876 kg: 4.83), the shape's overlap on the path within a grain radius (3 mm) of the
 // track's own penetration, a normal law whose held-out residual is below the residual (it
-// explains part of it), each selected term with its unit and interval. A CSV set has no
-// histories: no force_law key.
+// explains part of it), each selected term with its unit and interval, and its time. A CSV set has
+// no histories: no force_law key.
 TEST_F(CmdDiagnosis, DiagnoseReportsTheForceLawOfACampaignsHistories) {
   const std::string resolved = std::string(RICOCHET_SOURCE_DIR) + "/data/resolved/lab-cylinders.h5";
   const RunResult r = ricochet("diagnose " + quote(resolved) + " --folds 3 --repeats 1 --no-release-fits --no-pairs --json");
@@ -418,6 +418,7 @@ TEST_F(CmdDiagnosis, DiagnoseReportsTheForceLawOfACampaignsHistories) {
   EXPECT_NEAR(fl["force_scale"][0].get<double>(), 13.9 / 2.876, 0.01);
   EXPECT_LT(fl["geometry_mismatch_m"].get<double>(), 3e-3);
   EXPECT_EQ(fl["base"], "population fit");
+  EXPECT_GT(fl["seconds"].get<double>(), 0.0);  // its own wall time (bench.sh's force section)
   bool normal = false;
   for (const auto& law : fl["laws"]) {
     if (law["component"] != "normal") continue;
