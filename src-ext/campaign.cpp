@@ -123,6 +123,16 @@ CampaignSummary run_campaign(const CampaignDesign& design, const Decks& decks,
     if (std::find(bed_order.begin(), bed_order.end(), wave_key.back()) == bed_order.end())
       bed_order.push_back(wave_key.back());
   }
+  // The bed of an impact, built first when the cache does not hold it (said by the group's rank 0).
+  const auto bed_for = [&](const ImpactSpec& spec) {
+    bool built = false;
+    double bed_wall = 0;
+    BedFiles b = ensure_bed(decks, bed_overrides(spec), design.cache_dir, group, &built, &bed_wall);
+    if (grank == 0 && built)
+      std::cerr << fmt::format("[dem] bed {}: {} grains built in {:.0f} s (group {})\n", b.key,
+                               b.grains, bed_wall, color);
+    return b;
+  };
   const std::size_t G = static_cast<std::size_t>(groups);
   for (std::size_t w0 = 0; w0 < bed_order.size(); w0 += G) {
     const std::vector<std::string> wave(
@@ -139,13 +149,7 @@ CampaignSummary run_campaign(const CampaignDesign& design, const Decks& decks,
             std::find(wave_key.begin(), wave_key.end(), wave[static_cast<std::size_t>(color)]);
         const ImpactSpec& first = design.impacts[static_cast<std::size_t>(
             pending[static_cast<std::size_t>(it - wave_key.begin())])];
-        bool built = false;
-        double bed_wall = 0;
-        const BedFiles b =
-            ensure_bed(decks, bed_overrides(first), design.cache_dir, group, &built, &bed_wall);
-        if (grank == 0 && built)
-          std::cerr << fmt::format("[dem] bed {}: {} grains built in {:.0f} s (group {})\n", b.key,
-                                   b.grains, bed_wall, color);
+        (void)bed_for(first);
       }
       MPI_Barrier(world);
     }
@@ -163,12 +167,7 @@ CampaignSummary run_campaign(const CampaignDesign& design, const Decks& decks,
         std::cerr << fmt::format("[dem] starting {} (group {}), bed {}{}\n", spec.id, color, key,
                                  cached ? "" : ": building it first");
       }
-      bool built = false;
-      double bed_wall = 0;
-      ctx.bed = ensure_bed(decks, bed_overrides(spec), design.cache_dir, group, &built, &bed_wall);
-      if (grank == 0 && built)
-        std::cerr << fmt::format("[dem] bed {}: {} grains built in {:.0f} s (group {})\n",
-                                 ctx.bed.key, ctx.bed.grains, bed_wall, color);
+      ctx.bed = bed_for(spec);
       ctx.extract = design.extract;
       ctx.work_dir = (fs::path(design.work_dir) / spec.id).string();
       if (options.vtk_every > 0) {

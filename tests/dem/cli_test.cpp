@@ -233,6 +233,40 @@ TEST(DemCampaign, VtkWithSeveralLiggghtsInstancesIsRefused) {
   EXPECT_FALSE(fs::exists(dir / "cache")) << "a bed was built before the refusal";
 }
 
+// Two rank groups run a campaign of two beds in one wave: each group builds one bed before any
+// impact starts (campaign.cpp, "The schedule"), then each runs the impact of its bed. Both impacts
+// are stored, and every "bed ... built" line comes before the first "starting" line.
+TEST(DemCampaign, TwoGroupsBuildTheWavesBedsBeforeItsImpacts) {
+  const fs::path work = temp_dir("wave");
+  const std::string design = (work / "design.toml").string();
+  std::ofstream(design) << "[campaign]\nname = \"wave\"\ncache_dir = \""
+                        << (work / "cache").string() << "\"\nwork_dir = \""
+                        << (work / "work").string()
+                        << "\"\n[bed]\nLx_m = 0.6\nLy_m = 0.06\nH_m = 0.06\nr1_m = 0.004\n"
+                           "r2_m = 0.005\nr3_m = 0.006\nE_grain_Pa = 2e8\ne_gg = 0.7\nmu_gg = 0.8\n"
+                           "mur_gg = 0.5\nmu_pour = 0.1\nrolling_model = \"epsd2\"\n"
+                           "[block]\nmu_gb = 0.5\nmur_gb = 0.1\n"
+                           "[[impact]]\nid = \"on-bed-0\"\nvin = [2.9, -2.3, -65.0]\nseed = 0\n"
+                           "[[impact]]\nid = \"on-bed-1\"\nvin = [2.9, -2.3, -65.0]\nseed = 1\n";
+  const std::string out = (work / "campaign.h5").string();
+  const auto [rc, log] =
+      shell("timeout 540 " + mpirun(2) + RICOCHET_BIN + " dem campaign " + design + " --decks " +
+            RICOCHET_SOURCE_DIR + "/liggghts-inputs --out " + out + " --no-picture 2>&1");
+  ASSERT_EQ(rc, 0) << log;
+  std::vector<std::size_t> built;
+  for (std::size_t p = log.find("grains built in"); p != std::string::npos;
+       p = log.find("grains built in", p + 1))
+    built.push_back(p);
+  ASSERT_EQ(built.size(), 2u) << log;
+  EXPECT_NE(log.find("(group 0)", built[0]), std::string::npos) << log;
+  const std::size_t first_start = log.find("[dem] starting");
+  ASSERT_NE(first_start, std::string::npos) << log;
+  EXPECT_LT(built[1], first_start) << log;
+  const auto index = read_campaign_index(out);
+  ASSERT_EQ(index.size(), 2u);
+  for (const auto& e : index) EXPECT_EQ(e.status, "rebound") << e.id << ": " << e.message;
+}
+
 TEST(DemCampaign, KilledCampaignResumesWithoutLosingFinishedImpacts) {
   const fs::path work = temp_dir("resume");
   const std::string design = (work / "design.toml").string();
