@@ -7,7 +7,8 @@
 #      triangles and the main job on the calibrated bed) waits for it;
 #   1b. then the calibration itself (calibrate-grains with the solid-fraction band), its
 #      verification campaign (every lab state on three beds of the calibrated grains, into
-#      results/sand-verification/) and the blind triangles on those grains, on both cores;
+#      results/sand-verification/), the blind triangles and issue 33's force campaign (the speed
+#      campaign's states) on those grains, on both cores;
 #   2. then two lanes of one core each:
 #      lane A: the stiffness plateau's 1.5e10 Pa level up to its pre-registered minimum (the
 #              cylinder and the triangle states T18, T02, T10: the design's first 75 impacts,
@@ -75,6 +76,16 @@ if [ -f "$CAL/calibrate-grains.json" ]; then
   PLATEAU_DESIGN=sand-blind-triangles-1.5e9 \
     PLATEAU_DESIGN_PATH="$CAL/sand-blind-triangles-1.5e9.toml" PLATEAU_OUT=results/sand-verification \
     PLATEAU_FILE=sand-blind-triangles-1.5e9 PLATEAU_RANKS=2 scripts/stiffness-plateau.sh
+  # 1d. Issue 33's force campaign on the same grains and bed: the speed campaign's 9 states x 3
+  #     positions (verification-campaign.py --states-from), tracks kept, for the force-residual
+  #     discovery on the plateau bed.
+  [ -f "$CAL/sand-speeds-1.5e9.toml" ] ||
+    scripts/verification-campaign.py liggghts-inputs/campaigns/sand-calibration-1.5e9.toml \
+      "$CAL/calibrate-grains.json" --states-from liggghts-inputs/campaigns/speeds-calibrated-long.toml \
+      --name sand-speeds-1.5e9 --out "$CAL/sand-speeds-1.5e9.toml" >> "$CAL/campaign.log" 2>&1
+  PLATEAU_DESIGN=sand-speeds-1.5e9 PLATEAU_DESIGN_PATH="$CAL/sand-speeds-1.5e9.toml" \
+    PLATEAU_OUT=results/sand-verification PLATEAU_FILE=sand-speeds-1.5e9 PLATEAU_RANKS=2 \
+    scripts/stiffness-plateau.sh
 fi
 {
   PLATEAU_DESIGN=stiffness-plateau-1.5e10 PLATEAU_FIRST=75 scripts/stiffness-plateau.sh

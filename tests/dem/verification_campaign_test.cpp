@@ -2,7 +2,8 @@
 // campaign reader as the plan asks (docs/resolved-model.md, "Recalibration with what sand has"):
 // every lab state once, release k on the bed of replica seed k mod 3, the calibrated grains (and
 // the tied parameter its source's value), the sampled campaign's stiffness, window and first
-// position; with --blind-triangles, the blind triangle check on the same grains. And a calibrated
+// position; with --blind-triangles, the blind triangle check on the same grains; with --states-from,
+// the same grains at another campaign's states and positions (issue 33). And a calibrated
 // parameter the campaign did not sample is refused, naming the file.
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -86,6 +87,24 @@ TEST(VerificationCampaign, EveryLabStateOnThreeBedsOfTheCalibratedGrains) {
     EXPECT_DOUBLE_EQ(std::stod(s.params.bed.at("mu_gg")), 0.6123);
   }
   EXPECT_EQ(alphas.size(), tri.size());
+  // Issue 33's force campaign: the same grains at the speed campaign's 9 states x 3 positions,
+  // all on the verification's first bed.
+  const std::string speeds = kSource + "/liggghts-inputs/campaigns/speeds-calibrated-long.toml";
+  ASSERT_EQ(run_script(dir / "cal.json", dir / "speeds.toml", dir / "err", "cylinders.csv",
+                       " --states-from " + speeds),
+            0);
+  const CampaignDesign v = read_campaign_design((dir / "speeds.toml").string(), test::decks());
+  const CampaignDesign source = read_campaign_design(speeds, test::decks());
+  ASSERT_EQ(v.impacts.size(), 27u);
+  ASSERT_EQ(v.impacts.size(), source.impacts.size());
+  for (std::size_t k = 0; k < v.impacts.size(); ++k) {
+    const ImpactSpec& s = v.impacts[k];
+    for (int c = 0; c < 3; ++c) EXPECT_DOUBLE_EQ(s.vin[c], source.impacts[k].vin[c]) << k;
+    EXPECT_EQ(s.params.run.at("x_impact_frac"), source.impacts[k].params.run.at("x_impact_frac"));
+    EXPECT_EQ(s.seed.value_or(-1), 0);
+    EXPECT_DOUBLE_EQ(std::stod(s.params.bed.at("E_grain_Pa")), 1.5e9);
+    EXPECT_DOUBLE_EQ(std::stod(s.params.bed.at("mu_gg")), 0.6123);
+  }
   std::ofstream(dir / "bad.json") << R"({"calibrated": {"bed.H_m": 0.3}})";
   EXPECT_EQ(run_script(dir / "bad.json", dir / "bad.toml", dir / "err"), 2);
   std::ifstream err(dir / "err");
