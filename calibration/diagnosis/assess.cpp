@@ -12,6 +12,7 @@
 #include <omp.h>
 
 #include "common/clock.hpp"
+#include "common/progress.hpp"
 #include "diagnosis/synth.hpp"
 
 namespace ricochet::diagnosis {
@@ -618,6 +619,7 @@ std::vector<SplitOutcome> fit_splits(Assessment& a, const Model& model, const Sh
     }
     a.fold_params[j] = pf.params;
     out[j].predictions = predict_observables(mj, shape, pf.params, test, out[j].options);
+    if (o.progress) o.progress->advance();
   };
   // The splits' fits are independent: they run in parallel (one split per thread; the engine
   // then runs each batch on its thread, engine.cpp), and the caller sums them in split order,
@@ -773,6 +775,7 @@ Assessment assess_splits(const Model& model_in, const Shape& shape, const Impact
   fo.intervals = false;
   fo.starts = full_set_starts(o, fo.error, shape, set);
   a.population = full_set_fit(model, shape, set, o, fo);
+  if (o.progress) o.progress->advance();
   if (warm) {
     if (warm->cv.n != n)
       throw std::invalid_argument("assess: the warm assessment is of another set");

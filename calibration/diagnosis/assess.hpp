@@ -72,6 +72,10 @@
 #include "fit/fit.hpp"
 #include "impact/impact_set.hpp"
 
+namespace ricochet {
+class Progress;  // common/progress.hpp
+}
+
 namespace ricochet::diagnosis {
 
 /// Observables entering the error: the three V_out components and, when present, the maximum
@@ -170,6 +174,9 @@ struct AssessOptions {
   /// a subset (a fold's training releases) can be resolved on its own releases.
   std::optional<fit::ErrorOptions> unresolved_error;
   bool release_intervals = true;  ///< with identifiability intervals
+  /// Advanced by one for the full-set fit and for each split's fit (thread-safe); not owned,
+  /// null for none. compare() points it at its bar (a lab-triangle compare runs 26 s).
+  Progress* progress = nullptr;
 
   /// The folds of a set of n >= 2 releases: `folds` clamped to [2, n] (a k above n cannot deal
   /// a release into every fold; kLeaveOneOut thus gives n).

@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "common/clock.hpp"
+#include "common/progress.hpp"
 #include "diagnosis/diagnose.hpp"
 
 namespace ricochet::diagnosis {
@@ -67,7 +68,14 @@ Baseline compare(const Model& model_in, const Shape& shape, const ImpactSet& set
   const Model model = calibration_model_for(model_in, set, o.assess);
   const auto t0 = std::chrono::steady_clock::now();
   Baseline b;
-  b.base = assess(model, shape, set, o.assess, previous);
+  {
+    // The base model's fits are most of a compare's time (a lab-triangle set: 11 fits, 26 s).
+    Progress bar("compare", 1 + o.assess.repeats * o.assess.folds_for(set.size()), o.progress);
+    AssessOptions ao = o.assess;
+    ao.progress = &bar;
+    b.base = assess(model, shape, set, ao, previous);
+    bar.finish();
+  }
   const auto& ef = o.assess.fit.error;
   b.error_floors = {
       ef.floor[0], ef.floor[1], ef.floor[2],

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/progress.hpp"
+
 namespace ricochet::diagnosis::detail {
 namespace {
 
@@ -118,13 +120,14 @@ std::vector<Detectable> detectable_candidates(
     const std::vector<std::optional<Model>>& models, const std::vector<Score>& scores,
     const stats::ScoreTests& tests, const EffectRegistry& registry,
     const std::array<bool, kObservables>& use, double alpha, const Shape& shape,
-    const ImpactSet& set, const AssessOptions& o) {
+    const ImpactSet& set, const AssessOptions& o, Progress* progress) {
   const double level = alpha / 2;  // the score route's share of the family-wise level
   const double c = stats::max_null_quantile(tests, level);
   std::vector<Detectable> rows;
   if (!std::isfinite(c) || !(tests.dof > 0)) return rows;
   const double k = c + kZPower;
   for (std::size_t h = 0; h < names.size(); ++h) {
+    if (progress) progress->advance();
     if (!models[h]) continue;
     const Score& sc = scores[h];
     const LawKind kind = registry.get(names[h]).kind();

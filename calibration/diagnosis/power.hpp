@@ -54,13 +54,14 @@ namespace ricochet::diagnosis::detail {
 /// `models[h]` (the warm model plus the candidate at neutral; none when it could not be
 /// composed) and `scores[h]` are the candidates as diagnose() tested them; `tests` their score
 /// tests; `alpha` the diagnosis's family-wise level; `shape`, `set` and `o` (resolved on the
-/// set) those of the diagnosis, for the engine runs at finite strengths.
+/// set) those of the diagnosis, for the engine runs at finite strengths; `progress` (optional)
+/// is advanced once per candidate.
 std::vector<Detectable> detectable_candidates(
     const Directions& dirs, const std::vector<std::string>& names,
     const std::vector<std::optional<Model>>& models, const std::vector<Score>& scores,
     const stats::ScoreTests& tests, const EffectRegistry& registry,
     const std::array<bool, kObservables>& use, double alpha, const Shape& shape,
-    const ImpactSet& set, const AssessOptions& o);
+    const ImpactSet& set, const AssessOptions& o, Progress* progress = nullptr);
 
 /// The most detectable row of each family (a law within its bounds first, then the smallest
 /// change in noise units), in Family order.

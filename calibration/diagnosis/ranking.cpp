@@ -452,9 +452,14 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
     if (c.error.empty()) c.evidence = detail::evidence_of(c, b, o);
   d.confidence_set = confidence_set_of(d, sc.names, sc.models, sc.scores, sc.tests, dirs, warm,
                                        shape, set, registry, o);
-  d.detectable_candidates =
-      detail::detectable_candidates(dirs, sc.names, sc.models, sc.scores, sc.tests, registry,
-                                    b.base.use, o.alpha, shape, set, o.assess);
+  {
+    // Each candidate's power curve runs the engine at several strengths (lab triangles: 10 s).
+    Progress power("power", sc.names.size(), o.progress);
+    d.detectable_candidates =
+        detail::detectable_candidates(dirs, sc.names, sc.models, sc.scores, sc.tests, registry,
+                                      b.base.use, o.alpha, shape, set, o.assess, &power);
+    power.finish();
+  }
   d.detectable = detail::minimum_detectable(d.detectable_candidates);
   decide_verdict(d, o);
   d.seconds = seconds_since(t0) + b.seconds;
