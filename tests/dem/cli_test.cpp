@@ -235,18 +235,19 @@ TEST(DemCampaign, VtkWithSeveralLiggghtsInstancesIsRefused) {
 
 // Two rank groups run a campaign of two beds in one wave: each group builds one bed before any
 // impact starts (campaign.cpp, "The schedule"), then each runs the impact of its bed. Both impacts
-// are stored, and every "bed ... built" line comes before the first "starting" line.
-TEST(DemCampaign, TwoGroupsBuildTheWavesBedsBeforeItsImpacts) {
+// are stored, and every "bed ... built" line comes before the first "starting" line. Then a
+// campaign with a bed already in the cache runs that bed's impact first.
+TEST(DemCampaign, TwoGroupsBuildTheWavesBedsBeforeItsImpactsAndCachedBedsGoFirst) {
   const fs::path work = temp_dir("wave");
   const std::string design = (work / "design.toml").string();
-  std::ofstream(design) << "[campaign]\nname = \"wave\"\ncache_dir = \""
-                        << (work / "cache").string() << "\"\nwork_dir = \""
-                        << (work / "work").string()
-                        << "\"\n[bed]\nLx_m = 0.6\nLy_m = 0.06\nH_m = 0.06\nr1_m = 0.004\n"
-                           "r2_m = 0.005\nr3_m = 0.006\nE_grain_Pa = 2e8\ne_gg = 0.7\nmu_gg = 0.8\n"
-                           "mur_gg = 0.5\nmu_pour = 0.1\nrolling_model = \"epsd2\"\n"
-                           "[block]\nmu_gb = 0.5\nmur_gb = 0.1\n"
-                           "[[impact]]\nid = \"on-bed-0\"\nvin = [2.9, -2.3, -65.0]\nseed = 0\n"
+  const std::string head =
+      "[campaign]\nname = \"wave\"\ncache_dir = \"" + (work / "cache").string() +
+      "\"\nwork_dir = \"" + (work / "work").string() +
+      "\"\n[bed]\nLx_m = 0.6\nLy_m = 0.06\nH_m = 0.06\nr1_m = 0.004\nr2_m = 0.005\n"
+      "r3_m = 0.006\nE_grain_Pa = 2e8\ne_gg = 0.7\nmu_gg = 0.8\nmur_gg = 0.5\nmu_pour = 0.1\n"
+      "rolling_model = \"epsd2\"\n[block]\nmu_gb = 0.5\nmur_gb = 0.1\n";
+  std::ofstream(design) << head
+                        << "[[impact]]\nid = \"on-bed-0\"\nvin = [2.9, -2.3, -65.0]\nseed = 0\n"
                            "[[impact]]\nid = \"on-bed-1\"\nvin = [2.9, -2.3, -65.0]\nseed = 1\n";
   const std::string out = (work / "campaign.h5").string();
   const auto [rc, log] =
@@ -265,6 +266,25 @@ TEST(DemCampaign, TwoGroupsBuildTheWavesBedsBeforeItsImpacts) {
   const auto index = read_campaign_index(out);
   ASSERT_EQ(index.size(), 2u);
   for (const auto& e : index) EXPECT_EQ(e.status, "rebound") << e.id << ": " << e.message;
+
+  // A second campaign on the same cache, one impact on a cached bed and one on a new bed: the
+  // cached bed's impact starts before the new bed is built, instead of its group waiting for it.
+  std::string second = head;
+  second +=
+      "[[impact]]\nid = \"again-on-bed-0\"\nvin = [3.1, -2.2, -60.0]\nseed = 0\n"
+      "[[impact]]\nid = \"on-bed-2\"\nvin = [2.9, -2.3, -65.0]\nseed = 2\n";
+  std::ofstream(work / "second.toml") << second;
+  const auto [rc2, log2] =
+      shell("timeout 540 " + mpirun(2) + RICOCHET_BIN + " dem campaign " +
+            (work / "second.toml").string() + " --decks " + RICOCHET_SOURCE_DIR +
+            "/liggghts-inputs --out " + (work / "second.h5").string() + " --no-picture 2>&1");
+  ASSERT_EQ(rc2, 0) << log2;
+  const std::size_t again = log2.find("[dem] starting again-on-bed-0");
+  const std::size_t new_bed = log2.find("grains built in");
+  ASSERT_NE(again, std::string::npos) << log2;
+  ASSERT_NE(new_bed, std::string::npos) << log2;
+  EXPECT_LT(again, new_bed) << log2;
+  EXPECT_EQ(read_campaign_index((work / "second.h5").string()).size(), 2u);
 }
 
 TEST(DemCampaign, KilledCampaignResumesWithoutLosingFinishedImpacts) {
