@@ -54,7 +54,7 @@ TEST_F(ShippedData, StatsAnswersEveryShippedFile) {
                                                // partial: grows as the campaign resumes
                                                {"stiffness-plateau.h5", 66},
                                                {"wall-stiffness.h5", 3},
-                                               {"sand-calibration-1.5e9.h5", 4},
+                                               {"sand-calibration-1.5e9.h5", 7},
                                                {"convergence.h5", 27},
                                                {"lab-cylinders.h5", 28},
                                                {"lab-cylinders-long.h5", 28},
@@ -82,7 +82,7 @@ TEST_F(ShippedData, StatsAnswersEveryShippedFile) {
       {"lab-triangles-blind-long.h5", {30, 1}},
       {"stiffness-plateau.h5", {66, 0}},
       {"wall-stiffness.h5", {3, 0}},
-      {"sand-calibration-1.5e9.h5", {4, 1}}};
+      {"sand-calibration-1.5e9.h5", {7, 1}}};
   const fs::path data = fs::path(RICOCHET_SOURCE_DIR) / "data";
   std::set<std::string> seen, other_kinds;
   int impact_files = 0, other_files = 0;
@@ -132,12 +132,16 @@ TEST_F(ShippedData, StatsAnswersEveryShippedFile) {
     EXPECT_EQ(t["with_track"].get<int>(), tracks.at(name).first) << name;
     EXPECT_EQ(t["other_tracks"].get<int>(), tracks.at(name).second) << name;
     for (const auto& c : t["impacts"]) {
-      // Every track has a contact: a finite window of a few ms to a few tens, a positive peak
-      // force, records at most 0.5 ms apart (issue 32, item 4), and the slab block's mass.
+      // Every track has a contact: a window longer than a millisecond and within the track (the
+      // sand calibration's design points roll on the bed for up to 0.24 s above 0.2 x the block's
+      // weight before they leave it), a positive peak force, records at most 0.5 ms apart
+      // (issue 32, item 4), and the slab block's mass.
       const std::string id = c["id"].get<std::string>();
       ASSERT_TRUE(c["contact_duration"].is_number()) << name << " " << id;
       EXPECT_GT(c["contact_duration"].get<double>(), 1e-3) << name << " " << id;
-      EXPECT_LT(c["contact_duration"].get<double>(), 0.2) << name << " " << id;
+      EXPECT_LE(c["contact_duration"].get<double>(),
+                c["records"].get<double>() * c["max_interval"].get<double>())
+          << name << " " << id;
       EXPECT_GT(c["peak_normal_force"].get<double>(), 0) << name << " " << id;
       EXPECT_LE(c["max_interval"].get<double>(), 5e-4) << name << " " << id;
       EXPECT_GT(c["block_mass"].get<double>(), 0) << name << " " << id;
