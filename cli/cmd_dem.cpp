@@ -171,8 +171,8 @@ void run_bed_on_rank(const BedOptions& o, const MpiSession& mpi) {
   if (o.seed) ov.bed = dem::with_replica_seed(ov.bed, static_cast<std::int64_t>(*o.seed));
   if (o.dry_run) {
     const std::string key = dem::bed_key(decks, ov.bed);
-    const std::string prefix = (fs::path(o.common.cache) / ("bed-" + key)).string();
-    const bool cached = fs::exists(prefix + ".restart") && fs::exists(prefix + ".params");
+    const std::string prefix = dem::bed_prefix(o.common.cache, key);
+    const bool cached = dem::bed_cached(o.common.cache, key);
     if (mpi.rank() != 0) return;
     if (o.output.json)
       print_json({{"key", key}, {"prefix", prefix}, {"cached", cached}});

@@ -54,10 +54,19 @@ BedFiles read_bed_files(const std::string& prefix) {
   return b;
 }
 
+std::string bed_prefix(const std::string& cache_dir, const std::string& key) {
+  return (fs::path(cache_dir) / ("bed-" + key)).string();
+}
+
+bool bed_cached(const std::string& cache_dir, const std::string& key) {
+  const std::string prefix = bed_prefix(cache_dir, key);
+  return fs::exists(prefix + ".restart") && fs::exists(prefix + ".params");
+}
+
 BedFiles ensure_bed(const Decks& decks, const std::map<std::string, std::string>& bed_overrides,
                     const std::string& cache_dir, MPI_Comm comm, bool* built, double* wall_s) {
   const std::string key = bed_key(decks, bed_overrides);
-  const std::string prefix = (fs::path(cache_dir) / ("bed-" + key)).string();
+  const std::string prefix = bed_prefix(cache_dir, key);
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   // Another process (a parallel test, a second campaign) may be building the same bed: rank 0
@@ -69,7 +78,7 @@ BedFiles ensure_bed(const Decks& decks, const std::map<std::string, std::string>
     if (lock_fd >= 0) ::flock(lock_fd, LOCK_EX);
   }
   int have = 0;
-  if (rank == 0) have = fs::exists(prefix + ".restart") && fs::exists(prefix + ".params");
+  if (rank == 0) have = bed_cached(cache_dir, key);
   // A previous build that LIGGGHTS stopped with an error (it ends the process) left its message in
   // the screen file: building again would stop this process too, so report it instead.
   std::string failed;

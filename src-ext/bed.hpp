@@ -31,6 +31,14 @@ struct BedFiles {
 /// Reads PREFIX.params. Throws std::runtime_error naming the file when it is missing or incomplete.
 BedFiles read_bed_files(const std::string& prefix);
 
+/// The path prefix of the bed with key `key` in `cache_dir`: CACHE_DIR/bed-KEY (its files are
+/// PREFIX.restart, .params, .screen, .log, .lock).
+std::string bed_prefix(const std::string& cache_dir, const std::string& key);
+
+/// Whether `cache_dir` holds the bed with key `key` (its .restart and .params), as ensure_bed
+/// reuses it.
+bool bed_cached(const std::string& cache_dir, const std::string& key);
+
 /// The bed for `bed_overrides` in `cache_dir`: reused when cache_dir/bed-KEY.{restart,params}
 /// exist, otherwise built on `comm` (collective: every rank of comm calls it) with screen and log
 /// in cache_dir/bed-KEY.{screen,log}. `built` (optional) tells whether it was built now.

@@ -10,6 +10,7 @@
 #include <memory>
 #include <set>
 
+#include "bed.hpp"
 #include "common/clock.hpp"
 #include "common/error.hpp"
 #include "common/h5.hpp"
@@ -126,10 +127,6 @@ CampaignSummary run_campaign(const CampaignDesign& design, const Decks& decks,
     if (std::find(bed_order.begin(), bed_order.end(), wave_key.back()) == bed_order.end())
       bed_order.push_back(wave_key.back());
   }
-  const auto cached = [&](const std::string& key) {
-    const std::string prefix = (fs::path(design.cache_dir) / ("bed-" + key)).string();
-    return fs::exists(prefix + ".restart") && fs::exists(prefix + ".params");
-  };
   const std::size_t G = static_cast<std::size_t>(groups);
   std::vector<std::vector<std::string>> waves;
   std::vector<char> build_wave;  // whether the groups build the wave's beds before its impacts
@@ -140,7 +137,8 @@ CampaignSummary run_campaign(const CampaignDesign& design, const Decks& decks,
     // Rank 0 looks at the cache once and tells the others, so that every rank has one schedule.
     std::vector<char> ready(bed_order.size(), 0);
     if (wrank == 0)
-      for (std::size_t b = 0; b < bed_order.size(); ++b) ready[b] = cached(bed_order[b]) ? 1 : 0;
+      for (std::size_t b = 0; b < bed_order.size(); ++b)
+        ready[b] = bed_cached(design.cache_dir, bed_order[b]) ? 1 : 0;
     MPI_Bcast(ready.data(), static_cast<int>(ready.size()), MPI_CHAR, 0, world);
     std::vector<std::string> in_cache, to_build;
     for (std::size_t b = 0; b < bed_order.size(); ++b)
@@ -193,7 +191,7 @@ CampaignSummary run_campaign(const CampaignDesign& design, const Decks& decks,
         // runs now, and whether its bed must be built first.
         const std::string key = bed_key(decks, bed_overrides(spec));
         std::cerr << fmt::format("[dem] starting {} (group {}), bed {}{}\n", spec.id, color, key,
-                                 cached(key) ? "" : ": building it first");
+                                 bed_cached(design.cache_dir, key) ? "" : ": building it first");
       }
       ctx.bed = bed_for(spec);
       ctx.extract = design.extract;

@@ -224,7 +224,7 @@ void measure_points_packing(GrainCalibrationResult& r, const std::string& campai
     double sum = 0;
     for (const auto& id : p.ids) {
       const std::string& key = bed_of[id];
-      const std::string prefix = (std::filesystem::path(cache) / ("bed-" + key)).string();
+      const std::string prefix = bed_prefix(cache, key);
       if (key.empty() || !std::filesystem::exists(prefix + ".params"))
         throw InputError(campaign_h5, 0, "/dem/index/bed_key",
                          "impact " + id + ": its bed " + (key.empty() ? "(no key)" : key) +
