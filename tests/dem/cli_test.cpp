@@ -60,6 +60,18 @@ std::string set_args(const std::vector<std::string>& extra = {}) {
   return s;
 }
 
+// The head of a campaign file on the small, fast slab (0.6 x 0.06 x 0.06 m, 4-6 mm grains at
+// 2e8 Pa: a bed in about half a minute) that the campaign tests share; their [[impact]] tables
+// follow it.
+std::string small_bed_campaign(const std::string& name, const std::string& cache_dir,
+                               const fs::path& work) {
+  return "[campaign]\nname = \"" + name + "\"\ncache_dir = \"" + cache_dir + "\"\nwork_dir = \"" +
+         (work / "work").string() +
+         "\"\n[bed]\nLx_m = 0.6\nLy_m = 0.06\nH_m = 0.06\nr1_m = 0.004\nr2_m = 0.005\n"
+         "r3_m = 0.006\nE_grain_Pa = 2e8\ne_gg = 0.7\nmu_gg = 0.8\nmur_gg = 0.5\nmu_pour = 0.1\n"
+         "rolling_model = \"epsd2\"\n[block]\nmu_gb = 0.5\nmur_gb = 0.1\n";
+}
+
 std::string mpirun(int np) {
   return std::string(MPIEXEC) + " --oversubscribe --allow-run-as-root -np " + std::to_string(np) +
          " ";
@@ -240,12 +252,7 @@ TEST(DemCampaign, VtkWithSeveralLiggghtsInstancesIsRefused) {
 TEST(DemCampaign, TwoGroupsBuildTheWavesBedsBeforeItsImpactsAndCachedBedsGoFirst) {
   const fs::path work = temp_dir("wave");
   const std::string design = (work / "design.toml").string();
-  const std::string head =
-      "[campaign]\nname = \"wave\"\ncache_dir = \"" + (work / "cache").string() +
-      "\"\nwork_dir = \"" + (work / "work").string() +
-      "\"\n[bed]\nLx_m = 0.6\nLy_m = 0.06\nH_m = 0.06\nr1_m = 0.004\nr2_m = 0.005\n"
-      "r3_m = 0.006\nE_grain_Pa = 2e8\ne_gg = 0.7\nmu_gg = 0.8\nmur_gg = 0.5\nmu_pour = 0.1\n"
-      "rolling_model = \"epsd2\"\n[block]\nmu_gb = 0.5\nmur_gb = 0.1\n";
+  const std::string head = small_bed_campaign("wave", (work / "cache").string(), work);
   std::ofstream(design) << head
                         << "[[impact]]\nid = \"on-bed-0\"\nvin = [2.9, -2.3, -65.0]\nseed = 0\n"
                            "[[impact]]\nid = \"on-bed-1\"\nvin = [2.9, -2.3, -65.0]\nseed = 1\n";
@@ -290,13 +297,8 @@ TEST(DemCampaign, TwoGroupsBuildTheWavesBedsBeforeItsImpactsAndCachedBedsGoFirst
 TEST(DemCampaign, KilledCampaignResumesWithoutLosingFinishedImpacts) {
   const fs::path work = temp_dir("resume");
   const std::string design = (work / "design.toml").string();
-  std::ofstream(design) << "[campaign]\nname = \"resume\"\ncache_dir = \"" << RICOCHET_TEST_CACHE
-                        << "\"\nwork_dir = \"" << (work / "work").string()
-                        << "\"\n[bed]\nLx_m = 0.6\nLy_m = 0.06\nH_m = 0.06\nr1_m = 0.004\n"
-                           "r2_m = 0.005\nr3_m = 0.006\nE_grain_Pa = 2e8\ne_gg = 0.7\nmu_gg = 0.8\n"
-                           "mur_gg = 0.5\nmu_pour = 0.1\nrolling_model = \"epsd2\"\n"
-                           "[block]\nmu_gb = 0.5\nmur_gb = 0.1\n"
-                           "[[impact]]\nid = \"first\"\nvin = [2.9, -2.3, -65.0]\n"
+  std::ofstream(design) << small_bed_campaign("resume", RICOCHET_TEST_CACHE, work)
+                        << "[[impact]]\nid = \"first\"\nvin = [2.9, -2.3, -65.0]\n"
                            "[[impact]]\nid = \"second\"\nvin = [3.1, -2.2, -60.0]\n";
   const std::string out = (work / "campaign.h5").string();
   const std::string log = (work / "first-run.log").string();
