@@ -16,8 +16,10 @@
 #              results/wall-stiffness-1.5e10/), the convergence at 1.5e9 Pa (width, depth, grain
 #              size: convergence-1.5e9.toml, into results/convergence-1.5e9/), then the level's
 #              other three triangle states;
-#      lane B: the sphere drop on the 1.5e9 Pa box bed (scripts/plateau-drop.sh), then the
-#              packing-scatter beds' solid fractions (scripts/packing-scatter-beds.sh).
+#      lane B: the sphere drop on the 1.5e9 Pa box bed (scripts/plateau-drop.sh), the same drops
+#              on the calibrated grains (issue 33's Katsuragi-Durian comparison, into
+#              results/sand-drop/), then the packing-scatter beds' solid fractions
+#              (scripts/packing-scatter-beds.sh).
 # Start it at the beginning of a session and let it run; a session's end stops it, the next
 # start resumes it:
 #
@@ -98,6 +100,11 @@ fi
 lane_a=$!
 {
   scripts/plateau-drop.sh
+  # Issue 33: the same sphere drops on the calibrated grains, the bed of its force campaign (the
+  # Katsuragi-Durian comparison of docs/granular-impact-checks.md, "On the sand-calibrated grains").
+  [ -f "$CAL/calibrate-grains.json" ] &&
+    DROP_GRAINS_FROM="liggghts-inputs/campaigns/sand-calibration-1.5e9.toml $CAL/calibrate-grains.json" \
+      DROP_OUT="$ROOT/results/sand-drop" DROP_FILE=sphere-drop-sand-1.5e9 scripts/plateau-drop.sh
   mkdir -p results/packing-scatter
   scripts/packing-scatter-beds.sh > results/packing-scatter/table.md 2> results/packing-scatter/error.log
 } &

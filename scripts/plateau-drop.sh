@@ -17,12 +17,25 @@
 #   of docs/resolved-model.md decides it); it is part of the bed, so changing it makes a new bed.
 # Writes results/plateau-drop/sphere-drop-1.5e9.{csv,tracks.csv,repose.json} and the summary
 # sphere-drop-1.5e9.json at the end; the shipped copy goes to data/resolved/.
+#
+# The same drops on a calibration's grains (issue 33's Katsuragi-Durian comparison on the bed of
+# its force campaign; docs/granular-impact-checks.md, "On the sand-calibrated grains"):
+#   DROP_GRAINS_FROM="SAMPLED.toml CALIBRATION.json"  the grains of scripts/verification-campaign.py
+#                                                     --sets, added after the stiff bed's --set
+#   DROP_OUT (default results/plateau-drop), DROP_FILE (default sphere-drop-1.5e9): where it goes.
 set -uo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 # shellcheck source=pin-program.sh
 source "$ROOT/scripts/pin-program.sh"
-OUT=$ROOT/results/plateau-drop
+OUT=${DROP_OUT:-$ROOT/results/plateau-drop}
+FILE=${DROP_FILE:-sphere-drop-1.5e9}
 E_WALL=${E_WALL_PA:-5e7}
+GRAINS=()
+if [ -n "${DROP_GRAINS_FROM:-}" ]; then
+  # shellcheck disable=SC2086  # two paths, split on purpose
+  SETS=$(python3 "$ROOT/scripts/verification-campaign.py" $DROP_GRAINS_FROM --sets) || exit 2
+  while read -r s; do GRAINS+=(--set "$s"); done <<< "$SETS"
+fi
 mkdir -p "$OUT"
 LOG=$OUT/drop.log
 exec 9> "$OUT/drop.lock"
@@ -31,11 +44,11 @@ if ! flock -n 9; then
   exit 1
 fi
 {
-  echo "== $(date '+%F %T') plateau-drop: start (pid $$, E_wall $E_WALL Pa)"
+  echo "== $(date '+%F %T') plateau-drop: start (pid $$, E_wall $E_WALL Pa, $FILE${GRAINS[*]:+, ${GRAINS[*]}})"
   PIN=$OUT/pinned
   pin_program "$ROOT" "$PIN"
-  SHIPPED=$ROOT/data/resolved/sphere-drop-1.5e9.csv
-  if [ ! -f "$OUT/sphere-drop-1.5e9.csv" ] && [ -f "$SHIPPED" ]; then
+  SHIPPED=$ROOT/data/resolved/$FILE.csv
+  if [ ! -f "$OUT/$FILE.csv" ] && [ -f "$SHIPPED" ]; then
     cp "$SHIPPED" "$OUT/"
     [ -f "${SHIPPED%.csv}.tracks.csv" ] && cp "${SHIPPED%.csv}.tracks.csv" "$OUT/"
     [ -f "${SHIPPED%.csv}.repose.json" ] && cp "${SHIPPED%.csv}.repose.json" "$OUT/"
@@ -44,16 +57,16 @@ fi
   cd "$OUT" || exit 1
   BED=(--set bed.mode=box --set bed.Lx_m=0.4 --set bed.Ly_m=0.4 --set bed.H_m=0.2
        --set bed.headroom_m=0.15 --set bed.E_grain_Pa=1.5e9 --set bed.E_wall_Pa="$E_WALL"
-       --set drop.D_sphere_m=0.1 --set drop.t_max_s=1.0)
+       --set drop.D_sphere_m=0.1 --set drop.t_max_s=1.0 "${GRAINS[@]}")
   mpirun --oversubscribe --allow-run-as-root -np 1 "$PIN/ricochet" dem drop \
     --decks "$PIN/liggghts-inputs" --cache dem-cache --work dem-work "${BED[@]}" \
-    --heights 0.02,0.05,0.1,0.2,0.5 --out "$OUT/sphere-drop-1.5e9.csv"
+    --heights 0.02,0.05,0.1,0.2,0.5 --out "$OUT/$FILE.csv"
   rc=$?
   echo "== $(date '+%F %T') plateau-drop: drops ended with status $rc"
   if [ "$rc" -eq 0 ]; then
     "$PIN/ricochet" dem drop --decks "$PIN/liggghts-inputs" --cache dem-cache --work dem-work \
-      "${BED[@]}" --heights 0.02,0.05,0.1,0.2,0.5 --out "$OUT/sphere-drop-1.5e9.csv" --json \
-      > "$OUT/sphere-drop-1.5e9.json"
-    echo "summary: $OUT/sphere-drop-1.5e9.json"
+      "${BED[@]}" --heights 0.02,0.05,0.1,0.2,0.5 --out "$OUT/$FILE.csv" --json \
+      > "$OUT/$FILE.json"
+    echo "summary: $OUT/$FILE.json"
   fi
 } >> "$LOG" 2>&1

@@ -37,6 +37,11 @@ run.x_impact_frac), on the verification's first bed (replica seed 0); LAB.csv is
 cylinder state scaled by 0.5-1.5 at three positions, the states on which the fifth bed's force loop
 stopped at 8.1x its floor, now on the plateau bed's calibrated grains (fixed here before any run).
 
+With --sets the script prints the calibrated grains' bed.* and block.* settings instead, one
+SECTION.NAME=VALUE per line (the sampled campaign's [bed] and [block], the calibrated values, the
+ties), for `ricochet dem drop --set`: scripts/plateau-drop.sh drops the sphere on the same grains
+(DROP_GRAINS_FROM). --name and --out are then not used.
+
 Exit 2, naming the file, on a missing file, a calibrated parameter that the sampled campaign does
 not sample, or a lab file without the impact-set header.
 """
@@ -82,15 +87,18 @@ def main(argv: list) -> int:
     ap.add_argument("calibration")
     ap.add_argument("lab", nargs="?")
     ap.add_argument("--beds", type=int, default=3)
-    ap.add_argument("--name", required=True)
-    ap.add_argument("--out", required=True)
+    ap.add_argument("--name")
+    ap.add_argument("--out")
     ap.add_argument("--blind-triangles", action="store_true")
     ap.add_argument("--states-from", metavar="DESIGN.toml")
+    ap.add_argument("--sets", action="store_true")
     a = ap.parse_args(argv)
     if a.states_from and a.blind_triangles:
         fail("--states-from", "and --blind-triangles are two different designs: give one")
-    if not a.states_from and not a.lab:
+    if not a.states_from and not a.lab and not a.sets:
         fail("LAB.csv", "missing (needed unless --states-from)")
+    if not a.sets and (not a.name or not a.out):
+        fail("--name/--out", "both are required (unless --sets)")
     if a.beds < 1:
         fail("--beds", "expects at least 1")
     try:
@@ -114,6 +122,11 @@ def main(argv: list) -> int:
         section, key = target.split(".", 1)
         s_section, s_key = source.split(".", 1)
         tables[section][key] = tables[s_section][s_key]
+    if a.sets:
+        for section in ("bed", "block"):
+            for k, v in sorted(tables[section].items()):
+                print(f"{section}.{k}={v}")
+        return 0
     positions = design.get("vary", {}).get("run.x_impact_frac")
     if positions:
         tables["run"]["x_impact_frac"] = positions[0]

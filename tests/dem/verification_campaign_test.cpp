@@ -3,8 +3,9 @@
 // every lab state once, release k on the bed of replica seed k mod 3, the calibrated grains (and
 // the tied parameter its source's value), the sampled campaign's stiffness, window and first
 // position; with --blind-triangles, the blind triangle check on the same grains; with --states-from,
-// the same grains at another campaign's states and positions (issue 33). And a calibrated
-// parameter the campaign did not sample is refused, naming the file.
+// the same grains at another campaign's states and positions (issue 33); with --sets, the same
+// grains as the sphere drop's --set assignments (issue 33's Katsuragi-Durian drop on that bed). And
+// a calibrated parameter the campaign did not sample is refused, naming the file.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -13,10 +14,13 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "campaign_design.hpp"
 #include "dem_support.hpp"
+#include "drop_study.hpp"
 #include "impact/impact_set.hpp"
 
 namespace {
@@ -111,6 +115,34 @@ TEST(VerificationCampaign, EveryLabStateOnThreeBedsOfTheCalibratedGrains) {
   const std::string message((std::istreambuf_iterator<char>(err)), {});
   EXPECT_NE(message.find("bad.json: bed.H_m is not a [design.sample] parameter"), std::string::npos)
       << message;
+  fs::remove_all(dir);
+}
+
+// The sphere drop on the calibrated grains takes them as `dem drop --set` assignments: every one
+// is accepted by the drop's own parser and carries the calibrated value (4 digits), the tie and
+// the sampled campaign's stiffness.
+TEST(VerificationCampaign, TheCalibratedGrainsAsTheDropsSetAssignments) {
+  ASSERT_EQ(std::system("python3 -c 'import tomllib' 2> /dev/null"), 0);
+  const fs::path dir = fs::temp_directory_path() / ("dem-sets-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "cal.json")
+      << R"({"calibrated": {"bed.mu_gg": 0.612345, "bed.mur_gg": 0.31, "block.mu_gb": 0.52,
+           "bed.e_gg": 0.71, "block.e_gb": 0.64, "bed.mu_pour": 0.2}})";
+  const std::string cmd = "python3 " + kSource + "/scripts/verification-campaign.py " + kSource +
+                          "/liggghts-inputs/campaigns/sand-calibration-1.5e9.toml " +
+                          (dir / "cal.json").string() + " --sets > " + (dir / "sets").string();
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  std::ifstream in(dir / "sets");
+  std::vector<std::string> sets;
+  for (std::string line; std::getline(in, line);) sets.push_back(line);
+  ASSERT_EQ(sets.size(), 8u);  // E_grain_Pa, the six calibrated, the tie
+  const DropStudySets parsed = parse_drop_sets(test::decks(), sets);
+  EXPECT_DOUBLE_EQ(std::stod(parsed.base.bed.at("E_grain_Pa")), 1.5e9);
+  EXPECT_DOUBLE_EQ(std::stod(parsed.base.bed.at("mu_gg")), 0.6123);
+  EXPECT_DOUBLE_EQ(std::stod(parsed.base.bed.at("mu_pour")), 0.2);
+  EXPECT_DOUBLE_EQ(std::stod(parsed.base.block.at("e_gb")), 0.64);
+  EXPECT_DOUBLE_EQ(std::stod(parsed.base.block.at("mur_gb")), 0.31);  // tied to bed.mur_gg
   fs::remove_all(dir);
 }
 
