@@ -6,7 +6,7 @@
 #      plan of docs/resolved-model.md): everything after it (the held-out check, the blind
 #      triangles and the main job on the calibrated bed) waits for it;
 #   1b. then the calibration itself (calibrate-grains with the solid-fraction band), its
-#      verification campaign (every lab state on three beds of the calibrated grains, into
+#      verification campaign (every lab state on three 1.5 m beds of the calibrated grains, into
 #      results/sand-verification/), the blind triangles and issue 33's force campaign (the speed
 #      campaign's states) on those grains, on both cores;
 #   2. then two lanes of one core each:
@@ -65,7 +65,7 @@ fi
 if [ -f "$CAL/calibrate-grains.json" ]; then
   [ -f "$CAL/sand-verification-1.5e9.toml" ] ||
     scripts/verification-campaign.py liggghts-inputs/campaigns/sand-calibration-1.5e9.toml \
-      "$CAL/calibrate-grains.json" data/lab/cylinders.csv --beds 3 \
+      "$CAL/calibrate-grains.json" data/lab/cylinders.csv --beds 3 --bed-length-m 1.5 \
       --name sand-verification-1.5e9 --out "$CAL/sand-verification-1.5e9.toml" >> "$CAL/campaign.log" 2>&1
   PLATEAU_DESIGN=sand-verification-1.5e9 PLATEAU_DESIGN_PATH="$CAL/sand-verification-1.5e9.toml" \
     PLATEAU_OUT=results/sand-verification PLATEAU_FILE=sand-verification-1.5e9 PLATEAU_RANKS=2 \
@@ -73,7 +73,7 @@ if [ -f "$CAL/calibrate-grains.json" ]; then
   # 1c. The blind triangles on the same grains (the verification's first bed, its cache).
   [ -f "$CAL/sand-blind-triangles-1.5e9.toml" ] ||
     scripts/verification-campaign.py liggghts-inputs/campaigns/sand-calibration-1.5e9.toml \
-      "$CAL/calibrate-grains.json" data/lab/triangles.csv --blind-triangles \
+      "$CAL/calibrate-grains.json" data/lab/triangles.csv --blind-triangles --bed-length-m 1.5 \
       --name sand-blind-triangles-1.5e9 --out "$CAL/sand-blind-triangles-1.5e9.toml" >> "$CAL/campaign.log" 2>&1
   PLATEAU_DESIGN=sand-blind-triangles-1.5e9 \
     PLATEAU_DESIGN_PATH="$CAL/sand-blind-triangles-1.5e9.toml" PLATEAU_OUT=results/sand-verification \
@@ -83,7 +83,8 @@ if [ -f "$CAL/calibrate-grains.json" ]; then
   #     discovery on the plateau bed.
   [ -f "$CAL/sand-speeds-1.5e9.toml" ] ||
     scripts/verification-campaign.py liggghts-inputs/campaigns/sand-calibration-1.5e9.toml \
-      "$CAL/calibrate-grains.json" --states-from liggghts-inputs/campaigns/speeds-calibrated-long.toml \
+      "$CAL/calibrate-grains.json" --bed-length-m 1.5 \
+      --states-from liggghts-inputs/campaigns/speeds-calibrated-long.toml \
       --name sand-speeds-1.5e9 --out "$CAL/sand-speeds-1.5e9.toml" >> "$CAL/campaign.log" 2>&1
   PLATEAU_DESIGN=sand-speeds-1.5e9 PLATEAU_DESIGN_PATH="$CAL/sand-speeds-1.5e9.toml" \
     PLATEAU_OUT=results/sand-verification PLATEAU_FILE=sand-speeds-1.5e9 PLATEAU_RANKS=2 \

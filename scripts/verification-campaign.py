@@ -37,6 +37,17 @@ run.x_impact_frac), on the verification's first bed (replica seed 0); LAB.csv is
 cylinder state scaled by 0.5-1.5 at three positions, the states on which the fifth bed's force loop
 stopped at 8.1x its floor, now on the plateau bed's calibrated grains (fixed here before any run).
 
+With --bed-length-m L the beds are L long instead of the sampled campaign's length (bed.Lx_m,
+else the decks' default of liggghts-inputs/common/grain-defaults.in), and every position keeps its
+distance from the back wall (x_impact_frac scaled by the old length over L): the block lands where
+it landed in the calibration (with --states-from: in the other campaign, whose own length counts)
+and has the difference in length more room ahead. scripts/dem-lanes.sh gives
+1.5 m to all three designs (fixed on 2026-11-29, before any of their impacts, from the geometry
+alone: at the calibration state the cylinder travelled 0.37-0.60 m from release to the end of its
+run on the 1.0 m slab, and sandv00-p02 at x 0.32 stopped at the end wall; the lab's V_in^x reaches
+1.11 x, the speed states 1.5 x, that state's, and T13 and T15 reached the end wall in every earlier
+blind run).
+
 With --sets the script prints the calibrated grains' bed.* and block.* settings instead, one
 SECTION.NAME=VALUE per line (the sampled campaign's [bed] and [block], the calibrated values, the
 ties), for `ricochet dem drop --set`: scripts/plateau-drop.sh drops the sphere on the same grains
@@ -71,6 +82,20 @@ def read_lab(path: str) -> list:
     return [r.split(",")[:5] for r in rows[1:]]
 
 
+def deck_bed_length_m() -> float:
+    """The decks' default bed length: `variable Lx_m index VALUE` in grain-defaults.in."""
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "liggghts-inputs",
+                        "common", "grain-defaults.in")
+    try:
+        for line in open(path, encoding="utf-8"):
+            f = line.split()
+            if f[:3] == ["variable", "Lx_m", "index"]:
+                return float(f[3])
+    except (OSError, ValueError, IndexError) as e:
+        fail(path, f"no default bed length ({e})")
+    fail(path, "no `variable Lx_m index` line")
+
+
 def toml_value(v) -> str:
     if isinstance(v, str):
         return json.dumps(v)
@@ -92,6 +117,7 @@ def main(argv: list) -> int:
     ap.add_argument("--blind-triangles", action="store_true")
     ap.add_argument("--states-from", metavar="DESIGN.toml")
     ap.add_argument("--sets", action="store_true")
+    ap.add_argument("--bed-length-m", type=float)
     a = ap.parse_args(argv)
     if a.states_from and a.blind_triangles:
         fail("--states-from", "and --blind-triangles are two different designs: give one")
@@ -99,6 +125,8 @@ def main(argv: list) -> int:
         fail("LAB.csv", "missing (needed unless --states-from)")
     if not a.sets and (not a.name or not a.out):
         fail("--name/--out", "both are required (unless --sets)")
+    if a.bed_length_m is not None and not 0.3 <= a.bed_length_m <= 5.0:
+        fail("--bed-length-m", f"{a.bed_length_m} is outside [0.3, 5] m")
     if a.beds < 1:
         fail("--beds", "expects at least 1")
     try:
@@ -127,19 +155,28 @@ def main(argv: list) -> int:
             for k, v in sorted(tables[section].items()):
                 print(f"{section}.{k}={v}")
         return 0
+    scale = 1.0  # x_impact_frac multiplier that keeps the distance from the back wall
+    if a.bed_length_m is not None:
+        scale = float(tables["bed"].get("Lx_m", deck_bed_length_m())) / a.bed_length_m
+        tables["bed"]["Lx_m"] = a.bed_length_m
     positions = design.get("vary", {}).get("run.x_impact_frac")
     if positions:
-        tables["run"]["x_impact_frac"] = positions[0]
+        tables["run"]["x_impact_frac"] = round(positions[0] * scale, 6)
     states = None
     if a.states_from:
         try:
-            other = tomllib.load(open(a.states_from, "rb")).get("design", {})
+            source = tomllib.load(open(a.states_from, "rb"))
+            other = source.get("design", {})
         except (OSError, tomllib.TOMLDecodeError) as e:
             fail(a.states_from, str(e))
         if not other.get("incident"):
             fail(a.states_from, "no [design] incident list")
+        # Its positions are fractions of its own bed's length.
+        if a.bed_length_m is not None:
+            scale = float(source.get("bed", {}).get("Lx_m", deck_bed_length_m())) / a.bed_length_m
         states = {"shape": other.get("shape", "cylinder"), "incident": other["incident"],
-                  "positions": other.get("vary", {}).get("run.x_impact_frac")}
+                  "positions": [round(x * scale, 6) for x in
+                                other.get("vary", {}).get("run.x_impact_frac", [])]}
         if states["positions"]:
             tables["run"].pop("x_impact_frac", None)
     lab = read_lab(a.lab) if not states else []

@@ -3,7 +3,8 @@
 // every lab state once, release k on the bed of replica seed k mod 3, the calibrated grains (and
 // the tied parameter its source's value), the sampled campaign's stiffness, window and first
 // position; with --blind-triangles, the blind triangle check on the same grains; with --states-from,
-// the same grains at another campaign's states and positions (issue 33); with --sets, the same
+// the same grains at another campaign's states and positions (issue 33), also on a longer bed
+// with every landing point kept; with --sets, the same
 // grains as the sphere drop's --set assignments (issue 33's Katsuragi-Durian drop on that bed). And
 // a calibrated parameter the campaign did not sample is refused, naming the file.
 #include <gtest/gtest.h>
@@ -109,6 +110,21 @@ TEST(VerificationCampaign, EveryLabStateOnThreeBedsOfTheCalibratedGrains) {
     EXPECT_DOUBLE_EQ(std::stod(s.params.bed.at("E_grain_Pa")), 1.5e9);
     EXPECT_DOUBLE_EQ(std::stod(s.params.bed.at("mu_gg")), 0.6123);
   }
+  // --bed-length-m: a longer bed, every block landing at the same distance from the back wall.
+  ASSERT_EQ(run_script(dir / "cal.json", dir / "long.toml", dir / "err", "cylinders.csv",
+                       " --states-from " + speeds + " --bed-length-m 1.5"),
+            0);
+  const CampaignDesign l = read_campaign_design((dir / "long.toml").string(), test::decks());
+  ASSERT_EQ(l.impacts.size(), source.impacts.size());
+  for (std::size_t k = 0; k < l.impacts.size(); ++k) {
+    EXPECT_DOUBLE_EQ(std::stod(l.impacts[k].params.bed.at("Lx_m")), 1.5);
+    EXPECT_NEAR(1.5 * std::stod(l.impacts[k].params.run.at("x_impact_frac")),
+                1.0 * std::stod(source.impacts[k].params.run.at("x_impact_frac")), 1e-5)
+        << k;
+  }
+  EXPECT_EQ(run_script(dir / "cal.json", dir / "short.toml", dir / "err", "cylinders.csv",
+                       " --bed-length-m 0.1"),
+            2);
   std::ofstream(dir / "bad.json") << R"({"calibrated": {"bed.H_m": 0.3}})";
   EXPECT_EQ(run_script(dir / "bad.json", dir / "bad.toml", dir / "err"), 2);
   std::ifstream err(dir / "err");
