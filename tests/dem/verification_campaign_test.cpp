@@ -43,16 +43,22 @@ int run_script(const fs::path& json, const fs::path& out, const fs::path& err,
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-TEST(VerificationCampaign, EveryLabStateOnThreeBedsOfTheCalibratedGrains) {
+// A fresh folder holding cal.json, a calibration of the six sampled parameters.
+fs::path calibration_folder(const std::string& prefix) {
   // python3 is a required package (scripts/packages.txt); Debian 12's 3.11 has tomllib.
-  ASSERT_EQ(std::system("python3 -c 'import tomllib' 2> /dev/null"), 0)
+  EXPECT_EQ(std::system("python3 -c 'import tomllib' 2> /dev/null"), 0)
       << "the script needs python3 >= 3.11 (tomllib)";
-  const fs::path dir = fs::temp_directory_path() / ("dem-verify-" + std::to_string(::getpid()));
+  const fs::path dir = fs::temp_directory_path() / (prefix + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   std::ofstream(dir / "cal.json")
       << R"({"calibrated": {"bed.mu_gg": 0.612345, "bed.mur_gg": 0.31, "block.mu_gb": 0.52,
            "bed.e_gg": 0.71, "block.e_gb": 0.64, "bed.mu_pour": 0.2}})";
+  return dir;
+}
+
+TEST(VerificationCampaign, EveryLabStateOnThreeBedsOfTheCalibratedGrains) {
+  const fs::path dir = calibration_folder("dem-verify-");
   ASSERT_EQ(run_script(dir / "cal.json", dir / "design.toml", dir / "err"), 0);
   const CampaignDesign d = read_campaign_design((dir / "design.toml").string(), test::decks());
   const ImpactSet lab = read_impact_set(kSource + "/data/lab/cylinders.csv");
@@ -138,13 +144,7 @@ TEST(VerificationCampaign, EveryLabStateOnThreeBedsOfTheCalibratedGrains) {
 // is accepted by the drop's own parser and carries the calibrated value (4 digits), the tie and
 // the sampled campaign's stiffness.
 TEST(VerificationCampaign, TheCalibratedGrainsAsTheDropsSetAssignments) {
-  ASSERT_EQ(std::system("python3 -c 'import tomllib' 2> /dev/null"), 0);
-  const fs::path dir = fs::temp_directory_path() / ("dem-sets-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  std::ofstream(dir / "cal.json")
-      << R"({"calibrated": {"bed.mu_gg": 0.612345, "bed.mur_gg": 0.31, "block.mu_gb": 0.52,
-           "bed.e_gg": 0.71, "block.e_gb": 0.64, "bed.mu_pour": 0.2}})";
+  const fs::path dir = calibration_folder("dem-sets-");
   const std::string cmd = "python3 " + kSource + "/scripts/verification-campaign.py " + kSource +
                           "/liggghts-inputs/campaigns/sand-calibration-1.5e9.toml " +
                           (dir / "cal.json").string() + " --sets > " + (dir / "sets").string();
