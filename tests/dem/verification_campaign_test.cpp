@@ -2,11 +2,11 @@
 // campaign reader as the plan asks (docs/resolved-model.md, "Recalibration with what sand has"):
 // every lab state once, release k on the bed of replica seed k mod 3, the calibrated grains (and
 // the tied parameter its source's value), the sampled campaign's stiffness, window and first
-// position; with --blind-triangles, the blind triangle check on the same grains; with --states-from,
-// the same grains at another campaign's states and positions (issue 33), also on a longer bed
-// with every landing point kept; with --sets, the same
-// grains as the sphere drop's --set assignments (issue 33's Katsuragi-Durian drop on that bed). And
-// a calibrated parameter the campaign did not sample is refused, naming the file.
+// position; with --blind-triangles, the blind triangle check on the same grains; with
+// --states-from, the same grains at another campaign's states and positions (issue 33), also on a
+// longer bed with every landing point kept; with --sets, the same grains as the sphere drop's --set
+// assignments (issue 33's Katsuragi-Durian drop on that bed). And a calibrated parameter the
+// campaign did not sample is refused, naming the file.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
