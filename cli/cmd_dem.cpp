@@ -10,6 +10,7 @@
 #include <memory>
 #include <numbers>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -340,11 +341,56 @@ struct CampaignOptions {
   std::string vtk;
   long vtk_every = dem::kDefaultVtkEvery;
   bool no_picture = false;
+  bool dry_run = false;
 };
+
+// --dry-run: what a run would do (dem::plan_campaign), printed by rank 0; nothing runs.
+void print_campaign_plan(const CampaignOptions& o, const dem::CampaignDesign& design,
+                         const dem::Decks& decks) {
+  const auto plan = dem::plan_campaign(design, decks, o.output.out);
+  std::set<std::string> beds, to_build;
+  std::size_t to_run = 0;
+  for (const auto& p : plan) {
+    beds.insert(p.bed_key);
+    if (!p.status.empty()) continue;
+    ++to_run;
+    if (!p.bed_cached) to_build.insert(p.bed_key);
+  }
+  if (o.output.json) {
+    json list = json::array();
+    for (const auto& p : plan)
+      list.push_back({{"id", p.id},
+                      {"bed_key", p.bed_key},
+                      {"bed_cached", p.bed_cached},
+                      {"status", p.status.empty() ? json(nullptr) : json(p.status)}});
+    print_json({{"design", design.source},
+                {"name", design.name},
+                {"out", o.output.out},
+                {"cache_dir", design.cache_dir},
+                {"impacts", list},
+                {"beds", beds.size()},
+                {"to_run", to_run},
+                {"beds_to_build", to_build.size()}});
+    return;
+  }
+  std::cout << fmt::format("campaign {} ({}): {} impacts on {} beds, cache {}\n", design.name,
+                           design.source, plan.size(), beds.size(), design.cache_dir);
+  for (const auto& p : plan)
+    std::cout << fmt::format("  {:<40} bed {} {:<10} {}\n", p.id, p.bed_key,
+                             p.bed_cached ? "cached" : "to build",
+                             p.status.empty() ? "to run" : p.status);
+  std::cout << fmt::format(
+      "to run: {} impacts, {} beds to build{}\n", to_run, to_build.size(),
+      o.output.out.empty() ? " (no --out: every impact counted as to run)" : "");
+}
 
 void run_campaign_command_on_rank(const CampaignOptions& o, const MpiSession& mpi) {
   const auto decks = dem::Decks::locate(o.decks);
   const auto design = dem::read_campaign_design(o.design, decks);
+  if (o.dry_run) {
+    if (mpi.rank() == 0) print_campaign_plan(o, design, decks);
+    return;
+  }
   if (o.output.out.empty())
     throw InputError("<command line>", 0, "--out", "a campaign needs --out FILE.h5 (resumable)");
   require_extension("--out", o.output.out, {".h5", ".hdf5"});
@@ -463,6 +509,9 @@ void add_dem_command(CLI::App& app) {
   c->add_flag("--retry-crashed", camp->retry, "Rerun impacts that were running when a run died");
   add_output_options(c, camp->output, JsonOut::kRefused);
   add_vtk_options(c, camp->vtk, camp->vtk_every, " (one folder per impact: DIR/ID/)");
+  c->add_flag("--dry-run", camp->dry_run,
+              "Run nothing: list each impact's bed (cached or to build) and whether --out FILE "
+              "already has it");
   c->add_flag("--no-picture", camp->no_picture,
               "Do not store the picture of the first impact (/dem/snapshot; drawn by report and "
               "upscale --figures)");

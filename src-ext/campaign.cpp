@@ -38,6 +38,27 @@ std::string last_error(const std::string& dir) {
 }
 }  // namespace
 
+std::vector<PlannedImpact> plan_campaign(const CampaignDesign& design, const Decks& decks,
+                                         const std::string& out) {
+  std::map<std::string, std::string> done;
+  for (const auto& e : read_campaign_index(out)) done[e.id] = e.status;
+  std::map<std::string, bool> cached;  // one look at the cache per bed
+  std::vector<PlannedImpact> plan;
+  for (const ImpactSpec& spec : design.impacts) {
+    PlannedImpact p;
+    p.id = spec.id;
+    p.bed_key = bed_key(decks, bed_overrides(spec));
+    const auto c = cached.find(p.bed_key);
+    p.bed_cached = c != cached.end()
+                       ? c->second
+                       : (cached[p.bed_key] = bed_cached(design.cache_dir, p.bed_key));
+    const auto d = done.find(spec.id);
+    if (d != done.end()) p.status = d->second;
+    plan.push_back(std::move(p));
+  }
+  return plan;
+}
+
 CampaignSummary run_campaign(const CampaignDesign& design, const Decks& decks,
                              const CampaignOptions& options, MPI_Comm world) {
   const auto start = std::chrono::steady_clock::now();

@@ -35,6 +35,21 @@ struct CampaignSummary {
   double wall_s = 0;
 };
 
+/// One impact of a design as a dry run sees it (plan_campaign).
+struct PlannedImpact {
+  std::string id;
+  std::string bed_key;      ///< its bed's cache key (bed.hpp)
+  bool bed_cached = false;  ///< the design's cache_dir holds that bed
+  std::string status;       ///< its status in the campaign file; empty: still to run
+};
+
+/// What run_campaign would do with `design` and the campaign file `out` (which need not exist),
+/// without running anything: every impact in design order with its bed, whether the cache holds
+/// the bed, and whether the file already has the impact (read under the file's shared lock, so a
+/// running campaign's file can be planned against). `ricochet dem campaign --dry-run`.
+std::vector<PlannedImpact> plan_campaign(const CampaignDesign& design, const Decks& decks,
+                                         const std::string& out);
+
 /// Runs the pending impacts of `design` on `world` (collective) and returns the summary.
 CampaignSummary run_campaign(const CampaignDesign& design, const Decks& decks,
                              const CampaignOptions& options, MPI_Comm world);

@@ -281,6 +281,31 @@ TEST(DemCampaign, TwoGroupsBuildTheWavesBedsBeforeItsImpactsAndCachedBedsGoFirst
       "[[impact]]\nid = \"again-on-bed-0\"\nvin = [3.1, -2.2, -60.0]\nseed = 0\n"
       "[[impact]]\nid = \"on-bed-2\"\nvin = [2.9, -2.3, -65.0]\nseed = 2\n";
   std::ofstream(work / "second.toml") << second;
+  // --dry-run says so before anything runs: the first file has both of its impacts, and of the
+  // second campaign's two beds one is cached, one to build.
+  const std::string dry = std::string(RICOCHET_BIN) + " dem campaign --dry-run --json --decks " +
+                          RICOCHET_SOURCE_DIR + "/liggghts-inputs ";
+  const auto [drc, dtext] = shell(dry + design + " --out " + out);
+  ASSERT_EQ(drc, 0) << dtext;
+  const auto first_plan = nlohmann::json::parse(dtext);
+  EXPECT_EQ(first_plan["to_run"], 0);
+  EXPECT_EQ(first_plan["beds"], 2);
+  for (const auto& p : first_plan["impacts"]) {
+    EXPECT_EQ(p["status"], "rebound") << p;
+    EXPECT_TRUE(p["bed_cached"].get<bool>()) << p;
+  }
+  const auto [drc2, dtext2] =
+      shell(dry + (work / "second.toml").string() + " --out " + (work / "second.h5").string());
+  ASSERT_EQ(drc2, 0) << dtext2;
+  const auto second_plan = nlohmann::json::parse(dtext2);
+  EXPECT_EQ(second_plan["to_run"], 2);
+  EXPECT_EQ(second_plan["beds_to_build"], 1);
+  ASSERT_EQ(second_plan["impacts"].size(), 2u);
+  EXPECT_TRUE(second_plan["impacts"][0]["bed_cached"].get<bool>());
+  EXPECT_FALSE(second_plan["impacts"][1]["bed_cached"].get<bool>());
+  EXPECT_EQ(second_plan["impacts"][0]["bed_key"], first_plan["impacts"][0]["bed_key"]);
+  EXPECT_TRUE(second_plan["impacts"][1]["status"].is_null());
+  EXPECT_FALSE(fs::exists(work / "second.h5"));  // a dry run writes nothing
   const auto [rc2, log2] =
       shell("timeout 540 " + mpirun(2) + RICOCHET_BIN + " dem campaign " +
             (work / "second.toml").string() + " --decks " + RICOCHET_SOURCE_DIR +
