@@ -31,7 +31,7 @@ struct UpscaleCliOptions {
   std::string campaign;
   ModelOptions model;
   std::vector<std::string> by;
-  std::string where, lab, figures, decks;
+  std::string where, lab, lab_where, figures, decks;
   /// --lab-noise: the lab's measurement noise on V_out (m/s, m/s, rad/s), added to the resolved
   /// values before the KS test (stats::ks_with_measurement_noise); empty = not done.
   std::vector<double> lab_noise;
@@ -136,6 +136,10 @@ LabGapText add_lab_gap(const UpscaleCliOptions& o, const dem::UpscaleResult& r,
   j["gap_to_lab"] = gap;
   j["lab_checks"] = stats::checks_json(lab_gap);
   text.lab = stats::to_text(lab_gap);
+  if (!o.lab_where.empty())
+    text.lab =
+        fmt::format("  lab: the {} releases of {} that match --lab-where\n", lab.size(), o.lab) +
+        text.lab;
   nlohmann::json params;
   if (!r.impacts.empty())
     for (std::size_t c : r.impacts.front().fit.calibrated) {
@@ -202,9 +206,12 @@ void run(const UpscaleCliOptions& o) {
   u.fit.intervals = !o.no_intervals;
   if (!o.lab_noise.empty() && o.lab.empty())
     throw InputError("<command line>", 0, "--lab-noise", "needs --lab (the lab set it models)");
+  if (!o.lab_where.empty() && o.lab.empty())
+    throw InputError("<command line>", 0, "--lab-where", "needs --lab (the lab set it filters)");
   std::unique_ptr<ImpactSet> lab;
   if (!o.lab.empty())
-    lab = std::make_unique<ImpactSet>(fit::select_shape(read_impact_set(o.lab), shape));
+    lab = std::make_unique<ImpactSet>(fit::select_shape(
+        filter_nonempty(read_impact_set(o.lab), o.lab_where, o.lab, "--lab-where"), shape));
   u.lab = lab.get();
   const dem::UpscaleResult r = dem::upscale(o.campaign, decks, model, shape, u);
 
@@ -214,6 +221,7 @@ void run(const UpscaleCliOptions& o) {
 
   nlohmann::json j = result_json(r);
   j["figures"] = figures;
+  j["lab_where"] = o.lab_where;
   std::optional<LabGapText> lab_text;
   if (lab) lab_text = add_lab_gap(o, r, *lab, shape, j);
   if (o.output.json) {
@@ -236,8 +244,8 @@ void add_upscale_command(CLI::App& app) {
   sub->add_option("--by", o->by,
                   "Grain-scale parameters defining the groups, e.g. bed.E_grain_Pa (default: those "
                   "that vary)");
-  // Not applied to --lab: a campaign's filter may name its own columns (grain parameters,
-  // resolved-only extras) that lab data do not have.
+  // Not applied to --lab (--lab-where is): a campaign's filter may name its own columns (grain
+  // parameters, resolved-only extras) that lab data do not have.
   add_where_option(sub, o->where, "the campaign's impacts");
   sub->add_option("--lab", o->lab,
                   "Lab impact set to compare V_out with (e.g. data/lab/cylinders.csv)");
@@ -248,6 +256,9 @@ void add_upscale_command(CLI::App& app) {
       ->expected(3)
       ->delimiter(',');
   check_range(sub, "--lab-noise", 0, 1e3);
+  sub->add_option("--lab-where", o->lab_where,
+                  "Keep only the releases of --lab matching EXPR (docs/impact-sets.md, Filters), "
+                  "e.g. the held-out half of a split; --where filters the campaign");
   sub->add_option("--lab-noise-draws", o->lab_noise_draws, "Noise draws of --lab-noise")
       ->capture_default_str();
   check_range(sub, "--lab-noise-draws", 1, 1e6);

@@ -162,5 +162,34 @@ TEST_F(SharedOptions, LabWhereSelectsTheTarget) {
   }
 }
 
+// upscale's --lab-where filters the lab it compares with (a held-out check compares a half with the
+// same half), not the campaign: the lab's mean is `stats --where`'s, the campaign keeps its 28
+// impacts, and the release-by-release pairs are the half's.
+TEST_F(SharedOptions, UpscaleLabWhereSelectsTheLabHalf) {
+  if (!test::program_has_liggghts()) GTEST_SKIP() << "upscale needs LIGGGHTS";
+  const std::string upscale = "upscale " +
+                              quote(std::string(RICOCHET_SOURCE_DIR) +
+                                    "/data/resolved/lab-cylinders-default-calibrated-ground.h5") +
+                              " --no-intervals --lab " + kCyl;
+  const std::string where = "id!=C01 && id!=C03 && id!=C05 && id!=C06 && id!=C10";
+  const auto json = [&](const std::string& args) {
+    const test::RunResult r = ricochet(args + " --json");
+    EXPECT_EQ(r.status, 0) << args << "\n" << r.err;
+    return r.status == 0 ? nlohmann::json::parse(r.out) : nlohmann::json::object();
+  };
+  const auto half = json(upscale + " --lab-where \"" + where + "\"");
+  const auto all = json(upscale);
+  const auto stats = json("stats " + kCyl + " --where \"" + where + "\"");
+  ASSERT_TRUE(half.contains("gap_to_lab") && all.contains("gap_to_lab"));
+  EXPECT_EQ(half["lab_where"], where);
+  EXPECT_EQ(half["impacts"].size(), all["impacts"].size());
+  EXPECT_EQ(half["lab_checks"]["lab_residuals"]["n"], stats["n"]);
+  EXPECT_EQ(all["lab_checks"]["lab_residuals"]["n"], 28);
+  for (const char* c : {"vout_x", "vout_y", "wout"})
+    EXPECT_NEAR(half["gap_to_lab"][c]["lab_mean"].get<double>(),
+                stats["columns"][c]["mean"].get<double>(), 1e-12)
+        << c;
+}
+
 }  // namespace
 }  // namespace ricochet
