@@ -6,6 +6,7 @@
 #include <iostream>
 #include <list>
 #include <memory>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -15,6 +16,7 @@
 #include "diagnosis/validation_report.hpp"
 #include "diagnosis_options.hpp"
 #include "fit/fit.hpp"
+#include "impact/release_index.hpp"
 #include "model_options.hpp"
 #include "shared_options.hpp"
 
@@ -26,12 +28,32 @@ struct ReportCliOptions {
   std::vector<std::string> labels;
   std::vector<std::string> against;
   std::string where;
+  std::vector<std::string> data_where;  ///< one filter per DATA file ("" = none), after --where
   ModelOptions model;
   diagnosis::OptionValues values;
   OutputOptions output;
   diagnosis::ReportOptions report;  ///< --rounds, --title: their defaults are the library's
   bool shape_given = false;
 };
+
+// A set run at the lab's releases (every impact's id names one: a verification campaign, a half
+// of it under --data-where) is compared with those releases only, like with like; `lab` is cut to
+// them and true returned. Otherwise (a design of its own, synthetic data) `lab` stays whole.
+bool keep_matched_releases(ImpactSet& lab, const ImpactSet& set) {
+  const ReleaseIndex index(lab);
+  std::vector<char> used(lab.size(), 0);
+  for (const Impact& im : set.impacts) {
+    const auto r = index.find(im.id);
+    if (!r) return false;
+    used[*r] = 1;
+  }
+  if (set.empty()) return false;
+  std::vector<Impact> kept;
+  for (std::size_t i = 0; i < lab.size(); ++i)
+    if (used[i]) kept.push_back(lab.impacts[i]);
+  lab.impacts = std::move(kept);
+  return true;
+}
 
 void run(ReportCliOptions& o) {
   require_extension("--out", o.output.out, {".html", ".htm"});
@@ -46,6 +68,10 @@ void run(ReportCliOptions& o) {
   if (!o.labels.empty() && o.labels.size() != o.data.size())
     throw InputError("<command line>", 0, "--label",
                      "give one label per DATA file (" + std::to_string(o.data.size()) + ")");
+  if (!o.data_where.empty() && o.data_where.size() != o.data.size())
+    throw InputError(
+        "<command line>", 0, "--data-where",
+        "give one filter per DATA file (" + std::to_string(o.data.size()) + "; \"\" for none)");
   const Model model = o.model.build_model();
 
   // --against: the measured sets each input of the same shape is compared with.
@@ -54,7 +80,9 @@ void run(ReportCliOptions& o) {
   std::list<ImpactSet> lab_subsets;  // one per (lab, shape) used: stable addresses for inputs
   std::vector<diagnosis::ReportInput> inputs;
   for (std::size_t f = 0; f < o.data.size(); ++f) {
-    const ImpactSet all = filter_nonempty(read_impact_set(o.data[f]), o.where, o.data[f]);
+    const ImpactSet all =
+        filter_nonempty(filter_nonempty(read_impact_set(o.data[f]), o.where, o.data[f]),
+                        o.data_where.empty() ? "" : o.data_where[f], o.data[f], "--data-where");
     const std::vector<std::string> shapes =
         diagnosis::shapes_to_analyse(all, o.shape_given ? o.model.shape : "");
     for (const auto& sh : shapes) {
@@ -70,6 +98,7 @@ void run(ReportCliOptions& o) {
         if (std::filesystem::equivalent(path, o.data[f])) continue;  // the lab itself
         ImpactSet same = lab.with_shape(in.shape.name);
         if (same.empty()) continue;
+        in.lab_matched = keep_matched_releases(same, in.set);
         in.lab = &lab_subsets.emplace_back(std::move(same));
         in.lab_data = path;
         break;
@@ -104,6 +133,9 @@ void add_report_command(CLI::App& app) {
                   "compared with: means, KS, robust, without the lab's gross errors (repeatable)")
       ->check(CLI::ExistingFile);
   add_where_option(sub, o->where, "the releases of each DATA");
+  sub->add_option("--data-where", o->data_where,
+                  "A filter per DATA file, in order (\"\" for none), after --where: e.g. the same "
+                  "campaign twice, its held-out and its calibration half (repeatable)");
   add_model_options(sub, o->model);
   sub->add_option("--rounds", o->report.rounds,
                   "Effects the automatic ladder may add (rounds of diagnosis after the first)")

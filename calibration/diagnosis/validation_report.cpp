@@ -135,7 +135,8 @@ std::string headline_of(const ReportSection& s) {
 }
 
 // One sentence: the set against the lab, on every release and without the lab's gross errors.
-std::string lab_sentence_of(const stats::LabGap& g, const std::string& lab_data, std::size_t n) {
+std::string lab_sentence_of(const stats::LabGap& g, const std::string& lab_data, std::size_t n,
+                            bool matched) {
   std::string all, core, ks_all, ks_core;
   std::size_t n_core = n;
   for (std::size_t k = 0; k < 3; ++k) {
@@ -151,8 +152,8 @@ std::string lab_sentence_of(const stats::LabGap& g, const std::string& lab_data,
     }
   }
   std::string out =
-      fmt::format("Against the lab ({}, {} releases): mean gaps in lab sd {}; two-sample KS p {}",
-                  lab_data, n, all, ks_all);
+      fmt::format("Against the lab ({}, {} releases{}): mean gaps in lab sd {}; two-sample KS p {}",
+                  lab_data, n, matched ? ": those this set was run at" : "", all, ks_all);
   if (!core.empty())
     out +=
         fmt::format(". Against its {} releases without gross errors: gaps in their sd {}; KS p {}",
@@ -413,7 +414,7 @@ std::vector<ReportSection> analyse(const std::vector<ReportInput>& inputs, const
       stats::LabGapOptions g;
       if (in.shape.is_disc()) g.disc_radius_m = in.shape.rounding_radius_m;
       s.lab_gap = stats::lab_gap(in.set, *in.lab, g);
-      s.lab_sentence = lab_sentence_of(*s.lab_gap, in.lab_data, in.lab->size());
+      s.lab_sentence = lab_sentence_of(*s.lab_gap, in.lab_data, in.lab->size(), in.lab_matched);
     }
     out.push_back(std::move(s));
   }
@@ -543,6 +544,8 @@ nlohmann::json to_json(const std::vector<ReportSection>& sections) {
       nlohmann::json c;
       for (const auto& g : s.lab_gap->components) c[g.name] = stats::to_json(g);
       j["against_lab"] = {{"data", s.input.lab_data},
+                          {"releases", s.input.lab->size()},
+                          {"matched_releases", s.input.lab_matched},
                           {"sentence", s.lab_sentence},
                           {"components", c},
                           {"checks", stats::checks_json(*s.lab_gap)}};

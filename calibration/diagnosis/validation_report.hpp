@@ -27,6 +27,9 @@ struct ReportInput {
   /// campaign against the lab. Not owned; empty lab_data = none.
   const ImpactSet* lab = nullptr;
   std::string lab_data;
+  /// `lab` holds only the releases this set was run at (every impact's id names one of lab_data's
+  /// releases, impact/release_index.hpp), not the whole file.
+  bool lab_matched = false;
 };
 
 struct ReportOptions {

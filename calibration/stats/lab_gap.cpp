@@ -7,6 +7,8 @@
 
 #include <fmt/format.h>
 
+#include "impact/release_index.hpp"
+
 namespace ricochet::stats {
 namespace {
 
@@ -32,19 +34,14 @@ constexpr std::array<std::array<std::size_t, 2>, 3> kPairs = {{{0, 1}, {0, 2}, {
 }  // namespace
 
 std::optional<PairedResiduals> paired_residuals(const ImpactSet& model, const ImpactSet& measured) {
-  std::map<std::string, std::size_t> release;
-  for (std::size_t i = 0; i < measured.size(); ++i) release[measured.impacts[i].id] = i;
+  const ReleaseIndex release(measured);
   std::vector<Vel3> sum(measured.size(), Vel3{0, 0, 0});
   std::vector<std::size_t> count(measured.size(), 0);
   for (const auto& im : model.impacts) {
-    // The id itself, else the longest prefix that ends before a '-'.
-    auto it = release.find(im.id);
-    for (auto dash = im.id.rfind('-'); it == release.end() && dash != std::string::npos && dash > 0;
-         dash = im.id.rfind('-', dash - 1))
-      it = release.find(im.id.substr(0, dash));
-    if (it == release.end()) continue;
-    for (std::size_t k = 0; k < 3; ++k) sum[it->second][k] += im.vout[k];
-    ++count[it->second];
+    const auto r = release.find(im.id);
+    if (!r) continue;
+    for (std::size_t k = 0; k < 3; ++k) sum[*r][k] += im.vout[k];
+    ++count[*r];
   }
   std::array<std::vector<double>, 3> res, lab, mod;
   for (std::size_t i = 0; i < measured.size(); ++i)

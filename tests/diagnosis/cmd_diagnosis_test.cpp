@@ -350,6 +350,59 @@ TEST_F(CmdDiagnosis, ReportComparesEachSetWithTheLabOfItsShape) {
   EXPECT_NE(page.find(a["sentence"].get<std::string>().substr(0, 40)), std::string::npos);
 }
 
+// A set run at lab releases (its ids name them: "C01-s0" was run at C01) is compared with those
+// releases only, like with like; --data-where gives the same file twice as two halves, each
+// compared with its own half of the lab. Ten of the lab's cylinders, V_out^x raised by 0.3 m/s.
+TEST_F(CmdDiagnosis, ReportComparesACampaignRunAtLabReleasesWithThoseReleases) {
+  std::ifstream in(kLab + "cylinders.csv");
+  std::ofstream out(dir_ / "run-at-lab.csv");
+  std::vector<double> lab_vx;
+  int rows = 0;
+  for (std::string line; std::getline(in, line) && rows < 10;) {
+    if (line.empty() || line[0] == '#' || line.rfind("id,", 0) == 0) {
+      out << line << "\n";
+      continue;
+    }
+    std::vector<std::string> cell;
+    std::stringstream ss(line);
+    for (std::string c; std::getline(ss, c, ',');) cell.push_back(c);
+    lab_vx.push_back(std::stod(cell[5]));
+    cell[0] += "-s0";
+    cell[5] = std::to_string(std::stod(cell[5]) + 0.3);
+    for (std::size_t k = 0; k < cell.size(); ++k) out << (k ? "," : "") << cell[k];
+    out << "\n";
+    ++rows;
+  }
+  out.close();
+  const std::string data = quote((dir_ / "run-at-lab.csv").string());
+  const RunResult r = ricochet("report " + data + " " + data + " --data-where \"vin_x<2.9\" " +
+                               "--data-where \"\" --against " + quote(kLab + "cylinders.csv") +
+                               " --rounds 0 --folds 3 --no-intervals --json " + "--out " +
+                               quote((dir_ / "matched.html").string()));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto doc = nlohmann::json::parse(r.out);
+  ASSERT_EQ(doc["sets"].size(), 2u);
+  const auto& whole = doc["sets"][1]["against_lab"];
+  EXPECT_TRUE(whole["matched_releases"].get<bool>());
+  EXPECT_EQ(whole["releases"], 10);
+  double mean = 0;
+  for (double v : lab_vx) mean += v / static_cast<double>(lab_vx.size());
+  EXPECT_NEAR(whole["components"]["vout_x"]["lab_mean"].get<double>(), mean, 1e-9);
+  EXPECT_NEAR(whole["components"]["vout_x"]["difference"].get<double>(), 0.3, 1e-6);
+  EXPECT_NE(whole["sentence"].get<std::string>().find("10 releases: those this set was run at"),
+            std::string::npos)
+      << whole["sentence"];
+  const auto& half = doc["sets"][0]["against_lab"];
+  EXPECT_LT(half["releases"].get<int>(), 10);
+  EXPECT_GT(half["releases"].get<int>(), 0);
+  EXPECT_NEAR(half["components"]["vout_x"]["difference"].get<double>(), 0.3, 1e-6);
+  // A filter per DATA file or none: a count that does not match is refused.
+  const RunResult bad = ricochet("report " + data + " " + data + " --data-where \"vin_x<2.9\" " +
+                                 "--out " + quote((dir_ / "bad.html").string()));
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("'--data-where'"), std::string::npos) << bad.err;
+}
+
 // A set whose declared uncertainties are tiny (a LIGGGHTS campaign: the reconstruction's
 // standard errors) misses its floor by thousands: the headline gives that ratio without
 // meaningless decimals and the numbers behind it, with the model-free yardstick (how much
@@ -409,7 +462,8 @@ TEST_F(CmdDiagnosis, ReportShowsOneResolvedImpactInTime) {
 // no histories: no force_law key.
 TEST_F(CmdDiagnosis, DiagnoseReportsTheForceLawOfACampaignsHistories) {
   const std::string resolved = std::string(RICOCHET_SOURCE_DIR) + "/data/resolved/lab-cylinders.h5";
-  const RunResult r = ricochet("diagnose " + quote(resolved) + " --folds 3 --repeats 1 --no-release-fits --no-pairs --json");
+  const RunResult r = ricochet("diagnose " + quote(resolved) +
+                               " --folds 3 --repeats 1 --no-release-fits --no-pairs --json");
   ASSERT_EQ(r.status, 0) << r.err;
   const auto doc = nlohmann::json::parse(r.out);
   ASSERT_TRUE(doc.contains("force_law")) << r.out.substr(0, 2000);
@@ -432,7 +486,8 @@ TEST_F(CmdDiagnosis, DiagnoseReportsTheForceLawOfACampaignsHistories) {
     }
   }
   EXPECT_TRUE(normal);
-  const RunResult text = ricochet("diagnose " + quote(resolved) + " --folds 3 --repeats 1 --no-release-fits --no-pairs");
+  const RunResult text = ricochet("diagnose " + quote(resolved) +
+                                  " --folds 3 --repeats 1 --no-release-fits --no-pairs");
   ASSERT_EQ(text.status, 0) << text.err;
   // --no-release-fits: the residual is taken at the population fit, and says so.
   EXPECT_NE(text.out.find("force law missing from the model (population fit), from the contact "

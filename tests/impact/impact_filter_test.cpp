@@ -6,6 +6,7 @@
 
 #include "common/error.hpp"
 #include "impact/impact_set.hpp"
+#include "impact/release_index.hpp"
 
 namespace ricochet {
 namespace {
@@ -122,6 +123,27 @@ TEST(ImpactFilter, MalformedFiltersNameTheTerm) {
   } catch (const InputError& e) {
     EXPECT_NE(e.detail().find("vin_x"), std::string::npos) << "should list known features";
   }
+}
+
+// A campaign impact names the release it was run at by its id, or by the longest prefix of its id
+// that ends before a '-'; a release whose own id has a '-' is found whole.
+TEST(ReleaseIndex, MatchesAnImpactToTheReleaseItWasRunAt) {
+  ImpactSet releases;
+  for (const char* id : {"C02", "C02-b", "T1"}) {
+    Impact im;
+    im.id = id;
+    releases.impacts.push_back(im);
+  }
+  const ReleaseIndex index(releases);
+  EXPECT_EQ(index.find("C02"), 0u);
+  EXPECT_EQ(index.find("C02-x_impact_frac0.26"), 0u);
+  EXPECT_EQ(index.find("C02-b"), 1u);        // the release's own id, not its prefix
+  EXPECT_EQ(index.find("C02-b-s1"), 1u);     // the longest prefix
+  EXPECT_EQ(index.find("T1-s0-extra"), 2u);  // prefixes tried from the longest down
+  EXPECT_FALSE(index.find("C0"));
+  EXPECT_FALSE(index.find("C021"));
+  EXPECT_FALSE(index.find("-C02"));
+  EXPECT_FALSE(index.find(""));
 }
 
 }  // namespace
