@@ -21,7 +21,15 @@ const std::string kCampaignPlateau =
 const std::string kCampaign =
     quote(std::string(RICOCHET_SOURCE_DIR) + "/data/resolved/convergence.h5");
 
-class SharedOptions : public test::ProgramTest {};
+class SharedOptions : public test::ProgramTest {
+ protected:
+  // The command's --json document; an empty object (and a failure) when it does not succeed.
+  nlohmann::json json(const std::string& args) {
+    const test::RunResult r = ricochet(args + " --json");
+    EXPECT_EQ(r.status, 0) << args << "\n" << r.err;
+    return r.status == 0 ? nlohmann::json::parse(r.out) : nlohmann::json::object();
+  }
+};
 
 // Every --vin: one parser, one message, exit status 2, nothing on stdout.
 TEST_F(SharedOptions, VinHasOneParserAndOneMessage) {
@@ -91,11 +99,6 @@ TEST_F(SharedOptions, WhereOnEveryCommandThatReadsAnImpactSet) {
 // And it filters: fewer releases with it than without, the same count everywhere.
 TEST_F(SharedOptions, WhereFilters) {
   const std::string where = " --where \"vin_x<3\"";
-  const auto json = [&](const std::string& args) {
-    const test::RunResult r = ricochet(args + " --json");
-    EXPECT_EQ(r.status, 0) << args << "\n" << r.err;
-    return r.status == 0 ? nlohmann::json::parse(r.out) : nlohmann::json::object();
-  };
   const std::size_t all = json("stats " + kCyl)["n"].get<std::size_t>();
   const std::size_t some = json("stats " + kCyl + where)["n"].get<std::size_t>();
   ASSERT_EQ(all, 28u);
@@ -138,11 +141,6 @@ TEST_F(SharedOptions, LabWhereSelectsTheTarget) {
       " --lab " + kCyl;
   if (!test::program_has_liggghts()) GTEST_SKIP() << "calibrate-grains needs LIGGGHTS";
   const std::string where = "id!=C02 && id!=C04 && id!=C07 && id!=C08 && vin_x<3.2";
-  const auto json = [&](const std::string& args) {
-    const test::RunResult r = ricochet(args + " --json");
-    EXPECT_EQ(r.status, 0) << args << "\n" << r.err;
-    return r.status == 0 ? nlohmann::json::parse(r.out) : nlohmann::json::object();
-  };
   const auto half = json(grains + " --lab-where \"" + where + "\"");
   const auto all = json(grains);
   const auto stats = json("stats " + kCyl + " --where \"" + where + "\"");
@@ -172,11 +170,6 @@ TEST_F(SharedOptions, UpscaleLabWhereSelectsTheLabHalf) {
                                     "/data/resolved/lab-cylinders-default-calibrated-ground.h5") +
                               " --no-intervals --lab " + kCyl;
   const std::string where = "id!=C01 && id!=C03 && id!=C05 && id!=C06 && id!=C10";
-  const auto json = [&](const std::string& args) {
-    const test::RunResult r = ricochet(args + " --json");
-    EXPECT_EQ(r.status, 0) << args << "\n" << r.err;
-    return r.status == 0 ? nlohmann::json::parse(r.out) : nlohmann::json::object();
-  };
   const auto half = json(upscale + " --lab-where \"" + where + "\"");
   const auto all = json(upscale);
   const auto stats = json("stats " + kCyl + " --where \"" + where + "\"");
