@@ -380,7 +380,8 @@ void print_campaign_plan(const CampaignOptions& o, const dem::CampaignDesign& de
                              p.bed_cached ? "cached" : "to build",
                              p.status.empty() ? "to run" : p.status);
   std::cout << fmt::format(
-      "to run: {} impacts, {} beds to build{}\n", to_run, to_build.size(),
+      "to run: {} impact{}, {} bed{} to build{}\n", to_run, to_run == 1 ? "" : "s", to_build.size(),
+      to_build.size() == 1 ? "" : "s",
       o.output.out.empty() ? " (no --out: every impact counted as to run)" : "");
 }
 
