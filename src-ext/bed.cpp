@@ -63,6 +63,14 @@ bool bed_cached(const std::string& cache_dir, const std::string& key) {
   return fs::exists(prefix + ".restart") && fs::exists(prefix + ".params");
 }
 
+bool bed_building(const std::string& cache_dir, const std::string& key) {
+  const int fd = ::open((bed_prefix(cache_dir, key) + ".lock").c_str(), O_RDONLY);
+  if (fd < 0) return false;  // never built here
+  const bool held = ::flock(fd, LOCK_SH | LOCK_NB) != 0;
+  ::close(fd);  // releases the shared lock if it was taken
+  return held;
+}
+
 BedFiles ensure_bed(const Decks& decks, const std::map<std::string, std::string>& bed_overrides,
                     const std::string& cache_dir, MPI_Comm comm, bool* built, double* wall_s) {
   const std::string key = bed_key(decks, bed_overrides);

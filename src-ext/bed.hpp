@@ -39,6 +39,10 @@ std::string bed_prefix(const std::string& cache_dir, const std::string& key);
 /// reuses it.
 bool bed_cached(const std::string& cache_dir, const std::string& key);
 
+/// Whether a process is building that bed now: ensure_bed holds PREFIX.lock exclusively from its
+/// cache check to the end of the build (a lock that cannot be shared at once).
+bool bed_building(const std::string& cache_dir, const std::string& key);
+
 /// The bed for `bed_overrides` in `cache_dir`: reused when cache_dir/bed-KEY.{restart,params}
 /// exist, otherwise built on `comm` (collective: every rank of comm calls it) with screen and log
 /// in cache_dir/bed-KEY.{screen,log}. `built` (optional) tells whether it was built now.

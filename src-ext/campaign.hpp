@@ -38,9 +38,10 @@ struct CampaignSummary {
 /// One impact of a design as a dry run sees it (plan_campaign).
 struct PlannedImpact {
   std::string id;
-  std::string bed_key;      ///< its bed's cache key (bed.hpp)
-  bool bed_cached = false;  ///< the design's cache_dir holds that bed
-  std::string status;       ///< its status in the campaign file; empty: still to run
+  std::string bed_key;        ///< its bed's cache key (bed.hpp)
+  bool bed_cached = false;    ///< the design's cache_dir holds that bed
+  bool bed_building = false;  ///< not cached, and a process is building it now (bed_building)
+  std::string status;         ///< its status in the campaign file; empty: still to run
 };
 
 /// What run_campaign would do with `design` and the campaign file `out` (which need not exist),

@@ -1,7 +1,10 @@
 // Deck parameters, bed cache keys and campaign designs: read from the decks themselves, checked
 // with errors that name file, line and key.
+#include <fcntl.h>
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <sys/file.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -10,6 +13,7 @@
 #include <set>
 #include <sstream>
 
+#include "bed.hpp"
 #include "campaign.hpp"
 #include "common/error.hpp"
 #include "dem_support.hpp"
@@ -108,6 +112,27 @@ TEST(BedKey, CanonicalAndSensitive) {
   }
   EXPECT_NE(bed_key(decks(), {{"E_grain_Pa", "1e8"}}), k0);
   EXPECT_NE(bed_key(decks(), {{"seed", "10007"}}), k0);
+}
+
+// A bed being built is seen by its lock (held exclusively by ensure_bed for the whole build, here
+// by this test): not cached, and building only while the lock is held.
+TEST(BedCache, ABedBeingBuiltIsSeenByItsLock) {
+  const fs::path cache = fs::temp_directory_path() / ("dem-building-" + std::to_string(::getpid()));
+  fs::remove_all(cache);
+  fs::create_directories(cache);
+  const std::string key = "0123456789abcdef";
+  EXPECT_FALSE(bed_building(cache.string(), key));  // no lock file: never started here
+  const std::string lock = bed_prefix(cache.string(), key) + ".lock";
+  const int fd = ::open(lock.c_str(), O_RDWR | O_CREAT, 0644);
+  ASSERT_GE(fd, 0);
+  EXPECT_FALSE(bed_building(cache.string(), key));  // a lock file nobody holds
+  ASSERT_EQ(::flock(fd, LOCK_EX), 0);
+  EXPECT_TRUE(bed_building(cache.string(), key));
+  EXPECT_FALSE(bed_cached(cache.string(), key));
+  ::flock(fd, LOCK_UN);
+  ::close(fd);
+  EXPECT_FALSE(bed_building(cache.string(), key));
+  fs::remove_all(cache);
 }
 
 TEST(BedKey, DeckCommandsCountCommentsDoNot) {
