@@ -362,6 +362,7 @@ void print_campaign_plan(const CampaignOptions& o, const dem::CampaignDesign& de
       list.push_back({{"id", p.id},
                       {"bed_key", p.bed_key},
                       {"bed_cached", p.bed_cached},
+                      {"bed_building", p.bed_building},
                       {"status", p.status.empty() ? json(nullptr) : json(p.status)}});
     print_json({{"design", design.source},
                 {"name", design.name},
@@ -377,7 +378,9 @@ void print_campaign_plan(const CampaignOptions& o, const dem::CampaignDesign& de
                            design.source, plan.size(), beds.size(), design.cache_dir);
   for (const auto& p : plan)
     std::cout << fmt::format("  {:<40} bed {} {:<10} {}\n", p.id, p.bed_key,
-                             p.bed_cached ? "cached" : "to build",
+                             p.bed_cached     ? "cached"
+                             : p.bed_building ? "building"
+                                              : "to build",
                              p.status.empty() ? "to run" : p.status);
   std::cout << fmt::format(
       "to run: {} impact{}, {} bed{} to build{}\n", to_run, to_run == 1 ? "" : "s", to_build.size(),
@@ -510,9 +513,10 @@ void add_dem_command(CLI::App& app) {
   c->add_flag("--retry-crashed", camp->retry, "Rerun impacts that were running when a run died");
   add_output_options(c, camp->output, JsonOut::kRefused);
   add_vtk_options(c, camp->vtk, camp->vtk_every, " (one folder per impact: DIR/ID/)");
-  c->add_flag("--dry-run", camp->dry_run,
-              "Run nothing: list each impact's bed (cached or to build) and whether --out FILE "
-              "already has it");
+  c->add_flag(
+      "--dry-run", camp->dry_run,
+      "Run nothing: list each impact's bed (cached, building or to build) and whether --out FILE "
+      "already has it");
   c->add_flag("--no-picture", camp->no_picture,
               "Do not store the picture of the first impact (/dem/snapshot; drawn by report and "
               "upscale --figures)");

@@ -42,16 +42,13 @@ std::vector<PlannedImpact> plan_campaign(const CampaignDesign& design, const Dec
                                          const std::string& out) {
   std::map<std::string, std::string> done;
   for (const auto& e : read_campaign_index(out)) done[e.id] = e.status;
-  std::map<std::string, bool> cached;  // one look at the cache per bed
   std::vector<PlannedImpact> plan;
   for (const ImpactSpec& spec : design.impacts) {
     PlannedImpact p;
     p.id = spec.id;
     p.bed_key = bed_key(decks, bed_overrides(spec));
-    const auto c = cached.find(p.bed_key);
-    p.bed_cached = c != cached.end()
-                       ? c->second
-                       : (cached[p.bed_key] = bed_cached(design.cache_dir, p.bed_key));
+    p.bed_cached = bed_cached(design.cache_dir, p.bed_key);
+    p.bed_building = !p.bed_cached && bed_building(design.cache_dir, p.bed_key);
     const auto d = done.find(spec.id);
     if (d != done.end()) p.status = d->second;
     plan.push_back(std::move(p));

@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -18,6 +19,7 @@
 #include <sstream>
 #include <thread>
 
+#include "bed.hpp"
 #include "campaign.hpp"
 #include "common/h5.hpp"
 #include "dem_support.hpp"
@@ -293,6 +295,7 @@ TEST(DemCampaign, TwoGroupsBuildTheWavesBedsBeforeItsImpactsAndCachedBedsGoFirst
   for (const auto& p : first_plan["impacts"]) {
     EXPECT_EQ(p["status"], "rebound") << p;
     EXPECT_TRUE(p["bed_cached"].get<bool>()) << p;
+    EXPECT_FALSE(p["bed_building"].get<bool>()) << p;
   }
   const auto [drc2, dtext2] =
       shell(dry + (work / "second.toml").string() + " --out " + (work / "second.h5").string());
@@ -305,7 +308,24 @@ TEST(DemCampaign, TwoGroupsBuildTheWavesBedsBeforeItsImpactsAndCachedBedsGoFirst
   EXPECT_FALSE(second_plan["impacts"][1]["bed_cached"].get<bool>());
   EXPECT_EQ(second_plan["impacts"][0]["bed_key"], first_plan["impacts"][0]["bed_key"]);
   EXPECT_TRUE(second_plan["impacts"][1]["status"].is_null());
+  EXPECT_FALSE(second_plan["impacts"][1]["bed_building"].get<bool>());
   EXPECT_FALSE(fs::exists(work / "second.h5"));  // a dry run writes nothing
+  {
+    // While a process holds the new bed's lock (as ensure_bed does for its whole build), the plan
+    // says it is being built.
+    const std::string key = second_plan["impacts"][1]["bed_key"];
+    const int fd = ::open(bed_prefix((work / "cache").string(), key).append(".lock").c_str(),
+                          O_RDWR | O_CREAT, 0644);
+    ASSERT_GE(fd, 0);
+    ASSERT_EQ(::flock(fd, LOCK_EX), 0);
+    const auto [brc, btext] =
+        shell(dry + (work / "second.toml").string() + " --out " + (work / "second.h5").string());
+    ::close(fd);
+    ASSERT_EQ(brc, 0) << btext;
+    const auto building = nlohmann::json::parse(btext)["impacts"];
+    EXPECT_TRUE(building[1]["bed_building"].get<bool>()) << building;
+    EXPECT_FALSE(building[0]["bed_building"].get<bool>()) << building;  // cached, not building
+  }
   const auto [rc2, log2] =
       shell("timeout 540 " + mpirun(2) + RICOCHET_BIN + " dem campaign " +
             (work / "second.toml").string() + " --decks " + RICOCHET_SOURCE_DIR +
