@@ -40,6 +40,7 @@ struct ReportCliOptions {
 // of it under --data-where) is compared with those releases only, like with like; `lab` is cut to
 // them and true returned. Otherwise (a design of its own, synthetic data) `lab` stays whole.
 bool keep_matched_releases(ImpactSet& lab, const ImpactSet& set) {
+  if (set.empty()) return false;
   const ReleaseIndex index(lab);
   std::vector<char> used(lab.size(), 0);
   for (const Impact& im : set.impacts) {
@@ -47,7 +48,6 @@ bool keep_matched_releases(ImpactSet& lab, const ImpactSet& set) {
     if (!r) return false;
     used[*r] = 1;
   }
-  if (set.empty()) return false;
   std::vector<Impact> kept;
   for (std::size_t i = 0; i < lab.size(); ++i)
     if (used[i]) kept.push_back(lab.impacts[i]);

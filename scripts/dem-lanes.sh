@@ -38,6 +38,8 @@ if [ ! -e results ]; then
   KEEP=${RICOCHET_RESULTS:-$(dirname "$ROOT")/ricochet-results}
   mkdir -p "$KEEP" && ln -s "$KEEP" results
 fi
+# How many impacts a campaign file holds, whatever their status (its /dem/index; empty when none).
+finished_impacts() { h5ls "$1/dem/index/id" 2>/dev/null | grep -o '{[0-9]*' | tr -d '{'; }
 # Runs started by hand hold their locks: wait for them before taking both cores.
 mkdir -p results/plateau results/plateau-drop results/sand-calibration
 flock results/sand-calibration/campaign.lock true
@@ -52,7 +54,7 @@ PLATEAU_DESIGN=sand-calibration-1.5e9 PLATEAU_OUT=results/sand-calibration \
 #     beds) on both cores, before the lanes. The calibration runs the tree's program (a minute of
 #     analysis; --bed-cache is newer than the campaign's pinned program) under the build lock.
 CAL=results/sand-calibration
-if [ "$(h5ls "$CAL/sand-calibration-1.5e9.h5/dem/index/id" 2>/dev/null | grep -o '{[0-9]*' | tr -d '{')" = 40 ] \
+if [ "$(finished_impacts "$CAL/sand-calibration-1.5e9.h5")" = 40 ] \
    && [ ! -f "$CAL/calibrate-grains.json" ]; then
   flock /tmp/ricochet-build.lock build/cli/ricochet calibrate-grains "$CAL/sand-calibration-1.5e9.h5" \
     --lab data/lab/cylinders.csv --seed 4 \
@@ -73,7 +75,7 @@ if [ -f "$CAL/calibrate-grains.json" ]; then
   # The held-out check as fixed in docs/resolved-model.md (Targets), and the calibration half beside
   # it as in-sample, once the 28 impacts are in (a minute of analysis, the tree's program).
   VER=results/sand-verification/sand-verification-1.5e9.h5
-  if [ "$(h5ls "$VER/dem/index/id" 2>/dev/null | grep -o '{[0-9]*' | tr -d '{')" = 28 ]; then
+  if [ "$(finished_impacts "$VER")" = 28 ]; then
     for half in held-out calibration; do
       [ -f "results/sand-verification/check-$half.json" ] && continue
       W=$(scripts/lab-split.py data/lab/cylinders.csv 3201 --where "$half")

@@ -155,9 +155,15 @@ def main(argv: list) -> int:
             for k, v in sorted(tables[section].items()):
                 print(f"{section}.{k}={v}")
         return 0
-    scale = 1.0  # x_impact_frac multiplier that keeps the distance from the back wall
+    def kept_distance(bed: dict) -> float:
+        """The x_impact_frac multiplier that keeps a landing point's distance from the back wall
+        of a bed configured by `bed` (its Lx_m, else the decks') on the --bed-length-m bed."""
+        if a.bed_length_m is None:
+            return 1.0
+        return float(bed.get("Lx_m", deck_bed_length_m())) / a.bed_length_m
+
+    scale = kept_distance(tables["bed"])
     if a.bed_length_m is not None:
-        scale = float(tables["bed"].get("Lx_m", deck_bed_length_m())) / a.bed_length_m
         tables["bed"]["Lx_m"] = a.bed_length_m
     positions = design.get("vary", {}).get("run.x_impact_frac")
     if positions:
@@ -165,15 +171,13 @@ def main(argv: list) -> int:
     states = None
     if a.states_from:
         try:
-            source = tomllib.load(open(a.states_from, "rb"))
-            other = source.get("design", {})
+            other_toml = tomllib.load(open(a.states_from, "rb"))
+            other = other_toml.get("design", {})
         except (OSError, tomllib.TOMLDecodeError) as e:
             fail(a.states_from, str(e))
         if not other.get("incident"):
             fail(a.states_from, "no [design] incident list")
-        # Its positions are fractions of its own bed's length.
-        if a.bed_length_m is not None:
-            scale = float(source.get("bed", {}).get("Lx_m", deck_bed_length_m())) / a.bed_length_m
+        scale = kept_distance(other_toml.get("bed", {}))  # its positions: fractions of its bed
         states = {"shape": other.get("shape", "cylinder"), "incident": other["incident"],
                   "positions": [round(x * scale, 6) for x in
                                 other.get("vary", {}).get("run.x_impact_frac", [])]}
