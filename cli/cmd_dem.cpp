@@ -417,6 +417,7 @@ void run_campaign_command_on_rank(const CampaignOptions& o, const MpiSession& mp
             {"impacts", design.impacts.size()},
             {"ran", s.ran},
             {"skipped_already_done", s.skipped},
+            {"end_wall_reruns", s.reruns},
             {"groups", s.groups},
             {"ranks", mpi.size()},
             {"ranks_per_impact", design.ranks_per_impact},
@@ -435,10 +436,11 @@ void run_campaign_command_on_rank(const CampaignOptions& o, const MpiSession& mp
     print_json(j);
   } else {
     std::cout << fmt::format(
-        "campaign {}: {} impacts, {} run now, {} already done, {} group(s) of "
+        "campaign {}: {} impacts{}, {} run now, {} already done, {} group(s) of "
         "{} rank(s), {:.0f} s\n",
-        design.name, design.impacts.size(), s.ran, s.skipped, s.groups, design.ranks_per_impact,
-        s.wall_s);
+        design.name, design.impacts.size(),
+        s.reruns ? fmt::format(" and {} end-wall rerun(s)", s.reruns) : std::string(), s.ran,
+        s.skipped, s.groups, design.ranks_per_impact, s.wall_s);
     for (const auto& [status, n] : counts) std::cout << fmt::format("  {:>18}: {}\n", status, n);
     std::cout << "results: " << co.out << " (/impacts, /dem/index, /dem/tracks)\n";
   }

@@ -38,8 +38,16 @@ if [ ! -e results ]; then
   KEEP=${RICOCHET_RESULTS:-$(dirname "$ROOT")/ricochet-results}
   mkdir -p "$KEEP" && ln -s "$KEEP" results
 fi
-# How many impacts a campaign file holds, whatever their status (its /dem/index; empty when none).
-finished_impacts() { h5ls "$1/dem/index/id" 2>/dev/null | grep -o '{[0-9]*' | tr -d '{'; }
+# Whether a campaign of scripts/stiffness-plateau.sh has nothing left to run: its pinned program's
+# dry run of its pinned design (the design's impacts and the end-wall reruns the file calls for,
+# docs/commands/dem.md) finds no impact to run. DIR: its folder; NAME: its design's; FILE: its
+# campaign file's. False while it was never started.
+campaign_done() {
+  [ -x "$1/pinned/ricochet" ] && [ -f "$1/pinned/$2.toml" ] && [ -f "$1/$3.h5" ] || return 1
+  (cd "$1" && pinned/ricochet dem campaign "pinned/$2.toml" --decks pinned/liggghts-inputs \
+     --out "$3.h5" --dry-run --json 2>/dev/null) |
+    python3 -c 'import json, sys; sys.exit(0 if json.load(sys.stdin)["to_run"] == 0 else 1)'
+}
 # Runs started by hand hold their locks: wait for them before taking both cores.
 mkdir -p results/plateau results/plateau-drop results/sand-calibration
 flock results/sand-calibration/campaign.lock true
@@ -47,14 +55,15 @@ flock results/plateau/campaign.lock true
 flock results/plateau-drop/drop.lock true
 PLATEAU_DESIGN=sand-calibration-1.5e9 PLATEAU_OUT=results/sand-calibration \
   PLATEAU_FILE=sand-calibration-1.5e9 PLATEAU_RANKS=2 scripts/stiffness-plateau.sh
-# 1b. As soon as its 40 impacts are in: the calibration by the plan (the calibration half's
+# 1b. As soon as its 40 impacts and the reruns of those that reached the end wall (on 1.5 m beds,
+#     the design's end_wall_rerun_Lx_m, amended on 2026-12-02) are in: the calibration by the plan (the calibration half's
 #     target, the six sampled parameters (block.mur_gb is tied to bed.mur_gg, a copy, not an
 #     input), the solid-fraction band [0.56, 0.62] measured on the design's own beds, seed 4),
 #     then its verification campaign (scripts/verification-campaign.py: every lab state on three
 #     beds) on both cores, before the lanes. The calibration runs the tree's program (a minute of
 #     analysis; --bed-cache is newer than the campaign's pinned program) under the build lock.
 CAL=results/sand-calibration
-if [ "$(finished_impacts "$CAL/sand-calibration-1.5e9.h5")" = 40 ] \
+if campaign_done "$CAL" sand-calibration-1.5e9 sand-calibration-1.5e9 \
    && [ ! -f "$CAL/calibrate-grains.json" ]; then
   flock /tmp/ricochet-build.lock build/cli/ricochet calibrate-grains "$CAL/sand-calibration-1.5e9.h5" \
     --lab data/lab/cylinders.csv --seed 4 \
@@ -75,7 +84,7 @@ if [ -f "$CAL/calibrate-grains.json" ]; then
   # The held-out check as fixed in docs/resolved-model.md (Targets), and the calibration half beside
   # it as in-sample, once the 28 impacts are in (a minute of analysis, the tree's program).
   VER=results/sand-verification/sand-verification-1.5e9.h5
-  if [ "$(finished_impacts "$VER")" = 28 ]; then
+  if campaign_done results/sand-verification sand-verification-1.5e9 sand-verification-1.5e9; then
     for half in held-out calibration; do
       [ -f "results/sand-verification/check-$half.json" ] && continue
       W=$(scripts/lab-split.py data/lab/cylinders.csv 3201 --where "$half")

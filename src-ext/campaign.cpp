@@ -38,12 +38,39 @@ std::string last_error(const std::string& dir) {
 }
 }  // namespace
 
+std::vector<ImpactSpec> end_wall_reruns(const CampaignDesign& design, const Decks& decks,
+                                        const std::vector<CampaignEntry>& index) {
+  std::vector<ImpactSpec> reruns;
+  const double L = design.end_wall_rerun_Lx_m;
+  if (!(L > 0)) return reruns;
+  std::set<std::string> at_wall;
+  for (const auto& e : index)
+    if (e.status == "end_wall") at_wall.insert(e.id);
+  for (const ImpactSpec& spec : design.impacts) {
+    if (!at_wall.count(spec.id)) continue;
+    double Lx = 0;
+    for (const auto& [name, value] : effective_bed(decks, spec.params.bed))
+      if (name == "Lx_m") Lx = std::stod(value);
+    if (!(Lx < L)) continue;
+    ImpactSpec s = spec;
+    s.id = fmt::format("{}-Lx{}", spec.id, shortest_number(L));
+    s.params.bed["Lx_m"] = shortest_number(L);
+    s.params.run["x_impact_frac"] =
+        shortest_number(run_param(spec, decks, "x_impact_frac") * Lx / L);
+    reruns.push_back(std::move(s));
+  }
+  return reruns;
+}
+
 std::vector<PlannedImpact> plan_campaign(const CampaignDesign& design, const Decks& decks,
                                          const std::string& out) {
+  const auto index = read_campaign_index(out);
   std::map<std::string, std::string> done;
-  for (const auto& e : read_campaign_index(out)) done[e.id] = e.status;
+  for (const auto& e : index) done[e.id] = e.status;
+  std::vector<ImpactSpec> specs = design.impacts;
+  for (auto& s : end_wall_reruns(design, decks, index)) specs.push_back(std::move(s));
   std::vector<PlannedImpact> plan;
-  for (const ImpactSpec& spec : design.impacts) {
+  for (const ImpactSpec& spec : specs) {
     PlannedImpact p;
     p.id = spec.id;
     p.bed_key = bed_key(decks, bed_overrides(spec));
@@ -56,8 +83,11 @@ std::vector<PlannedImpact> plan_campaign(const CampaignDesign& design, const Dec
   return plan;
 }
 
-CampaignSummary run_campaign(const CampaignDesign& design, const Decks& decks,
-                             const CampaignOptions& options, MPI_Comm world) {
+namespace {
+
+// The pending impacts of `design` (those not in options.out), in waves of beds.
+CampaignSummary run_pending(const CampaignDesign& design, const Decks& decks,
+                            const CampaignOptions& options, MPI_Comm world) {
   const auto start = std::chrono::steady_clock::now();
   int wrank = 0, wsize = 1;
   MPI_Comm_rank(world, &wrank);
@@ -260,6 +290,29 @@ CampaignSummary run_campaign(const CampaignDesign& design, const Decks& decks,
   }
   if (group != MPI_COMM_NULL) MPI_Comm_free(&group);
   summary.wall_s = seconds_since(start);
+  return summary;
+}
+
+}  // namespace
+
+CampaignSummary run_campaign(const CampaignDesign& design, const Decks& decks,
+                             const CampaignOptions& options, MPI_Comm world) {
+  CampaignSummary summary = run_pending(design, decks, options, world);
+  if (!(design.end_wall_rerun_Lx_m > 0)) return summary;
+  // An end wall is known only once its impact has run, so the reruns come after the design's
+  // impacts. Every rank reads the index (under the file's shared lock) after run_pending's last
+  // barrier: the same file, hence the same reruns on every rank.
+  CampaignDesign reruns = design;
+  reruns.impacts = end_wall_reruns(design, decks, read_campaign_index(options.out));
+  summary.reruns = reruns.impacts.size();
+  if (reruns.impacts.empty()) return summary;
+  CampaignOptions o = options;
+  o.picture = false;  // the campaign's picture is its design's first impact
+  const CampaignSummary more = run_pending(reruns, decks, o, world);
+  summary.ran += more.ran;
+  summary.skipped += more.skipped;
+  summary.wall_s += more.wall_s;
+  summary.entries = more.entries;
   return summary;
 }
 

@@ -31,6 +31,7 @@ struct CampaignSummary {
   std::vector<CampaignEntry> entries;  ///< in the file's order (world rank 0 only)
   std::size_t ran = 0;                 ///< impacts run by this call (all ranks)
   std::size_t skipped = 0;             ///< already in the file (resumed)
+  std::size_t reruns = 0;              ///< end-wall reruns in the design now (end_wall_reruns)
   int groups = 0;                      ///< LIGGGHTS instances run in parallel
   double wall_s = 0;
 };
@@ -44,14 +45,30 @@ struct PlannedImpact {
   std::string status;         ///< its status in the campaign file; empty: still to run
 };
 
+/// The reruns that `design.end_wall_rerun_Lx_m` (L) asks for, given the campaign file's `index`:
+/// for every impact of the design recorded there as `end_wall` on a bed shorter than L, the same
+/// impact on a bed L long (bed.Lx_m = L: the same grains, pouring and replica seed, so a new bed
+/// poured from the same seeds in a longer box) landing at the same distance from the back wall
+/// (run.x_impact_frac times the old length over L), id `ID-LxL` (e.g. `sandv00-p09-x0.26-Lx1.5`),
+/// in design order. The rest of the spec is kept: a sampled design's rerun has its design point's
+/// grain parameters, so that calibrate-grains counts it among that point's replicas. The
+/// original stays in the file as end_wall. Empty when L is 0. Why: a block that rides the bed long
+/// reaches the wall ahead before it leaves, so a fixed bed length censors one side of the response
+/// (docs/resolved-model.md, "Recalibration with what sand has").
+std::vector<ImpactSpec> end_wall_reruns(const CampaignDesign& design, const Decks& decks,
+                                        const std::vector<CampaignEntry>& index);
+
 /// What run_campaign would do with `design` and the campaign file `out` (which need not exist),
 /// without running anything: every impact in design order with its bed, whether the cache holds
 /// the bed, and whether the file already has the impact (read under the file's shared lock, so a
-/// running campaign's file can be planned against). `ricochet dem campaign --dry-run`.
+/// running campaign's file can be planned against), then the end-wall reruns of the impacts the
+/// file records at an end wall so far (a rerun of an impact not run yet cannot be known). `ricochet
+/// dem campaign --dry-run`.
 std::vector<PlannedImpact> plan_campaign(const CampaignDesign& design, const Decks& decks,
                                          const std::string& out);
 
-/// Runs the pending impacts of `design` on `world` (collective) and returns the summary.
+/// Runs the pending impacts of `design` on `world` (collective), then their end-wall reruns
+/// (end_wall_reruns, with no picture), and returns the summary.
 CampaignSummary run_campaign(const CampaignDesign& design, const Decks& decks,
                              const CampaignOptions& options, MPI_Comm world);
 

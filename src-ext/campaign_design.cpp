@@ -137,7 +137,8 @@ namespace {
 void read_campaign_table(const toml::table& root, const std::string& path, CampaignDesign& d) {
   const auto* c = table_at(root, "campaign", path, "");
   if (!c) return;
-  check_keys(*c, {"name", "ranks_per_impact", "cache_dir", "work_dir"}, path, "campaign");
+  check_keys(*c, {"name", "ranks_per_impact", "cache_dir", "work_dir", "end_wall_rerun_Lx_m"}, path,
+             "campaign");
   if (const auto* n = c->get("name")) d.name = string_of(*n, path, "campaign.name");
   if (const auto* n = c->get("ranks_per_impact")) {
     const auto v = n->value<std::int64_t>();
@@ -147,6 +148,12 @@ void read_campaign_table(const toml::table& root, const std::string& path, Campa
   }
   if (const auto* n = c->get("cache_dir")) d.cache_dir = string_of(*n, path, "campaign.cache_dir");
   if (const auto* n = c->get("work_dir")) d.work_dir = string_of(*n, path, "campaign.work_dir");
+  if (const auto* n = c->get("end_wall_rerun_Lx_m")) {
+    d.end_wall_rerun_Lx_m = number_of(*n, path, "campaign.end_wall_rerun_Lx_m");
+    if (!(d.end_wall_rerun_Lx_m > 0 && d.end_wall_rerun_Lx_m < 1e3))
+      throw InputError(path, line_of(*n), "campaign.end_wall_rerun_Lx_m",
+                       "expected a bed length in metres, > 0 and < 1000");
+  }
 }
 
 // [extract]: the frame rate and window of the V_in / V_out extraction.

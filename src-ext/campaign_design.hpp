@@ -19,6 +19,10 @@ struct CampaignDesign {
   int ranks_per_impact = 1;
   std::string cache_dir = "dem-cache";  ///< bed cache (relative paths: to the working directory)
   std::string work_dir = "dem-work";    ///< per-impact folders (log, screen, track)
+  /// [campaign] end_wall_rerun_Lx_m [m]: an impact that ends at an end wall (status end_wall) on
+  /// a shorter bed is run once more on a bed this long, landing at the same distance from the
+  /// back wall (campaign.hpp, end_wall_reruns). 0: no rerun.
+  double end_wall_rerun_Lx_m = 0;
   ExtractOptions extract;
   std::vector<ImpactSpec> impacts;  ///< explicit [[impact]] entries, then the [design] product
 };

@@ -27,11 +27,6 @@ namespace ricochet::dem {
 
 namespace fs = std::filesystem;
 
-namespace {
-
-// Atom type of the block's spheres (impact/setup.in: `group block type 2`, common/materials.in).
-constexpr int kBlockAtomType = 2;
-
 double run_param(const ImpactSpec& spec, const Decks& decks, const std::string& name) {
   const auto it = spec.params.run.find(name);
   if (it != spec.params.run.end()) return std::stod(it->second);
@@ -39,6 +34,11 @@ double run_param(const ImpactSpec& spec, const Decks& decks, const std::string& 
     if (p.name == name) return std::stod(p.default_value);
   throw std::logic_error("impact deck has no parameter " + name);
 }
+
+namespace {
+
+// Atom type of the block's spheres (impact/setup.in: `group block type 2`, common/materials.in).
+constexpr int kBlockAtomType = 2;
 
 // Bed tops along x: bins of width bin_m over [0, Lx); per bin the mean of z + r over the grains
 // whose top is within 2 r_max of the bin's highest top (the top layer), NaN for an empty bin.

@@ -28,6 +28,10 @@ namespace ricochet::dem {
 /// Bed overrides of a spec including its replica seed (the bed's cache key).
 std::map<std::string, std::string> bed_overrides(const ImpactSpec& spec);
 
+/// A run.* (impact deck) parameter of a spec as a number: its override, else the deck's default
+/// (impact/setup.in). Throws std::logic_error for a name the deck does not have.
+double run_param(const ImpactSpec& spec, const Decks& decks, const std::string& name);
+
 /// Reads the deck's block track ${out}.track.txt (fix print output, impact/setup.in: one record
 /// at most `record_dt_s` apart) by the names of its title line ("# t[s] x[m] ..."; without one,
 /// the twelve legacy columns, then torque); a column the file does not have is NaN, and so is

@@ -564,6 +564,80 @@ void expect_error(const std::string& text, std::size_t line, const std::string& 
   }
 }
 
+// [campaign] end_wall_rerun_Lx_m: the impacts the file records at an end wall, and only those,
+// come back on the longer bed, landing at the same distance from the back wall (x_impact_frac
+// times Lx, in metres, unchanged), with their grain parameters (a sampled point keeps its
+// values, so calibrate-grains groups the rerun with it); a bed already that long is not rerun.
+TEST(Design, EndWallImpactsAreRerunOnALongerBedAtTheSameLandingPoint) {
+  const auto path = temp_file("end-wall.toml", R"(
+[campaign]
+end_wall_rerun_Lx_m = 1.5
+[bed]
+Lx_m = 1.0
+[[impact]]
+id = "long"
+vin = [2.9, -2.3, -65.0]
+bed = { Lx_m = 1.5 }
+[design]
+incident = [[2.9, -2.3, -65.0]]
+id_prefix = "p"
+[design.vary]
+"run.x_impact_frac" = [0.26, 0.32]
+"bed.mu_gg" = [0.4, 0.8]
+)");
+  const auto d = read_campaign_design(path, decks());
+  EXPECT_EQ(d.end_wall_rerun_Lx_m, 1.5);
+  ASSERT_EQ(d.impacts.size(), 5u);
+  auto entry = [](const std::string& id, const std::string& status) {
+    CampaignEntry e;
+    e.id = id;
+    e.status = status;
+    return e;
+  };
+  // Nothing at a wall yet: no rerun.
+  EXPECT_TRUE(end_wall_reruns(d, decks(), {entry(d.impacts[1].id, "rebound")}).empty());
+  const std::vector<CampaignEntry> index = {
+      entry("long", "end_wall"), entry(d.impacts[1].id, "rebound"),
+      entry(d.impacts[4].id, "end_wall"), entry(d.impacts[2].id, "no_rebound")};
+  const auto reruns = end_wall_reruns(d, decks(), index);
+  ASSERT_EQ(reruns.size(), 1u);  // "long" is on a 1.5 m bed already
+  const ImpactSpec& was = d.impacts[4];
+  const ImpactSpec& r = reruns[0];
+  EXPECT_EQ(r.id, was.id + "-Lx1.5");
+  EXPECT_EQ(r.params.bed.at("Lx_m"), "1.5");
+  EXPECT_EQ(r.params.bed.at("mu_gg"), was.params.bed.at("mu_gg"));
+  EXPECT_NEAR(std::stod(r.params.run.at("x_impact_frac")) * 1.5,
+              std::stod(was.params.run.at("x_impact_frac")) * 1.0, 1e-12);
+  EXPECT_EQ(r.vin, was.vin);
+  EXPECT_EQ(r.seed, was.seed);
+  EXPECT_NE(bed_key(decks(), bed_overrides(r)), bed_key(decks(), bed_overrides(was)));
+  // The dry run reads the file's index and lists the rerun after the design's impacts, still to
+  // run; without the key there is none.
+  const std::string file = temp_file("end-wall.h5", "");
+  fs::remove(file);
+  for (const auto& e : index) {
+    ImpactResult res;
+    res.id = e.id;
+    res.status = e.status;
+    const auto it = std::find_if(d.impacts.begin(), d.impacts.end(),
+                                 [&](const ImpactSpec& s) { return s.id == e.id; });
+    res.impact.id = e.id;
+    res.impact.shape = it->shape;
+    res.impact.vin = it->vin;
+    res.impact.vout = {1.0, 0.5, -10.0};
+    append_result(file, res, *it, "end-wall-test");
+  }
+  const auto plan = plan_campaign(d, decks(), file);
+  ASSERT_EQ(plan.size(), 6u);
+  EXPECT_EQ(plan[4].status, "end_wall");
+  EXPECT_EQ(plan[5].id, r.id);
+  EXPECT_TRUE(plan[5].status.empty());
+  CampaignDesign off = d;
+  off.end_wall_rerun_Lx_m = 0;
+  EXPECT_TRUE(end_wall_reruns(off, decks(), index).empty());
+  EXPECT_EQ(plan_campaign(off, decks(), file).size(), 5u);
+}
+
 TEST(Design, ErrorsNameFileLineAndKey) {
   expect_error(
       "[design]\nincident = [[2.9, -2.3, -65.0]]\n[design.sample]\nn = 4\n\"bed.mu_gg\" = [1.0, "
@@ -578,6 +652,7 @@ TEST(Design, ErrorsNameFileLineAndKey) {
       "0.2]\n",
       5, "design.sample.run.t_max_s");
   expect_error("[campaign]\nnmae = \"x\"\n", 2, "campaign.nmae");
+  expect_error("[campaign]\nend_wall_rerun_Lx_m = -1.5\n", 2, "campaign.end_wall_rerun_Lx_m");
   expect_error("[[impact]]\nid = \"a\"\nvin = [2.9, -2.3]\n", 3, "impact[0].vin");
   expect_error("[[impact]]\nid = \"a\"\nvin = [2.9, 2.3, -65]\n", 3, "impact[0].vin");
   expect_error("[bed]\nE_grain_Pa = \"soft\"\n", 2, "bed.E_grain_Pa");
