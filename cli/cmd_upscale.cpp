@@ -32,6 +32,8 @@ struct UpscaleCliOptions {
   ModelOptions model;
   std::vector<std::string> by;
   std::string where, lab, lab_where, figures, decks;
+  /// --write-model: the campaign's equivalent law as a model file with nothing calibrated.
+  std::string write_model;
   /// --lab-noise: the lab's measurement noise on V_out (m/s, m/s, rad/s), added to the resolved
   /// values before the KS test (stats::ks_with_measurement_noise); empty = not done.
   std::vector<double> lab_noise;
@@ -194,6 +196,7 @@ void print_text(const dem::UpscaleResult& r, const std::optional<LabGapText>& la
 
 void run(const UpscaleCliOptions& o) {
   require_out_extension(o.output, {".h5", ".hdf5"});
+  if (!o.write_model.empty()) require_extension("--write-model", o.write_model, {".toml"});
   const auto decks = dem::Decks::locate(o.decks);
   const Model model = o.model.build_model();
   const Shape shape = o.model.build_shape();
@@ -217,11 +220,28 @@ void run(const UpscaleCliOptions& o) {
 
   std::vector<std::string> figures;
   if (!o.figures.empty()) figures = dem::write_upscale_figures(r, o.figures);
+  std::optional<Model> law;
+  if (!o.write_model.empty()) {
+    // The campaign's one law (its population fit over every impact; one group's when it has
+    // one), every parameter held: the reduced equivalent of the bed as a fixed base, e.g. for
+    // `diagnose LAB --model FILE` (what the bed lacks, docs/resolved-model.md).
+    const fit::PopulationFit& p = r.campaign ? *r.campaign : r.groups.front().population;
+    law = model;
+    law->set_values(p.params);
+    for (std::size_t i : law->calibrated_indices()) law->set_calibrated(p.names[i], false);
+    write_text_file(o.write_model,
+                    fmt::format("# The equivalent law of {} (`ricochet upscale`, population fit "
+                                "of {} impacts), held: nothing is calibrated.\n",
+                                r.source, r.impacts.size()) +
+                        law->to_toml(),
+                    "--write-model");
+  }
   if (!o.output.out.empty()) write_h5(o.output.out, r, model, shape, u.fit);
 
   nlohmann::json j = result_json(r);
   j["figures"] = figures;
   j["lab_where"] = o.lab_where;
+  if (law) j["model_file"] = o.write_model;
   std::optional<LabGapText> lab_text;
   if (lab) lab_text = add_lab_gap(o, r, *lab, shape, j);
   if (o.output.json) {
@@ -268,6 +288,9 @@ void add_upscale_command(CLI::App& app) {
   sub->add_option("--starts", o->fit.starts, "BOBYQA runs per fit")->capture_default_str();
   add_threads_option(sub, o->fit.threads);
   check_range(sub, "--starts", 1, 1000);
+  sub->add_option("--write-model", o->write_model,
+                  "Write the campaign's equivalent law as a model file with nothing calibrated "
+                  "(a fixed base for `diagnose --model`)");
   sub->add_flag("--no-intervals", o->no_intervals, "Skip the identifiability intervals");
   add_output_options(sub, o->output);
   sub->callback([o] { run(*o); });

@@ -85,7 +85,10 @@ Baseline compare(const Model& model_in, const Shape& shape, const ImpactSet& set
   b.floor = noise_floor(warm, shape, b.base.population.params, set, b.base.use, o.assess);
   b.adequacy = adequacy(b.base, b.floor);
   std::vector<double> alpha;
-  if (o.assess.release_fits) {
+  // A base with nothing calibrated (a law fixed elsewhere, model file `calibrate = []`) has no
+  // per-release parameters to drift: its release fits are skipped, not an error.
+  if (o.assess.release_fits &&
+      !fit::calibration_model(model, o.assess.fit.error).calibrated_indices().empty()) {
     fit::FitOptions fo = fit_options_for(set, o.assess);
     fo.intervals = o.assess.release_intervals;
     b.release_fits = fit::calibrate_releases(warm, shape, set, fo);

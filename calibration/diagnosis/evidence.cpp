@@ -186,7 +186,11 @@ std::string verdict_text(const Diagnosis& d, const DiagnoseOptions& o) {
         "The excess is explained by the {}.",
         floor_text, d.family_size,
         b.scatter.computed ? b.scatter.description
-                           : std::string("spread of the ground's parameters between releases"));
+        : base.population.calibrated.empty()
+            ? std::string("release-to-release scatter of the data or a bias of the held law, "
+                          "which a law with nothing calibrated (model file `calibrate = []`) "
+                          "cannot tell apart: no parameter of it can spread between releases")
+            : std::string("spread of the ground's parameters between releases"));
   if (d.verdict == "inconclusive") {
     std::string blind;
     for (const Detectable& r : d.detectable)

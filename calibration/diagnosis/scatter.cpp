@@ -111,6 +111,7 @@ PopulationScatter population_scatter(const Model& warm, const Shape& shape, cons
   if (floor.variance.size() != n || n < 4) return out;
   // The parameters the fits on this set calibrate (kn too with contact terms): the probes'.
   const std::vector<std::size_t> cal = calibration_model_for(warm, set, o).calibrated_indices();
+  if (cal.empty()) return out;  // a law held as it is: no parameter to scatter (not computed)
   std::vector<int> obs;
   for (int k = 0; k < kObservables; ++k)
     if (base.use[k]) obs.push_back(k);

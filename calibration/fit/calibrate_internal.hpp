@@ -25,9 +25,11 @@ struct ParameterBox {
   std::vector<double> lo, hi;
   std::vector<char> log;
 
-  ParameterBox(const Model& model, const ErrorOptions& error) {
+  // `allow_empty`: a model with no calibrated parameter is a box of size 0 (a population fit
+  // then evaluates the model as it is) instead of an error.
+  ParameterBox(const Model& model, const ErrorOptions& error, bool allow_empty = false) {
     index = calibration_model(model, error).calibrated_indices();
-    if (index.empty())
+    if (index.empty() && !allow_empty)
       throw std::invalid_argument("the model has no calibrated parameter (model file `calibrate`)");
     for (std::size_t i : index) {
       lo.push_back(model.lower(i));

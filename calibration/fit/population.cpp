@@ -138,7 +138,7 @@ class PopulationProblem final : public Problem {
 
   std::vector<double> eval_many(const std::vector<double>& points) override {
     const std::size_t d = dim(), P = base_.size(), C = cases_.size();
-    const std::size_t n = points.size() / d;
+    const std::size_t n = d == 0 ? 1 : points.size() / d;  // a fixed model: one point
     std::vector<CollisionCase> cases;
     cases.reserve(n * C);
     std::vector<double> params(n * C * P);
@@ -180,8 +180,11 @@ PopulationFit calibrate_population(const Model& model, const Shape& shape, const
   const auto t0 = std::chrono::steady_clock::now();
   require_valid(options.problems(), "fit::calibrate_population");
   if (set.empty()) throw std::invalid_argument("calibrate_population: empty impact set");
-  const ParameterBox box(model, options.error);
-  const std::vector<double> design = start_design(box, model, box.size(), options);
+  // A model with no calibrated parameter (model file `calibrate = []`: a law fixed elsewhere, e.g.
+  // a resolved bed's upscaled one) is evaluated as it is: its "fit" is its error on the set.
+  const ParameterBox box(model, options.error, true);
+  const std::vector<double> design =
+      box.size() > 0 ? start_design(box, model, box.size(), options) : std::vector<double>{};
   // Each evaluation is already a batch over releases; the pool merges the parallel searches'
   // batches and spreads them over the threads.
   detail::FiberPool pool(model, shape,
@@ -201,11 +204,17 @@ PopulationFit calibrate_population(const Model& model, const Shape& shape, const
   pool.spawn([&] {
     std::vector<double> design_values;
     std::vector<LocalResult> ends;
-    // The search only has to find the basins the polish refines (AlphaOptions::search_xtol).
-    LocalResult best = detail::multi_start(search, design, options.starts,
-                                           fine ? options.alpha.search_xtol : options.xtol,
-                                           options.max_evaluations, ends, design_values);
-    if (fine) {
+    LocalResult best;
+    if (box.size() == 0) {
+      best.f = problem.eval({});
+      ends.push_back(best);
+    } else {
+      // The search only has to find the basins the polish refines (AlphaOptions::search_xtol).
+      best = detail::multi_start(search, design, options.starts,
+                                 fine ? options.alpha.search_xtol : options.xtol,
+                                 options.max_evaluations, ends, design_values);
+    }
+    if (fine && box.size() > 0) {
       // The model's own values (the design's first point) are a candidate too: a warm start
       // (a fold's optimum polished on the full set) is already near a minimum of the fine rule,
       // which the search rule's BOBYQA run may leave.
@@ -230,7 +239,7 @@ PopulationFit calibrate_population(const Model& model, const Shape& shape, const
     // the releases scatter more than the noise (see fit.hpp).
     fit.threshold = options.threshold_scale * sum_delta / static_cast<double>(set.size()) *
                     std::max(1.0, best.f / sum_delta);
-    if (options.intervals) {
+    if (options.intervals && box.size() > 0) {
       const double limit = best.f + fit.threshold;
       // Only points evaluated on the interval's own rule are verified: a polished fit's design
       // was scored on the search rule.

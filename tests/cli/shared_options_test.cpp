@@ -184,5 +184,29 @@ TEST_F(SharedOptions, UpscaleLabWhereSelectsTheLabHalf) {
         << c;
 }
 
+// upscale --write-model: the campaign's law (two groups here: the whole campaign's fit) held as a
+// model file, which diagnose takes as a base it evaluates and does not refit.
+TEST_F(SharedOptions, UpscaleWritesItsLawHeldAndDiagnoseKeepsIt) {
+  if (!test::program_has_liggghts()) GTEST_SKIP() << "upscale needs LIGGGHTS";
+  const std::string law = (dir_ / "bed-law.toml").string();
+  const auto up =
+      json("upscale " +
+           quote(std::string(RICOCHET_SOURCE_DIR) + "/data/resolved/bed-probe-width-cdt.h5") +
+           " --no-intervals --write-model " + quote(law));
+  EXPECT_EQ(up["model_file"], law);
+  ASSERT_GE(up["groups"].size(), 2u);
+  const auto& fitted = up["campaign"]["params"];
+  const auto d = json("diagnose " + kCyl + " --model " + quote(law) + " --no-features");
+  EXPECT_TRUE(d["base"]["calibrated"].empty());
+  for (const char* p : {"en2", "mu", "muR"})
+    EXPECT_DOUBLE_EQ(d["base"]["parameters"][p].get<double>(), fitted[p].get<double>()) << p;
+  const test::RunResult bad =
+      ricochet("upscale " +
+               quote(std::string(RICOCHET_SOURCE_DIR) + "/data/resolved/bed-probe-width-cdt.h5") +
+               " --write-model law.csv");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("--write-model"), std::string::npos) << bad.err;
+}
+
 }  // namespace
 }  // namespace ricochet

@@ -346,6 +346,33 @@ TEST(Population, RecoversACommonTruthAndPredictsHeldOutReleases) {
   for (double e : h.errors) EXPECT_LT(e, 1e-3);
 }
 
+// A law fixed elsewhere (model file `calibrate = []`, e.g. a resolved bed's upscaled law): the
+// population "fit" evaluates it as it is (what `diagnose --model` needs to ask what such a law
+// lacks), while a release fit still refuses it (it has nothing to fit).
+TEST(Population, ModelWithoutCalibratedParameterIsEvaluatedAsItIs) {
+  Model model = Model::paper();
+  model.set("en2", 0.3);
+  model.set("mu", 0.4);
+  model.set("muR", 0.25);
+  for (const char* n : {"en2", "mu", "muR"}) model.set_calibrated(n, false);
+  const ImpactSet lab = read_impact_set(kLab + "cylinders.csv");
+  ImpactSet set = lab;
+  set.impacts.resize(8);
+  FitOptions o;
+  const PopulationFit p = calibrate_population(model, Shape::cylinder(), set, o);
+  EXPECT_EQ(p.params, model.values());
+  EXPECT_TRUE(p.intervals.empty());
+  ASSERT_EQ(p.release_errors.size(), set.size());
+  double sum = 0;
+  for (double e : p.release_errors) sum += e;
+  EXPECT_GT(p.error, 0.0);
+  EXPECT_NEAR(p.error, sum, 1e-12 * sum);
+  // Held out, every fold "fits" the same law: each release's error is its in-sample one.
+  const HeldOut h = heldout_predictions(model, Shape::cylinder(), set, 4, o);
+  for (std::size_t i = 0; i < set.size(); ++i)
+    EXPECT_DOUBLE_EQ(h.errors[i], p.release_errors[i]) << set.impacts[i].id;
+}
+
 TEST(Predict, MarginalOrientationAveragesAndReportsSpread) {
   const Model model = Model::paper();
   const Shape shape = Shape::triangle();
