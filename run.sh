@@ -9,7 +9,7 @@ ROOT=$(pwd)
 BUILD=${RICOCHET_BUILD_DIR:-$ROOT/build}
 JOBS=${RICOCHET_JOBS:-$(nproc)}
 
-usage() { echo "usage: ./run.sh main|test|build|bench [args]" >&2; exit 2; }
+usage() { echo "usage: ./run.sh main|test|build [TARGET...]|bench [args]" >&2; exit 2; }
 [ $# -ge 1 ] || usage
 what=$1; shift
 
@@ -54,7 +54,9 @@ build() {
 }
 
 case "$what" in
-  build) install_missing "${ALL_PACKAGES[@]}"; build ON ;;
+  # build [TARGET...]: every package and target, or only the targets named (e.g. `ricochet`, so
+  # that a background campaign starts on a new machine before the tests are compiled).
+  build) install_missing "${ALL_PACKAGES[@]}"; build ON "$@" ;;
   main)
     install_missing "${MAIN_PACKAGES[@]}"; build OFF ricochet
     exec "$ROOT/scripts/main-job.sh" "$BUILD" "$@"

@@ -21,9 +21,11 @@
 #              results/sand-drop/), then the packing-scatter beds' solid fractions
 #              (scripts/packing-scatter-beds.sh).
 # Start it at the beginning of a session and let it run; a session's end stops it, the next
-# start resumes it:
+# start resumes it. On a new machine, build the program alone first, start the campaigns, then
+# build the rest (the program is pinned when a campaign starts, so the rest never relinks it):
 #
-#   nohup setsid scripts/dem-lanes.sh > /dev/null 2>&1 &
+#   ./run.sh build ricochet && (nohup setsid scripts/dem-lanes.sh > /dev/null 2>&1 &) && ./run.sh build
+#   nohup setsid scripts/dem-lanes.sh > /dev/null 2>&1 &      # on a machine already built
 #   tail results/sand-calibration/campaign.log results/plateau/campaign.log \
 #        results/plateau-drop/drop.log
 #
