@@ -342,6 +342,7 @@ struct CampaignOptions {
   long vtk_every = dem::kDefaultVtkEvery;
   bool no_picture = false;
   bool dry_run = false;
+  bool record_beds = false;
 };
 
 // --dry-run: what a run would do (dem::plan_campaign), printed by rank 0; nothing runs.
@@ -398,6 +399,26 @@ void run_campaign_command_on_rank(const CampaignOptions& o, const MpiSession& mp
   if (o.output.out.empty())
     throw InputError("<command line>", 0, "--out", "a campaign needs --out FILE.h5 (resumable)");
   require_extension("--out", o.output.out, {".h5", ".hdf5"});
+  if (o.record_beds) {
+    if (!std::filesystem::exists(o.output.out))
+      throw InputError(o.output.out, 0, "--record-beds", "no campaign file: nothing to record");
+    const auto keys = dem::record_beds(design, decks, o.output.out, MPI_COMM_WORLD);
+    if (mpi.rank() != 0) return;
+    std::map<std::string, double> phi;
+    for (const auto& [key, p] : dem::read_bed_packings(o.output.out)) phi[key] = p.solid_fraction;
+    if (o.output.json) {
+      print_json({{"design", design.source},
+                  {"out", o.output.out},
+                  {"recorded_now", keys},
+                  {"solid_fraction", phi}});
+      return;
+    }
+    std::cout << fmt::format("campaign {}: {} bed(s) recorded now, {} in the file\n", design.name,
+                             keys.size(), phi.size());
+    for (const auto& [key, f] : phi)
+      std::cout << fmt::format("  bed {}  solid fraction {:.4f}\n", key, f);
+    return;
+  }
   dem::CampaignOptions co;
   co.out = o.output.out;
   co.retry_crashed = o.retry;
@@ -519,6 +540,10 @@ void add_dem_command(CLI::App& app) {
       "--dry-run", camp->dry_run,
       "Run nothing: list each impact's bed (cached, building or to build) and whether --out FILE "
       "already has it");
+  c->add_flag("--record-beds", camp->record_beds,
+              "Run no impact: record in --out FILE the packing of every bed it has impacts on and "
+              "does not record yet (measured on the cached bed, or on the bed built again from "
+              "its seeds), for calibrate-grains' --solid-fraction");
   c->add_flag("--no-picture", camp->no_picture,
               "Do not store the picture of the first impact (/dem/snapshot; drawn by report and "
               "upscale --figures)");

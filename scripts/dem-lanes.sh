@@ -67,6 +67,12 @@ PLATEAU_DESIGN=sand-calibration-1.5e9 PLATEAU_OUT=results/sand-calibration \
 CAL=results/sand-calibration
 if campaign_done "$CAL" sand-calibration-1.5e9 sand-calibration-1.5e9 \
    && [ ! -f "$CAL/calibrate-grains.json" ]; then
+  # Every design point's bed packing recorded in the file first (the solid-fraction band): beds
+  # of earlier sessions that a new machine's cache lacks are built again from their seeds.
+  (cd "$CAL" && mpirun --oversubscribe --allow-run-as-root -np 2 pinned/ricochet dem campaign \
+     pinned/sand-calibration-1.5e9.toml --decks pinned/liggghts-inputs \
+     --out sand-calibration-1.5e9.h5 --record-beds) >> "$CAL/campaign.log" 2>&1
+  echo "== $(date '+%F %T') the design's beds recorded (status $?)" >> "$CAL/campaign.log"
   flock /tmp/ricochet-build.lock build/cli/ricochet calibrate-grains "$CAL/sand-calibration-1.5e9.h5" \
     --lab data/lab/cylinders.csv --seed 4 \
     --lab-where "$(scripts/lab-split.py data/lab/cylinders.csv 3201 --where calibration)" \

@@ -85,18 +85,47 @@ std::vector<PlannedImpact> plan_campaign(const CampaignDesign& design, const Dec
 
 namespace {
 
+// The world's ranks as groups of design.ranks_per_impact (one LIGGGHTS instance each); the ranks
+// left over get no group (color MPI_UNDEFINED, group MPI_COMM_NULL). Collective on world.
+struct Groups {
+  int wrank = 0, wsize = 1, groups = 1, color = MPI_UNDEFINED, grank = -1;
+  MPI_Comm group = MPI_COMM_NULL;
+  Groups(const CampaignDesign& design, MPI_Comm world) {
+    MPI_Comm_rank(world, &wrank);
+    MPI_Comm_size(world, &wsize);
+    const int k = design.ranks_per_impact;
+    if (k > wsize)
+      throw InputError(design.source, 0, "campaign.ranks_per_impact",
+                       fmt::format("{} ranks per impact but only {} MPI ranks", k, wsize));
+    groups = wsize / k;
+    color = wrank < groups * k ? wrank / k : MPI_UNDEFINED;
+    MPI_Comm_split(world, color, wrank, &group);
+    if (group != MPI_COMM_NULL) MPI_Comm_rank(group, &grank);
+  }
+  ~Groups() {
+    if (group != MPI_COMM_NULL) MPI_Comm_free(&group);
+  }
+  Groups(const Groups&) = delete;
+  Groups& operator=(const Groups&) = delete;
+};
+
+// Measures `bed` on this rank alone and records it in the campaign file; a failure is said, not
+// thrown (the impact is written already; `dem campaign --record-beds` measures it later).
+void record_packing(const std::string& out, const BedFiles& bed) {
+  try {
+    record_bed_packing(out, bed.key, measure_packing(bed, MPI_COMM_SELF));
+  } catch (const std::exception& e) {
+    std::cerr << fmt::format("[dem] bed {}: packing not recorded: {}\n", bed.key, e.what());
+  }
+}
+
 // The pending impacts of `design` (those not in options.out), in waves of beds.
 CampaignSummary run_pending(const CampaignDesign& design, const Decks& decks,
                             const CampaignOptions& options, MPI_Comm world) {
   const auto start = std::chrono::steady_clock::now();
-  int wrank = 0, wsize = 1;
-  MPI_Comm_rank(world, &wrank);
-  MPI_Comm_size(world, &wsize);
-  const int k = design.ranks_per_impact;
-  if (k > wsize)
-    throw InputError(design.source, 0, "campaign.ranks_per_impact",
-                     fmt::format("{} ranks per impact but only {} MPI ranks", k, wsize));
-  const int groups = wsize / k;
+  const Groups g(design, world);
+  const int wrank = g.wrank, wsize = g.wsize, groups = g.groups, color = g.color, grank = g.grank;
+  const MPI_Comm group = g.group;
   // LIGGGHTS's custom/vtk dump initialises VTK's MPI controller with a collective on
   // MPI_COMM_WORLD: with several instances running different impacts it waits forever.
   if (options.vtk_every > 0 && groups > 1)
@@ -107,12 +136,6 @@ CampaignSummary run_pending(const CampaignDesign& design, const Decks& decks,
                     "ranks_per_impact = {} or run with one rank, or use "
                     "`ricochet dem impact --vtk` for one impact",
                     wsize));
-  const int color = wrank < groups * k ? wrank / k : MPI_UNDEFINED;
-  MPI_Comm group = MPI_COMM_NULL;
-  MPI_Comm_split(world, color, wrank, &group);
-  int grank = -1;
-  if (group != MPI_COMM_NULL) MPI_Comm_rank(group, &grank);
-
   CampaignSummary summary;
   summary.groups = groups;
   // World rank 0 decides what is left to do: impacts neither in the index nor crashed.
@@ -269,6 +292,8 @@ CampaignSummary run_pending(const CampaignDesign& design, const Decks& decks,
       ++summary.ran;
       if (grank == 0) {
         append_result(options.out, r, spec, design.name);
+        if (!read_bed_packings(options.out).count(ctx.bed.key))
+          record_packing(options.out, ctx.bed);
         const auto total = read_campaign_index(options.out).size();
         std::cerr << fmt::format("[dem] {}/{} {} (group {}): {} in {:.0f} s, {}\n", total,
                                  design.impacts.size(), spec.id, color, r.status, r.wall_s,
@@ -288,12 +313,81 @@ CampaignSummary run_pending(const CampaignDesign& design, const Decks& decks,
     if (ran == 0 && !summary.entries.empty())
       rewrite_impact_set(options.out, summary.entries, design.name);
   }
-  if (group != MPI_COMM_NULL) MPI_Comm_free(&group);
   summary.wall_s = seconds_since(start);
   return summary;
 }
 
 }  // namespace
+
+std::vector<std::string> record_beds(const CampaignDesign& design, const Decks& decks,
+                                     const std::string& out, MPI_Comm world) {
+  const Groups g(design, world);
+  // World rank 0 lists the beds to record, one impact of each (its overrides build the bed).
+  // The file's end walls, read once by world rank 0 and told to every rank (a running campaign
+  // may append meanwhile), give every rank the same reruns.
+  std::vector<CampaignEntry> index;
+  std::string walls;
+  if (g.wrank == 0) {
+    index = read_campaign_index(out);
+    for (const auto& e : index)
+      if (e.status == "end_wall") walls += e.id + "\n";
+  }
+  int length = static_cast<int>(walls.size());
+  MPI_Bcast(&length, 1, MPI_INT, 0, world);
+  walls.resize(static_cast<std::size_t>(length));
+  MPI_Bcast(walls.data(), length, MPI_CHAR, 0, world);
+  std::vector<CampaignEntry> at_wall;
+  for (std::size_t a = 0, b; (b = walls.find('\n', a)) != std::string::npos; a = b + 1) {
+    CampaignEntry e;
+    e.id = walls.substr(a, b - a);
+    e.status = "end_wall";
+    at_wall.push_back(std::move(e));
+  }
+  std::vector<ImpactSpec> specs = design.impacts;
+  for (auto& s : end_wall_reruns(design, decks, at_wall)) specs.push_back(std::move(s));
+  std::vector<int> todo;  // indices into specs
+  if (g.wrank == 0) {
+    std::set<std::string> ran, seen;
+    for (const auto& e : index) ran.insert(e.id);
+    const auto recorded = read_bed_packings(out);
+    std::vector<int> rebuild;  // the cached beds first: measuring one takes seconds
+    for (std::size_t i = 0; i < specs.size(); ++i) {
+      if (!ran.count(specs[i].id)) continue;
+      const std::string key = bed_key(decks, bed_overrides(specs[i]));
+      if (recorded.count(key) || !seen.insert(key).second) continue;
+      (bed_cached(design.cache_dir, key) ? todo : rebuild).push_back(static_cast<int>(i));
+    }
+    todo.insert(todo.end(), rebuild.begin(), rebuild.end());
+  }
+  int n = static_cast<int>(todo.size());
+  MPI_Bcast(&n, 1, MPI_INT, 0, world);
+  todo.resize(static_cast<std::size_t>(n));
+  MPI_Bcast(todo.data(), n, MPI_INT, 0, world);
+  std::vector<std::string> keys;
+  for (int t = 0; t < n; ++t) {
+    const ImpactSpec& spec = specs.at(static_cast<std::size_t>(todo[static_cast<std::size_t>(t)]));
+    const std::string key = bed_key(decks, bed_overrides(spec));
+    keys.push_back(key);
+    if (g.group == MPI_COMM_NULL || t % g.groups != g.color) continue;
+    if (g.grank == 0)
+      std::cerr << fmt::format("[dem] recording bed {} (group {}){}\n", key, g.color,
+                               bed_cached(design.cache_dir, key)
+                                   ? ""
+                                   : ": not in the cache, building it again from its seeds");
+    bool built = false;
+    double wall = 0;
+    const BedFiles bed =
+        ensure_bed(decks, bed_overrides(spec), design.cache_dir, g.group, &built, &wall);
+    if (g.grank == 0) {
+      if (built)
+        std::cerr << fmt::format("[dem] bed {}: {} grains built in {:.0f} s (group {})\n", key,
+                                 bed.grains, wall, g.color);
+      record_packing(out, bed);
+    }
+  }
+  MPI_Barrier(world);
+  return keys;
+}
 
 CampaignSummary run_campaign(const CampaignDesign& design, const Decks& decks,
                              const CampaignOptions& options, MPI_Comm world) {

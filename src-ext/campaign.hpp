@@ -67,6 +67,16 @@ std::vector<ImpactSpec> end_wall_reruns(const CampaignDesign& design, const Deck
 std::vector<PlannedImpact> plan_campaign(const CampaignDesign& design, const Decks& decks,
                                          const std::string& out);
 
+/// Records in the campaign file `out` (record_bed_packing) the packing of every bed on which the
+/// file has an impact of `design` (its end-wall reruns included) and which it does not record
+/// yet: measured on the cached bed, or on the bed built again from the same seeds when the cache
+/// lacks it (a new machine: about half an hour a bed at 1.5e9 Pa), the cached ones first.
+/// Collective on `world`, the beds dealt over the groups; returns the keys of the beds it recorded.
+/// run_campaign records each bed itself after its first impact; this is for files written before it
+/// did, or whose beds were measured nowhere. `ricochet dem campaign --record-beds`.
+std::vector<std::string> record_beds(const CampaignDesign& design, const Decks& decks,
+                                     const std::string& out, MPI_Comm world);
+
 /// Runs the pending impacts of `design` on `world` (collective), then their end-wall reruns
 /// (end_wall_reruns, with no picture), and returns the summary.
 CampaignSummary run_campaign(const CampaignDesign& design, const Decks& decks,

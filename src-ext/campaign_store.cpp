@@ -295,6 +295,43 @@ std::vector<CampaignEntry> read_campaign_index(const std::string& path) {
   return read_index_unlocked(path);
 }
 
+namespace {
+constexpr const char* kBeds = "/dem/beds";
+}  // namespace
+
+void record_bed_packing(const std::string& path, const std::string& key,
+                        const BedPacking& packing) {
+  FileLock lock(path);
+  h5::File f(path, h5::File::Mode::kReadWrite);
+  const std::string g = std::string(kBeds) + "/" + key;
+  if (!f.exists(g)) f.create_group(g);
+  f.set_attr(g, "grains", static_cast<double>(packing.grains));
+  f.set_attr(g, "grain_volume_m3", packing.grain_volume_m3);
+  f.set_attr(g, "bed_volume_m3", packing.bed_volume_m3);
+  f.set_attr(g, "solid_fraction", packing.solid_fraction);
+  f.set_attr(g, "bulk_density_kg_m3", packing.bulk_density_kg_m3);
+  f.flush();
+}
+
+std::map<std::string, BedPacking> read_bed_packings(const std::string& path) {
+  std::map<std::string, BedPacking> out;
+  if (!fs::exists(path)) return out;
+  FileLock lock(path, FileLock::Kind::kShared);
+  h5::File f(path, h5::File::Mode::kRead);
+  if (!f.exists(kBeds)) return out;
+  for (const auto& key : f.list(kBeds)) {
+    const std::string g = std::string(kBeds) + "/" + key;
+    BedPacking p;
+    p.grains = static_cast<long>(f.attr_double(g, "grains"));
+    p.grain_volume_m3 = f.attr_double(g, "grain_volume_m3");
+    p.bed_volume_m3 = f.attr_double(g, "bed_volume_m3");
+    p.solid_fraction = f.attr_double(g, "solid_fraction");
+    p.bulk_density_kg_m3 = f.attr_double(g, "bulk_density_kg_m3");
+    out.emplace(key, p);
+  }
+  return out;
+}
+
 BlockTrack read_campaign_track(const std::string& path, const std::string& id) {
   if (!fs::exists(path)) throw std::runtime_error("no campaign file " + path);
   FileLock lock(path, FileLock::Kind::kShared);

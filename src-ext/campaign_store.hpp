@@ -3,9 +3,11 @@
 // an flock on PATH.lock, so that several processes can append to one file.
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
+#include "bed.hpp"
 #include "impact_run.hpp"
 #include "params.hpp"
 
@@ -26,6 +28,15 @@ const std::vector<std::string>& campaign_value_names();
 /// `params_json` records the spec. Used by run_campaign and by `ricochet dem impact --out`.
 void append_result(const std::string& path, const ImpactResult& result, const ImpactSpec& spec,
                    const std::string& design_name);
+
+/// Records the packing of bed `key` (bed.hpp, measure_packing) in the campaign file as
+/// /dem/beds/KEY with attributes grains, grain_volume_m3, bed_volume_m3, solid_fraction and
+/// bulk_density_kg_m3 (under the file's exclusive lock; a record of the same key is rewritten).
+/// Why: the file outlives the bed cache (a machine that is not kept loses the beds, about 26 MB
+/// each), and calibrate-grains' solid-fraction band needs every design point's packing.
+void record_bed_packing(const std::string& path, const std::string& key, const BedPacking& packing);
+/// The packings the campaign file records, by bed key (empty without a file or a record).
+std::map<std::string, BedPacking> read_bed_packings(const std::string& path);
 
 /// Reads the index of a campaign file (empty when the file or the index does not exist).
 std::vector<CampaignEntry> read_campaign_index(const std::string& path);

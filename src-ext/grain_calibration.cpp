@@ -214,21 +214,26 @@ Surrogate fit_surrogate(GrainCalibrationResult& r, const OT::Sample& u, double m
 }
 
 // Each design point's solid fraction: the mean over the beds its replicas were hit on (one bed per
-// point in a [design.sample] campaign), each measured once on its restart file.
+// point in a [design.sample] campaign), as the campaign file records it (/dem/beds,
+// record_bed_packing: it outlives the cache), else measured once on the cached restart file.
 void measure_points_packing(GrainCalibrationResult& r, const std::string& campaign_h5,
                             const std::string& cache) {
   std::map<std::string, std::string> bed_of;
   for (const auto& e : read_campaign_index(campaign_h5)) bed_of[e.id] = e.bed_key;
   std::map<std::string, double> phi_of;
+  for (const auto& [key, packing] : read_bed_packings(campaign_h5))
+    phi_of[key] = packing.solid_fraction;
   for (auto& p : r.points) {
     double sum = 0;
     for (const auto& id : p.ids) {
       const std::string& key = bed_of[id];
       const std::string prefix = bed_prefix(cache, key);
-      if (key.empty() || !std::filesystem::exists(prefix + ".params"))
+      if (key.empty() || (!phi_of.count(key) && !std::filesystem::exists(prefix + ".params")))
         throw InputError(campaign_h5, 0, "/dem/index/bed_key",
                          "impact " + id + ": its bed " + (key.empty() ? "(no key)" : key) +
-                             " is not in the bed cache " + cache + " (--bed-cache)");
+                             " is neither recorded in the file (/dem/beds) nor in the bed cache " +
+                             cache + " (--bed-cache): `ricochet dem campaign DESIGN --out " +
+                             campaign_h5 + " --record-beds` records it");
       auto it = phi_of.find(key);
       if (it == phi_of.end())
         it =

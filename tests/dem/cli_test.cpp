@@ -409,6 +409,29 @@ TEST(DemCampaign, KilledCampaignResumesWithoutLosingFinishedImpacts) {
     h5::File f(out, h5::File::Mode::kRead);
     EXPECT_FALSE(f.exists("/dem/running/second"));
   }
+  // The campaign recorded its bed's packing after the bed's first impact (the file outlives the
+  // bed cache); --record-beds measures it again, the same restart file giving the same number.
+  const auto packings = read_bed_packings(out);
+  ASSERT_EQ(packings.size(), 1u);
+  const auto& [key, recorded] = *packings.begin();
+  EXPECT_EQ(key, index[0].bed_key);
+  EXPECT_GT(recorded.solid_fraction, 0.45);
+  EXPECT_LT(recorded.solid_fraction, 0.70);
+  {
+    h5::File f(out, h5::File::Mode::kReadWrite);
+    f.remove("/dem/beds");
+  }
+  const auto [rrc, rtext] = shell(std::string(RICOCHET_BIN) + " dem campaign " + design +
+                                  " --out " + out + " --record-beds --json");
+  ASSERT_EQ(rrc, 0) << rtext;
+  const auto rec = nlohmann::json::parse(rtext);
+  ASSERT_EQ(rec["recorded_now"].size(), 1u);
+  EXPECT_EQ(rec["recorded_now"][0], key);
+  EXPECT_EQ(rec["solid_fraction"][key].get<double>(), recorded.solid_fraction);
+  const auto [r2, t2] = shell(std::string(RICOCHET_BIN) + " dem campaign " + design + " --out " +
+                              out + " --record-beds --json");
+  ASSERT_EQ(r2, 0) << t2;
+  EXPECT_TRUE(nlohmann::json::parse(t2)["recorded_now"].empty());
 
   // Upscaling the two real impacts: the reduced engine's fitted e_n^2, mu, mu_R reproduce each
   // resolved rebound (per-impact Eq. 7 far below the lab's per-release errors, about 0.1), and

@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <map>
 
 #include "campaign.hpp"
 #include "common/error.hpp"
@@ -104,6 +105,57 @@ TEST_F(GrainCalibration, ASolidFractionBandNeedsTheBedCacheAndAnOrderedRange) {
   o.bed_cache = dir_.string();
   o.solid_fraction = {0.62, 0.56};
   EXPECT_THROW(calibrate_grains(path, decks(), target_set(), o), InputError);
+}
+
+// The beds of a campaign spread over sessions are seldom all in one cache (a new machine loses
+// them): calibrate-grains takes each point's solid fraction from the file's record (/dem/beds,
+// record_bed_packing) and needs the cache only for a bed the file does not record, naming the
+// command that records it.
+TEST_F(GrainCalibration, SolidFractionsComeFromTheFileWhenTheCacheLacksTheBeds) {
+  const auto key_of = [](double mu, double mur, double) {
+    return fmt::format("k{:.4g}-{:.4g}", mu, mur);
+  };
+  const std::string path = make_campaign(dir_, 8, key_of);
+  // A made-up packing law of the points: looser with more grain friction.
+  std::map<std::string, double> phi;
+  for (const auto& e : read_campaign_index(path)) {
+    if (phi.count(e.bed_key)) continue;
+    const double mu = std::stod(e.bed_key.substr(1, e.bed_key.find('-') - 1));
+    phi[e.bed_key] = 0.64 - 0.08 * mu;
+  }
+  const std::string empty_cache = (dir_ / "no-beds").string();
+  fs::create_directories(empty_cache);
+  GrainCalibrationOptions o;
+  o.bed_cache = empty_cache;
+  o.solid_fraction = {0.56, 0.62};
+  o.sobol_n = 2000;
+  o.search_n = 2000;
+  // One bed unrecorded: an error naming the file, the bed and the remedy.
+  auto it = phi.begin();
+  for (auto k = std::next(it); k != phi.end(); ++k) {
+    BedPacking p;
+    p.solid_fraction = k->second;
+    record_bed_packing(path, k->first, p);
+  }
+  try {
+    calibrate_grains(path, decks(), target_set(), o);
+    FAIL() << "an unrecorded bed outside the cache was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(it->first), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("--record-beds"), std::string::npos) << e.what();
+  }
+  BedPacking p;
+  p.solid_fraction = it->second;
+  record_bed_packing(path, it->first, p);
+  EXPECT_EQ(read_bed_packings(path).size(), phi.size());
+  const auto r = calibrate_grains(path, decks(), target_set(), o);
+  ASSERT_EQ(r.points.size(), 8u);
+  for (const auto& pt : r.points) {
+    EXPECT_TRUE(std::isfinite(pt.solid_fraction));
+    bool found = false;
+    for (const auto& [k, v] : phi) found = found || v == pt.solid_fraction;
+    EXPECT_TRUE(found) << pt.solid_fraction;
+  }
 }
 
 }  // namespace
