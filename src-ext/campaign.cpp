@@ -119,9 +119,10 @@ void record_packing(const std::string& out, const BedFiles& bed) {
   }
 }
 
-// The pending impacts of `design` (those not in options.out), in waves of beds.
+// The pending impacts of `design` (those not in options.out), in waves of beds. `planned`: the
+// campaign's impacts in all (the progress lines' denominator; the reruns' pass adds them).
 CampaignSummary run_pending(const CampaignDesign& design, const Decks& decks,
-                            const CampaignOptions& options, MPI_Comm world) {
+                            const CampaignOptions& options, MPI_Comm world, std::size_t planned) {
   const auto start = std::chrono::steady_clock::now();
   const Groups g(design, world);
   const int wrank = g.wrank, wsize = g.wsize, groups = g.groups, color = g.color, grank = g.grank;
@@ -295,9 +296,8 @@ CampaignSummary run_pending(const CampaignDesign& design, const Decks& decks,
         if (!read_bed_packings(options.out).count(ctx.bed.key))
           record_packing(options.out, ctx.bed);
         const auto total = read_campaign_index(options.out).size();
-        std::cerr << fmt::format("[dem] {}/{} {} (group {}): {} in {:.0f} s, {}\n", total,
-                                 design.impacts.size(), spec.id, color, r.status, r.wall_s,
-                                 r.message);
+        std::cerr << fmt::format("[dem] {}/{} {} (group {}): {} in {:.0f} s, {}\n", total, planned,
+                                 spec.id, color, r.status, r.wall_s, r.message);
       }
     }
     MPI_Barrier(world);
@@ -391,7 +391,7 @@ std::vector<std::string> record_beds(const CampaignDesign& design, const Decks& 
 
 CampaignSummary run_campaign(const CampaignDesign& design, const Decks& decks,
                              const CampaignOptions& options, MPI_Comm world) {
-  CampaignSummary summary = run_pending(design, decks, options, world);
+  CampaignSummary summary = run_pending(design, decks, options, world, design.impacts.size());
   if (!(design.end_wall_rerun_Lx_m > 0)) return summary;
   // An end wall is known only once its impact has run, so the reruns come after the design's
   // impacts. Every rank reads the index (under the file's shared lock) after run_pending's last
@@ -402,7 +402,8 @@ CampaignSummary run_campaign(const CampaignDesign& design, const Decks& decks,
   if (reruns.impacts.empty()) return summary;
   CampaignOptions o = options;
   o.picture = false;  // the campaign's picture is its design's first impact
-  const CampaignSummary more = run_pending(reruns, decks, o, world);
+  const CampaignSummary more =
+      run_pending(reruns, decks, o, world, design.impacts.size() + reruns.impacts.size());
   summary.ran += more.ran;
   summary.skipped += more.skipped;
   summary.wall_s += more.wall_s;
