@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
+#include <array>
 #include <cstdint>
 #include <fstream>
 #include <iostream>
@@ -60,6 +61,50 @@ std::string rate(std::size_t k, std::size_t n) {
   return fmt::format("{}/{} = {:.2f} [{:.2f}, {:.2f}]", k, n, p.rate, p.lo, p.hi);
 }
 
+// The power curve (--power): at each multiple of a family's test strength, the share of sets in
+// which the discovery selects a term of the family, each way, beside the oracle's (oracle_z > the
+// one-sided 5 % point 1.645, on the same set as the `hidden` way) and its mean z.
+int power_curve(std::ofstream& tsv, const std::vector<std::vector<double>>& factors,
+                std::uint64_t first_seed, std::size_t seeds, bool oracle_only) {
+  const std::vector<std::pair<std::string, SetMaker>> ways = {
+      {"hidden", traced_set}, {"through_law", traced_set_through_law}};
+  tsv << "family\tfactor\tstrength\tseed\toracle_z\tfound_hidden\tfound_through_law\n";
+  std::cout << fmt::format(
+      "power curve of the force-residual discovery: 30 wide-design releases per set, 50 N force "
+      "noise, seeds {}-{} per level; oracle: the exact shape's one coefficient, one-sided 5 %\n",
+      first_seed, first_seed + seeds - 1);
+  std::cout << "| family | x test strength | oracle mean z | oracle power | found, hidden | found, "
+               "through the law |\n| :-- | --: | --: | :-- | :-- | :-- |\n";
+  for (std::size_t k = 0; k < kHidden.size(); ++k)
+    for (double factor : factors[k]) {
+      const Hidden& h = kHidden[k];
+      const double strength = h.strength * factor;
+      double z_sum = 0;
+      std::size_t oracle = 0;
+      std::array<std::size_t, 2> found{};
+      for (std::uint64_t s = first_seed; s < first_seed + seeds; ++s) {
+        const double z = oracle_z(h.family, strength, s);
+        z_sum += z;
+        oracle += z > 1.645;
+        std::array<int, 2> hit{-1, -1};
+        if (!oracle_only)
+          for (std::size_t w = 0; w < ways.size(); ++w) {
+            const auto sel = selected_terms(discover(ways[w].second, h.family, strength, s));
+            hit[w] = 0;
+            for (const auto& name : h.terms) hit[w] = hit[w] || sel.count(name);
+            found[w] += hit[w];
+          }
+        tsv << fmt::format("{}\t{}\t{}\t{}\t{:.3f}\t{}\t{}\n", family_name(h.family), factor,
+                           strength, s, z, hit[0], hit[1]);
+      }
+      std::cout << fmt::format("| {} | {:.4g} | {:.1f} | {} | {} | {} |\n", family_name(h.family),
+                               factor, z_sum / static_cast<double>(seeds), rate(oracle, seeds),
+                               oracle_only ? "-" : rate(found[0], seeds),
+                               oracle_only ? "-" : rate(found[1], seeds));
+    }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -72,12 +117,47 @@ int main(int argc, char** argv) {
   app.add_option("--first-seed", first_seed, "First seed of the sets with a hidden force");
   app.add_option("--seeds", seeds, "Sets per hidden force")->check(CLI::Range(1, 100000));
   app.add_option("--out", out, "One line per set (TSV)")->required();
+  std::vector<double> factors, levels;
+  bool oracle_only = false;
+  std::uint64_t probe_seed = 4001;
+  app.add_option("--power", factors,
+                 "Instead of the rates at the test's strengths: the power curve at these "
+                 "multiples of them (hidden-force seeds only, with the oracle's z per set)")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber);
+  app.add_option("--power-z", levels,
+                 "The power curve at the strengths where the oracle's mean z is about these "
+                 "values: each family's multiple is level / (its oracle mean z at the test "
+                 "strength on the 10 probe seeds)")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber)
+      ->excludes("--power");
+  app.add_option("--probe-seed", probe_seed, "First of the 10 probe seeds of --power-z");
+  app.add_flag("--oracle-only", oracle_only, "With --power: the oracle's z alone (no discovery)");
   CLI11_PARSE(app, argc, argv);
 
   std::ofstream tsv(out);
   if (!tsv) {
     std::cerr << "force_discovery_study: cannot write " << out << "\n";
     return 2;
+  }
+  if (!factors.empty() || !levels.empty()) {
+    std::vector<std::vector<double>> per_family;
+    for (const Hidden& h : kHidden) {
+      if (levels.empty()) {
+        per_family.push_back(factors);
+        continue;
+      }
+      // The oracle's z grows about linearly with the strength (it is the coefficient's
+      // signal-to-noise ratio): one probe at the test strength places every level.
+      double z1 = 0;
+      for (std::uint64_t s = probe_seed; s < probe_seed + 10; ++s)
+        z1 += oracle_z(h.family, h.strength, s) / 10;
+      std::vector<double> f;
+      for (double level : levels) f.push_back(level / z1);
+      per_family.push_back(f);
+    }
+    return power_curve(tsv, per_family, first_seed, seeds, oracle_only);
   }
   tsv << "way\tfamily\tseed\tnormal\ttangential\n";
   const std::vector<std::pair<std::string, SetMaker>> ways = {

@@ -40,6 +40,37 @@ std::vector<ReleaseResidual> traced_set(Family f, double strength, std::uint64_t
   return out;
 }
 
+// The same draws as traced_set, in the same order, so that the oracle sees that set's noise.
+double oracle_z(Family f, double strength, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> vx(1.5, 6.0), vy(-5.0, -1.0), w(-90.0, 0.0);
+  std::normal_distribution<double> noise(0.0, kForceNoiseN);
+  std::vector<double> g, r;
+  for (int i = 0; i < 30; ++i) {
+    const std::array<double, 3> vin = {vx(rng), vy(rng), w(rng)};
+    std::vector<TraceSample> trace;
+    const Ground ground{0.16, 0.35, 0.16, f, strength};
+    (void)collide(vin, ground, Numerics{}, &trace, 100);
+    for (const TraceSample& t : trace) {
+      g.push_back(t.hidden_fn_N / strength);
+      r.push_back(t.hidden_fn_N + noise(rng));
+      g.push_back(t.hidden_ft_N / strength);
+      r.push_back(t.hidden_ft_N + noise(rng));
+    }
+  }
+  double gg = 0, gr = 0;
+  for (std::size_t k = 0; k < g.size(); ++k) {
+    gg += g[k] * g[k];
+    gr += g[k] * r[k];
+  }
+  if (!(gg > 0) || g.size() < 2) return 0;
+  const double b = gr / gg;
+  double ss = 0;
+  for (std::size_t k = 0; k < g.size(); ++k) ss += (r[k] - b * g[k]) * (r[k] - b * g[k]);
+  const double s = std::sqrt(ss / static_cast<double>(g.size() - 1));
+  return b / (s / std::sqrt(gg));
+}
+
 // The residual is the hidden force plus what the two implementations do differently (truth_sim.hpp:
 // integrator, step, the lever R - h against the engine's R - h / 2); the path evaluation
 // sub-steps between the records at the engine's dt.

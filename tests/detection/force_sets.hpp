@@ -28,6 +28,15 @@ std::vector<diagnosis::ReleaseResidual> traced_set(Family f, double strength, st
 std::vector<diagnosis::ReleaseResidual> traced_set_through_law(Family f, double strength,
                                                                std::uint64_t seed);
 
+/// The oracle's detection statistic on the set traced_set(f, strength, seed) makes (the same
+/// releases, paths and noise): it knows the hidden force's exact shape along each path, g =
+/// hidden force / strength in both components, and fits the one coefficient b of r = b g + noise
+/// by least squares over every sample; z = b / SE(b), with SE(b) = s / sqrt(sum g^2) and s the
+/// residuals' standard deviation. One pre-specified hypothesis, a known form and white noise: the
+/// ceiling any search over a term library works under (the detection benchmark's oracle, for
+/// force histories). Needs strength > 0.
+double oracle_z(Family f, double strength, std::uint64_t seed);
+
 /// The selected terms of every component, by name.
 std::set<std::string> selected_terms(const std::vector<diagnosis::ComponentLaw>& laws);
 
