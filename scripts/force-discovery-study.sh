@@ -5,7 +5,9 @@
 #   scripts/force-discovery-study.sh BUILD_DIR OUT_PREFIX
 #
 # Writes OUT_PREFIX.tsv (one line per set) and OUT_PREFIX.summary.md (the rates with Wilson 95 %
-# intervals and the command that made them). About a minute on one core.
+# intervals and the command that made them), then the power curve against the oracle (its plan
+# and seeds in the same section of the docs) into OUT_PREFIX-power.tsv, its table appended to the
+# summary. About a minute on one core.
 set -euo pipefail
 BUILD=$(cd "$1" && pwd)
 OUT=$2
@@ -20,5 +22,8 @@ mkdir -p "$(dirname "$OUT")"
   echo '```'
   "$BIN" --first-null 3001 --nulls 100 --first-seed 4001 --seeds 10 --out "$OUT.tsv"
   echo '```'
+  echo
+  "$BIN" --power-z 2,4,8,16,32 --probe-seed 4001 --first-seed 5001 --seeds 20 \
+    --out "$OUT-power.tsv"
 } > "$OUT.summary.md"
 cat "$OUT.summary.md"
