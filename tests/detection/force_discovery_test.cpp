@@ -13,6 +13,7 @@
 // not tuned).
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <random>
 #include <set>
 #include <string>
@@ -48,6 +49,29 @@ TEST_P(ForceDiscovery, TheHiddenForceFamilyIsFoundThroughTheLawAlongThePath) {
       sets_finding(traced_set_through_law, c.family, c.strength, c.family_terms, 1, 10, &laws);
   RecordProperty("found", std::to_string(found));
   EXPECT_GE(found, c.required) << laws;
+}
+
+// Below the test's strengths, where the oracle (force_sets.hpp: the exact shape's one coefficient)
+// is not far ahead: at the strength where the oracle's mean z is 16 on these seeds, the family is
+// still found in 8 of 10 (the power curve on fresh seeds, docs/detection-benchmark.md: 20 of 20
+// there, 15-19 of 20 at z = 8, 1-2 at z = 4). The oracle's z is also checked to scale with the
+// strength, which the power curve's placement of its levels assumes.
+TEST_P(ForceDiscovery, TheFamilyIsFoundWhereTheOraclesZIsSixteen) {
+  const Case& c = GetParam();
+  const auto mean_z = [&](double strength) {
+    double z = 0;
+    for (std::uint64_t s = 1; s <= 10; ++s) z += oracle_z(c.family, strength, s) / 10;
+    return z;
+  };
+  const double z1 = mean_z(c.strength);
+  ASSERT_GT(z1, 16.0);
+  const double strength = c.strength * 16.0 / z1;
+  EXPECT_NEAR(mean_z(strength), 16.0, 2.0) << "the oracle's z is not about linear in the strength";
+  std::string laws;
+  const std::size_t found =
+      sets_finding(traced_set, c.family, strength, c.family_terms, 1, 10, &laws);
+  RecordProperty("found", std::to_string(found));
+  EXPECT_GE(found, 8u) << "at " << strength / c.strength << " x the test strength\n" << laws;
 }
 
 // Strengths: the Katsuragi-Durian drag at its lab scale (m/d1 = 40 kg/m, s = 1); the depth-speed
