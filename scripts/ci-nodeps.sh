@@ -5,10 +5,10 @@
 # how to get LIGGGHTS (docs/building.md, "Without LIGGGHTS").
 # Only the program is built there, and the CLI contract (tests/cli: bad options, good exits) of
 # the main tree is run against it (RICOCHET_TEST_EXE, as the main tree's nodeps.cli does with its
-# own no-LIGGGHTS link): LIGGGHTS changes nothing else. The libraries compile the same sources with the same
-# flags in both configurations (only cli/ and tests/cli/ read RICOCHET_HAVE_LIGGGHTS), and the
-# main tree's ctest runs every library test; building and running them all again cost CI 10 of
-# its minutes (issue 34).
+# own no-LIGGGHTS link): LIGGGHTS changes nothing else. The libraries compile the same sources
+# with the same flags in both configurations (only cli/ and tests/cli/ read
+# RICOCHET_HAVE_LIGGGHTS), and the main tree's ctest runs every library test; building and running
+# them all again cost CI 10 of its minutes (issue 34).
 #   usage: scripts/ci-nodeps.sh [NODEPS_DIR [MAIN_BUILD_DIR]]   (default build-nodeps, build;
 #          .ci/run calls it after ./run.sh test has built and tested the main tree)
 set -euo pipefail

@@ -46,6 +46,10 @@ const std::vector<Hidden> kHidden = {
     {truth::Family::kRateThresholdDrag, 1.0, {"inertial_drag", "viscous", "depth_drag"}},
 };
 
+// The two ways of making the residual (force_sets.hpp), as the TSV names them.
+const std::vector<std::pair<std::string, SetMaker>> kWays = {
+    {"hidden", traced_set}, {"through_law", traced_set_through_law}};
+
 std::string by_component(const std::vector<diagnosis::ComponentLaw>& laws,
                          diagnosis::ForceComponent c) {
   std::string s;
@@ -66,8 +70,6 @@ std::string rate(std::size_t k, std::size_t n) {
 // one-sided 5 % point 1.645, on the same set as the `hidden` way) and its mean z.
 int power_curve(std::ofstream& tsv, const std::vector<std::vector<double>>& factors,
                 std::uint64_t first_seed, std::size_t seeds, bool oracle_only) {
-  const std::vector<std::pair<std::string, SetMaker>> ways = {
-      {"hidden", traced_set}, {"through_law", traced_set_through_law}};
   tsv << "family\tfactor\tstrength\tseed\toracle_z\tfound_hidden\tfound_through_law\n";
   std::cout << fmt::format(
       "power curve of the force-residual discovery: 30 wide-design releases per set, 50 N force "
@@ -88,10 +90,8 @@ int power_curve(std::ofstream& tsv, const std::vector<std::vector<double>>& fact
         oracle += z > 1.645;
         std::array<int, 2> hit{-1, -1};
         if (!oracle_only)
-          for (std::size_t w = 0; w < ways.size(); ++w) {
-            const auto sel = selected_terms(discover(ways[w].second, h.family, strength, s));
-            hit[w] = 0;
-            for (const auto& name : h.terms) hit[w] = hit[w] || sel.count(name);
+          for (std::size_t w = 0; w < kWays.size(); ++w) {
+            hit[w] = finds(discover(kWays[w].second, h.family, strength, s), h.terms);
             found[w] += hit[w];
           }
         tsv << fmt::format("{}\t{}\t{}\t{}\t{:.3f}\t{}\t{}\n", family_name(h.family), factor,
@@ -160,13 +160,11 @@ int main(int argc, char** argv) {
     return power_curve(tsv, per_family, first_seed, seeds, oracle_only);
   }
   tsv << "way\tfamily\tseed\tnormal\ttangential\n";
-  const std::vector<std::pair<std::string, SetMaker>> ways = {
-      {"hidden", traced_set}, {"through_law", traced_set_through_law}};
   std::cout << fmt::format(
       "force-residual discovery on the independent simulator: 30 wide-design releases per set, "
       "50 N force noise; null seeds {}-{}, hidden-force seeds {}-{}\n",
       first_null, first_null + nulls - 1, first_seed, first_seed + seeds - 1);
-  for (const auto& [way, make] : ways) {
+  for (const auto& [way, make] : kWays) {
     std::size_t clean = 0, normal_clean = 0, tangential_clean = 0;
     for (std::uint64_t s = first_null; s < first_null + nulls; ++s) {
       const auto laws = discover(make, truth::Family::kNone, 0, s);
@@ -185,10 +183,7 @@ int main(int argc, char** argv) {
       std::size_t found = 0;
       for (std::uint64_t s = first_seed; s < first_seed + seeds; ++s) {
         const auto laws = discover(make, h.family, h.strength, s);
-        const auto sel = selected_terms(laws);
-        bool hit = false;
-        for (const auto& name : h.terms) hit = hit || sel.count(name);
-        found += hit;
+        found += finds(laws, h.terms);
         tsv << way << "\t" << family_name(h.family) << "\t" << s << "\t"
             << by_component(laws, diagnosis::ForceComponent::kNormal) << "\t"
             << by_component(laws, diagnosis::ForceComponent::kTangential) << "\n";

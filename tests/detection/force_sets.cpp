@@ -13,51 +13,67 @@ namespace ricochet::truth {
 using diagnosis::ContactSample;
 using diagnosis::ReleaseResidual;
 
-std::vector<ReleaseResidual> traced_set(Family f, double strength, std::uint64_t seed) {
+namespace {
+
+// One release's contact samples on the wide design and the force noise drawn for each (normal,
+// tangential), in the order traced_set has always drawn them: the set's releases, paths and noise
+// for a seed, shared by the set and its oracle.
+struct NoisySample {
+  TraceSample t;
+  double noise_n_N = 0, noise_t_N = 0;
+};
+std::vector<std::vector<NoisySample>> traced_releases(Family f, double strength,
+                                                      std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> vx(1.5, 6.0), vy(-5.0, -1.0), w(-90.0, 0.0);
   std::normal_distribution<double> noise(0.0, kForceNoiseN);
-  std::vector<ReleaseResidual> out;
+  const Ground g{0.16, 0.35, 0.16, f, strength};
+  std::vector<std::vector<NoisySample>> out;
   for (int i = 0; i < 30; ++i) {
     const std::array<double, 3> vin = {vx(rng), vy(rng), w(rng)};
     std::vector<TraceSample> trace;
-    const Ground g{0.16, 0.35, 0.16, f, strength};
     (void)collide(vin, g, Numerics{}, &trace, 100);
-    ReleaseResidual r;
+    std::vector<NoisySample> release;
     for (const TraceSample& t : trace) {
+      const double n = noise(rng);
+      release.push_back({t, n, noise(rng)});
+    }
+    out.push_back(std::move(release));
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<ReleaseResidual> traced_set(Family f, double strength, std::uint64_t seed) {
+  std::vector<ReleaseResidual> out;
+  for (const auto& release : traced_releases(f, strength, seed)) {
+    ReleaseResidual r;
+    for (const NoisySample& x : release) {
       ContactSample s;
-      s.h_m = t.h_m;
-      s.vn_mps = t.vn_mps;
-      s.vt_mps = t.vt_mps;
-      s.vx_mps = t.vx_mps;
-      s.omega_radps = t.omega_radps;
-      s.loading = t.loading;
+      s.h_m = x.t.h_m;
+      s.vn_mps = x.t.vn_mps;
+      s.vt_mps = x.t.vt_mps;
+      s.vx_mps = x.t.vx_mps;
+      s.omega_radps = x.t.omega_radps;
+      s.loading = x.t.loading;
       r.samples.push_back(s);
-      r.residual.push_back({t.hidden_fn_N + noise(rng), t.hidden_ft_N + noise(rng), NAN});
+      r.residual.push_back({x.t.hidden_fn_N + x.noise_n_N, x.t.hidden_ft_N + x.noise_t_N, NAN});
     }
     out.push_back(std::move(r));
   }
   return out;
 }
 
-// The same draws as traced_set, in the same order, so that the oracle sees that set's noise.
 double oracle_z(Family f, double strength, std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> vx(1.5, 6.0), vy(-5.0, -1.0), w(-90.0, 0.0);
-  std::normal_distribution<double> noise(0.0, kForceNoiseN);
   std::vector<double> g, r;
-  for (int i = 0; i < 30; ++i) {
-    const std::array<double, 3> vin = {vx(rng), vy(rng), w(rng)};
-    std::vector<TraceSample> trace;
-    const Ground ground{0.16, 0.35, 0.16, f, strength};
-    (void)collide(vin, ground, Numerics{}, &trace, 100);
-    for (const TraceSample& t : trace) {
-      g.push_back(t.hidden_fn_N / strength);
-      r.push_back(t.hidden_fn_N + noise(rng));
-      g.push_back(t.hidden_ft_N / strength);
-      r.push_back(t.hidden_ft_N + noise(rng));
+  for (const auto& release : traced_releases(f, strength, seed))
+    for (const NoisySample& x : release) {
+      g.push_back(x.t.hidden_fn_N / strength);
+      r.push_back(x.t.hidden_fn_N + x.noise_n_N);
+      g.push_back(x.t.hidden_ft_N / strength);
+      r.push_back(x.t.hidden_ft_N + x.noise_t_N);
     }
-  }
   double gg = 0, gr = 0;
   for (std::size_t k = 0; k < g.size(); ++k) {
     gg += g[k] * g[k];
@@ -113,6 +129,13 @@ std::set<std::string> selected_terms(const std::vector<diagnosis::ComponentLaw>&
   return s;
 }
 
+bool finds(const std::vector<diagnosis::ComponentLaw>& laws, const std::set<std::string>& terms) {
+  const auto selected = selected_terms(laws);
+  for (const auto& name : terms)
+    if (selected.count(name)) return true;
+  return false;
+}
+
 std::vector<diagnosis::ComponentLaw> discover(const SetMaker& make, Family f, double strength,
                                               std::uint64_t seed, std::string* log) {
   stats::SparseOptions o;
@@ -130,12 +153,8 @@ std::size_t sets_finding(const SetMaker& make, Family f, double strength,
                          const std::set<std::string>& terms, std::uint64_t first, std::size_t n,
                          std::string* log) {
   std::size_t found = 0;
-  for (std::uint64_t seed = first; seed < first + n; ++seed) {
-    const auto selected = selected_terms(discover(make, f, strength, seed, log));
-    bool hit = false;
-    for (const auto& name : terms) hit = hit || selected.count(name);
-    found += hit;
-  }
+  for (std::uint64_t seed = first; seed < first + n; ++seed)
+    found += finds(discover(make, f, strength, seed, log), terms);
   return found;
 }
 

@@ -40,6 +40,9 @@ double oracle_z(Family f, double strength, std::uint64_t seed);
 /// The selected terms of every component, by name.
 std::set<std::string> selected_terms(const std::vector<diagnosis::ComponentLaw>& laws);
 
+/// Whether a term of `terms` (a family's) is among the selected terms of `laws`.
+bool finds(const std::vector<diagnosis::ComponentLaw>& laws, const std::set<std::string>& terms);
+
 /// traced_set or traced_set_through_law.
 using SetMaker =
     std::function<std::vector<diagnosis::ReleaseResidual>(Family, double, std::uint64_t)>;
