@@ -101,6 +101,11 @@ void run(const Options& o) {
                                r.solid_fraction_band[0], r.solid_fraction_band[1],
                                100 * r.admissible_fraction);
     std::cout << "\n";
+    for (const auto& e : r.grain_count_estimates)
+      std::cout << fmt::format(
+          "    {} bed(s) from their grain count on {} recorded bed(s) of their geometry "
+          "(leave-one-out error at most {:.4f})\n",
+          e.beds.size(), e.references, e.loo_max_abs);
   }
   for (const auto& f : figures) std::cout << "  figure: " << f << "\n";
 }
@@ -132,6 +137,11 @@ void add_calibrate_grains_command(CLI::App& app) {
                   "The campaign's bed cache folder: measure each design point's solid fraction "
                   "on its bed (LIGGGHTS reads the restart files)")
       ->check(CLI::ExistingDirectory);
+  sub->add_flag(
+      "--packing-from-grain-count", o->calibration.packing_from_grain_count,
+      "A bed neither recorded in the campaign file nor in --bed-cache: estimate its solid "
+      "fraction from its grain count and the recorded beds of its geometry (the "
+      "estimate's leave-one-out error on them is printed)");
   sub->add_option("--solid-fraction", o->calibration.solid_fraction,
                   "LO,HI: search the calibrated point only where the solid fraction's surrogate "
                   "is within [LO, HI] (a sand-like bed; needs --bed-cache)")

@@ -67,17 +67,17 @@ PLATEAU_DESIGN=sand-calibration-1.5e9 PLATEAU_OUT=results/sand-calibration \
 CAL=results/sand-calibration
 if campaign_done "$CAL" sand-calibration-1.5e9 sand-calibration-1.5e9 \
    && [ ! -f "$CAL/calibrate-grains.json" ]; then
-  # Every design point's bed packing recorded in the file first (the solid-fraction band): beds
-  # of earlier sessions that a new machine's cache lacks are built again from their seeds.
-  (cd "$CAL" && mpirun --oversubscribe --allow-run-as-root -np 2 pinned/ricochet dem campaign \
-     pinned/sand-calibration-1.5e9.toml --decks pinned/liggghts-inputs \
-     --out sand-calibration-1.5e9.h5 --record-beds) >> "$CAL/campaign.log" 2>&1
-  echo "== $(date '+%F %T') the design's beds recorded (status $?)" >> "$CAL/campaign.log"
+  # The solid-fraction band needs every design point's packing: the file records the beds built
+  # since 2026-12-02 (/dem/beds); the earlier ones (p00-p10, lost with their machines) get theirs
+  # from their grain count and the recorded beds of the same geometry (--packing-from-grain-count,
+  # amended on 2026-12-02 before the calibration ran, docs/resolved-model.md: it replaces
+  # rebuilding them, about 2.5 h of both cores; `dem campaign --record-beds` still does that).
   flock /tmp/ricochet-build.lock build/cli/ricochet calibrate-grains "$CAL/sand-calibration-1.5e9.h5" \
     --lab data/lab/cylinders.csv --seed 4 \
     --lab-where "$(scripts/lab-split.py data/lab/cylinders.csv 3201 --where calibration)" \
     --parameters bed.mu_gg bed.mur_gg block.mu_gb bed.e_gg block.e_gb bed.mu_pour \
-    --bed-cache "$CAL/dem-cache" --solid-fraction 0.56,0.62 --decks "$CAL/pinned/liggghts-inputs" \
+    --bed-cache "$CAL/dem-cache" --packing-from-grain-count --solid-fraction 0.56,0.62 \
+    --decks "$CAL/pinned/liggghts-inputs" \
     --figures "$CAL/figures" --out "$CAL/calibrate-grains.json" > "$CAL/calibrate-grains.txt" 2>&1
   echo "== $(date '+%F %T') calibrate-grains ended with status $?" >> "$CAL/campaign.log"
 fi

@@ -164,4 +164,30 @@ BedPacking measure_packing(const BedFiles& bed, MPI_Comm comm) {
   return p;
 }
 
+GrainCountPacking grain_count_packing(const std::vector<BedPacking>& references) {
+  if (references.empty())
+    throw std::invalid_argument("grain_count_packing: no reference bed of the same geometry");
+  std::vector<double> f;
+  for (const auto& r : references) {
+    if (r.grains <= 0 || !(r.grain_volume_m3 > 0) || !(r.bed_volume_m3 > 0))
+      throw std::invalid_argument("grain_count_packing: a reference bed without grains or volume");
+    f.push_back(r.grain_volume_m3 / static_cast<double>(r.grains) / r.bed_volume_m3);
+  }
+  GrainCountPacking g;
+  g.references = f.size();
+  double sum = 0;
+  for (double v : f) sum += v;
+  g.per_grain = sum / static_cast<double>(f.size());
+  if (f.size() >= 2) {
+    g.loo_max_abs = 0;
+    for (std::size_t i = 0; i < f.size(); ++i) {
+      const double others = (sum - f[i]) / static_cast<double>(f.size() - 1);
+      g.loo_max_abs =
+          std::max(g.loo_max_abs, std::fabs(references[i].solid_fraction -
+                                            static_cast<double>(references[i].grains) * others));
+    }
+  }
+  return g;
+}
+
 }  // namespace ricochet::dem

@@ -4,8 +4,10 @@
 
 #include <mpi.h>
 
+#include <cmath>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "params.hpp"
 
@@ -64,6 +66,25 @@ struct BedPacking {
   double solid_fraction = 0;      ///< grain_volume / bed_volume [-]
   double bulk_density_kg_m3 = 0;  ///< solid_fraction x rho_grain [kg/m^3]
 };
+
+/// The solid fraction of a bed known only by its grain count N (every impact's index row keeps it,
+/// /dem/index/values "grains"), from reference beds of the same box, depth and grain sizes whose
+/// packing was measured (measure_packing):
+///   phi = N vbar / (Lx Ly z_surface)   (measure_packing's definition, vbar the mean grain volume)
+/// with the factor f = vbar / (Lx Ly z_surface) averaged over the references. It holds where
+/// neither the mean grain volume (the same size distribution) nor the levelled surface (the same
+/// H_m) depends on the grain law; `loo_max_abs` checks that on the references themselves. Used by
+/// calibrate-grains for beds that neither the campaign file records nor any cache holds.
+struct GrainCountPacking {
+  std::size_t references = 0;
+  double per_grain = NAN;    ///< mean f over the references [1/grain]
+  double loo_max_abs = NAN;  ///< max |phi_i - N_i mean_{j != i} f_j| over references [-] (>= 2)
+  double solid_fraction(long grains) const { return static_cast<double>(grains) * per_grain; }
+};
+
+/// The estimator of GrainCountPacking from `references`. Throws std::invalid_argument when there
+/// is none or one has no grain or no volume.
+GrainCountPacking grain_count_packing(const std::vector<BedPacking>& references);
 
 /// Measures `bed`'s packing (collective on `comm`): a LIGGGHTS instance reads PREFIX.restart and
 /// sums the grains' volumes over the ranks; its log and screen go to PREFIX.packing.{log,screen}.

@@ -114,7 +114,7 @@ double gather_points(GrainCalibrationResult& r, const ImpactSet& set,
     for (const auto& p : r.parameters) x.push_back(parse_number(it->second.at(p), campaign_h5, p));
     auto [pos, inserted] = index.emplace(x, r.points.size());
     if (inserted) {
-      r.points.push_back(GrainPoint{x, {}, {}, 0, {}});
+      r.points.emplace_back().x = x;
       samples.emplace_back();
     }
     auto& pt = r.points[pos->second];
@@ -213,37 +213,98 @@ Surrogate fit_surrogate(GrainCalibrationResult& r, const OT::Sample& u, double m
   return sur;
 }
 
+// A bed's geometry for the grain-count estimate: every bed.* value of impact `id` that is not a
+// surrogate input (the box, depth, grain sizes, stiffness...), the seed aside.
+std::string bed_geometry(const std::map<std::string, std::map<std::string, std::string>>& grain,
+                         const std::string& id, const std::vector<std::string>& inputs) {
+  std::string g;
+  const auto it = grain.find(id);
+  if (it == grain.end()) return g;
+  for (const auto& [k, v] : it->second)
+    if (k.rfind("bed.", 0) == 0 && k != "bed.seed" &&
+        std::find(inputs.begin(), inputs.end(), k) == inputs.end())
+      g += (g.empty() ? "" : " ") + k + "=" + v;
+  return g;
+}
+
 // Each design point's solid fraction: the mean over the beds its replicas were hit on (one bed per
 // point in a [design.sample] campaign), as the campaign file records it (/dem/beds,
-// record_bed_packing: it outlives the cache), else measured once on the cached restart file.
-void measure_points_packing(GrainCalibrationResult& r, const std::string& campaign_h5,
-                            const std::string& cache) {
-  std::map<std::string, std::string> bed_of;
-  for (const auto& e : read_campaign_index(campaign_h5)) bed_of[e.id] = e.bed_key;
-  std::map<std::string, double> phi_of;
-  for (const auto& [key, packing] : read_bed_packings(campaign_h5))
-    phi_of[key] = packing.solid_fraction;
+// record_bed_packing: it outlives the cache), else measured once on the cached restart file, else
+// (packing_from_grain_count) estimated from the bed's grain count and the recorded beds of its
+// geometry.
+void measure_points_packing(
+    GrainCalibrationResult& r, const std::string& campaign_h5, const std::string& cache,
+    bool from_grain_count, const std::map<std::string, std::map<std::string, std::string>>& grain) {
+  const auto& names = campaign_value_names();
+  const std::size_t grains_col = std::find(names.begin(), names.end(), "grains") - names.begin();
+  std::map<std::string, std::string> bed_of, geometry_of;
+  std::map<std::string, long> grains_of;
+  for (const auto& e : read_campaign_index(campaign_h5)) {
+    bed_of[e.id] = e.bed_key;
+    if (e.bed_key.empty() || geometry_of.count(e.bed_key)) continue;
+    geometry_of[e.bed_key] = bed_geometry(grain, e.id, r.parameters);
+    if (grains_col < e.values.size() && std::isfinite(e.values[grains_col]))
+      grains_of[e.bed_key] = std::lround(e.values[grains_col]);
+  }
+  const auto recorded = read_bed_packings(campaign_h5);
+  std::map<std::string, std::pair<double, std::string>> phi_of;  // key -> value, source
+  for (const auto& [key, packing] : recorded) phi_of[key] = {packing.solid_fraction, "recorded"};
+  std::map<std::string, GrainCountEstimate> estimates;  // by geometry
+  const auto estimate = [&](const std::string& id, const std::string& key) {
+    const std::string& geometry = geometry_of[key];
+    std::vector<BedPacking> refs;
+    for (const auto& [k, packing] : recorded)
+      if (geometry_of.count(k) && geometry_of[k] == geometry) refs.push_back(packing);
+    if (refs.empty() || !grains_of.count(key))
+      throw InputError(
+          campaign_h5, 0, "/dem/beds",
+          "impact " + id + ": its bed " + key +
+              " is neither recorded nor cached, and its solid fraction cannot be "
+              "estimated from its grain count: " +
+              (refs.empty() ? "the file records no bed of its geometry (" + geometry + ")"
+                            : std::string("its index row has no grain count")));
+    const GrainCountPacking g = grain_count_packing(refs);
+    GrainCountEstimate& e = estimates[geometry];
+    e.geometry = geometry;
+    e.beds.push_back(key);
+    e.references = g.references;
+    e.loo_max_abs = g.loo_max_abs;
+    return g.solid_fraction(grains_of[key]);
+  };
   for (auto& p : r.points) {
     double sum = 0;
+    std::set<std::string> sources;
     for (const auto& id : p.ids) {
       const std::string& key = bed_of[id];
       const std::string prefix = bed_prefix(cache, key);
-      if (key.empty() || (!phi_of.count(key) && !std::filesystem::exists(prefix + ".params")))
-        throw InputError(campaign_h5, 0, "/dem/index/bed_key",
-                         "impact " + id + ": its bed " + (key.empty() ? "(no key)" : key) +
-                             " is neither recorded in the file (/dem/beds) nor in the bed cache " +
-                             cache + " (--bed-cache): `ricochet dem campaign DESIGN --out " +
-                             campaign_h5 + " --record-beds` records it");
       auto it = phi_of.find(key);
-      if (it == phi_of.end())
-        it =
-            phi_of
-                .emplace(key, measure_packing(read_bed_files(prefix), MPI_COMM_SELF).solid_fraction)
-                .first;
-      sum += it->second;
+      if (it == phi_of.end()) {
+        const bool cached = !key.empty() && std::filesystem::exists(prefix + ".params");
+        if (!cached && !(from_grain_count && !key.empty()))
+          throw InputError(campaign_h5, 0, "/dem/index/bed_key",
+                           "impact " + id + ": its bed " + (key.empty() ? "(no key)" : key) +
+                               " is neither recorded in the file (/dem/beds) nor in the bed "
+                               "cache " +
+                               cache + " (--bed-cache): `ricochet dem campaign DESIGN --out " +
+                               campaign_h5 +
+                               " --record-beds` records it, or --packing-from-grain-count "
+                               "estimates it");
+        const std::pair<double, std::string> v =
+            cached ? std::pair<double, std::string>{measure_packing(read_bed_files(prefix),
+                                                                    MPI_COMM_SELF)
+                                                        .solid_fraction,
+                                                    "measured"}
+                   : std::pair<double, std::string>{estimate(id, key), "grain count"};
+        it = phi_of.emplace(key, v).first;
+      }
+      sum += it->second.first;
+      sources.insert(it->second.second);
     }
     p.solid_fraction = sum / static_cast<double>(p.ids.size());
+    for (const auto& src : sources)
+      p.solid_fraction_source += (p.solid_fraction_source.empty() ? "" : "+") + src;
   }
+  for (auto& [geometry, e] : estimates) r.grain_count_estimates.push_back(std::move(e));
 }
 
 // The solid fraction's kriging over the scaled inputs (no nugget: a bed is measured exactly) and
@@ -414,7 +475,9 @@ GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const De
   const auto grain = campaign_grain_parameters(campaign_h5, decks);
   choose_inputs(r, set, grain, decks, options);
   const double mean_replicas = gather_points(r, set, grain);
-  if (!options.bed_cache.empty()) measure_points_packing(r, campaign_h5, options.bed_cache);
+  if (!options.bed_cache.empty())
+    measure_points_packing(r, campaign_h5, options.bed_cache, options.packing_from_grain_count,
+                           grain);
   const std::size_t n = r.points.size(), d = r.parameters.size();
   OT::Sample u(n, d);
   for (std::size_t i = 0; i < n; ++i)
@@ -502,14 +565,26 @@ std::string grain_calibration_json(const GrainCalibrationResult& r) {
                     {"calibrated_solid_fraction_sd", r.best_solid_fraction_sd},
                     {"q2_loo", r.solid_fraction_q2},
                     {"admissible_fraction", r.admissible_fraction}};
+  if (!r.grain_count_estimates.empty()) {
+    json est = json::array();
+    for (const auto& e : r.grain_count_estimates)
+      est.push_back({{"geometry", e.geometry},
+                     {"beds", e.beds},
+                     {"references", e.references},
+                     {"loo_max_abs_error",
+                      std::isfinite(e.loo_max_abs) ? json(e.loo_max_abs) : json(nullptr)}});
+    j["packing_from_grain_count"] = est;
+  }
   j["acceptable_fraction"] = r.acceptable_fraction;
   j["target_impacts"] = r.target_n;
   json pts = json::array();
   for (const auto& p : r.points) {
     json q = {
         {"x", p.x}, {"mean", p.mean}, {"loo", p.loo}, {"replicas", p.replicas}, {"ids", p.ids}};
-    if (std::isfinite(p.solid_fraction))
+    if (std::isfinite(p.solid_fraction)) {
       q["solid_fraction"] = {p.solid_fraction, p.solid_fraction_loo};
+      q["solid_fraction_source"] = p.solid_fraction_source;
+    }
     pts.push_back(q);
   }
   j["points"] = pts;

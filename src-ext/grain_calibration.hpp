@@ -38,6 +38,21 @@ struct GrainCalibrationOptions {
   /// Bulk constraint of a sand-like bed [lo, hi] (needs bed_cache): the calibrated point is
   /// searched only where the solid fraction's kriging mean is within it. Empty: no constraint.
   std::vector<double> solid_fraction;
+  /// A bed that neither the campaign file records (/dem/beds) nor bed_cache holds gets its solid
+  /// fraction from its grain count (bed.hpp, GrainCountPacking) and the recorded beds of the same
+  /// geometry (every bed.* value that is not a surrogate input, bed.seed aside), instead of an
+  /// error. Needs bed_cache.
+  bool packing_from_grain_count = false;
+};
+
+/// The grain-count estimate of one geometry's beds (GrainCalibrationOptions::
+/// packing_from_grain_count): the beds estimated, how many recorded beds it rests on and its
+/// leave-one-out error on them.
+struct GrainCountEstimate {
+  std::string geometry;           ///< "bed.NAME=VALUE ..." of the group
+  std::vector<std::string> beds;  ///< bed keys estimated
+  std::size_t references = 0;
+  double loo_max_abs = NAN;  ///< [-], NaN with one reference
 };
 
 /// One design point: a set of grain parameters and its replicas' mean rebound.
@@ -49,6 +64,9 @@ struct GrainPoint {
   std::vector<std::string> ids;
   double solid_fraction = NAN;  ///< measured on the point's bed(s) (mean), NaN without bed_cache
   double solid_fraction_loo = NAN;  ///< leave-one-out prediction of `solid_fraction`
+  /// Where `solid_fraction` comes from: "recorded" (the file's /dem/beds), "measured" (the cache),
+  /// "grain count" (GrainCountEstimate), or several joined by '+' for a point on several beds.
+  std::string solid_fraction_source;
 };
 
 struct GrainCalibrationResult {
@@ -73,6 +91,7 @@ struct GrainCalibrationResult {
   /// the band searched (empty without one) and the share of the sampled box inside it.
   double best_solid_fraction = NAN, best_solid_fraction_sd = NAN, solid_fraction_q2 = NAN;
   std::vector<double> solid_fraction_band;
+  std::vector<GrainCountEstimate> grain_count_estimates;  ///< empty unless some bed needed one
   double admissible_fraction = 1;
   /// Fraction of the sampled box where every component's surrogate mean is within 0.5 target
   /// standard deviations of the target mean (the acceptable set: how unique `best` is).

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <map>
 
+#include "bed.hpp"
 #include "campaign.hpp"
 #include "common/error.hpp"
 #include "dem_support.hpp"
@@ -156,6 +157,101 @@ TEST_F(GrainCalibration, SolidFractionsComeFromTheFileWhenTheCacheLacksTheBeds) 
     for (const auto& [k, v] : phi) found = found || v == pt.solid_fraction;
     EXPECT_TRUE(found) << pt.solid_fraction;
   }
+}
+
+// A new machine has lost the cache of beds built before the file recorded packings: with
+// --packing-from-grain-count such a bed's solid fraction is N vbar / V_bed, the factor from the
+// recorded beds of the same geometry. The made-up beds below vary that factor by +-0.1 % (the
+// spread of the sand calibration's three recorded 1.0 m beds: 0.06 % in V_bed, 0.04 % in vbar),
+// so the estimate is off by at most about 0.1 % of phi and its leave-one-out check says so.
+TEST_F(GrainCalibration, AnUnrecordedBedIsEstimatedFromItsGrainCountWhenAsked) {
+  const auto key_of = [](double mu, double mur, double) {
+    return fmt::format("k{:.4g}-{:.4g}", mu, mur);
+  };
+  const auto phi_of = [](double mu) { return 0.64 - 0.08 * mu; };
+  const double vbar_m3 = 1.9056e-7, bed_m3 = 0.0198;
+  const auto grains_of = [&](double mu, double, double) {
+    return std::lround(phi_of(mu) * bed_m3 / vbar_m3);
+  };
+  const std::string path = make_campaign(dir_, 8, key_of, grains_of);
+  std::map<std::string, BedPacking> beds;
+  for (const auto& e : read_campaign_index(path)) {
+    if (beds.count(e.bed_key)) continue;
+    const double mu = std::stod(e.bed_key.substr(1, e.bed_key.find('-') - 1));
+    BedPacking p;
+    p.grains = grains_of(mu, 0, 0);
+    // The reference's own bed volume, 0.1 % up or down by bed: the estimate cannot be exact.
+    p.bed_volume_m3 = bed_m3 * (beds.size() % 2 == 0 ? 1.001 : 0.999);
+    p.grain_volume_m3 = static_cast<double>(p.grains) * vbar_m3;
+    p.solid_fraction = p.grain_volume_m3 / p.bed_volume_m3;
+    beds[e.bed_key] = p;
+  }
+  const std::string missing = beds.begin()->first;
+  for (const auto& [key, p] : beds)
+    if (key != missing) record_bed_packing(path, key, p);
+  const std::string empty_cache = (dir_ / "no-beds").string();
+  fs::create_directories(empty_cache);
+  GrainCalibrationOptions o;
+  o.bed_cache = empty_cache;
+  o.sobol_n = 2000;
+  o.search_n = 2000;
+  try {
+    calibrate_grains(path, decks(), target_set(), o);
+    FAIL() << "an unrecorded bed was estimated without being asked";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--packing-from-grain-count"), std::string::npos)
+        << e.what();
+  }
+  o.packing_from_grain_count = true;
+  const auto r = calibrate_grains(path, decks(), target_set(), o);
+  ASSERT_EQ(r.grain_count_estimates.size(), 1u);
+  const GrainCountEstimate& est = r.grain_count_estimates[0];
+  EXPECT_EQ(est.beds, std::vector<std::string>{missing});
+  EXPECT_EQ(est.references, beds.size() - 1);
+  // The leave-one-out error: a reference whose volume is 0.2 % off the others' mean.
+  EXPECT_GT(est.loo_max_abs, 0.0005 * 0.56);
+  EXPECT_LT(est.loo_max_abs, 0.0025 * 0.62);
+  // The geometry is every bed.* value that is not a surrogate input: e_gg and mu_gg are inputs.
+  EXPECT_EQ(est.geometry.find("bed.mu_gg"), std::string::npos) << est.geometry;
+  EXPECT_NE(est.geometry.find("bed.Lx_m="), std::string::npos) << est.geometry;
+  std::size_t estimated = 0;
+  for (const auto& pt : r.points) {
+    const std::string key = key_of(pt.x[1], pt.x[2], 0);
+    if (pt.solid_fraction_source == "grain count") {
+      ++estimated;
+      EXPECT_EQ(key, missing);
+      EXPECT_NEAR(pt.solid_fraction, beds[missing].solid_fraction,
+                  0.0015 * beds[missing].solid_fraction);
+      EXPECT_NE(pt.solid_fraction, beds[missing].solid_fraction);
+    } else {
+      EXPECT_EQ(pt.solid_fraction_source, "recorded");
+      EXPECT_EQ(pt.solid_fraction, beds[key].solid_fraction);
+    }
+  }
+  EXPECT_EQ(estimated, 1u);
+}
+
+TEST(GrainCountPackingEstimate, IsTheReferencesMeanFactorAndChecksItselfLeavingOneOut) {
+  std::vector<BedPacking> refs(3);
+  const double f[3] = {1.00e-5, 1.01e-5, 0.99e-5};
+  const long n[3] = {60000, 59000, 61000};
+  for (int i = 0; i < 3; ++i) {
+    refs[i].grains = n[i];
+    refs[i].bed_volume_m3 = 0.02;
+    refs[i].grain_volume_m3 = f[i] * 0.02 * static_cast<double>(n[i]);
+    refs[i].solid_fraction = refs[i].grain_volume_m3 / refs[i].bed_volume_m3;
+  }
+  const GrainCountPacking g = grain_count_packing(refs);
+  EXPECT_EQ(g.references, 3u);
+  EXPECT_NEAR(g.per_grain, 1.0e-5, 1e-15);
+  EXPECT_NEAR(g.solid_fraction(58000), 0.58, 1e-9);
+  // Left out, the second's factor is 0.015e-5 above the others' mean 0.995e-5 (59000 grains:
+  // 0.00885 off), the third's 0.015e-5 below 1.005e-5 (61000: 0.00915), the first's on 1.0e-5.
+  EXPECT_NEAR(g.loo_max_abs, 0.00915, 1e-9);
+  EXPECT_TRUE(std::isnan(grain_count_packing({refs[0]}).loo_max_abs));
+  EXPECT_THROW(grain_count_packing({}), std::invalid_argument);
+  refs[1].grains = 0;
+  EXPECT_THROW(grain_count_packing(refs), std::invalid_argument);
 }
 
 }  // namespace

@@ -30,8 +30,11 @@ inline const Vel3 kReplicaScatter = {0.03, 0.03, 0.8};  // replica offsets (m/s,
 /// Bed key of a design point (mu_gg, mur_gb, e_gg) in the campaign's index; empty: none.
 using BedKeyOf = std::function<std::string(double mu_gg, double mur_gb, double e_gg)>;
 
+/// Grain count of a design point's bed (the index's "grains"); empty: 0.
+using GrainsOf = std::function<long(double mu_gg, double mur_gb, double e_gg)>;
+
 inline std::string make_campaign(const std::filesystem::path& dir, std::size_t points,
-                                 const BedKeyOf& bed_key = {}) {
+                                 const BedKeyOf& bed_key = {}, const GrainsOf& grains = {}) {
   const std::string path = (dir / "campaign.h5").string();
   const auto u = fit::lhs_unit_design(3, points, 7);
   for (std::size_t p = 0; p < points; ++p) {
@@ -55,6 +58,7 @@ inline std::string make_campaign(const std::filesystem::path& dir, std::size_t p
       for (int c = 0; c < 3; ++c) r.impact.vout[c] += (rep - 1) * kReplicaScatter[c];
       r.impact.extra.assign(impact_extra_names().size(), 0.0);
       if (bed_key) r.bed_key = bed_key(mu, mur, e);
+      if (grains) r.grains = grains(mu, mur, e);
       append_result(path, r, spec, "synthetic");
     }
   }
