@@ -114,10 +114,10 @@ TEST(ForceDiscoveryNull, ThroughTheLawAlongThePathOnlyTheLeverDifferenceIsFound)
       bool any = false;
       for (const auto& t : law.terms) {
         any = any || t.selected;
-        if (t.selected && law.component == diagnosis::ForceComponent::kTangential)
+        if (t.selected && law.component == diagnosis::ForceComponent::kTangential) {
           EXPECT_LT(std::abs(t.coefficient), 0.5 * kRankineTestStrength) << t.term->name;
-        if (t.selected && law.component == diagnosis::ForceComponent::kTangential)
           EXPECT_EQ(t.term->name, "ploughing");
+        }
       }
       if (law.component == diagnosis::ForceComponent::kNormal) normal_clean += !any;
     }
