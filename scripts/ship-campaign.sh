@@ -24,7 +24,7 @@ for f in "$DESIGN" "$SRC" "$BIN"; do
 done
 DEST=$ROOT/data/resolved/$(basename "$SRC")
 tmp=$(mktemp "$DEST.XXXX")
-trap 'rm -f "$tmp"' EXIT
+trap 'rm -f "$tmp" "$tmp.dry" "$tmp.stats"' EXIT
 flock -s "$SRC.lock" cp "$SRC" "$tmp"
 mv "$tmp" "$DEST"
 echo "shipped $SRC -> ${DEST#"$ROOT"/}"
@@ -33,9 +33,9 @@ echo "shipped $SRC -> ${DEST#"$ROOT"/}"
   exit 1
 }
 "$BIN" stats "$DEST" --json > "$tmp.stats" || { echo "$0: ricochet stats $DEST failed" >&2; exit 1; }
-python3 - "$DEST" "$tmp.dry" "$tmp.stats" <<'PY'
-import collections, json, subprocess, sys
-dest, dry, stats = sys.argv[1:]
+python3 - "$tmp.dry" "$tmp.stats" <<'PY'
+import collections, json, sys
+dry, stats = sys.argv[1:]
 d = json.load(open(dry))
 s = json.load(open(stats))
 status = collections.Counter()
@@ -43,7 +43,6 @@ for row in d.get("impacts", []):
     status[row.get("status") or "not run"] += 1
 print(f"  impacts of the design (reruns known so far included): {len(d['impacts'])} on {d['beds']} beds")
 print("  by status in the file: " + ", ".join(f"{k} {v}" for k, v in sorted(status.items())))
-print(f"  impact set: {s.get('n', s.get('releases', '?'))} rebounds (ricochet stats)")
+print(f"  impact set: {s['n']} rebounds (ricochet stats)")
 print(f"  still to run: {d['to_run']} impacts, {d['beds_to_build']} beds to build")
 PY
-rm -f "$tmp.dry" "$tmp.stats"

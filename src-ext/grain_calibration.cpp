@@ -244,27 +244,35 @@ void measure_points_packing(
   const auto recorded = read_bed_packings(campaign_h5);
   std::map<std::string, std::pair<double, std::string>> phi_of;  // key -> value, source
   for (const auto& [key, packing] : recorded) phi_of[key] = {packing.solid_fraction, "recorded"};
-  std::map<std::string, GrainCountEstimate> estimates;  // by geometry
+  // By geometry: the estimator (built once, on the geometry's recorded beds) and what it estimated.
+  std::map<std::string, std::pair<GrainCountPacking, GrainCountEstimate>> estimates;
   const auto estimate = [&](const std::string& id, const std::string& key) {
     const std::string& geometry = geometry_of[key];
-    std::vector<BedPacking> refs;
-    for (const auto& [k, packing] : recorded)
-      if (geometry_of.count(k) && geometry_of[k] == geometry) refs.push_back(packing);
-    if (refs.empty() || !grains_of.count(key))
-      throw InputError(
-          campaign_h5, 0, "/dem/beds",
-          "impact " + id + ": its bed " + key +
-              " is neither recorded nor cached, and its solid fraction cannot be "
-              "estimated from its grain count: " +
-              (refs.empty() ? "the file records no bed of its geometry (" + geometry + ")"
-                            : std::string("its index row has no grain count")));
-    const GrainCountPacking g = grain_count_packing(refs);
-    GrainCountEstimate& e = estimates[geometry];
-    e.geometry = geometry;
-    e.beds.push_back(key);
-    e.references = g.references;
-    e.loo_max_abs = g.loo_max_abs;
-    return g.solid_fraction(grains_of[key]);
+    auto it = estimates.find(geometry);
+    if (it == estimates.end()) {
+      std::vector<BedPacking> refs;
+      for (const auto& [k, packing] : recorded)
+        if (geometry_of.count(k) && geometry_of[k] == geometry) refs.push_back(packing);
+      if (refs.empty())
+        throw InputError(campaign_h5, 0, "/dem/beds",
+                         "impact " + id + ": its bed " + key +
+                             " is neither recorded nor cached, and its solid fraction cannot be "
+                             "estimated from its grain count: the file records no bed of its "
+                             "geometry (" +
+                             geometry + ")");
+      const GrainCountPacking g = grain_count_packing(refs);
+      it = estimates
+               .emplace(geometry,
+                        std::pair{g, GrainCountEstimate{geometry, {}, g.references, g.loo_max_abs}})
+               .first;
+    }
+    if (!grains_of.count(key))
+      throw InputError(campaign_h5, 0, "/dem/index/values",
+                       "impact " + id + ": its bed " + key +
+                           " is neither recorded nor cached, and its solid fraction cannot be "
+                           "estimated from its grain count: its index row has no grain count");
+    it->second.second.beds.push_back(key);
+    return it->second.first.solid_fraction(grains_of[key]);
   };
   for (auto& p : r.points) {
     double sum = 0;
@@ -284,13 +292,12 @@ void measure_points_packing(
                                campaign_h5 +
                                " --record-beds` records it, or --packing-from-grain-count "
                                "estimates it");
-        const std::pair<double, std::string> v =
-            cached ? std::pair<double, std::string>{measure_packing(read_bed_files(prefix),
-                                                                    MPI_COMM_SELF)
-                                                        .solid_fraction,
-                                                    "measured"}
-                   : std::pair<double, std::string>{estimate(id, key), "grain count"};
-        it = phi_of.emplace(key, v).first;
+        std::pair<double, std::string> v;
+        if (cached)
+          v = {measure_packing(read_bed_files(prefix), MPI_COMM_SELF).solid_fraction, "measured"};
+        else
+          v = {estimate(id, key), "grain count"};
+        it = phi_of.emplace(key, std::move(v)).first;
       }
       sum += it->second.first;
       sources.insert(it->second.second);
@@ -299,7 +306,7 @@ void measure_points_packing(
     for (const auto& src : sources)
       p.solid_fraction_source += (p.solid_fraction_source.empty() ? "" : "+") + src;
   }
-  for (auto& [geometry, e] : estimates) r.grain_count_estimates.push_back(std::move(e));
+  for (auto& [geometry, e] : estimates) r.grain_count_estimates.push_back(std::move(e.second));
 }
 
 // The solid fraction's kriging over the scaled inputs (no nugget: a bed is measured exactly) and
