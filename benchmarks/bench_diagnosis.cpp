@@ -10,6 +10,8 @@
 //                      starts; fit/orientation_rule.hpp; a triangle collision costs 6-10 cylinder
 //                      collisions)
 //   BM_CompareLab/0,1  compare only (base model, no candidates)
+//   BM_CompareLab/2    the triangles' compare with the response-surface search
+//                      (--orientation-search surface, fit/surrogate_search.hpp)
 // Counters: releases, candidates tried, the base held-out error and the noise floor (checks that
 // the fast path computes the right thing; docs/diagnosis.md lists the values), and the
 // collisions simulated (engine.hpp, collisions_simulated: the cost account of issue 35, item 3).
@@ -76,16 +78,26 @@ void BM_CompareLab(benchmark::State& state) {
   const ImpactSet set = lab(triangle);
   diagnosis::DiagnoseOptions o;
   o.progress = false;
+  if (state.range(0) == 2) o.assess.fit.alpha.search = fit::OrientationSearch::kSurface;
+  double heldout = 0;
   const std::uint64_t before = collisions_simulated();
   for (auto _ : state) {
     const auto b = diagnosis::compare(Model::paper(),
                                       triangle ? Shape::triangle() : Shape::cylinder(), set, o);
     benchmark::DoNotOptimize(b.base.heldout.per_release.data());
+    heldout = b.base.heldout.error.mean;
   }
   state.counters["releases"] = static_cast<double>(set.size());
+  state.counters["base_heldout_error"] = heldout;
   state.counters["collisions"] = static_cast<double>(collisions_simulated() - before);
 }
-BENCHMARK(BM_CompareLab)->Arg(0)->Arg(1)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
+BENCHMARK(BM_CompareLab)
+    ->Arg(0)
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kSecond)
+    ->UseRealTime()
+    ->Iterations(1);
 
 }  // namespace
 

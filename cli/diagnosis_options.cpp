@@ -61,6 +61,11 @@ void add_diagnosis_options(CLI::App* sub, diagnosis::OptionValues& v,
                   "set with releases of unknown orientation, in " +
                       fit::FitOptions::kStarts.text())
       ->capture_default_str();
+  sub->add_option("--orientation-search", v.orientation_search,
+                  "Global search of cold fits on sets of unknown orientation: multistart "
+                  "(BOBYQA runs on the search rule, the best ends polished) or surface (a "
+                  "response surface over collisions on the refined rule, docs/diagnosis.md)")
+      ->capture_default_str();
   add_threads_option(sub, v.threads);
   if (set.alpha) {
     show_range(sub, "--alpha", DiagnoseOptions::kAlpha);

@@ -25,6 +25,7 @@ rows=(
   "search rule 12|--orientations 12"
   "search rule 12, starts 64|--orientations 12 --orientation-starts 64"
   "no polish (6-point grid)|--polish-orientations 0 --orientation-starts 1"
+  "response surface on 24|--orientation-search surface"
 )
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT

@@ -14,6 +14,7 @@
 #include "common/clock.hpp"
 #include "common/progress.hpp"
 #include "diagnosis/synth.hpp"
+#include "fit/collision_memo.hpp"
 
 namespace ricochet::diagnosis {
 
@@ -771,7 +772,14 @@ Assessment assess_splits(const Model& model_in, const Shape& shape, const Impact
   a.names = model.parameter_names();
   for (std::size_t i : model.calibrated_indices()) a.calibrated.emplace_back(model.spec(i).name);
   a.use = observables_of(set, o);
+  // The full-set fit and the cold fold fits share their start design's collisions
+  // (fit/collision_memo.hpp); the full-set fit runs first and stores them.
+  AssessOptions shared = options;
+  if (!shared.fit.memo)
+    shared.fit.memo = std::make_shared<fit::CollisionMemo>(
+        fit::collision_memo_scope(model, shape, shared.fit.engine));
   fit::FitOptions fo = fit_options_for(set, o);
+  fo.memo = shared.fit.memo;
   fo.intervals = false;
   fo.starts = full_set_starts(o, fo.error, shape, set);
   a.population = full_set_fit(model, shape, set, o, fo);
@@ -784,7 +792,7 @@ Assessment assess_splits(const Model& model_in, const Shape& shape, const Impact
     a.cv = make_cv_design(n, o.folds_for(n), o.repeats, o.fit.seed);
   }
   a.folds = a.cv.folds;
-  pool_heldout(a, set, fit_splits(a, model, shape, set, options, o, warm, split_model));
+  pool_heldout(a, set, fit_splits(a, model, shape, set, shared, o, warm, split_model));
   polish_with_fold_optima(a, model, shape, set, o, fo);
   a.insample_predictions = to_observables(a.population.predictions);
   a.insample = error_report(set, a.insample_predictions, a.use, o);

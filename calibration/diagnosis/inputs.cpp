@@ -25,6 +25,12 @@ DiagnoseOptions make_options(const OptionValues& v) {
   if (v.orientations != 0) o.assess.fit.alpha.marginal_points = v.orientations;
   o.assess.fit.alpha.polish_points = v.polish_orientations;
   o.assess.marginal_starts = v.orientation_starts;
+  try {
+    o.assess.fit.alpha.search = fit::orientation_search_from(v.orientation_search);
+  } catch (const std::invalid_argument&) {
+    throw InputError("<command line>", 0, "--orientation-search",
+                     "'" + v.orientation_search + "': use multistart or surface");
+  }
   if (v.error == "set-mean")
     o.assess.scale = ErrorScale::kSetMean;
   else if (v.error == "eq7")

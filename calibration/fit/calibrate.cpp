@@ -32,6 +32,17 @@ const char* alpha_mode_name(AlphaMode mode) {
   return mode == AlphaMode::kFit ? "fit" : "marginal";
 }
 
+const char* orientation_search_name(OrientationSearch search) {
+  return search == OrientationSearch::kSurface ? "surface" : "multistart";
+}
+
+OrientationSearch orientation_search_from(const std::string& name) {
+  for (OrientationSearch s : {OrientationSearch::kMultiStart, OrientationSearch::kSurface})
+    if (name == orientation_search_name(s)) return s;
+  throw std::invalid_argument("unknown orientation search '" + name +
+                              "' (known: multistart, surface)");
+}
+
 const char* identifiability_name(Identifiability status) {
   switch (status) {
     case Identifiability::kIdentified:

@@ -60,6 +60,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -74,6 +75,8 @@
 #include "impact/impact_set.hpp"
 
 namespace ricochet::fit {
+
+class CollisionMemo;
 
 /// Whether `error` has a contact term (ErrorOptions::penetration or contact_duration).
 bool uses_contact_terms(const ErrorOptions& error);
@@ -112,6 +115,21 @@ enum class AlphaMode {
 };
 const char* alpha_mode_name(AlphaMode mode);
 
+/// How a cold population fit with orientation-averaged releases searches (issue 35, item 3).
+enum class OrientationSearch {
+  /// BOBYQA from the `starts` best design points on the search rule, the best `polish_ends`
+  /// ends polished on the refined rule.
+  kMultiStart,
+  /// Every collision on the refined rule: the design, then rounds of a response surface's
+  /// minima (fit/surrogate_search.hpp), the best point polished by BOBYQA. A fit without a
+  /// design (a local refinement) or without a refined rule searches by kMultiStart.
+  kSurface,
+};
+/// "multistart", "surface" (the command line's values of --orientation-search).
+const char* orientation_search_name(OrientationSearch search);
+/// The search named `name`; throws std::invalid_argument listing the names.
+OrientationSearch orientation_search_from(const std::string& name);
+
 struct AlphaOptions {
   AlphaMode mode = AlphaMode::kFit;
   double min_rad = -M_PI / 3;  ///< -60 degrees
@@ -128,6 +146,10 @@ struct AlphaOptions {
   /// BOBYQA step tolerance of the search's runs when they are polished, in units of the bound
   /// range (FitOptions::xtol for the polish): the search only has to find the basin.
   double search_xtol = 1e-3;
+  /// The global search of cold population fits (OrientationSearch).
+  OrientationSearch search = OrientationSearch::kMultiStart;
+  /// Rounds of the response surface at most (kSurface; SurrogateSearchOptions::rounds).
+  int surface_rounds = 24;
   /// Shift each release's rules by a fraction of a cell drawn from its id (orientation_rule.hpp);
   /// off: the midpoints of equal cells for every release.
   bool rotate = true;
@@ -182,6 +204,9 @@ struct FitOptions {
   /// Interval resolution, as a fraction of each parameter's bound range.
   double interval_resolution = 0.01;
   int threads = 0;  ///< OpenMP threads over releases (calibrate_releases) or batches; 0 = default
+  /// Collisions shared with other fits of the same model, shape and engine settings
+  /// (fit/collision_memo.hpp): the fold fits of one assessment. Null: none kept.
+  std::shared_ptr<CollisionMemo> memo;
 
   /// The allowed ranges (problems(); the command line shows them in --help). design_points: -1
   /// is no design (see above), 1e6 bounds one engine batch; marginal points: one orientation is
@@ -193,6 +218,7 @@ struct FitOptions {
   static constexpr OptionRange kMarginalPoints{2, 3600};
   static constexpr OptionRange kPolishPoints{0, 3600};  ///< 0 = none; 1 is refused (no average)
   static constexpr OptionRange kPolishEnds{1, 1000};
+  static constexpr OptionRange kSurfaceRounds{1, 1000};
   static constexpr OptionRange kAlphaRad{-M_PI, M_PI};
   static constexpr OptionRange kSigma{1e-12, 1e6};  ///< every standard uncertainty
   static constexpr OptionRange kThresholdScale{1e-6, 1e6};

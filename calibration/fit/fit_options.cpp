@@ -15,6 +15,7 @@ OptionProblems FitOptions::problems() const {
   if (alpha.polish_points == 1)
     p.push_back({"alpha.polish_points", "1 is no average: 0 (no polish) or at least 2"});
   check_range(p, "alpha.polish_ends", alpha.polish_ends, kPolishEnds);
+  check_range(p, "alpha.surface_rounds", alpha.surface_rounds, kSurfaceRounds);
   check_range(p, "alpha.search_xtol", alpha.search_xtol, kUnitFraction);
   check_range(p, "alpha.min_rad", alpha.min_rad, kAlphaRad);
   check_range(p, "alpha.max_rad", alpha.max_rad, kAlphaRad);

@@ -9,10 +9,12 @@
 #include "common/clock.hpp"
 #include "common/error.hpp"
 #include "fit/calibrate_internal.hpp"
+#include "fit/collision_memo.hpp"
 #include "fit/fibers.hpp"
 #include "fit/fit.hpp"
 #include "fit/optimize.hpp"
 #include "fit/orientation_rule.hpp"
+#include "fit/surrogate_search.hpp"
 
 namespace ricochet::fit {
 
@@ -150,7 +152,9 @@ class PopulationProblem final : public Problem {
         std::copy(row.begin(), row.end(), params.begin() + (i * C + c) * P);
       }
     }
-    const auto res = sim_.run(cases, params);
+    const bool shared = share_next_ && memo_;
+    share_next_ = false;
+    const auto res = shared ? memo_->run(sim_, cases, params, P) : sim_.run(cases, params);
     evaluations += static_cast<int>(cases.size());
     std::vector<double> out(n, 0.0);
     for (std::size_t i = 0; i < n; ++i)
@@ -160,6 +164,12 @@ class PopulationProblem final : public Problem {
   }
 
   void parallel(std::vector<std::function<void()>>& tasks) override { sim_.parallel(tasks); }
+
+  /// The next eval_many goes through FitOptions::memo: the start design, which every fold fit
+  /// of an assessment shares (fit/collision_memo.hpp). Only the design: the searches' own
+  /// points are a fit's alone, and keeping them would cost memory for no reuse.
+  void share_next_batch() { share_next_ = true; }
+  void set_memo(CollisionMemo* memo) { memo_ = memo; }
 
  private:
   detail::Simulator& sim_;
@@ -171,6 +181,8 @@ class PopulationProblem final : public Problem {
   std::vector<std::size_t> owner_;
   std::vector<double> weight_;
   bool marginal_ = false;
+  bool share_next_ = false;
+  CollisionMemo* memo_ = nullptr;
 };
 
 }  // namespace
@@ -198,6 +210,18 @@ PopulationFit calibrate_population(const Model& model, const Shape& shape, const
   if (search.marginal() && fine_points != options.alpha.marginal_points)
     fine.emplace(pool, model, shape, set, options, box, fine_points);
   PopulationProblem& problem = fine ? *fine : search;
+  // The response surface needs the refined rule and a design to interpolate (OrientationSearch).
+  const bool surface = options.alpha.search == OrientationSearch::kSurface && fine &&
+                       box.size() > 0 && design.size() / box.size() > 2 * box.size();
+  // A memo of another model (a split's own model, with other effects), shape or engine setting
+  // is not used.
+  CollisionMemo* memo =
+      options.memo && options.memo->scope() == collision_memo_scope(model, shape, options.engine)
+          ? options.memo.get()
+          : nullptr;
+  search.set_memo(memo);
+  if (fine) fine->set_memo(memo);
+  std::vector<LocalResult> surface_points;
   PopulationFit fit;
   fit.names = model.parameter_names();
   fit.calibrated = box.index;
@@ -208,13 +232,27 @@ PopulationFit calibrate_population(const Model& model, const Shape& shape, const
     if (box.size() == 0) {
       best.f = problem.eval({});
       ends.push_back(best);
+    } else if (surface) {
+      // Every collision on the refined rule (OrientationSearch::kSurface): the design, the
+      // surface's rounds, then a BOBYQA polish of the best point.
+      problem.share_next_batch();
+      design_values = problem.eval_many(design);
+      detail::SurrogateSearchOptions so;
+      so.starts = options.starts;
+      so.rounds = options.alpha.surface_rounds;
+      std::vector<LocalResult> evaluated;
+      best = detail::surrogate_search(problem, design, design_values, so, evaluated);
+      best = detail::polish(problem, {best}, 1, options.xtol, options.max_evaluations, ends);
+      // The evaluated points stand in for the design: the intervals start from those inside.
+      surface_points = std::move(evaluated);
     } else {
       // The search only has to find the basins the polish refines (AlphaOptions::search_xtol).
+      search.share_next_batch();  // multi_start's first batch is the design
       best = detail::multi_start(search, design, options.starts,
                                  fine ? options.alpha.search_xtol : options.xtol,
                                  options.max_evaluations, ends, design_values);
     }
-    if (fine && box.size() > 0) {
+    if (fine && box.size() > 0 && !surface) {
       // The model's own values (the design's first point) are a candidate too: a warm start
       // (a fold's optimum polished on the full set) is already near a minimum of the fine rule,
       // which the search rule's BOBYQA run may leave.
@@ -246,6 +284,8 @@ PopulationFit calibrate_population(const Model& model, const Shape& shape, const
       std::vector<double> inside =
           fine ? near_points(best, ends, {}, {}, box.size(), limit)
                : near_points(best, ends, design, design_values, box.size(), limit);
+      for (const auto& p : surface_points)
+        if (p.f <= limit) inside.insert(inside.end(), p.u.begin(), p.u.end());
       fit.intervals =
           intervals_of(problem, best, model, box, nullptr, 0.0, limit, options, std::move(inside));
     }
