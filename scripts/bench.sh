@@ -97,7 +97,9 @@ for k, x in runs.items():
     if k.startswith("BM_DiagnoseLab") or k.startswith("BM_CompareLab"):
         v, n = x["real_time"], x["collisions"]
         print(f"{k}: {v:.2f} s = {v / ref:.2f} x the reference's 50,000 collisions ({ref:.2f} s); "
-              f"{n / 1e6:.2f} million collisions at {n / v:,.0f}/s")
+              f"{n / 1e6:.2f} million collisions at {n / v:,.0f}/s"
+              + (f"; held-out error {x['base_heldout_error']:.4f}" if "base_heldout_error" in x
+                 else ""))
 # Issue 35, item 3's account: at the rate the triangle diagnosis itself ran, how many collisions
 # the target (10 x the reference) buys, against how many the converged diagnosis simulates.
 tri = next(x for k, x in runs.items() if k.startswith("BM_DiagnoseLab/1"))
