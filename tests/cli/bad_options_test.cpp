@@ -73,6 +73,8 @@ const std::vector<BadCase> kCases = {
     {"compare " + kCyl + " --orientations -1", "--orientations"},
     {"compare " + kCyl + " --polish-orientations 1",
      "field '--polish-orientations': 1 is no average: 0 (no polish) or at least 2"},
+    {"compare " + kCyl + " --orientation-search grid",
+     "field '--orientation-search': 'grid': use multistart or surface"},
     {"diagnose " + kCyl + " --alpha 2", "field '--alpha': value 2 is outside (0, 1)"},
     {"diagnose " + kCyl + " --screen -1", "--screen"},
     {"ladder " + kCyl + " --auto 0", "--auto: value 0 is outside [1, 20]"},
