@@ -218,6 +218,10 @@ Model calibration_model_for(const Model& model, const ImpactSet& set, const Asse
 /// Per-observable denominators d (V_out: fit::error_scale; features: floored measured value).
 Obs error_scale(const Impact& impact, const AssessOptions& options);
 
+/// A release's measured observables (V_out [m/s, m/s, rad/s], penetration [m], contact
+/// duration [s]; NaN for a feature it lacks).
+Obs measured_of(const Impact& impact);
+
 /// Prediction of one release's observables (the mean over orientations in marginal mode) and
 /// the spread over orientations.
 struct ObsPrediction {

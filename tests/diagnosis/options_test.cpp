@@ -131,7 +131,9 @@ TEST(DiagnosisOptions, FoldsAreParsedOnceAndResolvedOnce) {
   EXPECT_EQ(a.folds_for(4), 4u);
   a.folds = AssessOptions::kLeaveOneOut;
   EXPECT_EQ(a.folds_for(23), 23u);
-  EXPECT_EQ(make_options(OptionValues{.folds = "loro"}).assess.folds_for(7), 7u);
+  OptionValues loro;
+  loro.folds = "loro";
+  EXPECT_EQ(make_options(loro).assess.folds_for(7), 7u);
   EXPECT_EQ(make_options(OptionValues{}).assess.folds, AssessOptions{}.folds);
 }
 
