@@ -13,7 +13,6 @@
 
 #include "common/clock.hpp"
 #include "common/progress.hpp"
-#include "diagnosis/synth.hpp"
 #include "fit/collision_memo.hpp"
 
 namespace ricochet::diagnosis {

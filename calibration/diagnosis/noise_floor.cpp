@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "diagnosis/assess.hpp"
+#include "diagnosis/synth.hpp"
 
 namespace ricochet::diagnosis {
 
