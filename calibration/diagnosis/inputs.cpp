@@ -27,9 +27,8 @@ DiagnoseOptions make_options(const OptionValues& v) {
   o.assess.marginal_starts = v.orientation_starts;
   try {
     o.assess.fit.alpha.search = fit::orientation_search_from(v.orientation_search);
-  } catch (const std::invalid_argument&) {
-    throw InputError("<command line>", 0, "--orientation-search",
-                     "'" + v.orientation_search + "': use multistart or surface");
+  } catch (const std::invalid_argument& e) {
+    throw InputError("<command line>", 0, "--orientation-search", e.what());
   }
   if (v.error == "set-mean")
     o.assess.scale = ErrorScale::kSetMean;

@@ -37,10 +37,12 @@ const char* orientation_search_name(OrientationSearch search) {
 }
 
 OrientationSearch orientation_search_from(const std::string& name) {
-  for (OrientationSearch s : {OrientationSearch::kMultiStart, OrientationSearch::kSurface})
+  constexpr OrientationSearch kAll[] = {OrientationSearch::kMultiStart,
+                                        OrientationSearch::kSurface};
+  for (OrientationSearch s : kAll)
     if (name == orientation_search_name(s)) return s;
-  throw std::invalid_argument("unknown orientation search '" + name +
-                              "' (known: multistart, surface)");
+  throw std::invalid_argument("'" + name + "': use " + orientation_search_name(kAll[0]) + " or " +
+                              orientation_search_name(kAll[1]));
 }
 
 const char* identifiability_name(Identifiability status) {

@@ -127,7 +127,7 @@ enum class OrientationSearch {
 };
 /// "multistart", "surface" (the command line's values of --orientation-search).
 const char* orientation_search_name(OrientationSearch search);
-/// The search named `name`; throws std::invalid_argument listing the names.
+/// The search named `name`; throws std::invalid_argument ("'NAME': use multistart or surface").
 OrientationSearch orientation_search_from(const std::string& name);
 
 struct AlphaOptions {
