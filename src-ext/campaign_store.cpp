@@ -171,8 +171,11 @@ std::string replicate_label(const std::string& params_json) {
 }
 }  // namespace
 
-void rewrite_impact_set(const std::string& path, const std::vector<CampaignEntry>& entries,
-                        const std::string& design_name) {
+namespace {
+// The body of rewrite_impact_set, for callers that hold the exclusive lock already.
+void rewrite_impact_set_unlocked(const std::string& path,
+                                 const std::vector<CampaignEntry>& entries,
+                                 const std::string& design_name) {
   ImpactSet set;
   set.source = path;
   set.comments = {"Resolved (LIGGGHTS) impacts of campaign '" + design_name +
@@ -214,6 +217,16 @@ void rewrite_impact_set(const std::string& path, const std::vector<CampaignEntry
     set.impacts.push_back(im);
   }
   if (!set.impacts.empty()) write_impact_set_h5(set, path, "impacts");
+}
+}  // namespace
+
+void rewrite_impact_set(const std::string& path, const std::vector<CampaignEntry>& entries,
+                        const std::string& design_name) {
+  // Exclusive: a finished campaign run again rewrites the set on world rank 0 while the other
+  // ranks read the index for the end-wall reruns; without the lock rank 0's H5Fopen failed
+  // outright (2026-12-02, every restart of the sand calibration with its 14 reruns pending).
+  FileLock lock(path);
+  rewrite_impact_set_unlocked(path, entries, design_name);
 }
 void mark_running(const std::string& path, const std::string& id, const std::string& work_dir) {
   FileLock lock(path);
@@ -365,6 +378,6 @@ void append_result(const std::string& path, const ImpactResult& r, const ImpactS
     f.flush();
   }
   if (r.snapshot) write_snapshot(path, *r.snapshot);
-  rewrite_impact_set(path, read_index_unlocked(path), design_name);
+  rewrite_impact_set_unlocked(path, read_index_unlocked(path), design_name);
 }
 }  // namespace ricochet::dem

@@ -73,4 +73,56 @@ TEST(DemCampaignStore, ReaderAndWriterInTwoProcessesNeverCollide) {
   fs::remove_all(d);
 }
 
+// A finished campaign run again: world rank 0 rewrites the impact set (rewrite_impact_set) while
+// the other ranks read the index to list the end-wall reruns. The rewrite took no lock until
+// 2026-12-02, and every two-rank restart of the sand calibration died in rank 0's H5Fopen.
+TEST(DemCampaignStore, RewriteAndReaderInTwoProcessesNeverCollide) {
+  const fs::path d = fs::temp_directory_path() / ("dem-rewrite-test-" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  const std::string path = (d / "campaign.h5").string();
+  for (int i = 0; i < 3; ++i) {
+    ImpactSpec spec;
+    spec.id = "impact-" + std::to_string(i);
+    ImpactResult r;
+    r.id = spec.id;
+    r.status = "rebound";
+    r.impact.shape = "cylinder";
+    r.impact.vin = {2.0, -3.0 - i, 1.0};
+    r.impact.vout = {1.5, 0.5, -20.0};
+    r.impact.extra.assign(impact_extra_names().size(), 0.0);
+    append_result(path, r, spec, "rewrite-test");
+  }
+  const auto entries = read_campaign_index(path);
+  ASSERT_EQ(entries.size(), 3u);
+
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    try {
+      for (int i = 0; i < kAppends; ++i) rewrite_impact_set(path, entries, "rewrite-test");
+    } catch (const std::exception& e) {
+      std::cerr << "child: " << e.what() << "\n";
+      ::_exit(1);
+    }
+    ::_exit(0);
+  }
+  int reads = 0, failures = 0, status = 0;
+  std::string first_failure;
+  while (::waitpid(child, &status, WNOHANG) == 0) {
+    try {
+      read_campaign_index(path);
+      ++reads;
+    } catch (const std::exception& e) {
+      if (failures++ == 0) first_failure = e.what();
+    }
+  }
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "the rewriter failed (its message is on stderr)";
+  EXPECT_EQ(failures, 0) << first_failure;
+  EXPECT_GT(reads, 0);
+  EXPECT_EQ(read_campaign_index(path).size(), 3u);
+  fs::remove_all(d);
+}
+
 }  // namespace
