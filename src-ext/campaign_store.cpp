@@ -173,8 +173,7 @@ std::string replicate_label(const std::string& params_json) {
 
 namespace {
 // The body of rewrite_impact_set, for callers that hold the exclusive lock already.
-void rewrite_impact_set_unlocked(const std::string& path,
-                                 const std::vector<CampaignEntry>& entries,
+void rewrite_impact_set_unlocked(const std::string& path, const std::vector<CampaignEntry>& entries,
                                  const std::string& design_name) {
   ImpactSet set;
   set.source = path;
