@@ -2,9 +2,13 @@
 //
 // The fold fits of a leak-free assessment start from the same data-free design (the model's
 // nominal values and one Latin hypercube), and a release's collisions at a design point do not
-// depend on which fold it trains: the engine is deterministic. The first fit that simulates them
-// stores them; the others read them. Nothing the data chose enters a key, so sharing them leaks
-// nothing from a fold's held-out releases into its fit.
+// depend on which fold it trains: the engine is deterministic. The same holds for each BOBYQA
+// start's first 2d + 1 points (Problem::eval_start), which follow from the start and the initial
+// step alone; the folds mostly pick the same starts. The first fit that simulates them stores
+// them; the others read them. A key is a collision's exact inputs and a result is the engine's,
+// so a fit through the memo gives its answer without the memo bit for bit, and nothing of a
+// fold's held-out releases enters it. The searches' later points are not kept: they follow the
+// fold's data, so another fit rarely meets them, and a fit evaluates millions of them.
 #pragma once
 
 #include <cstddef>

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <nlopt.hpp>
 #include <numeric>
 #include <stdexcept>
@@ -16,13 +17,16 @@ struct Wrap {
   std::vector<double> u;           // full point; free coordinates overwritten per call
   std::vector<std::size_t> index;  // free coordinate -> full coordinate
   LocalResult best;
+  int start_evaluations = 0;  // the first calls go through Problem::eval_start
+  int calls = 0;
 };
 
 double objective(unsigned n, const double* x, double* grad, void* data) {
   (void)grad;  // derivative-free
   auto* w = static_cast<Wrap*>(data);
   for (unsigned k = 0; k < n; ++k) w->u[w->index[k]] = std::clamp(x[k], 0.0, 1.0);
-  const double f = w->problem->eval(w->u);
+  const double f =
+      w->calls++ < w->start_evaluations ? w->problem->eval_start(w->u) : w->problem->eval(w->u);
   // NaN would stall BOBYQA's model; treat an undefined rebound as a very bad fit.
   const double g = std::isfinite(f) ? f : 1e30;
   if (g < w->best.f) {
@@ -36,8 +40,8 @@ double objective(unsigned n, const double* x, double* grad, void* data) {
 
 LocalResult minimize_local(Problem& problem, const std::vector<double>& u0,
                            const std::vector<char>& free, double initial_step, double xtol,
-                           int max_evaluations, double stopval) {
-  Wrap w{&problem, u0, {}, {}};
+                           int max_evaluations, double stopval, int start_evaluations) {
+  Wrap w{&problem, u0, {}, {}, start_evaluations};
   for (std::size_t k = 0; k < u0.size(); ++k)
     if (free[k]) w.index.push_back(k);
   const unsigned n = static_cast<unsigned>(w.index.size());
@@ -102,7 +106,11 @@ LocalResult multi_start(Problem& problem, const std::vector<double>& design, int
     tasks.push_back([&, r] {
       const std::size_t i = order[r];
       const std::vector<double> u0(design.begin() + i * d, design.begin() + (i + 1) * d);
-      ends[r] = minimize_local(problem, u0, all, step, xtol, max_evaluations);
+      // BOBYQA's start and its 2d first interpolation points (COBYLA's d + 1, d = 1, are
+      // among them).
+      ends[r] = minimize_local(problem, u0, all, step, xtol, max_evaluations,
+                               -std::numeric_limits<double>::infinity(),
+                               2 * static_cast<int>(d) + 1);
     });
   }
   problem.parallel(tasks);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <optional>
 #include <stdexcept>
+#include <utility>
 
 #include "common/clock.hpp"
 #include "common/error.hpp"
@@ -137,8 +138,25 @@ class PopulationProblem final : public Problem {
   }
 
   double eval(const std::vector<double>& u) override { return eval_many(u)[0]; }
-
+  double eval_start(const std::vector<double>& u) override {
+    return eval_batch(u, memo_ != nullptr)[0];
+  }
   std::vector<double> eval_many(const std::vector<double>& points) override {
+    return eval_batch(points, std::exchange(share_next_, false) && memo_);
+  }
+
+  void parallel(std::vector<std::function<void()>>& tasks) override { sim_.parallel(tasks); }
+
+  /// The next eval_many goes through FitOptions::memo: the start design, which every fold fit
+  /// of an assessment shares (fit/collision_memo.hpp). The searches' starts and first
+  /// interpolation points go through it too (eval_start); their later points are a fit's alone,
+  /// and keeping them would cost memory for little reuse.
+  void share_next_batch() { share_next_ = true; }
+  void set_memo(CollisionMemo* memo) { memo_ = memo; }
+
+ private:
+  // `shared`: through the memo.
+  std::vector<double> eval_batch(const std::vector<double>& points, bool shared) {
     const std::size_t d = dim(), P = base_.size(), C = cases_.size();
     const std::size_t n = d == 0 ? 1 : points.size() / d;  // a fixed model: one point
     std::vector<CollisionCase> cases;
@@ -152,8 +170,6 @@ class PopulationProblem final : public Problem {
         std::copy(row.begin(), row.end(), params.begin() + (i * C + c) * P);
       }
     }
-    const bool shared = share_next_ && memo_;
-    share_next_ = false;
     const auto res = shared ? memo_->run(sim_, cases, params, P) : sim_.run(cases, params);
     evaluations += static_cast<int>(cases.size());
     std::vector<double> out(n, 0.0);
@@ -163,15 +179,6 @@ class PopulationProblem final : public Problem {
     return out;
   }
 
-  void parallel(std::vector<std::function<void()>>& tasks) override { sim_.parallel(tasks); }
-
-  /// The next eval_many goes through FitOptions::memo: the start design, which every fold fit
-  /// of an assessment shares (fit/collision_memo.hpp). Only the design: the searches' own
-  /// points are a fit's alone, and keeping them would cost memory for no reuse.
-  void share_next_batch() { share_next_ = true; }
-  void set_memo(CollisionMemo* memo) { memo_ = memo; }
-
- private:
   detail::Simulator& sim_;
   const ImpactSet& set_;
   const FitOptions& options_;

@@ -2,7 +2,8 @@
 // and the collision memo the fits of one assessment share (fit/collision_memo.hpp): the
 // interpolant against functions it must reproduce, the search against test functions with
 // known minima (Branin's three, Dixon & Szego 1978, the standard set of Gutmann 2001 and Regis
-// & Shoemaker 2005), and the memo against the engine run directly.
+// & Shoemaker 2005), and the memo against the engine run directly and through the multi-start's
+// shared first points.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -14,6 +15,7 @@
 #include "fit/design.hpp"
 #include "fit/fibers.hpp"
 #include "fit/fit.hpp"
+#include "fit/optimize.hpp"
 #include "fit/surrogate_search.hpp"
 
 namespace ricochet::fit {
@@ -182,6 +184,84 @@ TEST(SurrogateSearch, ATriangleFitOnTheSurfaceSharesItsDesignThroughTheMemo) {
   EXPECT_EQ(again.error, surface.error);
   // The design (49 points x 5 releases x 6 orientations) came from the memo the second time.
   EXPECT_EQ((c1 - c0) - (c2 - c1), 49u * 5u * 6u);
+}
+
+// The memo's premise for a search's first points (Problem::eval_start): BOBYQA's start and its
+// 2d first interpolation points follow from the start and the initial step, not from the
+// objective. Two objectives with minima far apart, from the same design, must send the same
+// points through eval_start, 2d + 1 per start, and no other point.
+class StartRecorder final : public detail::Problem {
+ public:
+  explicit StartRecorder(std::array<double, 3> centre) : centre_(centre) {}
+  std::size_t dim() const override { return 3; }
+  double eval(const std::vector<double>& u) override {
+    double f = 0;
+    for (std::size_t k = 0; k < 3; ++k) f += (u[k] - centre_[k]) * (u[k] - centre_[k]);
+    return f;
+  }
+  double eval_start(const std::vector<double>& u) override {
+    starts.push_back(u);
+    return eval(u);
+  }
+  std::vector<std::vector<double>> starts;
+
+ private:
+  std::array<double, 3> centre_;
+};
+
+TEST(MultiStart, ItsStartPointsDoNotDependOnTheObjective) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  std::vector<double> design(3 * 20);
+  for (double& x : design) x = u01(rng);
+  StartRecorder a({0.1, 0.2, 0.3}), b({0.9, 0.7, 0.6});
+  std::vector<LocalResult> ends;
+  std::vector<double> values;
+  // One start: the best design point of both objectives must be the same one for the points
+  // to be comparable, so the start is the design's only point.
+  const std::vector<double> one(design.begin(), design.begin() + 3);
+  detail::multi_start(a, one, 1, 1e-6, 200, ends, values);
+  detail::multi_start(b, one, 1, 1e-6, 200, ends, values);
+  ASSERT_EQ(a.starts.size(), 7u);
+  EXPECT_EQ(a.starts, b.starts);
+  // Many starts: 2d + 1 each.
+  StartRecorder c({0.5, 0.5, 0.5});
+  detail::multi_start(c, design, 6, 1e-6, 200, ends, values);
+  EXPECT_EQ(c.starts.size(), 6u * 7u);
+}
+
+// The fold fits of an assessment by the default multi-start share the design and every search's
+// first points through the memo: a second fit of a subset of the releases gives the answer it
+// gives alone, with fewer collisions.
+TEST(MultiStart, AFitThroughTheMemoGivesItsOwnAnswerWithFewerCollisions) {
+  const Model model = Model::paper();
+  const Shape shape = Shape::triangle();
+  ImpactSet set = read_impact_set(std::string(RICOCHET_SOURCE_DIR) + "/data/lab/triangles.csv");
+  set.impacts.resize(6);
+  ImpactSet fold = set;
+  fold.impacts.erase(fold.impacts.begin() + 2);
+  FitOptions o;
+  o.alpha.mode = AlphaMode::kMarginal;
+  o.alpha.marginal_points = 3;
+  o.alpha.polish_points = 6;
+  o.intervals = false;
+  o.starts = 6;
+  const std::uint64_t c0 = collisions_simulated();
+  const PopulationFit alone = calibrate_population(model, shape, fold, o);
+  const std::uint64_t c1 = collisions_simulated();
+  o.memo = std::make_shared<CollisionMemo>(collision_memo_scope(model, shape, o.engine));
+  calibrate_population(model, shape, set, o);
+  const std::size_t held = o.memo->stored();
+  const std::uint64_t c2 = collisions_simulated();
+  const PopulationFit shared = calibrate_population(model, shape, fold, o);
+  const std::uint64_t c3 = collisions_simulated();
+  EXPECT_EQ(shared.params, alone.params);
+  EXPECT_EQ(shared.error, alone.error);
+  EXPECT_LT(c3 - c2, c1 - c0);
+  // More than the design was shared: 49 points x 5 releases x 3 orientations.
+  EXPECT_GT((c1 - c0) - (c3 - c2), 49u * 5u * 3u);
+  // Only the design and the searches' first points are kept, not every point of the full fit.
+  EXPECT_LT(held, static_cast<std::size_t>(c2 - c1));
 }
 
 }  // namespace
