@@ -108,9 +108,9 @@ LocalResult multi_start(Problem& problem, const std::vector<double>& design, int
       const std::vector<double> u0(design.begin() + i * d, design.begin() + (i + 1) * d);
       // BOBYQA's start and its 2d first interpolation points (COBYLA's d + 1, d = 1, are
       // among them).
-      ends[r] = minimize_local(problem, u0, all, step, xtol, max_evaluations,
-                               -std::numeric_limits<double>::infinity(),
-                               2 * static_cast<int>(d) + 1);
+      ends[r] =
+          minimize_local(problem, u0, all, step, xtol, max_evaluations,
+                         -std::numeric_limits<double>::infinity(), 2 * static_cast<int>(d) + 1);
     });
   }
   problem.parallel(tasks);
