@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <functional>
 #include <iostream>
 
 #include "campaign.hpp"
@@ -21,86 +22,22 @@ namespace fs = std::filesystem;
 
 constexpr int kAppends = 25;
 
-// The child appends kAppends impacts, each marked running first, as a campaign group does.
-[[noreturn]] void append_in_child(const std::string& path) {
-  try {
-    for (int i = 0; i < kAppends; ++i) {
-      ImpactSpec spec;
-      spec.id = "impact-" + std::to_string(i);
-      mark_running(path, spec.id, "work");
-      ImpactResult r;
-      r.id = spec.id;
-      r.status = "ok";
-      for (int k = 0; k < 50; ++k)
-        for (const auto& name : BlockTrack::column_names())
-          r.track.column(name)->push_back(1e-3 * k);
-      append_result(path, r, spec, "concurrency-test");
-    }
-  } catch (const std::exception& e) {
-    std::cerr << "child: " << e.what() << "\n";
-    ::_exit(1);
-  }
-  ::_exit(0);
-}
-
-TEST(DemCampaignStore, ReaderAndWriterInTwoProcessesNeverCollide) {
-  const fs::path d = fs::temp_directory_path() / ("dem-store-test-" + std::to_string(::getpid()));
+// A fresh folder for one test's campaign file.
+std::string fresh_campaign(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / (name + "-" + std::to_string(::getpid()));
   fs::remove_all(d);
   fs::create_directories(d);
-  const std::string path = (d / "campaign.h5").string();
-
-  const pid_t child = ::fork();
-  ASSERT_GE(child, 0);
-  if (child == 0) append_in_child(path);
-
-  int reads = 0, failures = 0, status = 0;
-  std::string first_failure;
-  while (::waitpid(child, &status, WNOHANG) == 0) {
-    try {
-      read_campaign_index(path);
-      ++reads;
-    } catch (const std::exception& e) {
-      if (failures++ == 0) first_failure = e.what();
-    }
-  }
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 0) << "the writer failed (its message is on stderr)";
-  EXPECT_EQ(failures, 0) << first_failure;
-  EXPECT_GT(reads, 0);
-  const auto index = read_campaign_index(path);
-  ASSERT_EQ(index.size(), static_cast<std::size_t>(kAppends));
-  EXPECT_EQ(index.back().id, "impact-" + std::to_string(kAppends - 1));
-  fs::remove_all(d);
+  return (d / "campaign.h5").string();
 }
 
-// A finished campaign run again: world rank 0 rewrites the impact set (rewrite_impact_set) while
-// the other ranks read the index to list the end-wall reruns. The rewrite took no lock until
-// 2026-12-02, and every two-rank restart of the sand calibration died in rank 0's H5Fopen.
-TEST(DemCampaignStore, RewriteAndReaderInTwoProcessesNeverCollide) {
-  const fs::path d = fs::temp_directory_path() / ("dem-rewrite-test-" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  const std::string path = (d / "campaign.h5").string();
-  for (int i = 0; i < 3; ++i) {
-    ImpactSpec spec;
-    spec.id = "impact-" + std::to_string(i);
-    ImpactResult r;
-    r.id = spec.id;
-    r.status = "rebound";
-    r.impact.shape = "cylinder";
-    r.impact.vin = {2.0, -3.0 - i, 1.0};
-    r.impact.vout = {1.5, 0.5, -20.0};
-    r.impact.extra.assign(impact_extra_names().size(), 0.0);
-    append_result(path, r, spec, "rewrite-test");
-  }
-  const auto entries = read_campaign_index(path);
-  ASSERT_EQ(entries.size(), 3u);
-
+// Forks a child that runs `write` on `path` while this process reads the index until the
+// child ends; expects the child to succeed (its message, if not, on stderr) and no read to fail.
+void read_while_child_writes(const std::string& path, const std::function<void()>& write) {
   const pid_t child = ::fork();
   ASSERT_GE(child, 0);
   if (child == 0) {
     try {
-      for (int i = 0; i < kAppends; ++i) rewrite_impact_set(path, entries, "rewrite-test");
+      write();
     } catch (const std::exception& e) {
       std::cerr << "child: " << e.what() << "\n";
       ::_exit(1);
@@ -118,11 +55,58 @@ TEST(DemCampaignStore, RewriteAndReaderInTwoProcessesNeverCollide) {
     }
   }
   ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 0) << "the rewriter failed (its message is on stderr)";
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "the writer failed (its message is on stderr)";
   EXPECT_EQ(failures, 0) << first_failure;
   EXPECT_GT(reads, 0);
+}
+
+TEST(DemCampaignStore, ReaderAndWriterInTwoProcessesNeverCollide) {
+  const std::string path = fresh_campaign("dem-store-test");
+  // The child appends kAppends impacts, each marked running first, as a campaign group does.
+  read_while_child_writes(path, [&] {
+    for (int i = 0; i < kAppends; ++i) {
+      ImpactSpec spec;
+      spec.id = "impact-" + std::to_string(i);
+      mark_running(path, spec.id, "work");
+      ImpactResult r;
+      r.id = spec.id;
+      r.status = "ok";
+      for (int k = 0; k < 50; ++k)
+        for (const auto& name : BlockTrack::column_names())
+          r.track.column(name)->push_back(1e-3 * k);
+      append_result(path, r, spec, "concurrency-test");
+    }
+  });
+  const auto index = read_campaign_index(path);
+  ASSERT_EQ(index.size(), static_cast<std::size_t>(kAppends));
+  EXPECT_EQ(index.back().id, "impact-" + std::to_string(kAppends - 1));
+  fs::remove_all(fs::path(path).parent_path());
+}
+
+// A finished campaign run again: world rank 0 rewrites the impact set (rewrite_impact_set) while
+// the other ranks read the index to list the end-wall reruns. The rewrite took no lock until
+// 2026-12-02, and every two-rank restart of the sand calibration died in rank 0's H5Fopen.
+TEST(DemCampaignStore, RewriteAndReaderInTwoProcessesNeverCollide) {
+  const std::string path = fresh_campaign("dem-rewrite-test");
+  for (int i = 0; i < 3; ++i) {
+    ImpactSpec spec;
+    spec.id = "impact-" + std::to_string(i);
+    ImpactResult r;
+    r.id = spec.id;
+    r.status = "rebound";
+    r.impact.shape = "cylinder";
+    r.impact.vin = {2.0, -3.0 - i, 1.0};
+    r.impact.vout = {1.5, 0.5, -20.0};
+    r.impact.extra.assign(impact_extra_names().size(), 0.0);
+    append_result(path, r, spec, "rewrite-test");
+  }
+  const auto entries = read_campaign_index(path);
+  ASSERT_EQ(entries.size(), 3u);
+  read_while_child_writes(path, [&] {
+    for (int i = 0; i < kAppends; ++i) rewrite_impact_set(path, entries, "rewrite-test");
+  });
   EXPECT_EQ(read_campaign_index(path).size(), 3u);
-  fs::remove_all(d);
+  fs::remove_all(fs::path(path).parent_path());
 }
 
 }  // namespace

@@ -156,20 +156,31 @@ TEST(CollisionMemo, GivesTheEnginesResultsAndRunsEachCollisionOnce) {
   EXPECT_EQ(collision_memo_scope(model, shape, finer), memo.scope());
 }
 
+// The first `releases` lab triangles, and fit options that average them over a small rule
+// (3 orientations searched, 6 polished) from `starts` starts, without intervals: a quick fit.
+ImpactSet first_lab_triangles(std::size_t releases) {
+  ImpactSet set = read_impact_set(std::string(RICOCHET_SOURCE_DIR) + "/data/lab/triangles.csv");
+  set.impacts.resize(releases);
+  return set;
+}
+FitOptions quick_marginal_fit(int starts) {
+  FitOptions o;
+  o.alpha.mode = AlphaMode::kMarginal;
+  o.alpha.marginal_points = 3;
+  o.alpha.polish_points = 6;
+  o.intervals = false;
+  o.starts = starts;
+  return o;
+}
+
 // A population fit of orientation-averaged triangles by the response surface: every collision
 // on the refined rule, far fewer of them than the multi-start, and a memo shared with another
 // fit of the same design gives that fit the same answer with fewer collisions.
 TEST(SurrogateSearch, ATriangleFitOnTheSurfaceSharesItsDesignThroughTheMemo) {
   const Model model = Model::paper();
   const Shape shape = Shape::triangle();
-  ImpactSet set = read_impact_set(std::string(RICOCHET_SOURCE_DIR) + "/data/lab/triangles.csv");
-  set.impacts.resize(5);
-  FitOptions o;
-  o.alpha.mode = AlphaMode::kMarginal;
-  o.alpha.marginal_points = 3;
-  o.alpha.polish_points = 6;
-  o.intervals = false;
-  o.starts = 8;
+  const ImpactSet set = first_lab_triangles(5);
+  FitOptions o = quick_marginal_fit(8);
   const PopulationFit multi = calibrate_population(model, shape, set, o);
   o.alpha.search = OrientationSearch::kSurface;
   o.memo = std::make_shared<CollisionMemo>(collision_memo_scope(model, shape, o.engine));
@@ -236,16 +247,10 @@ TEST(MultiStart, ItsStartPointsDoNotDependOnTheObjective) {
 TEST(MultiStart, AFitThroughTheMemoGivesItsOwnAnswerWithFewerCollisions) {
   const Model model = Model::paper();
   const Shape shape = Shape::triangle();
-  ImpactSet set = read_impact_set(std::string(RICOCHET_SOURCE_DIR) + "/data/lab/triangles.csv");
-  set.impacts.resize(6);
+  const ImpactSet set = first_lab_triangles(6);
   ImpactSet fold = set;
   fold.impacts.erase(fold.impacts.begin() + 2);
-  FitOptions o;
-  o.alpha.mode = AlphaMode::kMarginal;
-  o.alpha.marginal_points = 3;
-  o.alpha.polish_points = 6;
-  o.intervals = false;
-  o.starts = 6;
+  FitOptions o = quick_marginal_fit(6);
   const std::uint64_t c0 = collisions_simulated();
   const PopulationFit alone = calibrate_population(model, shape, fold, o);
   const std::uint64_t c1 = collisions_simulated();
