@@ -8,7 +8,7 @@
 // them; the others read them. A key is a collision's exact inputs and a result is the engine's,
 // so a fit through the memo gives its answer without the memo bit for bit, and nothing of a
 // fold's held-out releases enters it. The searches' later points are not kept: they follow the
-// fold's data, so another fit rarely meets them, and a fit evaluates millions of them.
+// fold's data, so another fit rarely meets them, and they are most of a fit's collisions.
 #pragma once
 
 #include <cstddef>
