@@ -3,7 +3,7 @@
 // The fold fits of a leak-free assessment start from the same data-free design (the model's
 // nominal values and one Latin hypercube), and a release's collisions at a design point do not
 // depend on which fold it trains: the engine is deterministic. The same holds for each BOBYQA
-// start's first 2d + 1 points (Problem::eval_start), which follow from the start and the initial
+// start's first 2d + 1 points (Problem::eval_starts), which follow from the start and the initial
 // step alone; the folds mostly pick the same starts. The first fit that simulates them stores
 // them; the others read them. A key is a collision's exact inputs and a result is the engine's,
 // so a fit through the memo gives its answer without the memo bit for bit, and nothing of a

@@ -17,7 +17,7 @@ struct Wrap {
   std::vector<double> u;           // full point; free coordinates overwritten per call
   std::vector<std::size_t> index;  // free coordinate -> full coordinate
   LocalResult best;
-  int start_evaluations = 0;  // the first calls go through Problem::eval_start
+  int start_evaluations = 0;  // the first calls go through Problem::eval_starts
   int calls = 0;
 };
 
@@ -26,7 +26,7 @@ double objective(unsigned n, const double* x, double* grad, void* data) {
   auto* w = static_cast<Wrap*>(data);
   for (unsigned k = 0; k < n; ++k) w->u[w->index[k]] = std::clamp(x[k], 0.0, 1.0);
   const double f =
-      w->calls++ < w->start_evaluations ? w->problem->eval_start(w->u) : w->problem->eval(w->u);
+      w->calls++ < w->start_evaluations ? w->problem->eval_starts(w->u)[0] : w->problem->eval(w->u);
   // NaN would stall BOBYQA's model; treat an undefined rebound as a very bad fit.
   const double g = std::isfinite(f) ? f : 1e30;
   if (g < w->best.f) {
@@ -85,7 +85,7 @@ LocalResult multi_start(Problem& problem, const std::vector<double>& design, int
                         std::vector<double>& design_values) {
   const std::size_t d = problem.dim();
   const std::size_t n = design.size() / d;
-  design_values = problem.eval_many(design);
+  design_values = problem.eval_starts(design);
   std::vector<std::size_t> order(n);
   std::iota(order.begin(), order.end(), 0);
   // Stable sort on (value, index): ties resolved by design order, so the starts are

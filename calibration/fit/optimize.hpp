@@ -21,11 +21,14 @@ class Problem {
   virtual std::size_t dim() const = 0;
   /// Objective at one point.
   virtual double eval(const std::vector<double>& u) = 0;
-  /// Objective at a local search's start or one of its first interpolation points (BOBYQA's
-  /// 2n + 1, Powell 2009): they follow from the start and the initial step alone, not from the
-  /// data, so fits that start from the same design point evaluate the same points and a problem
-  /// may share their results with the others (fit/collision_memo.hpp). Same value as eval().
-  virtual double eval_start(const std::vector<double>& u) { return eval(u); }
+  /// Objective at points that follow from a search's design and settings alone, not from the
+  /// data (row-major, dim per point): multi_start's design, and each local search's start and
+  /// first interpolation points (BOBYQA's 2n + 1, Powell 2009). Fits that share a design
+  /// evaluate the same such points, so a problem may share their results with the others
+  /// (fit/collision_memo.hpp). Same values as eval_many().
+  virtual std::vector<double> eval_starts(const std::vector<double>& points) {
+    return eval_many(points);
+  }
   /// Objective at many points (row-major, dim per point); override to batch the engine.
   virtual std::vector<double> eval_many(const std::vector<double>& points) {
     std::vector<double> out;
@@ -52,7 +55,7 @@ struct LocalResult {
 /// Stops at `stopval` (pass -inf for a full minimisation), after `max_evaluations`, or when a
 /// step changes no variable by more than `xtol`. Returns the best point evaluated (NLopt's
 /// round-off exits keep it too). The first `start_evaluations` evaluations go through
-/// Problem::eval_start.
+/// Problem::eval_starts.
 LocalResult minimize_local(Problem& problem, const std::vector<double>& u0,
                            const std::vector<char>& free, double initial_step, double xtol,
                            int max_evaluations,
@@ -60,9 +63,9 @@ LocalResult minimize_local(Problem& problem, const std::vector<double>& u0,
                            int start_evaluations = 0);
 
 /// Multi-start: evaluates `design` (row-major unit points) in one batch, then runs BOBYQA from
-/// its `starts` best points (as parallel tasks), each run's start and first interpolation
-/// points through Problem::eval_start. Returns the best end point (first in start order among
-/// equals); fills the end point of every run and the design values.
+/// its `starts` best points (as parallel tasks); the design and each run's start and first
+/// interpolation points go through Problem::eval_starts. Returns the best end point (first in start
+/// order among equals); fills the end point of every run and the design values.
 LocalResult multi_start(Problem& problem, const std::vector<double>& design, int starts,
                         double xtol, int max_evaluations, std::vector<LocalResult>& ends,
                         std::vector<double>& design_values);

@@ -138,20 +138,18 @@ class PopulationProblem final : public Problem {
   }
 
   double eval(const std::vector<double>& u) override { return eval_many(u)[0]; }
-  double eval_start(const std::vector<double>& u) override {
-    return eval_batch(u, memo_ != nullptr)[0];
+  /// Through FitOptions::memo: the start design and the searches' first points, which every
+  /// fold fit of an assessment shares (fit/collision_memo.hpp). The searches' later points are a
+  /// fit's alone, and keeping them would cost memory for little reuse.
+  std::vector<double> eval_starts(const std::vector<double>& points) override {
+    return eval_batch(points, memo_ != nullptr);
   }
   std::vector<double> eval_many(const std::vector<double>& points) override {
-    return eval_batch(points, std::exchange(share_next_, false) && memo_);
+    return eval_batch(points, false);
   }
 
   void parallel(std::vector<std::function<void()>>& tasks) override { sim_.parallel(tasks); }
 
-  /// The next eval_many goes through FitOptions::memo: the start design, which every fold fit
-  /// of an assessment shares (fit/collision_memo.hpp). The searches' starts and first
-  /// interpolation points go through it too (eval_start); their later points are a fit's alone,
-  /// and keeping them would cost memory for little reuse.
-  void share_next_batch() { share_next_ = true; }
   void set_memo(CollisionMemo* memo) { memo_ = memo; }
 
  private:
@@ -188,7 +186,6 @@ class PopulationProblem final : public Problem {
   std::vector<std::size_t> owner_;
   std::vector<double> weight_;
   bool marginal_ = false;
-  bool share_next_ = false;
   CollisionMemo* memo_ = nullptr;
 };
 
@@ -242,8 +239,7 @@ PopulationFit calibrate_population(const Model& model, const Shape& shape, const
     } else if (surface) {
       // Every collision on the refined rule (OrientationSearch::kSurface): the design, the
       // surface's rounds, then a BOBYQA polish of the best point.
-      problem.share_next_batch();
-      design_values = problem.eval_many(design);
+      design_values = problem.eval_starts(design);
       detail::SurrogateSearchOptions so;
       so.starts = options.starts;
       so.rounds = options.alpha.surface_rounds;
@@ -254,7 +250,6 @@ PopulationFit calibrate_population(const Model& model, const Shape& shape, const
       surface_points = std::move(evaluated);
     } else {
       // The search only has to find the basins the polish refines (AlphaOptions::search_xtol).
-      search.share_next_batch();  // multi_start's first batch is the design
       best = detail::multi_start(search, design, options.starts,
                                  fine ? options.alpha.search_xtol : options.xtol,
                                  options.max_evaluations, ends, design_values);

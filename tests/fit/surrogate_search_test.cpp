@@ -197,10 +197,10 @@ TEST(SurrogateSearch, ATriangleFitOnTheSurfaceSharesItsDesignThroughTheMemo) {
   EXPECT_EQ((c1 - c0) - (c2 - c1), 49u * 5u * 6u);
 }
 
-// The memo's premise for a search's first points (Problem::eval_start): BOBYQA's start and its
+// The memo's premise for a search's first points (Problem::eval_starts): BOBYQA's start and its
 // 2d first interpolation points follow from the start and the initial step, not from the
 // objective. Two objectives with minima far apart, from the same design, must send the same
-// points through eval_start, 2d + 1 per start, and no other point.
+// points through eval_starts, 2d + 1 per start, beside the design's batch.
 class StartRecorder final : public detail::Problem {
  public:
   explicit StartRecorder(std::array<double, 3> centre) : centre_(centre) {}
@@ -210,11 +210,12 @@ class StartRecorder final : public detail::Problem {
     for (std::size_t k = 0; k < 3; ++k) f += (u[k] - centre_[k]) * (u[k] - centre_[k]);
     return f;
   }
-  double eval_start(const std::vector<double>& u) override {
-    starts.push_back(u);
-    return eval(u);
+  std::vector<double> eval_starts(const std::vector<double>& points) override {
+    // A search's points come one at a time; the design comes in one batch of several.
+    if (points.size() == dim()) starts.push_back(points);
+    return eval_many(points);
   }
-  std::vector<std::vector<double>> starts;
+  std::vector<std::vector<double>> starts;  ///< the searches' points through eval_starts
 
  private:
   std::array<double, 3> centre_;
@@ -229,8 +230,9 @@ TEST(MultiStart, ItsStartPointsDoNotDependOnTheObjective) {
   std::vector<LocalResult> ends;
   std::vector<double> values;
   // One start: the best design point of both objectives must be the same one for the points
-  // to be comparable, so the start is the design's only point.
-  const std::vector<double> one(design.begin(), design.begin() + 3);
+  // to be comparable, so the design is one point twice (ties go to the first).
+  std::vector<double> one(design.begin(), design.begin() + 3);
+  one.insert(one.end(), design.begin(), design.begin() + 3);
   detail::multi_start(a, one, 1, 1e-6, 200, ends, values);
   detail::multi_start(b, one, 1, 1e-6, 200, ends, values);
   ASSERT_EQ(a.starts.size(), 7u);
