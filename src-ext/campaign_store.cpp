@@ -61,8 +61,14 @@ class FileLock {
       fd_ = ::open((path + ".lock").c_str(), O_RDWR | O_CREAT, 0644);
       if (fd_ < 0) throw std::runtime_error("cannot create lock file " + path + ".lock");
     } else {
-      // A file no writer has locked (shipped data, a read-only folder) is read without a lock.
+      // A reader creates the lock file too where it can: otherwise the first reader of a file
+      // no writer has locked yet (a campaign resumed from its shipped copy) reads unlocked while
+      // another rank's first writer creates the lock, and the writer's H5Fopen fails
+      // (2026-12-02, every two-rank start of the sand calibration on a new machine). Only where
+      // it cannot (shipped data in a read-only folder, which no writer can lock either) is the
+      // file read without a lock.
       fd_ = ::open((path + ".lock").c_str(), O_RDONLY);
+      if (fd_ < 0) fd_ = ::open((path + ".lock").c_str(), O_RDWR | O_CREAT, 0644);
       if (fd_ < 0) return;
     }
     ::flock(fd_, kind == Kind::kExclusive ? LOCK_EX : LOCK_SH);

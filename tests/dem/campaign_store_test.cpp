@@ -83,11 +83,8 @@ TEST(DemCampaignStore, ReaderAndWriterInTwoProcessesNeverCollide) {
   fs::remove_all(fs::path(path).parent_path());
 }
 
-// A finished campaign run again: world rank 0 rewrites the impact set (rewrite_impact_set) while
-// the other ranks read the index to list the end-wall reruns. The rewrite took no lock until
-// 2026-12-02, and every two-rank restart of the sand calibration died in rank 0's H5Fopen.
-TEST(DemCampaignStore, RewriteAndReaderInTwoProcessesNeverCollide) {
-  const std::string path = fresh_campaign("dem-rewrite-test");
+// A campaign file of three rebounds, as a finished campaign leaves it; its entries.
+std::vector<CampaignEntry> three_rebounds(const std::string& path) {
   for (int i = 0; i < 3; ++i) {
     ImpactSpec spec;
     spec.id = "impact-" + std::to_string(i);
@@ -100,12 +97,41 @@ TEST(DemCampaignStore, RewriteAndReaderInTwoProcessesNeverCollide) {
     r.impact.extra.assign(impact_extra_names().size(), 0.0);
     append_result(path, r, spec, "rewrite-test");
   }
-  const auto entries = read_campaign_index(path);
+  return read_campaign_index(path);
+}
+
+// A finished campaign run again: world rank 0 rewrites the impact set (rewrite_impact_set) while
+// the other ranks read the index to list the end-wall reruns. The rewrite took no lock until
+// 2026-12-02, and every two-rank restart of the sand calibration died in rank 0's H5Fopen.
+TEST(DemCampaignStore, RewriteAndReaderInTwoProcessesNeverCollide) {
+  const std::string path = fresh_campaign("dem-rewrite-test");
+  const auto entries = three_rebounds(path);
   ASSERT_EQ(entries.size(), 3u);
   read_while_child_writes(path, [&] {
     for (int i = 0; i < kAppends; ++i) rewrite_impact_set(path, entries, "rewrite-test");
   });
   EXPECT_EQ(read_campaign_index(path).size(), 3u);
+  fs::remove_all(fs::path(path).parent_path());
+}
+
+// A campaign resumed on a new machine starts from its shipped copy, which has no PATH.lock. Its
+// first reader used to read unlocked while another rank's first writer created the lock, and the
+// writer's H5Fopen failed (2026-12-02: every two-rank start of the sand calibration from its
+// shipped file). A reader now creates the lock file where it can.
+TEST(DemCampaignStore, AShippedCopyWithoutItsLockFileNeverCollides) {
+  const std::string path = fresh_campaign("dem-unlocked-copy-test");
+  const auto entries = three_rebounds(path);
+  ASSERT_EQ(entries.size(), 3u);
+  fs::remove(path + ".lock");
+  EXPECT_EQ(read_campaign_index(path).size(), 3u);
+  EXPECT_TRUE(fs::exists(path + ".lock")) << "the first reader takes a lock a writer also takes";
+  // The race itself, from the first access on, several times.
+  for (int round = 0; round < 5; ++round) {
+    fs::remove(path + ".lock");
+    read_while_child_writes(path, [&] {
+      for (int i = 0; i < 5; ++i) rewrite_impact_set(path, entries, "rewrite-test");
+    });
+  }
   fs::remove_all(fs::path(path).parent_path());
 }
 
