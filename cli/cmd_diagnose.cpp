@@ -115,7 +115,8 @@ void run(DiagnosisCliOptions& o, const std::string& force_model) {
               << force_model << "\n";
     for (const auto& w : force_model_warnings) std::cout << "  warning: " << w << "\n";
   }
-  std::cout << fmt::format("\n({:.1f} s)\n", d.seconds);
+  std::cout << fmt::format("\n({:.1f} s, {:.2f} million collisions)\n", d.seconds,
+                           static_cast<double>(d.collisions) * 1e-6);
   print_written(figures, o.output.out);
 }
 

@@ -13,6 +13,7 @@
 
 #include "common/clock.hpp"
 #include "common/progress.hpp"
+#include "engine/engine.hpp"
 #include "fit/collision_memo.hpp"
 
 namespace ricochet::diagnosis {
@@ -573,6 +574,7 @@ Assessment assess_splits(const Model& model_in, const Shape& shape, const Impact
   // The parameters every fit below calibrates (the fit module decides the same way).
   const Model model = calibration_model_for(model_in, set, o);
   const auto t0 = std::chrono::steady_clock::now();
+  const std::uint64_t c0 = collisions_simulated();
   if (set.size() < 2) throw std::invalid_argument("assess: at least two releases are needed");
   const std::size_t n = set.size();
   Assessment a;
@@ -605,6 +607,7 @@ Assessment assess_splits(const Model& model_in, const Shape& shape, const Impact
   a.insample_predictions = to_observables(a.population.predictions);
   a.insample = error_report(set, a.insample_predictions, a.use, o);
   a.seconds = seconds_since(t0);
+  a.collisions = collisions_simulated() - c0;
   return a;
 }
 

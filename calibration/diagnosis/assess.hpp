@@ -379,6 +379,9 @@ struct Assessment {
   std::vector<Obs> heldout_inv_scale2;
   std::size_t folds = 0;
   double seconds = 0;
+  /// Collisions this assessment simulated (engine's collisions_simulated(); the memo's reuses
+  /// not counted): the unit of its cost, independent of the machine's load.
+  std::uint64_t collisions = 0;
 };
 
 /// A local refinement (`options`: typically one start and no design, AssessOptions::

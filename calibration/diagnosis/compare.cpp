@@ -9,6 +9,7 @@
 #include "common/clock.hpp"
 #include "common/progress.hpp"
 #include "diagnosis/diagnose.hpp"
+#include "engine/engine.hpp"
 
 namespace ricochet::diagnosis {
 namespace {
@@ -67,6 +68,7 @@ Baseline compare(const Model& model_in, const Shape& shape, const ImpactSet& set
   // kn calibrated too when the set's contact features enter the error (assess.hpp).
   const Model model = calibration_model_for(model_in, set, o.assess);
   const auto t0 = std::chrono::steady_clock::now();
+  const std::uint64_t c0 = collisions_simulated();
   Baseline b;
   {
     // The base model's fits are most of a compare's time (a lab-triangle set: 11 fits, 26 s).
@@ -114,6 +116,7 @@ Baseline compare(const Model& model_in, const Shape& shape, const ImpactSet& set
     b.ks[k] = stats::ks_two_sample(meas, pred);
   }
   b.seconds = seconds_since(t0);
+  b.collisions = collisions_simulated() - c0;
   return b;
 }
 

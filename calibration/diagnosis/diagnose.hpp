@@ -145,6 +145,7 @@ struct Baseline {
   /// (fit::ErrorOptions::penetration_scale_m, contact_duration_scale_s).
   Obs error_floors{};
   double seconds = 0;
+  std::uint64_t collisions = 0;  ///< simulated (engine's collisions_simulated())
 };
 
 /// `options` with their assess options resolved on `set` (resolve_scale): the first step of
@@ -321,6 +322,10 @@ struct Diagnosis {
   std::string summary;                   ///< one or two sentences
   std::vector<std::string> unexplained;  ///< residual structure left after the best candidate
   double seconds = 0;
+  /// Collisions simulated by the diagnosis and its baseline (engine's collisions_simulated()).
+  std::uint64_t collisions = 0;
+  /// The same by phase, in order: baseline, score, rank, pairs, confidence, power.
+  std::vector<std::pair<std::string, std::uint64_t>> collisions_by_phase;
 };
 Diagnosis diagnose(const Model& model, const Shape& shape, const ImpactSet& set,
                    const DiagnoseOptions& options);

@@ -38,7 +38,8 @@ nlohmann::json to_json(const Assessment& a, const NoiseFloor& floor) {
           {"adequacy_threshold", q.threshold},
           {"excess_over_floor", q.excess},
           {"excess_se", q.excess_se},
-          {"seconds", a.seconds}};
+          {"seconds", a.seconds},
+          {"collisions", a.collisions}};
 }
 
 nlohmann::json to_json(const Baseline& b, const ImpactSet& set) {
@@ -215,6 +216,8 @@ nlohmann::json to_json(const std::vector<Detectable>& rows,
 
 nlohmann::json to_json(const Diagnosis& d) {
   const Baseline& b = d.baseline;
+  nlohmann::json phases = nlohmann::json::object();
+  for (const auto& [phase, n] : d.collisions_by_phase) phases[phase] = n;
   nlohmann::json ranking = nlohmann::json::array();
   for (const auto& c : d.ranking) ranking.push_back(to_json(c, b.base.use));
   nlohmann::json screened = nlohmann::json::array();
@@ -256,7 +259,9 @@ nlohmann::json to_json(const Diagnosis& d) {
           {"residual_trends", to_json(b.residual_trends, true)},
           {"parameter_trends", to_json(b.parameter_trends, true)},
           {"observables", to_json(Obs{1, 1, 1, 1, 1}, b.base.use)},
-          {"seconds", d.seconds}};
+          {"seconds", d.seconds},
+          {"collisions", d.collisions},
+          {"collisions_by_phase", phases}};
 }
 
 nlohmann::json to_json(const Ladder& l) {

@@ -16,6 +16,7 @@
 #include "diagnosis/evidence.hpp"
 #include "diagnosis/power.hpp"
 #include "diagnosis/signature.hpp"
+#include "engine/engine.hpp"
 #include "stats/stats.hpp"
 
 namespace ricochet::diagnosis {
@@ -427,6 +428,7 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
   require_valid(options.problems(), "diagnosis::diagnose");
   const DiagnoseOptions o = resolve_scale(set, options);
   const auto t0 = std::chrono::steady_clock::now();
+  const std::uint64_t c0 = collisions_simulated();
   Diagnosis d;
   d.baseline = std::move(baseline);
   const Baseline& b = d.baseline;
@@ -436,6 +438,14 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
       with_values(calibration_model_for(model, set, o.assess), b.base.population.params);
   const detail::Directions dirs = detail::base_directions(warm, shape, set, b.base, o.assess);
   // Phases 1-3: score the family, calibrate and rank the best, try pairs after the best.
+  d.collisions_by_phase.emplace_back("baseline", b.collisions);
+  std::uint64_t mark = c0;
+  // Each phase's collisions since the previous mark (JSON collisions_by_phase).
+  const auto phase_done = [&](const char* phase) {
+    const std::uint64_t now = collisions_simulated();
+    d.collisions_by_phase.emplace_back(phase, now - mark);
+    mark = now;
+  };
   const Scored sc = score_family(model, warm, dirs, shape, set, registry, o);
   d.family_size = sc.names.size();
   const int threads = std::max(
@@ -445,13 +455,17 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
           static_cast<int>(std::max<std::size_t>(
               1, std::min(sc.names.size(), o.candidates.empty() ? o.screen : sc.names.size())))));
   const Judge judge{warm, shape, set, b, o, registry, threads > 1 ? 1 : o.assess.fit.threads};
+  phase_done("score");
   rank_singles(d, sc, judge, threads, o);
+  phase_done("rank");
   add_pairs(d, sc, judge, threads, o);
+  phase_done("pairs");
   // Phase 4: what the ranking rests on, the laws the data cannot exclude, what they could see.
   for (Candidate& c : d.ranking)
     if (c.error.empty()) c.evidence = detail::evidence_of(c, b, o);
   d.confidence_set = confidence_set_of(d, sc.names, sc.models, sc.scores, sc.tests, dirs, warm,
                                        shape, set, registry, o);
+  phase_done("confidence");
   {
     // Each candidate's power curve runs the engine at several strengths (lab triangles: 10 s).
     Progress power("power", sc.names.size(), o.progress);
@@ -460,9 +474,11 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
                                       b.base.use, o.alpha, shape, set, o.assess, &power);
     power.finish();
   }
+  phase_done("power");
   d.detectable = detail::minimum_detectable(d.detectable_candidates);
   decide_verdict(d, o);
   d.seconds = seconds_since(t0) + b.seconds;
+  d.collisions = collisions_simulated() - c0 + b.collisions;
   return d;
 }
 
