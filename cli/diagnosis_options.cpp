@@ -61,6 +61,11 @@ void add_diagnosis_options(CLI::App* sub, diagnosis::OptionValues& v,
                   "set with releases of unknown orientation, in " +
                       fit::FitOptions::kStarts.text())
       ->capture_default_str();
+  sub->add_option("--search-xtol", v.search_xtol,
+                  "BOBYQA step tolerance of the orientation search's runs, whose best ends are "
+                  "polished on the refined rule (units of the bound range), in " +
+                      fit::FitOptions::kUnitFraction.text())
+      ->capture_default_str();
   sub->add_option("--orientation-search", v.orientation_search,
                   "Global search of cold fits on sets of unknown orientation: multistart "
                   "(BOBYQA runs on the search rule, the best ends polished) or surface (a "
@@ -83,6 +88,7 @@ const OptionNames& diagnosis_option_names() {
                                     {"assess.fit.alpha.marginal_points", "--orientations"},
                                     {"assess.fit.alpha.polish_points", "--polish-orientations"},
                                     {"assess.marginal_starts", "--orientation-starts"},
+                                    {"assess.fit.alpha.search_xtol", "--search-xtol"},
                                     {"assess.fit.engine.dt_s", "--dt"}};
   return names;
 }

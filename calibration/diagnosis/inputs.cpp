@@ -25,6 +25,7 @@ DiagnoseOptions make_options(const OptionValues& v) {
   if (v.orientations != 0) o.assess.fit.alpha.marginal_points = v.orientations;
   o.assess.fit.alpha.polish_points = v.polish_orientations;
   o.assess.marginal_starts = v.orientation_starts;
+  o.assess.fit.alpha.search_xtol = v.search_xtol;
   try {
     o.assess.fit.alpha.search = fit::orientation_search_from(v.orientation_search);
   } catch (const std::invalid_argument& e) {

@@ -38,6 +38,9 @@ struct OptionValues {
   int polish_orientations = AssessOptions{}.fit.alpha.polish_points;
   /// BOBYQA runs of cold fits on sets of unknown orientation (AssessOptions::marginal_starts).
   int orientation_starts = AssessOptions{}.marginal_starts;
+  /// BOBYQA step tolerance of the searches whose ends are polished
+  /// (fit::AlphaOptions::search_xtol).
+  double search_xtol = AssessOptions{}.fit.alpha.search_xtol;
   /// The global search of cold fits on sets of unknown orientation (fit::OrientationSearch).
   std::string orientation_search = fit::orientation_search_name(AssessOptions{}.fit.alpha.search);
   int threads = AssessOptions{}.fit.threads;      ///< OpenMP threads, 0 = all

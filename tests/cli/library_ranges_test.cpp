@@ -114,6 +114,7 @@ TEST_F(LibraryRanges, EveryBoundIsTheLibrarysAndShownInHelp) {
        false, "compare " + kMissing},
       {"compare", "compare " + kCyl, "--orientation-starts", fit::FitOptions::kStarts, 1, false,
        "compare " + kMissing},
+      {"compare", "compare " + kCyl, "--search-xtol", fit::FitOptions::kUnitFraction, 1, false},
       {"design", on(design, kCyl), "--orientations", fit::FitOptions::kMarginalPoints, 1, false,
        on(design, kMissing)},
       {"design", on(design, kCyl), "--budget", DesignOptions::kBudget, 1, true,

@@ -122,6 +122,7 @@ void OptionDefaults::diagnosis() {
     expect(command, "--orientations", a.fit.alpha.marginal_points);
     expect(command, "--polish-orientations", a.fit.alpha.polish_points);
     expect(command, "--orientation-starts", a.marginal_starts);
+    expect(command, "--search-xtol", a.fit.alpha.search_xtol);
     expect(command, "--orientation-search", fit::orientation_search_name(a.fit.alpha.search));
     expect(command, "--threads", a.fit.threads);
     expect(command, "--dt", a.fit.engine.dt_s);
