@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "common/progress.hpp"
 
@@ -40,7 +41,7 @@ class StrengthCurve {
   }
   /// E[T] at the change side * beta (beta >= 0), recorded in points().
   double t(double beta) {
-    const FiniteChange g = change(beta);
+    const FiniteChange& g = change(beta);
     std::vector<double> a = per_release_products(dirs_, dir_.s, g.s, set_.size());
     double sum = 0;
     for (double& x : a) sum += (x *= side_);
@@ -87,10 +88,16 @@ class StrengthCurve {
     }
     return hi;
   }
-  FiniteChange change(double beta) const {
-    std::vector<double> v = m_.values();
-    v[dir_.parameter] += side_ * beta;
-    return finite_change(dirs_, m_, shape_, set_, v, p0_, o_);
+  /// The predictions' change at side * beta. Each strength is simulated once: the search
+  /// ends on a strength it has evaluated, and the fixed points may repeat one of its brackets.
+  const FiniteChange& change(double beta) {
+    auto it = changes_.find(beta);
+    if (it == changes_.end()) {
+      std::vector<double> v = m_.values();
+      v[dir_.parameter] += side_ * beta;
+      it = changes_.emplace(beta, finite_change(dirs_, m_, shape_, set_, v, p0_, o_)).first;
+    }
+    return it->second;
   }
   std::vector<std::pair<double, double>> points() const {
     auto p = points_;
@@ -111,6 +118,7 @@ class StrengthCurve {
   double sigma_s_, dof_;
   int side_;
   std::vector<std::pair<double, double>> points_;
+  std::map<double, FiniteChange> changes_;
 };
 
 }  // namespace
@@ -171,7 +179,7 @@ std::vector<Detectable> detectable_candidates(
       d.critical = c;
       if (std::isfinite(beta)) {
         const double value = neutral + side * beta;
-        const FiniteChange g = curve.change(beta);
+        const FiniteChange& g = curve.change(beta);
         d.change_80 = side * beta;
         d.value = value;
         std::vector<double> values = m.values();
