@@ -437,15 +437,15 @@ Diagnosis diagnose(Baseline baseline, const Model& model, const Shape& shape, co
   const Model warm =
       with_values(calibration_model_for(model, set, o.assess), b.base.population.params);
   const detail::Directions dirs = detail::base_directions(warm, shape, set, b.base, o.assess);
-  // Phases 1-3: score the family, calibrate and rank the best, try pairs after the best.
+  // Each phase's collisions since the previous mark (JSON collisions_by_phase).
   d.collisions_by_phase.emplace_back("baseline", b.collisions);
   std::uint64_t mark = c0;
-  // Each phase's collisions since the previous mark (JSON collisions_by_phase).
   const auto phase_done = [&](const char* phase) {
     const std::uint64_t now = collisions_simulated();
     d.collisions_by_phase.emplace_back(phase, now - mark);
     mark = now;
   };
+  // Phases 1-3: score the family, calibrate and rank the best, try pairs after the best.
   const Scored sc = score_family(model, warm, dirs, shape, set, registry, o);
   d.family_size = sc.names.size();
   const int threads = std::max(
