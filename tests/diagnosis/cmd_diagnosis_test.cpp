@@ -85,8 +85,13 @@ TEST_F(CmdDiagnosis, SynthWritesTheSchemaAndKeepsTheTruthApart) {
   for (const auto& r : doc["minimum_detectable"])
     all_visible = all_visible && r["z_80"].is_number() &&
                   r["z_80"].get<double>() <= doc["adequate_z"].get<double>();
-  if (verdict == "adequate") EXPECT_TRUE(all_visible);
-  if (verdict == "inconclusive") EXPECT_FALSE(doc["underpowered_families"].empty());
+  // Braced: a gtest macro ends in an `if ... else`, which a bare `if` would capture.
+  if (verdict == "adequate") {
+    EXPECT_TRUE(all_visible);
+  }
+  if (verdict == "inconclusive") {
+    EXPECT_FALSE(doc["underpowered_families"].empty());
+  }
   // The family: every candidate, calibrated (ranking) or only score-tested (screened_out):
   // the 5 catalog effects and the 40 generated laws.
   EXPECT_EQ(doc["family_size"].get<std::size_t>(), 45u);
@@ -210,9 +215,10 @@ void check_power_rows(const nlohmann::json& doc, std::size_t* within, std::size_
     for (const auto& row : rows) {
       if (row["family"] != fam["family"]) continue;
       found = found || row["effect"] == fam["effect"];
-      if (fam["value"].is_number() && row["value"].is_number())
+      if (fam["value"].is_number() && row["value"].is_number()) {
         EXPECT_LE(fam["noise_units"].get<double>(), row["noise_units"].get<double>() + 1e-12)
             << fam["family"] << ": " << row["effect"];
+      }
     }
     EXPECT_TRUE(found) << fam["family"];
   }

@@ -84,9 +84,10 @@ TEST(MainJobReport, ReadsAsAReviewerWouldInChromium) {
       EXPECT_EQ(count(section, "alt=\"One impact of this campaign (LIGGGHTS), side view"), 1)
           << label << ": no picture of an impact";
       EXPECT_LE(count(section, "alt=\"One impact of this campaign in time"), 1) << label;
-      if (label.find("LIGGGHTS campaign") == 0)
+      if (label.find("LIGGGHTS campaign") == 0) {
         EXPECT_EQ(count(section, "alt=\"One impact of this campaign in time"), 1)
             << label << ": the main job's campaign keeps its tracks, no contact in time";
+      }
     }
   }
 

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <filesystem>
 #include <random>
+#include <string>
+#include <utility>
 
 #include "common/error.hpp"
 #include "impact/impact_set.hpp"
@@ -18,6 +20,16 @@ namespace ricochet {
 namespace {
 
 namespace fs = std::filesystem;
+
+// A release with only its id, shape and velocities (the optional columns left empty).
+Impact release(std::string id, Vel3 vin, Vel3 vout) {
+  Impact im;
+  im.id = std::move(id);
+  im.shape = "s";
+  im.vin = vin;
+  im.vout = vout;
+  return im;
+}
 using transfer::Mat3;
 const std::string kLab = std::string(RICOCHET_SOURCE_DIR) + "/data/lab/";
 
@@ -62,9 +74,8 @@ TEST(Table3, WithinOneUnitOfThePaperTwoDigitPrint) {
 TEST(Table3, DefinitionMatchesAHandComputation) {
   // Eq. 2 on a three-release set computed by hand.
   ImpactSet set;
-  set.impacts = {{"a", "s", {2, -2, -60}, {3, 1, -40}},
-                 {"b", "s", {3, -1, -50}, {2, 0.5, -20}},
-                 {"c", "s", {4, -3, -70}, {5, 0.2, -30}}};
+  set.impacts = {release("a", {2, -2, -60}, {3, 1, -40}), release("b", {3, -1, -50}, {2, 0.5, -20}),
+                 release("c", {4, -3, -70}, {5, 0.2, -30})};
   const transfer::DiagonalFit f = transfer::fit_diagonal(set);
   EXPECT_DOUBLE_EQ(f.model.a[0], (10.0 / 3) / 3.0);
   EXPECT_DOUBLE_EQ(f.model.a[1], (1.7 / 3) / (-2.0));
@@ -76,7 +87,7 @@ TEST(Table3, DefinitionMatchesAHandComputation) {
 
 TEST(Table3, RefusesAZeroIncidentComponent) {
   ImpactSet set;
-  set.impacts = {{"a", "s", {0, -2, -60}, {3, 1, -40}}, {"b", "s", {1, -1, -50}, {2, 1, -20}}};
+  set.impacts = {release("a", {0, -2, -60}, {3, 1, -40}), release("b", {1, -1, -50}, {2, 1, -20})};
   EXPECT_THROW(transfer::fit_diagonal(set), std::invalid_argument);
   EXPECT_THROW(transfer::fit_diagonal(ImpactSet{}), std::invalid_argument);
 }
@@ -171,10 +182,8 @@ TEST(FullMatrix, RecoversAKnownMatrixWithinItsStandardErrors) {
 TEST(FullMatrix, RefusesCollinearIncidentVelocities) {
   ImpactSet set;
   for (int r = 0; r < 6; ++r)
-    set.impacts.push_back({"r" + std::to_string(r),
-                           "s",
-                           {1.0 * (r + 1), -2.0 * (r + 1), -30.0 * (r + 1)},
-                           {1, 1, -10}});
+    set.impacts.push_back(release("r" + std::to_string(r),
+                                  {1.0 * (r + 1), -2.0 * (r + 1), -30.0 * (r + 1)}, {1, 1, -10}));
   EXPECT_THROW(transfer::fit_full(set), std::invalid_argument);
 }
 
