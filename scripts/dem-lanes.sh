@@ -32,7 +32,8 @@
 # Where the results live: results/ of the work tree, which a new session may lay anew (beds and
 # campaign files lost). Unless results/ exists already, it is made a link to RICOCHET_RESULTS
 # (default: ricochet-results beside the checkout), which outlives the work tree on a machine that
-# is kept; on a new machine the campaigns resume from the impacts shipped in data/resolved/.
+# is kept; on a new machine the campaigns resume from the impacts shipped in data/resolved/ and
+# from the beds shipped for them (data/resolved/beds/, scripts/ship-beds.sh).
 set -uo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 cd "$ROOT" || exit 1
@@ -57,6 +58,14 @@ flock results/plateau/campaign.lock true
 flock results/plateau-drop/drop.lock true
 PLATEAU_DESIGN=sand-calibration-1.5e9 PLATEAU_OUT=results/sand-calibration \
   PLATEAU_FILE=sand-calibration-1.5e9 PLATEAU_RANKS=2 scripts/stiffness-plateau.sh
+CAL=results/sand-calibration
+# A campaign that ended with impacts still to run failed (its log says how): stop here rather
+# than spend the cores on the lanes below, which would hide the failure behind hours of their runs.
+if ! campaign_done "$CAL" sand-calibration-1.5e9 sand-calibration-1.5e9; then
+  echo "== $(date '+%F %T') the sand calibration's campaign ended with impacts still to run:" \
+    "nothing else started (see the lines above)" >> "$CAL/campaign.log"
+  exit 1
+fi
 # 1b. As soon as its 40 impacts and the reruns of those that reached the end wall (on 1.5 m beds,
 #     the design's end_wall_rerun_Lx_m, amended on 2026-12-02) are in: the calibration by the plan (the calibration half's
 #     target, the six sampled parameters (block.mur_gb is tied to bed.mur_gg, a copy, not an
@@ -64,9 +73,7 @@ PLATEAU_DESIGN=sand-calibration-1.5e9 PLATEAU_OUT=results/sand-calibration \
 #     then its verification campaign (scripts/verification-campaign.py: every lab state on three
 #     beds) on both cores, before the lanes. The calibration runs the tree's program (a minute of
 #     analysis; --bed-cache is newer than the campaign's pinned program) under the build lock.
-CAL=results/sand-calibration
-if campaign_done "$CAL" sand-calibration-1.5e9 sand-calibration-1.5e9 \
-   && [ ! -f "$CAL/calibrate-grains.json" ]; then
+if [ ! -f "$CAL/calibrate-grains.json" ]; then
   # The solid-fraction band needs every design point's packing: the file records the beds built
   # since 2026-12-02 (/dem/beds); the earlier ones (p00-p10, lost with their machines) get theirs
   # from their grain count and the recorded beds of the same geometry (--packing-from-grain-count,

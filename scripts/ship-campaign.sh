@@ -9,7 +9,8 @@
 #   e.g. scripts/ship-campaign.sh liggghts-inputs/campaigns/sand-calibration-1.5e9.toml \
 #          results/sand-calibration/sand-calibration-1.5e9.h5
 #
-# Writes data/resolved/FILE.h5 (same name); exit 2 on a missing file, 1 when a step fails.
+# Writes data/resolved/FILE.h5 (same name); exit 2 on a missing file, 1 when a step fails. Then
+# scripts/ship-beds.sh (same arguments) ships the built beds that the impacts still to run need.
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 if [ $# -lt 2 ]; then

@@ -22,8 +22,10 @@
 #   rebuild beds). Delete results/plateau/pinned/ to take the tree's current ones on the next start.
 #
 # - Across sessions: a session copies the file so far to data/resolved/stiffness-plateau.h5 and
-#   commits it; a new work tree without results/plateau/ resumes from that copy (the beds are
-#   built again from their seeds).
+#   commits it; a new work tree without results/plateau/ resumes from that copy. The beds that
+#   the impacts still to run need are shipped beside it (scripts/ship-beds.sh, into
+#   data/resolved/beds/FILE/) and seeded into the cache here; the others are built again from
+#   their seeds.
 # - PLATEAU_DESIGN (environment, default stiffness-plateau): the design's name in
 #   liggghts-inputs/campaigns/. stiffness-plateau-1.5e10 is the first design plus the 1.5e10 Pa
 #   level (the rule's pre-registered consequence): it continues the same campaign file, its first
@@ -77,6 +79,22 @@ fi
     cp "$SHIPPED" "$OUT/$FILE.h5"
     echo "resuming from the shipped $SHIPPED"
   fi
+  # ... and from the beds shipped beside it (scripts/ship-beds.sh): each one decompressed into the
+  # design's cache under a temporary name, its parameters file last (what marks a bed complete).
+  CACHE=$OUT/$(sed -n 's/^cache_dir *= *"\(.*\)"/\1/p' "$PIN/$NAME.toml")
+  for params in "$ROOT"/data/resolved/beds/"$FILE"/bed-*.params; do
+    [ -f "$params" ] || continue
+    bed=$CACHE/$(basename "$params" .params)
+    [ -f "$bed.params" ] && continue
+    mkdir -p "$CACHE"
+    if xz -dc "${params%.params}.restart.xz" > "$bed.restart.seeding"; then
+      mv "$bed.restart.seeding" "$bed.restart" && cp "$params" "$bed.params"
+      echo "seeded the bed $(basename "$bed") from the shipped copy"
+    else
+      rm -f "$bed.restart.seeding"
+      echo "could not seed $(basename "$bed") from the shipped copy: it will be built"
+    fi
+  done
   RUN_DESIGN=$PIN/$NAME.toml
   if [ -n "${PLATEAU_FIRST:-}" ]; then
     RUN_DESIGN=$PIN/$NAME.first$PLATEAU_FIRST.toml

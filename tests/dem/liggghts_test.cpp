@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -198,6 +199,39 @@ TEST(BedPacking, SolidFractionAgreesWithLiggghtsMassAndIsAPacking) {
   // lands far outside.
   EXPECT_GT(p.solid_fraction, 0.50);
   EXPECT_LT(p.solid_fraction, 0.66);
+}
+
+// The beds shipped for a campaign still running (scripts/ship-beds.sh, data/resolved/beds/FILE/):
+// a new machine's campaign takes each one as built (scripts/stiffness-plateau.sh decompresses it
+// into the cache), so each must be a whole restart that LIGGGHTS reads, of the grains its
+// parameters file counts, settled into a packing. A truncated or mismatched copy would only show
+// hours later, when the impact on it fails.
+TEST(ShippedBeds, EachIsARestartOfTheGrainsItsParametersCount) {
+  const fs::path root = fs::path(RICOCHET_SOURCE_DIR) / "data" / "resolved" / "beds";
+  std::vector<fs::path> params;
+  if (fs::exists(root))
+    for (const auto& e : fs::recursive_directory_iterator(root))
+      if (e.path().extension() == ".params") params.push_back(e.path());
+  if (params.empty()) GTEST_SKIP() << "no bed shipped under " << root;
+  const fs::path work = temp_dir("shipped-beds");
+  for (const fs::path& p : params) {
+    SCOPED_TRACE(p.string());
+    const fs::path xz = p.parent_path() / (p.stem().string() + ".restart.xz");
+    ASSERT_TRUE(fs::exists(xz)) << "the parameters file has no restart beside it";
+    const fs::path prefix = work / p.stem();
+    // xz checks the stream's CRC64 as it decompresses: a damaged copy exits non-zero.
+    ASSERT_EQ(
+        std::system(("xz -dc '" + xz.string() + "' > '" + prefix.string() + ".restart'").c_str()),
+        0);
+    fs::copy_file(p, prefix.string() + ".params");
+    const BedFiles bed = read_bed_files(prefix.string());
+    EXPECT_TRUE(bed.settled);
+    const BedPacking packing = measure_packing(bed, MPI_COMM_WORLD);
+    EXPECT_EQ(packing.grains, bed.grains);
+    EXPECT_GT(packing.solid_fraction, 0.50);  // the bounds of the test above
+    EXPECT_LT(packing.solid_fraction, 0.66);
+    fs::remove(prefix.string() + ".restart");
+  }
 }
 
 // calibrate-grains's bulk constraint on a synthetic campaign (synthetic_campaign.hpp) whose design
