@@ -81,7 +81,10 @@ fi
   fi
   # ... and from the beds shipped beside it (scripts/ship-beds.sh): each one decompressed into the
   # design's cache under a temporary name, its parameters file last (what marks a bed complete).
-  CACHE=$OUT/$(sed -n 's/^cache_dir *= *"\(.*\)"/\1/p' "$PIN/$NAME.toml")
+  # The cache folder as the program reads the design (its dry run), not a second parser of it.
+  CACHE=$("$PIN/ricochet" dem campaign "$PIN/$NAME.toml" --decks "$PIN/liggghts-inputs" --dry-run \
+    --json 2>/dev/null | python3 -c 'import json, sys; print(json.load(sys.stdin)["cache_dir"])')
+  case $CACHE in /*) ;; *) CACHE=$OUT/$CACHE ;; esac
   for params in "$ROOT"/data/resolved/beds/"$FILE"/bed-*.params; do
     [ -f "$params" ] || continue
     bed=$CACHE/$(basename "$params" .params)
