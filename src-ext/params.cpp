@@ -174,6 +174,11 @@ void check_param(const Decks& decks, const std::string& section, const std::stri
   const bool fraction = name == "f1" || name == "f2" || name == "f3";
   const bool can_be_negative =
       name == "vx_in_mps" || name == "vy_in_mps" || name == "w_in_radps" || name == "alpha_in_deg";
+  // The active zone's half-length: 0 is its default, every grain (impact/zone.in).
+  if (name == "active_zone_m") {
+    if (v < 0) throw InputError(file, line, field, "must be >= 0 (0: every grain moves)");
+    return;
+  }
   if (restitution && !(v > 0 && v <= 1))
     throw InputError(file, line, field, "a restitution coefficient must be in (0, 1]");
   if ((friction || fraction) && v < 0) throw InputError(file, line, field, "must be >= 0");

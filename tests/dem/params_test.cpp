@@ -64,6 +64,10 @@ TEST(DeckParams, BedDeckRecordsEveryBedParameter) {
 
 TEST(DeckParams, ChecksNamesAndBounds) {
   EXPECT_NO_THROW(check_param(decks(), "bed", "E_grain_Pa", "2e8", "f.toml", 3));
+  // The active zone is off at 0, its default; a negative length is refused.
+  EXPECT_NO_THROW(check_param(decks(), "run", "active_zone_m", "0", "f.toml", 3));
+  EXPECT_NO_THROW(check_param(decks(), "run", "active_zone_m", "0.3", "f.toml", 3));
+  EXPECT_THROW(check_param(decks(), "run", "active_zone_m", "-0.1", "f.toml", 3), InputError);
   try {
     check_param(decks(), "bed", "E_grain", "2e8", "f.toml", 7);
     FAIL() << "unknown name accepted";
