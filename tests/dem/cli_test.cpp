@@ -151,10 +151,9 @@ std::map<std::string, std::string> summary_of(const fs::path& impact_dir) {
 
 // The active zone (impact/zone.in, run.active_zone_m). A zone that covers the whole bed is the
 // whole bed's run bit for bit: its groups, neighbour exclusions and regrouping after every chunk
-// change nothing by themselves. Each run is a process of its own: two LIGGGHTS instances run one
-// after the other in one process do not agree to the last digit (docs/resolved-model.md, "Active
-// zone"). A narrower zone moves only the grains near the block: the others keep exactly zero
-// kinetic energy, and fewer grains than the bed's are active.
+// change nothing by themselves. Each run is a process of its own, as users run `dem impact`. A
+// narrower zone moves only the grains near the block: the others keep exactly zero kinetic
+// energy, and fewer grains than the bed's are active.
 TEST(DemActiveZone, CoveringTheBedIsTheWholeBedBitForBitAndOutsideGrainsNeverMove) {
   const fs::path work = temp_dir("zone");
   const std::string common = std::string(RICOCHET_BIN) + " dem impact --json --cache " +
