@@ -27,11 +27,8 @@ if [ ! -d "$RES/decks-006ac22/liggghts-inputs" ]; then
   git -C "$ROOT" archive 006ac22 liggghts-inputs | tar -x -C "$RES/decks-006ac22.tmp"
   mv "$RES/decks-006ac22.tmp" "$RES/decks-006ac22"
 fi
-bed=(--set bed.Lx_m=1.5 --set bed.Ly_m=0.1 --set bed.H_m=0.1 --set bed.r1_m=0.004
-  --set bed.r2_m=0.005 --set bed.r3_m=0.006 --set bed.E_grain_Pa=2e8 --set bed.e_gg=0.7
-  --set bed.mu_gg=0.8 --set bed.mur_gg=0.5 --set bed.mu_pour=0.1 --set bed.rolling_model=epsd2)
-block=(--set block.mu_gb=0.5 --set block.mur_gb=0.1)
-"$BIN" dem bed "${bed[@]}" --decks "$ROOT/liggghts-inputs" --cache "$RES/dem-cache" >&2
+source "$ROOT/scripts/long-test-bed.sh"
+"$BIN" dem bed "${LONG_TEST_BED[@]}" --decks "$ROOT/liggghts-inputs" --cache "$RES/dem-cache" >&2
 printf 'state\tvx_in_mps\tvy_in_mps\tx_impact_frac\tbefore_vout_x\tbefore_vout_y\tbefore_wout\tafter_vout_x\tafter_vout_y\tafter_wout\n' > "$RES/out.tsv"
 for ((i = 0; i < STATES; i++)); do
   frac=$(awk -v i="$i" 'BEGIN { print 0.22 + 0.02 * i }')
@@ -42,7 +39,7 @@ for ((i = 0; i < STATES; i++)); do
     [ "$d" = before ] && decks=$RES/decks-006ac22/liggghts-inputs
     json=$RES/$d-$i.json
     [ -s "$json" ] && continue
-    "$BIN" dem impact "${bed[@]}" "${block[@]}" --set "run.x_impact_frac=$frac" \
+    "$BIN" dem impact "${LONG_TEST_BED[@]}" "${LONG_TEST_BLOCK[@]}" --set "run.x_impact_frac=$frac" \
       --vin "$vx,$vy,-65" --decks "$decks" --cache "$RES/dem-cache" --work "$RES/work-$d" \
       --id "s$i" --json > "$json.tmp"
     mv "$json.tmp" "$json"

@@ -24,12 +24,9 @@ CACHE=$ROOT/results/active-zone/dem-cache
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
 mkdir -p "$CACHE"
-bed=(--set bed.Lx_m=1.5 --set bed.Ly_m=0.1 --set bed.H_m=0.1 --set bed.r1_m=0.004
-  --set bed.r2_m=0.005 --set bed.r3_m=0.006 --set bed.E_grain_Pa=2e8 --set bed.e_gg=0.7
-  --set bed.mu_gg=0.8 --set bed.mur_gg=0.5 --set bed.mu_pour=0.1 --set bed.rolling_model=epsd2)
-block=(--set block.mu_gb=0.5 --set block.mur_gb=0.1)
+source "$ROOT/scripts/long-test-bed.sh"
 decks=(--decks "$ROOT/liggghts-inputs" --cache "$CACHE")
-"$BIN" dem bed "${bed[@]}" "${decks[@]}" >&2
+"$BIN" dem bed "${LONG_TEST_BED[@]}" "${decks[@]}" >&2
 printf 'state\tsetting\tstatus\tvout_x_mps\tvout_y_mps\twout_radps\tcpu_s\tsteps\tactive_grains\n' \
   > "$WORK/out.tsv"
 for ((i = 0; i < STATES; i++)); do
@@ -42,7 +39,7 @@ for ((i = 0; i < STATES; i++)); do
     IFS='|' read -r name v extra <<< "$s"
     id="s$i-$(echo "$name" | tr -c 'a-z0-9.' '_')"
     # shellcheck disable=SC2086
-    "$BIN" dem impact "${bed[@]}" "${block[@]}" "${decks[@]}" --set "run.x_impact_frac=$frac" \
+    "$BIN" dem impact "${LONG_TEST_BED[@]}" "${LONG_TEST_BLOCK[@]}" "${decks[@]}" --set "run.x_impact_frac=$frac" \
       --vin "$v,$vy,-65" $extra --work "$WORK" --id "$id" --json > "$WORK/$id.json"
     active=$(awk '$1 == "active_grains" { print $2 }' "$WORK/$id/impact.summary.txt")
     jq -r --arg s "$i" --arg n "$name" --arg a "$active" \
