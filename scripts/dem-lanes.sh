@@ -5,8 +5,9 @@
 #      liggghts-inputs/campaigns/sand-calibration-1.5e9.toml into results/sand-calibration/, the
 #      plan of docs/resolved-model.md): everything after it (the held-out check, the blind
 #      triangles and the main job on the calibrated bed) waits for it;
-#   1b. then the calibration itself (calibrate-grains with the solid-fraction band), its
-#      verification campaign (every lab state on three 1.5 m beds of the calibrated grains, into
+#   1b. then the calibration itself (calibrate-grains with the solid-fraction band), the active
+#      zone's paired check at its grains (scripts/active-zone-verdict.sh: the zone is used below
+#      only if it passed), its verification campaign (every lab state on three 1.5 m beds of the calibrated grains, into
 #      results/sand-verification/), the blind triangles and issue 33's force campaign (the speed
 #      campaign's states) on those grains, on both cores;
 #   2. then two lanes of one core each:
@@ -89,9 +90,42 @@ if [ ! -f "$CAL/calibrate-grains.json" ]; then
   echo "== $(date '+%F %T') calibrate-grains ended with status $?" >> "$CAL/campaign.log"
 fi
 if [ -f "$CAL/calibrate-grains.json" ]; then
+  # 1b'. The active zone's paired check at the calibrated grains (amended on 2026-12-05, before the
+  #      calibration ran; the rule is in docs/resolved-model.md, "Active zone"): four lab states on
+  #      the verification's first bed, the whole bed against run.active_zone_m = 0.3 m (8 impacts,
+  #      about 2.5 h of both cores; the bed it builds is the verification's). The verification and
+  #      the force campaign integrate only that zone when the check passed (about 0.55 of an
+  #      impact's cost), the whole bed otherwise; the blind triangles, which it does not check,
+  #      always run on the whole bed.
+  ZONE_VERDICT=$CAL/active-zone-check.json
+  if [ ! -f "$ZONE_VERDICT" ]; then
+    [ -f "$CAL/sand-zone-check-1.5e9.toml" ] ||
+      scripts/verification-campaign.py liggghts-inputs/campaigns/sand-calibration-1.5e9.toml \
+        "$CAL/calibrate-grains.json" data/lab/cylinders.csv --beds 3 --bed-length-m 1.5 \
+        --zone-check 0.3 --name sand-zone-check-1.5e9 --out "$CAL/sand-zone-check-1.5e9.toml" \
+        >> "$CAL/campaign.log" 2>&1
+    PLATEAU_DESIGN=sand-zone-check-1.5e9 PLATEAU_DESIGN_PATH="$CAL/sand-zone-check-1.5e9.toml" \
+      PLATEAU_OUT=results/sand-verification PLATEAU_FILE=sand-zone-check-1.5e9 PLATEAU_RANKS=2 \
+      scripts/stiffness-plateau.sh
+    if flock /tmp/ricochet-build.lock scripts/active-zone-verdict.sh results/sand-verification \
+        sand-zone-check-1.5e9 "$ROOT/results/sand-verification/sand-zone-check-1.5e9.h5" 0.3 \
+        > "$ZONE_VERDICT.tmp" 2>> "$CAL/campaign.log"; then
+      mv "$ZONE_VERDICT.tmp" "$ZONE_VERDICT"
+      echo "== $(date '+%F %T') the active zone's check: $(jq -c 'del(.statuses)' "$ZONE_VERDICT")" \
+        >> "$CAL/campaign.log"
+    else
+      rm -f "$ZONE_VERDICT.tmp"
+      echo "== $(date '+%F %T') the active zone's check has no verdict (see the lines above):" \
+        "nothing else started" >> "$CAL/campaign.log"
+      exit 1
+    fi
+  fi
+  ZONE_ARGS=()
+  ZONE=$(jq -r .active_zone_m "$ZONE_VERDICT")
+  [ "$ZONE" != 0 ] && ZONE_ARGS=(--active-zone-m "$ZONE")
   [ -f "$CAL/sand-verification-1.5e9.toml" ] ||
     scripts/verification-campaign.py liggghts-inputs/campaigns/sand-calibration-1.5e9.toml \
-      "$CAL/calibrate-grains.json" data/lab/cylinders.csv --beds 3 --bed-length-m 1.5 \
+      "$CAL/calibrate-grains.json" data/lab/cylinders.csv --beds 3 --bed-length-m 1.5 "${ZONE_ARGS[@]}" \
       --name sand-verification-1.5e9 --out "$CAL/sand-verification-1.5e9.toml" >> "$CAL/campaign.log" 2>&1
   PLATEAU_DESIGN=sand-verification-1.5e9 PLATEAU_DESIGN_PATH="$CAL/sand-verification-1.5e9.toml" \
     PLATEAU_OUT=results/sand-verification PLATEAU_FILE=sand-verification-1.5e9 PLATEAU_RANKS=2 \
@@ -123,7 +157,7 @@ if [ -f "$CAL/calibrate-grains.json" ]; then
   #     discovery on the plateau bed.
   [ -f "$CAL/sand-speeds-1.5e9.toml" ] ||
     scripts/verification-campaign.py liggghts-inputs/campaigns/sand-calibration-1.5e9.toml \
-      "$CAL/calibrate-grains.json" --bed-length-m 1.5 \
+      "$CAL/calibrate-grains.json" --bed-length-m 1.5 "${ZONE_ARGS[@]}" \
       --states-from liggghts-inputs/campaigns/speeds-calibrated-long.toml \
       --name sand-speeds-1.5e9 --out "$CAL/sand-speeds-1.5e9.toml" >> "$CAL/campaign.log" 2>&1
   PLATEAU_DESIGN=sand-speeds-1.5e9 PLATEAU_DESIGN_PATH="$CAL/sand-speeds-1.5e9.toml" \

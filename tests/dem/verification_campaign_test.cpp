@@ -140,6 +140,52 @@ TEST(VerificationCampaign, EveryLabStateOnThreeBedsOfTheCalibratedGrains) {
   fs::remove_all(dir);
 }
 
+// The active zone's check (docs/resolved-model.md, "Active zone"): the first four releases that
+// the verification hits on its bed of replica seed 0, each on exactly that bed twice, the whole
+// bed and the zone, with ids that `ricochet paired --base whole- --against zone0.3-` pairs; and
+// --active-zone-m puts the zone on every impact of the verification. A zone outside [0.05, 5] m
+// is refused.
+TEST(VerificationCampaign, TheActiveZoneCheckIsTheVerificationsFirstBedTwice) {
+  const fs::path dir = calibration_folder("dem-zone-");
+  ASSERT_EQ(run_script(dir / "cal.json", dir / "verify.toml", dir / "err", "cylinders.csv",
+                       " --bed-length-m 1.5"),
+            0);
+  ASSERT_EQ(run_script(dir / "cal.json", dir / "zone.toml", dir / "err", "cylinders.csv",
+                       " --bed-length-m 1.5 --zone-check 0.3"),
+            0);
+  const CampaignDesign v = read_campaign_design((dir / "verify.toml").string(), test::decks());
+  const CampaignDesign z = read_campaign_design((dir / "zone.toml").string(), test::decks());
+  const std::vector<std::string> releases = {"C01", "C04", "C07", "C10"};
+  ASSERT_EQ(z.impacts.size(), 2 * releases.size());
+  for (std::size_t k = 0; k < z.impacts.size(); ++k) {
+    const ImpactSpec& s = z.impacts[k];
+    const ImpactSpec& same = v.impacts[3 * (k / 2)];  // release 3j: the verification's bed 0
+    ASSERT_EQ(same.id, releases[k / 2]);
+    EXPECT_EQ(s.id, (k % 2 == 0 ? "whole-" : "zone0.3-") + same.id);
+    EXPECT_EQ(s.seed.value_or(-1), 0);
+    EXPECT_EQ(s.params.bed, same.params.bed) << s.id;  // the same bed, hence the same cache key
+    EXPECT_EQ(s.params.block, same.params.block) << s.id;
+    for (int c = 0; c < 3; ++c) EXPECT_DOUBLE_EQ(s.vin[c], same.vin[c]) << s.id;
+    EXPECT_EQ(s.params.run.at("x_impact_frac"), same.params.run.at("x_impact_frac"));
+    const auto zone = s.params.run.find("active_zone_m");
+    if (k % 2 == 0)
+      EXPECT_TRUE(zone == s.params.run.end() || std::stod(zone->second) == 0.0) << s.id;
+    else
+      EXPECT_DOUBLE_EQ(std::stod(zone->second), 0.3) << s.id;
+  }
+  ASSERT_EQ(run_script(dir / "cal.json", dir / "zoned.toml", dir / "err", "cylinders.csv",
+                       " --bed-length-m 1.5 --active-zone-m 0.3"),
+            0);
+  const CampaignDesign zoned = read_campaign_design((dir / "zoned.toml").string(), test::decks());
+  ASSERT_EQ(zoned.impacts.size(), v.impacts.size());
+  for (const ImpactSpec& s : zoned.impacts)
+    EXPECT_DOUBLE_EQ(std::stod(s.params.run.at("active_zone_m")), 0.3) << s.id;
+  EXPECT_EQ(run_script(dir / "cal.json", dir / "bad.toml", dir / "err", "cylinders.csv",
+                       " --zone-check 0.01"),
+            2);
+  fs::remove_all(dir);
+}
+
 // The sphere drop on the calibrated grains takes them as `dem drop --set` assignments: every one
 // is accepted by the drop's own parser and carries the calibrated value (4 digits), the tie and
 // the sampled campaign's stiffness.
