@@ -79,6 +79,7 @@ json result_json(const dem::ImpactResult& r) {
             {"work_dir", r.work_dir},
             {"bed_key", r.bed_key}};
   j["cpu_s"] = r.cpu_s;
+  if (r.resumed_from_s >= 0) j["resumed_from_s"] = r.resumed_from_s;
   if (r.steps > 0 && r.wall_s > 0) {
     const double grain_steps =
         static_cast<double>(r.steps) * static_cast<double>(r.grains + r.block_spheres);

@@ -13,9 +13,10 @@ ChunkOutcome run_chunks(Liggghts& lmp, const ChunkRun& run) {
   // "pre no" skips the set-up of every later run, which otherwise rebuilt the neighbour lists
   // at each chunk (45 of an impact's 111 rebuilds, issue 13's profile). "post no": no timing
   // breakdown per chunk in the log.
-  for (bool first = true;; first = false) {
-    lmp.command(first ? fmt::format("run {} post no", run.chunk_steps)
+  for (bool setup = true;;) {
+    lmp.command(setup ? fmt::format("run {} post no", run.chunk_steps)
                       : fmt::format("run {} pre no post no", run.chunk_steps));
+    setup = false;
     const double t = lmp.time_s();
     if (lmp.natoms() != run.expected_atoms) {
       std::string lost = run.atoms_lost ? run.atoms_lost(t)
@@ -52,6 +53,11 @@ ChunkOutcome run_chunks(Liggghts& lmp, const ChunkRun& run) {
       o.status = lmp.string("status").value_or("unknown");
       o.deck_stopped = true;
       return o;
+    }
+    if (run.checkpoint && run.checkpoint_every_steps > 0 &&
+        (lmp.step() - run.checkpoint_from_step) % run.checkpoint_every_steps == 0) {
+      run.checkpoint(o);
+      setup = true;
     }
   }
 }

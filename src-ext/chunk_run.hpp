@@ -17,6 +17,15 @@ namespace ricochet::dem {
 /// Largest time step, as a fraction of the Rayleigh and Hertz times, that a run accepts.
 inline constexpr double kTimestepLimit = 0.2;
 
+struct ChunkOutcome {
+  std::string status, message;
+  double rayleigh_fraction = 0, hertz_fraction = 0;  ///< largest seen
+  /// True when the deck's criterion ended the run (its summary may then be evaluated); false
+  /// for the driver's own failures (lost_atoms, nan, timestep), after which the body's state may
+  /// be gone or meaningless.
+  bool deck_stopped = false;
+};
+
 struct ChunkRun {
   long chunk_steps = 100;
   std::string check_file;     ///< the deck's stop criterion (run after each chunk)
@@ -28,15 +37,13 @@ struct ChunkRun {
   std::function<std::string(double t_s)> atoms_lost;
   long expected_atoms = 0;
   std::function<void(double t_s)> progress;  ///< optional
-};
-
-struct ChunkOutcome {
-  std::string status, message;
-  double rayleigh_fraction = 0, hertz_fraction = 0;  ///< largest seen
-  /// True when the deck's criterion ended the run (its summary may then be evaluated); false
-  /// for the driver's own failures (lost_atoms, nan, timestep), after which the body's state may
-  /// be gone or meaningless.
-  bool deck_stopped = false;
+  /// Optional checkpoints (impact_checkpoint.hpp): called after the deck's criterion whenever
+  /// (step - checkpoint_from_step) is a multiple of checkpoint_every_steps and the run goes on,
+  /// with the outcome so far; the chunk after one sets its run up again (neighbour lists built
+  /// anew), as a run resumed from it does, so that both continue bit for bit the same.
+  long checkpoint_every_steps = 0;
+  long checkpoint_from_step = 0;
+  std::function<void(const ChunkOutcome& so_far)> checkpoint;
 };
 
 /// Runs chunks until the deck or a check ends the run. Collective on the instance's ranks.

@@ -21,6 +21,7 @@
 
 #include "block_template.hpp"
 #include "chunk_run.hpp"
+#include "impact_checkpoint.hpp"
 #include "liggghts.hpp"
 
 namespace ricochet::dem {
@@ -328,23 +329,68 @@ struct Simulated {
   std::vector<double> before, after;  ///< surface profiles before and after (crater)
   double block_mass = 0, t_max = 0, deck_contact_end = -1;
   std::vector<std::pair<double, double>> overlaps;  ///< (t, largest grain overlap / d)
+  /// A resumed run (impact_checkpoint.hpp): the impact's time at its checkpoint [s] (else -1),
+  /// and the wall and CPU seconds its earlier segments spent.
+  double resumed_from_s = -1, earlier_wall_s = 0, earlier_cpu_s = 0;
 };
 
 // The impact itself: the deck's set-up, the run in chunks under the driver's checks, and the
-// deck's finish; status, steps and times into r.
-Simulated simulate(const ImpactContext& ctx,
-                   const std::vector<std::pair<std::string, std::string>>& vars, double crater_bin,
-                   ImpactResult& r, MPI_Comm comm) {
+// deck's finish; status, steps and times into r. With checkpoint_steps > 0 the run writes a
+// checkpoint every that many steps and, started again in the same work folder after a kill,
+// resumes from the last one (impact_checkpoint.hpp).
+Simulated simulate(const ImpactContext& ctx, std::vector<std::pair<std::string, std::string>> vars,
+                   double crater_bin, ImpactResult& r, MPI_Comm comm) {
   const Decks& decks = *ctx.decks;
   const BedFiles& bed = ctx.bed;
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
   Simulated sim;
-  Liggghts lmp(comm, (fs::path(ctx.work_dir) / "log.liggghts").string(),
-               (fs::path(ctx.work_dir) / "screen.txt").string(), vars);
+  const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = process_cpu_s();
+  const std::string work = ctx.work_dir;
+  const std::string out = (fs::path(work) / "impact").string();
+  const std::string fingerprint = checkpoint_fingerprint(vars, decks);
+  // Rank 0 reads the work folder's checkpoint and tells the instance's other ranks.
+  std::string text;
+  if (rank == 0) {
+    if (const auto c = read_checkpoint(work, fingerprint)) {
+      text = checkpoint_to_json(*c);
+      // The track's rows after the checkpoint come again; the logs of the earlier segment stay.
+      fs::resize_file(out + ".track.txt", c->track_bytes);
+      for (const char* f : {"log.liggghts", "screen.txt"}) {
+        std::error_code ec;
+        fs::rename(fs::path(work) / f, fs::path(work) / fmt::format("{}.{}", f, c->generation), ec);
+      }
+    } else {
+      remove_checkpoints(work);  // none, or another impact's: start afresh
+    }
+  }
+  int n = static_cast<int>(text.size());
+  MPI_Bcast(&n, 1, MPI_INT, 0, comm);
+  text.resize(static_cast<std::size_t>(n));
+  MPI_Bcast(text.data(), n, MPI_CHAR, 0, comm);
+  std::optional<ImpactCheckpoint> resumed;
+  if (!text.empty()) {
+    resumed = checkpoint_from_json(text);
+    for (auto& v : resume_variables(*resumed, work)) vars.push_back(std::move(v));
+    sim.resumed_from_s = resumed->t_s;
+    sim.earlier_wall_s = resumed->wall_s;
+    sim.earlier_cpu_s = resumed->cpu_s;
+    if (rank == 0)
+      std::cerr << fmt::format("[dem] {}: resuming from its checkpoint at t = {:.4f} s (step {})\n",
+                               r.id, resumed->t_s, resumed->step - resumed->first_step);
+  }
+  vars.emplace_back("checkpoint_prefix", checkpoint_new_prefix(work));
+
+  Liggghts lmp(comm, (fs::path(work) / "log.liggghts").string(),
+               (fs::path(work) / "screen.txt").string(), vars);
   lmp.file(decks.impact_dir + "/setup.in");
+  lmp.set_time_origin(static_cast<long>(lmp.number("step0").value_or(0)));
   r.block_spheres = static_cast<long>(lmp.number("block_nspheres").value_or(0));
   r.dt_s = lmp.timestep_s();
-  // The restart carries the bed's step count on: count the impact's own steps.
-  const long first_step = lmp.step();
+  // The restart carries the bed's step count on: count the impact's own steps, from the step
+  // after the block's insertion.
+  const long first_step = resumed ? resumed->first_step : lmp.step();
   sim.block_mass = lmp.number("block_mass_kg").value_or(0);
   if (sim.block_mass > 0) r.block_mass_kg = sim.block_mass;
   sim.t_max = lmp.number("t_max_s").value_or(0);
@@ -355,11 +401,12 @@ Simulated simulate(const ImpactContext& ctx,
     r.message = fmt::format("{} atoms after the block insertion, expected {} grains + {} spheres",
                             lmp.natoms(), bed.grains, r.block_spheres);
   } else {
-    sim.before = surface_profile(lmp, bed, crater_bin);
+    sim.before = resumed ? resumed->surface_before_m : surface_profile(lmp, bed, crater_bin);
     // The grains' largest overlap at every record (the deck cannot compute it: its compute
     // pair/gran/local must exist before the bed's first run).
     lmp.start_overlap_probe(static_cast<long>(lmp.number("record_every").value_or(10)),
                             kBlockAtomType);
+    if (resumed) lmp.preload_overlap_steps(resumed->overlaps);
     ChunkRun run;
     run.chunk_steps = chunk;
     run.check_file = decks.impact_dir + "/check.in";
@@ -385,12 +432,42 @@ Simulated simulate(const ImpactContext& ctx,
       return "";
     };
     if (ctx.progress) run.progress = [&](double t) { ctx.progress(t, sim.t_max); };
+    run.checkpoint_every_steps = static_cast<long>(lmp.number("checkpoint_steps").value_or(0));
+    run.checkpoint_from_step = first_step;
+    long generation = resumed ? resumed->generation : 0;
+    run.checkpoint = [&](const ChunkOutcome& so_far) {
+      lmp.file(decks.impact_dir + "/checkpoint.in");
+      ImpactCheckpoint c;
+      c.fingerprint = fingerprint;
+      c.generation = ++generation;
+      c.step0 = static_cast<long>(lmp.number("step0").value_or(0));
+      c.first_step = first_step;
+      c.step = lmp.step();
+      c.t_s = lmp.time_s();
+      c.rayleigh_fraction =
+          std::max(so_far.rayleigh_fraction, resumed ? resumed->rayleigh_fraction : 0.0);
+      c.hertz_fraction = std::max(so_far.hertz_fraction, resumed ? resumed->hertz_fraction : 0.0);
+      c.surface_before_m = sim.before;
+      for (const auto& name : kDeckState)
+        c.deck_state.emplace_back(name, lmp.string(name).value_or(""));
+      c.overlaps = lmp.overlap_steps();
+      c.cpu_s = process_cpu_s() - cpu_start;
+      MPI_Allreduce(MPI_IN_PLACE, &c.cpu_s, 1, MPI_DOUBLE, MPI_SUM, comm);
+      c.cpu_s += sim.earlier_cpu_s;
+      c.wall_s = seconds_since(start) + sim.earlier_wall_s;
+      if (rank == 0) {
+        c.track_bytes = fs::file_size(out + ".track.txt");
+        commit_checkpoint(work, c);
+      }
+      MPI_Barrier(comm);
+    };
     const ChunkOutcome outcome = run_chunks(lmp, run);
     sim.overlaps = lmp.overlap_samples();
     r.status = outcome.status;
     r.message = outcome.message;
-    r.rayleigh_fraction = outcome.rayleigh_fraction;
-    r.hertz_fraction = outcome.hertz_fraction;
+    r.rayleigh_fraction =
+        std::max(outcome.rayleigh_fraction, resumed ? resumed->rayleigh_fraction : 0.0);
+    r.hertz_fraction = std::max(outcome.hertz_fraction, resumed ? resumed->hertz_fraction : 0.0);
     // After a failure found by the driver the block state may be gone or meaningless: the
     // deck's summary would evaluate it, so it is written only when the deck itself stopped.
     if (outcome.deck_stopped) {
@@ -401,6 +478,8 @@ Simulated simulate(const ImpactContext& ctx,
   }
   r.steps = lmp.step() - first_step;
   r.sim_time_s = lmp.time_s();
+  r.resumed_from_s = sim.resumed_from_s;
+  if (rank == 0) remove_checkpoints(work);  // the run is over: nothing to resume
   return sim;
 }
 
@@ -602,6 +681,8 @@ ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Co
   // a shared machine does not inflate the way it inflates the wall time.
   r.cpu_s = process_cpu_s() - cpu_start;
   MPI_Allreduce(MPI_IN_PLACE, &r.cpu_s, 1, MPI_DOUBLE, MPI_SUM, comm);
+  r.wall_s += sim.earlier_wall_s;  // a resumed run counts its earlier segments
+  r.cpu_s += sim.earlier_cpu_s;
   if (rank != 0) return r;
   attach_snapshot(r, spec, ctx);
 

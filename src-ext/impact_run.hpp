@@ -68,6 +68,9 @@ struct ImpactResult {
   long grains_lost = 0;  ///< grains thrown out of the box (tolerated up to grains / 100)
   double dt_s = 0, wall_s = 0, sim_time_s = 0;
   double cpu_s = 0;  ///< CPU time of the LIGGGHTS run, summed over the instance's ranks
+  /// Resumed from a checkpoint at this simulated time [s] (impact_checkpoint.hpp); -1: ran whole.
+  /// wall_s and cpu_s then include the earlier segments.
+  double resumed_from_s = -1;
   double rayleigh_fraction = 0, hertz_fraction = 0;  ///< from fix check/timestep/gran
   std::string work_dir;
   /// The impact picture, when ImpactContext::snapshot asked for it (stored by append_result).

@@ -144,20 +144,37 @@ void Liggghts::start_overlap_probe(long every_steps, int body_type) {
       ->set_callback(&overlap_callback, probe_.get());
 }
 
-std::vector<std::pair<double, double>> Liggghts::overlap_samples() {
-  std::vector<std::pair<double, double>> out;
+std::vector<std::pair<long, double>> Liggghts::overlap_steps() {
+  std::vector<std::pair<long, double>> out;
   long n = probe_ ? static_cast<long>(probe_->max_by_step.size()) : 0;
   long n_min = n, n_max = n;
   MPI_Allreduce(MPI_IN_PLACE, &n_min, 1, MPI_LONG, MPI_MIN, comm_);
   MPI_Allreduce(MPI_IN_PLACE, &n_max, 1, MPI_LONG, MPI_MAX, comm_);
-  // Every rank samples at the same steps; if they ever disagreed, nothing is reported.
   if (n_min != n_max || n == 0) return out;
   std::vector<double> values;
   for (const auto& [step, v] : probe_->max_by_step) values.push_back(v);
   MPI_Allreduce(MPI_IN_PLACE, values.data(), static_cast<int>(n), MPI_DOUBLE, MPI_MAX, comm_);
   std::size_t k = 0;
-  for (const auto& [step, v] : probe_->max_by_step)
-    out.emplace_back(probe_->time_by_step.at(step), values[k++]);
+  for (const auto& [step, v] : probe_->max_by_step) out.emplace_back(step, values[k++]);
+  return out;
+}
+
+void Liggghts::preload_overlap_steps(const std::vector<std::pair<long, double>>& samples) {
+  if (!probe_) throw std::logic_error("preload_overlap_steps before start_overlap_probe");
+  const double dt = timestep_s();
+  for (const auto& [step, v] : samples) {
+    probe_->max_by_step[step] = v;
+    probe_->time_by_step[step] =
+        static_cast<double>(step - time_origin_.value_or(0)) * dt;  // only read with an origin
+  }
+}
+
+std::vector<std::pair<double, double>> Liggghts::overlap_samples() {
+  std::vector<std::pair<double, double>> out;
+  for (const auto& [step, v] : overlap_steps())
+    out.emplace_back(time_origin_ ? static_cast<double>(step - *time_origin_) * timestep_s()
+                                  : probe_->time_by_step.at(step),
+                     v);
   return out;
 }
 
@@ -217,6 +234,7 @@ double Liggghts::fix_vector(const std::string& fix_id, int index) {
 }
 
 double Liggghts::time_s() {
+  if (time_origin_) return static_cast<double>(step() - *time_origin_) * timestep_s();
   std::string name = "atime";
   return *static_cast<double*>(lammps_extract_global(lmp_, name.data()));
 }

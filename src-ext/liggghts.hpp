@@ -45,8 +45,11 @@ class Liggghts {
   std::optional<std::string> string(const std::string& name);
   /// Element `index` of a global vector computed by fix `fix_id` (e.g. check/timestep/gran).
   double fix_vector(const std::string& fix_id, int index);
-  /// Current simulated time [s], time step [s] and step.
+  /// Current simulated time [s], time step [s] and step. After set_time_origin(step0) the time
+  /// is (step - step0) x dt, the impact deck's own clock (impact/setup.in, variable t), which a
+  /// resumed run keeps; before, LIGGGHTS's elapsed time.
   double time_s();
+  void set_time_origin(long step0) { time_origin_ = step0; }
   double timestep_s();
   long step();
   /// Total number of atoms (grains plus block spheres).
@@ -72,6 +75,10 @@ class Liggghts {
   /// The samples so far, (simulated time [s], largest delta / d), reduced over the instance's
   /// ranks (collective). Repeated steps (each run's set-up samples again) keep one sample.
   std::vector<std::pair<double, double>> overlap_samples();
+  /// The same samples by step (collective), to carry over a checkpoint; and the samples of an
+  /// earlier segment of the run, given back to a resumed run's probe (every rank the same).
+  std::vector<std::pair<long, double>> overlap_steps();
+  void preload_overlap_steps(const std::vector<std::pair<long, double>>& samples);
 
   MPI_Comm comm() const { return comm_; }
 
@@ -81,6 +88,7 @@ class Liggghts {
   void* lmp_ = nullptr;
   MPI_Comm comm_;
   std::unique_ptr<OverlapProbeState> probe_;
+  std::optional<long> time_origin_;
 };
 
 }  // namespace ricochet::dem

@@ -44,9 +44,10 @@ const std::vector<DeckParam>& section_params(const Decks& decks, const std::stri
 }
 
 // Names of setup.in's index variables that are wiring, not parameters: the driver sets them.
-const std::set<std::string> kWiring = {"deck_dir",   "common",      "bed",       "template_in",
-                                       "out",        "shape",       "vx_in_mps", "vy_in_mps",
-                                       "w_in_radps", "alpha_in_deg"};
+const std::set<std::string> kWiring = {
+    "deck_dir", "common",     "bed",          "template_in", "out",
+    "shape",    "vx_in_mps",  "vy_in_mps",    "w_in_radps",  "alpha_in_deg",
+    "resuming", "restart_in", "resume_step0", "track_mode",  "checkpoint_prefix"};
 
 }  // namespace
 
@@ -177,6 +178,12 @@ void check_param(const Decks& decks, const std::string& section, const std::stri
   // The active zone's half-length: 0 is its default, every grain (impact/zone.in).
   if (name == "active_zone_m") {
     if (v < 0) throw InputError(file, line, field, "must be >= 0 (0: every grain moves)");
+    return;
+  }
+  // Steps between an impact's checkpoints (impact/checkpoint.in): 0 is none.
+  if (name == "checkpoint_steps") {
+    if (v < 0 || v != std::floor(v))
+      throw InputError(file, line, field, "must be a whole number of steps >= 0 (0: none)");
     return;
   }
   if (restitution && !(v > 0 && v <= 1))

@@ -494,4 +494,88 @@ TEST(DemCampaign, KilledCampaignResumesWithoutLosingFinishedImpacts) {
   }
 }
 
+// An impact killed (SIGKILL) in the middle of its contact resumes from its last checkpoint
+// (run.checkpoint_steps, src-ext/impact_checkpoint.hpp) when its campaign is started again, and
+// ends bit for bit as the same campaign run without a kill: every recorded value but the times
+// spent, and the track. Nothing of the checkpoints is left afterwards.
+TEST(DemCheckpoint, AKilledImpactResumesFromItsCheckpointBitForBit) {
+  const fs::path work = temp_dir("checkpoint");
+  const auto design = [&](const std::string& name) {
+    const std::string path = (work / (name + ".toml")).string();
+    std::ofstream(path) << small_bed_campaign(name, RICOCHET_TEST_CACHE, work / name)
+                        << "[run]\ncheckpoint_steps = 500\n"
+                        << "[[impact]]\nid = \"hit\"\nvin = [2.9, -2.3, -65.0]\n";
+    return path;
+  };
+  const std::string whole = design("whole"), killed = design("killed");
+  const std::string whole_out = (work / "whole.h5").string(), out = (work / "killed.h5").string();
+  const auto [wrc, wtext] = shell(std::string(RICOCHET_BIN) + " dem campaign " + whole + " --out " +
+                                  whole_out + " --json 2> /dev/null");
+  ASSERT_EQ(wrc, 0) << wtext;
+
+  const fs::path impact_dir = work / "killed" / "work" / "hit";
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    const int fd = ::open((work / "first-run.log").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    ::dup2(fd, 2);
+    ::dup2(fd, 1);
+    ::execl(RICOCHET_BIN, RICOCHET_BIN, "dem", "campaign", killed.c_str(), "--out", out.c_str(),
+            static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  // Killed once its second checkpoint (step 1,000 of about 4,100: in contact) is committed.
+  long generation = 0;
+  for (int i = 0; i < 6000 && generation < 2; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    std::ifstream in(impact_dir / "checkpoint.json");
+    if (in) {
+      try {
+        generation = nlohmann::json::parse(in)["generation"].get<long>();
+      } catch (const std::exception&) {
+      }
+    }
+    int status = 0;
+    if (::waitpid(pid, &status, WNOHANG) == pid) FAIL() << "the campaign ended before its kill";
+  }
+  ::kill(pid, SIGKILL);
+  ::waitpid(pid, nullptr, 0);
+  ASSERT_GE(generation, 2) << "no second checkpoint";
+  EXPECT_TRUE(read_campaign_index(out).empty());  // the impact was not over
+
+  const std::string err = (work / "second-run.err").string();
+  const auto [rc, text] = shell(std::string(RICOCHET_BIN) + " dem campaign " + killed + " --out " +
+                                out + " --json 2> " + err);
+  ASSERT_EQ(rc, 0) << text;
+  std::ifstream e(err);
+  const std::string stderr_text((std::istreambuf_iterator<char>(e)), {});
+  EXPECT_NE(stderr_text.find("hit: resuming from its checkpoint"), std::string::npos)
+      << stderr_text;
+  const auto a = read_campaign_index(whole_out), b = read_campaign_index(out);
+  ASSERT_EQ(a.size(), 1u);
+  ASSERT_EQ(b.size(), 1u);
+  ASSERT_EQ(a[0].status, "rebound") << a[0].message;
+  EXPECT_EQ(b[0].status, a[0].status) << b[0].message;
+  const auto& names = campaign_value_names();
+  for (std::size_t c = 0; c < names.size(); ++c) {
+    if (names[c] == "wall_s" || names[c] == "cpu_s") continue;
+    if (std::isnan(a[0].values[c])) {
+      EXPECT_TRUE(std::isnan(b[0].values[c])) << names[c];
+    } else {
+      EXPECT_EQ(b[0].values[c], a[0].values[c]) << names[c];
+    }
+  }
+  const auto track = [](const fs::path& file) {
+    std::ifstream in(file);
+    std::string rows, line;
+    while (std::getline(in, line))
+      if (!line.starts_with("#")) rows += line + "\n";
+    return rows;
+  };
+  EXPECT_EQ(track(impact_dir / "impact.track.txt"),
+            track(work / "whole" / "work" / "hit" / "impact.track.txt"));
+  for (const auto& f : fs::directory_iterator(impact_dir))
+    EXPECT_FALSE(f.path().filename().string().starts_with("checkpoint")) << f.path();
+}
+
 }  // namespace
