@@ -22,7 +22,8 @@
 #              results/sand-drop/), then the packing-scatter beds' solid fractions
 #              (scripts/packing-scatter-beds.sh).
 # Start it at the beginning of a session and let it run; a session's end stops it, the next
-# start resumes it. On a new machine, build the program alone first, start the campaigns, then
+# start resumes it (an impact that was running resumes from its last checkpoint, every
+# run.checkpoint_steps steps, in every campaign pinned since 2026-12-05: docs/commands/dem.md). On a new machine, build the program alone first, start the campaigns, then
 # build the rest (the program is pinned when a campaign starts, so the rest never relinks it):
 #
 #   ./run.sh build ricochet && (nohup setsid scripts/dem-lanes.sh > /dev/null 2>&1 &) && ./run.sh build
