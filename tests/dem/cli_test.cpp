@@ -184,6 +184,59 @@ TEST(DemActiveZone, CoveringTheBedIsTheWholeBedBitForBitAndOutsideGrainsNeverMov
   EXPECT_EQ(std::stod(sn.at("frozen_ke_J")), 0.0);
 }
 
+// scripts/active-zone-verdict.sh on a real check campaign (docs/resolved-model.md, "Active
+// zone"): three states, each on the whole bed (`whole-`), in a zone covering the bed (`zone10-`:
+// the whole bed's run bit for bit, so the zone passes with every difference 0), and in `zone5-`
+// impacts thrown at other incident states (differences far beyond 0.25 lab sd: it fails and
+// the campaigns keep the whole bed, active_zone_m 0). A design with an impact still to run has no
+// verdict (exit 2).
+TEST(DemActiveZone, TheVerdictScriptPassesAZoneThatChangesNothingAndFailsOneThatDoes) {
+  const fs::path dir = temp_dir("zone-verdict");
+  fs::create_directories(dir / "pinned");
+  fs::create_symlink(RICOCHET_BIN, dir / "pinned" / "ricochet");
+  fs::create_directory_symlink(std::string(RICOCHET_SOURCE_DIR) + "/liggghts-inputs",
+                               dir / "pinned" / "liggghts-inputs");
+  const std::vector<std::pair<std::string, std::string>> states = {
+      {"A", "[2.9, -2.3, -65.0]"}, {"B", "[3.1, -2.2, -60.0]"}, {"C", "[2.7, -2.5, -70.0]"}};
+  std::ostringstream design;
+  design << small_bed_campaign("check", RICOCHET_TEST_CACHE, dir);
+  for (const auto& [id, vin] : states) {
+    design << "[[impact]]\nid = \"whole-" << id << "\"\nvin = " << vin << "\n"
+           << "[[impact]]\nid = \"zone10-" << id << "\"\nvin = " << vin
+           << "\nrun = { active_zone_m = 10.0 }\n"
+           << "[[impact]]\nid = \"zone5-" << id << "\"\nvin = [2.4, -2.9, -50.0]\n"
+           << "run = { active_zone_m = 5.0, x_impact_frac = 0.4 }\n";
+  }
+  std::ofstream(dir / "pinned" / "check.toml") << design.str();
+  std::ofstream(dir / "pinned" / "more.toml")
+      << design.str() << "[[impact]]\nid = \"whole-D\"\nvin = [3.0, -2.0, -60.0]\n";
+  const std::string out = (dir / "check.h5").string();
+  const auto [rc, text] =
+      shell("cd " + dir.string() + " && " + RICOCHET_BIN +
+            " dem campaign pinned/check.toml --out " + out + " --json 2> /dev/null");
+  ASSERT_EQ(rc, 0) << text;
+  const auto verdict = [&](const std::string& name, const std::string& r) {
+    return shell(std::string("cd ") + RICOCHET_SOURCE_DIR + " && scripts/active-zone-verdict.sh " +
+                 dir.string() + " " + name + " " + out + " " + r + " " + RICOCHET_BIN +
+                 " 2> /dev/null");
+  };
+  const auto [prc, ptext] = verdict("check", "10");
+  ASSERT_EQ(prc, 0) << ptext;
+  const auto pass = nlohmann::json::parse(ptext);
+  EXPECT_TRUE(pass["passed"].get<bool>()) << ptext;
+  EXPECT_EQ(pass["active_zone_m"].get<double>(), 10.0);
+  EXPECT_EQ(pass["pairs"], 3);
+  for (const char* c : {"vout_x", "vout_y", "wout"})
+    EXPECT_EQ(pass["mean_abs_lab_sd"][c].get<double>(), 0.0) << c;
+  const auto [frc, ftext] = verdict("check", "5");
+  ASSERT_EQ(frc, 0) << ftext;
+  const auto fail = nlohmann::json::parse(ftext);
+  EXPECT_FALSE(fail["passed"].get<bool>()) << ftext;
+  EXPECT_EQ(fail["active_zone_m"].get<double>(), 0.0);
+  EXPECT_GT(fail["mean_abs_lab_sd"]["vout_y"].get<double>(), 0.25) << ftext;
+  EXPECT_EQ(verdict("more", "10").first, 2);
+}
+
 // --vtk DIR: ParaView's file series of the grains and of the block's spheres, one file each per
 // --vtk-every steps, legacy VTK with the points of every grain (and every sphere) and the fields
 // ParaView colours by (v, radius, id, type).
