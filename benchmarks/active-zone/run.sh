@@ -7,6 +7,9 @@
 # chaotic: this row is the scatter a round-off perturbation alone gives), and each zone.
 #
 #   benchmarks/active-zone/run.sh [RICOCHET] [OUT.tsv] [STATES] [ZONES]
+#   SETTINGS='NAME|--set K=V;...' benchmarks/active-zone/run.sh ...   (other numerical settings
+#       against the same whole bed, e.g. the checkpoints: SETTINGS='checkpoints every 1000
+#       steps|--set run.checkpoint_steps=1000'; ZONES='' to run those alone)
 #
 # Writes one row per impact: state, setting, status, V_out (3), the CPU seconds and steps of the
 # impact, and the grains the zone moved (the bed's own count for the whole bed). Then, on
@@ -35,6 +38,8 @@ for ((i = 0; i < STATES; i++)); do
   vy=$(awk -v i="$i" 'BEGIN { print -2.1 - 0.1 * i }')
   settings=("whole bed|$vx|" "whole bed, V_in^x + 1e-9|$(awk -v v="$vx" 'BEGIN { printf "%.12f", v + 1e-9 }')|")
   for z in $ZONES; do settings+=("zone $z m|$vx|--set run.active_zone_m=$z"); done
+  IFS=';' read -r -a others <<< "${SETTINGS:-}"
+  for o in "${others[@]}"; do settings+=("${o%%|*}|$vx|${o#*|}"); done
   for s in "${settings[@]}"; do
     IFS='|' read -r name v extra <<< "$s"
     id="s$i-$(echo "$name" | tr -c 'a-z0-9.' '_')"
