@@ -160,13 +160,10 @@ std::vector<std::pair<long, double>> Liggghts::overlap_steps() {
 }
 
 void Liggghts::preload_overlap_steps(const std::vector<std::pair<long, double>>& samples) {
-  if (!probe_) throw std::logic_error("preload_overlap_steps before start_overlap_probe");
-  const double dt = timestep_s();
-  for (const auto& [step, v] : samples) {
-    probe_->max_by_step[step] = v;
-    probe_->time_by_step[step] =
-        static_cast<double>(step - time_origin_.value_or(0)) * dt;  // only read with an origin
-  }
+  // Their times come from the steps (overlap_samples), so the clock's origin must be set.
+  if (!probe_ || !time_origin_)
+    throw std::logic_error("preload_overlap_steps needs start_overlap_probe and set_time_origin");
+  for (const auto& [step, v] : samples) probe_->max_by_step[step] = v;
 }
 
 std::vector<std::pair<double, double>> Liggghts::overlap_samples() {
