@@ -97,9 +97,8 @@ void run(const Options& o) {
         "calibrated point {:.3f} +- {:.3f}",
         lo, hi, r.solid_fraction_q2, r.best_solid_fraction, r.best_solid_fraction_sd);
     if (r.solid_fraction_band.size() == 2)
-      std::cout << fmt::format(", searched within [{:.3f}, {:.3f}] ({:.1f} % of the box)",
-                               r.solid_fraction_band[0], r.solid_fraction_band[1],
-                               100 * r.admissible_fraction);
+      std::cout << fmt::format(", searched within [{:.3f}, {:.3f}]", r.solid_fraction_band[0],
+                               r.solid_fraction_band[1]);
     std::cout << "\n";
     for (const auto& e : r.grain_count_estimates)
       std::cout << fmt::format(
@@ -107,6 +106,27 @@ void run(const Options& o) {
           "(leave-one-out error at most {:.4f})\n",
           e.beds.size(), e.references, e.loo_max_abs);
   }
+  if (!r.rebound_points.empty()) {
+    std::size_t rebounds = 0, counted = 0, none = 0;
+    for (const auto& t : r.rebound_points) {
+      rebounds += t.rebounds;
+      counted += t.counted;
+      none += t.rebounds == 0;
+    }
+    std::cout << fmt::format(
+        "  rebounds: {} of {} counted impacts; {} of {} design points never rebounded", rebounds,
+        counted, none, r.rebound_points.size());
+    if (r.rebound_threshold > 0)
+      std::cout << fmt::format(
+          "; searched where the rebound indicator is >= {} ({:.1f} % of the box, leave-one-out "
+          "agreement {:.0f} %), calibrated point {:.2f}",
+          r.rebound_threshold, 100 * r.rebound_box_fraction, 100 * r.rebound_loo_agreement,
+          r.best_rebound);
+    std::cout << "\n";
+  }
+  if (r.admissible_fraction < 1)
+    std::cout << fmt::format("  the search's constraints leave {:.1f} % of the sampled box\n",
+                             100 * r.admissible_fraction);
   for (const auto& f : figures) std::cout << "  figure: " << f << "\n";
 }
 
@@ -147,6 +167,13 @@ void add_calibrate_grains_command(CLI::App& app) {
                   "is within [LO, HI] (a sand-like bed; needs --bed-cache)")
       ->delimiter(',')
       ->expected(2);
+  sub->add_option("--rebound-threshold", o->calibration.rebound_threshold,
+                  "Search the calibrated point only where the indicator kriging of the design's "
+                  "rebounds (timeouts, no_rebound and end walls without a longer rerun count as "
+                  "none) is at least P (default: the lab's 28 rebounds in 28, lower 95 % "
+                  "bound); 0 turns it off")
+      ->capture_default_str();
+  check_range(sub, "--rebound-threshold", 0, 0.999);
   // Not applied to --lab (as upscale): the filter may name the campaign's own columns.
   add_where_option(sub, o->calibration.where, "the campaign's impacts");
   add_figures_option(sub, o->figures);

@@ -18,50 +18,26 @@
 #include "common/clock.hpp"
 #include "common/error.hpp"
 #include "fit/design.hpp"
+#include "grain_packing.hpp"
+#include "grain_surrogate.hpp"
+#include "rebound_region.hpp"
 #include "upscale.hpp"
 
 namespace ricochet::dem {
 
 namespace {
 
-double parse_number(const std::string& text, const std::string& file, const std::string& name) {
-  try {
-    std::size_t used = 0;
-    const double v = std::stod(text, &used);
-    if (used == text.size()) return v;
-  } catch (const std::exception&) {
-  }
-  throw InputError(file, 0, name,
-                   "value '" + text + "' is not a number: cannot be a surrogate input");
-}
-
 // One kriging model per V_out component, on inputs scaled to [0, 1].
 struct Surrogate {
   std::vector<OT::KrigingResult> models;
   std::optional<OT::KrigingResult> packing;  ///< solid fraction, with bed_cache
+  std::optional<OT::KrigingResult> rebound;  ///< rebound indicator (rebound_region.hpp)
   Vel3 predict_mean(const OT::Point& u) const {
     Vel3 m{};
     for (int c = 0; c < 3; ++c) m[c] = models[c].getMetaModel()(u)[0];
     return m;
   }
 };
-
-OT::KrigingResult fit_kriging(const OT::Sample& u, const OT::Sample& y, double noise_var,
-                              const OT::CovarianceModel* fixed) {
-  const std::size_t d = u.getDimension();
-  const OT::Basis basis = OT::ConstantBasisFactory(d).build();
-  OT::CovarianceModel cov =
-      fixed ? *fixed
-            : OT::CovarianceModel(OT::MaternModel(OT::Point(d, 0.5), OT::Point(1, 1.0), 2.5));
-  OT::KrigingAlgorithm algo(u, y, cov, basis);
-  if (noise_var > 0) algo.setNoise(OT::Point(u.getSize(), noise_var));
-  if (fixed)
-    algo.setOptimizeParameters(false);
-  else
-    algo.setOptimizationBounds(OT::Interval(OT::Point(d, 0.02), OT::Point(d, 2.0)));
-  algo.run();
-  return algo.getResult();
-}
 
 // The surrogate's inputs: given, or every grain parameter that the campaign varies (the bed's
 // seed aside), each with its deck default.
@@ -90,7 +66,7 @@ void choose_inputs(GrainCalibrationResult& r, const ImpactSet& set,
         std::find_if(list.begin(), list.end(), [&](const DeckParam& q) { return q.name == name; });
     if ((section != "bed" && section != "block") || it == list.end())
       throw InputError(campaign_h5, 0, p, "unknown grain parameter (use bed.NAME or block.NAME)");
-    r.deck_default.push_back(parse_number(it->default_value, "<decks>", p));
+    r.deck_default.push_back(grain_value(it->default_value, "<decks>", p));
   }
 }
 
@@ -106,7 +82,7 @@ double gather_points(GrainCalibrationResult& r, const ImpactSet& set,
     const auto it = grain.find(im.id);
     if (it == grain.end()) continue;
     std::vector<double> x;
-    for (const auto& p : r.parameters) x.push_back(parse_number(it->second.at(p), campaign_h5, p));
+    for (const auto& p : r.parameters) x.push_back(grain_value(it->second.at(p), campaign_h5, p));
     auto [pos, inserted] = index.emplace(x, r.points.size());
     if (inserted) {
       r.points.emplace_back().x = x;
@@ -166,29 +142,6 @@ void target_moments(GrainCalibrationResult& r, const ImpactSet& target) {
   }
 }
 
-// Leave-one-out check of a kriging fitted to (u, y) with covariance `cov` (the full fit's
-// parameters, not refitted): each point predicted by the others, into `loo`; returns
-// {Q2 = 1 - PRESS / sum (y - mean y)^2, RMSE}.
-std::array<double, 2> leave_one_out(const OT::Sample& u, const OT::Sample& y, double noise,
-                                    const OT::CovarianceModel& cov, std::vector<double>& loo) {
-  const std::size_t n = u.getSize(), d = u.getDimension();
-  loo.assign(n, 0.0);
-  double press = 0, var = 0, ybar = 0;
-  for (std::size_t i = 0; i < n; ++i) ybar += y(i, 0) / static_cast<double>(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    OT::Sample ui(0, d), yi(0, 1);
-    for (std::size_t j = 0; j < n; ++j)
-      if (j != i) {
-        ui.add(u[j]);
-        yi.add(y[j]);
-      }
-    loo[i] = fit_kriging(ui, yi, noise, &cov).getMetaModel()(u[i])[0];
-    press += std::pow(y(i, 0) - loo[i], 2);
-    var += std::pow(y(i, 0) - ybar, 2);
-  }
-  return {var > 0 ? 1.0 - press / var : NAN, std::sqrt(press / static_cast<double>(n))};
-}
-
 // One kriging model per component on the scaled inputs u, with the replicas' noise, and its
 // leave-one-out check.
 Surrogate fit_surrogate(GrainCalibrationResult& r, const OT::Sample& u, double mean_replicas) {
@@ -206,120 +159,6 @@ Surrogate fit_surrogate(GrainCalibrationResult& r, const OT::Sample& u, double m
     r.rmse_loo[c] = rmse;
   }
   return sur;
-}
-
-// A bed's geometry for the grain-count estimate: every bed.* value of impact `id` that is not a
-// surrogate input (the box, depth, grain sizes, stiffness...), the seed aside.
-std::string bed_geometry(const std::map<std::string, std::map<std::string, std::string>>& grain,
-                         const std::string& id, const std::vector<std::string>& inputs) {
-  std::string g;
-  const auto it = grain.find(id);
-  if (it == grain.end()) return g;
-  for (const auto& [k, v] : it->second)
-    if (k.rfind("bed.", 0) == 0 && k != "bed.seed" &&
-        std::find(inputs.begin(), inputs.end(), k) == inputs.end())
-      g += (g.empty() ? "" : " ") + k + "=" + v;
-  return g;
-}
-
-// Each design point's solid fraction: the mean over the beds its replicas were hit on (one bed per
-// point in a [design.sample] campaign), as the campaign file records it (/dem/beds,
-// record_bed_packing: it outlives the cache), else measured once on the cached restart file, else
-// (packing_from_grain_count) estimated from the bed's grain count and the recorded beds of its
-// geometry.
-void measure_points_packing(
-    GrainCalibrationResult& r, const std::string& campaign_h5, const std::string& cache,
-    bool from_grain_count, const std::map<std::string, std::map<std::string, std::string>>& grain) {
-  const auto& names = campaign_value_names();
-  const std::size_t grains_col = std::find(names.begin(), names.end(), "grains") - names.begin();
-  std::map<std::string, std::string> bed_of, geometry_of;
-  std::map<std::string, long> grains_of;
-  for (const auto& e : read_campaign_index(campaign_h5)) {
-    bed_of[e.id] = e.bed_key;
-    if (e.bed_key.empty() || geometry_of.count(e.bed_key)) continue;
-    geometry_of[e.bed_key] = bed_geometry(grain, e.id, r.parameters);
-    if (grains_col < e.values.size() && std::isfinite(e.values[grains_col]))
-      grains_of[e.bed_key] = std::lround(e.values[grains_col]);
-  }
-  const auto recorded = read_bed_packings(campaign_h5);
-  std::map<std::string, std::pair<double, std::string>> phi_of;  // key -> value, source
-  for (const auto& [key, packing] : recorded) phi_of[key] = {packing.solid_fraction, "recorded"};
-  // By geometry: the estimator (built once, on the geometry's recorded beds) and what it estimated.
-  std::map<std::string, std::pair<GrainCountPacking, GrainCountEstimate>> estimates;
-  const auto estimate = [&](const std::string& id, const std::string& key) {
-    const std::string& geometry = geometry_of[key];
-    auto it = estimates.find(geometry);
-    if (it == estimates.end()) {
-      std::vector<BedPacking> refs;
-      for (const auto& [k, packing] : recorded)
-        if (geometry_of.count(k) && geometry_of[k] == geometry) refs.push_back(packing);
-      if (refs.empty())
-        throw InputError(campaign_h5, 0, "/dem/beds",
-                         "impact " + id + ": its bed " + key +
-                             " is neither recorded nor cached, and its solid fraction cannot be "
-                             "estimated from its grain count: the file records no bed of its "
-                             "geometry (" +
-                             geometry + ")");
-      const GrainCountPacking g = grain_count_packing(refs);
-      it = estimates
-               .emplace(geometry,
-                        std::pair{g, GrainCountEstimate{geometry, {}, g.references, g.loo_max_abs}})
-               .first;
-    }
-    if (!grains_of.count(key))
-      throw InputError(campaign_h5, 0, "/dem/index/values",
-                       "impact " + id + ": its bed " + key +
-                           " is neither recorded nor cached, and its solid fraction cannot be "
-                           "estimated from its grain count: its index row has no grain count");
-    it->second.second.beds.push_back(key);
-    return it->second.first.solid_fraction(grains_of[key]);
-  };
-  for (auto& p : r.points) {
-    double sum = 0;
-    std::set<std::string> sources;
-    for (const auto& id : p.ids) {
-      const std::string& key = bed_of[id];
-      const std::string prefix = bed_prefix(cache, key);
-      auto it = phi_of.find(key);
-      if (it == phi_of.end()) {
-        const bool cached = !key.empty() && std::filesystem::exists(prefix + ".params");
-        if (!cached && !(from_grain_count && !key.empty()))
-          throw InputError(campaign_h5, 0, "/dem/index/bed_key",
-                           "impact " + id + ": its bed " + (key.empty() ? "(no key)" : key) +
-                               " is neither recorded in the file (/dem/beds) nor in the bed "
-                               "cache " +
-                               cache + " (--bed-cache): `ricochet dem campaign DESIGN --out " +
-                               campaign_h5 +
-                               " --record-beds` records it, or --packing-from-grain-count "
-                               "estimates it");
-        std::pair<double, std::string> v;
-        if (cached)
-          v = {measure_packing(read_bed_files(prefix), MPI_COMM_SELF).solid_fraction, "measured"};
-        else
-          v = {estimate(id, key), "grain count"};
-        it = phi_of.emplace(key, std::move(v)).first;
-      }
-      sum += it->second.first;
-      sources.insert(it->second.second);
-    }
-    p.solid_fraction = sum / static_cast<double>(p.ids.size());
-    for (const auto& src : sources)
-      p.solid_fraction_source += (p.solid_fraction_source.empty() ? "" : "+") + src;
-  }
-  for (auto& [geometry, e] : estimates) r.grain_count_estimates.push_back(std::move(e.second));
-}
-
-// The solid fraction's kriging over the scaled inputs (no nugget: a bed is measured exactly) and
-// its leave-one-out Q2, as for V_out.
-OT::KrigingResult fit_packing(GrainCalibrationResult& r, const OT::Sample& u) {
-  const std::size_t n = r.points.size();
-  OT::Sample y(n, 1);
-  for (std::size_t i = 0; i < n; ++i) y(i, 0) = r.points[i].solid_fraction;
-  OT::KrigingResult model = fit_kriging(u, y, 0.0, nullptr);
-  std::vector<double> loo;
-  r.solid_fraction_q2 = leave_one_out(u, y, 0.0, model.getCovarianceModel(), loo)[0];
-  for (std::size_t i = 0; i < n; ++i) r.points[i].solid_fraction_loo = loo[i];
-  return model;
 }
 
 // Sobol indices on the surrogate (Saltelli 2010 estimators, OpenTURNS), inputs uniform on the
@@ -354,8 +193,10 @@ OT::Point search_best(GrainCalibrationResult& r, const Surrogate& sur,
                       const std::vector<double>& search_u, std::vector<double> local,
                       std::size_t search_n) {
   const std::size_t d = r.parameters.size();
-  // Outside the solid-fraction band (with one) a point is not a sand-like bed: J = +inf.
+  // Outside the solid-fraction band (with one) a point is not a sand-like bed, and outside the
+  // rebound region (with one) its bed is not expected to give a rebound at all: J = +inf there.
   const bool banded = sur.packing && r.solid_fraction_band.size() == 2;
+  std::size_t in_region = 0;
   auto misfit = [&](const OT::Sample& s, std::vector<double>& j, std::vector<char>* ok) {
     j.assign(s.getSize(), 0.0);
     if (ok) ok->assign(s.getSize(), 1);
@@ -364,6 +205,15 @@ OT::Point search_best(GrainCalibrationResult& r, const Surrogate& sur,
       for (std::size_t i = 0; i < s.getSize(); ++i)
         if (phi(i, 0) < r.solid_fraction_band[0] || phi(i, 0) > r.solid_fraction_band[1])
           j[i] = std::numeric_limits<double>::infinity();
+    }
+    if (sur.rebound) {
+      const OT::Sample p = sur.rebound->getMetaModel()(s);
+      for (std::size_t i = 0; i < s.getSize(); ++i) {
+        if (p(i, 0) < r.rebound_threshold)
+          j[i] = std::numeric_limits<double>::infinity();
+        else if (ok)
+          ++in_region;
+      }
     }
     for (int c = 0; c < 3; ++c) {
       const OT::Sample m = sur.models[c].getMetaModel()(s);
@@ -392,12 +242,24 @@ OT::Point search_best(GrainCalibrationResult& r, const Surrogate& sur,
   const auto admissible = static_cast<std::size_t>(
       std::count_if(j.begin(), j.end(), [](double v) { return std::isfinite(v); }));
   r.admissible_fraction = static_cast<double>(admissible) / static_cast<double>(j.size());
+  if (sur.rebound)
+    r.rebound_box_fraction = static_cast<double>(in_region) / static_cast<double>(j.size());
   if (admissible == 0) {
-    const auto [lo, hi] = solid_fraction_range(r);
-    throw InputError(r.source, 0, "--solid-fraction",
-                     fmt::format("no point of the sampled box has a predicted solid fraction in "
-                                 "[{:.3f}, {:.3f}]; the design's beds span [{:.3f}, {:.3f}]",
-                                 r.solid_fraction_band[0], r.solid_fraction_band[1], lo, hi));
+    std::string why;
+    if (banded) {
+      const auto [lo, hi] = solid_fraction_range(r);
+      why = fmt::format(
+          "a predicted solid fraction in [{:.3f}, {:.3f}] (the design's beds span "
+          "[{:.3f}, {:.3f}])",
+          r.solid_fraction_band[0], r.solid_fraction_band[1], lo, hi);
+    }
+    if (sur.rebound)
+      why += fmt::format(
+          "{}a predicted rebound probability of at least {} ({:.1f} % of the box "
+          "has it)",
+          why.empty() ? "" : " and ", r.rebound_threshold, 100 * r.rebound_box_fraction);
+    throw InputError(r.source, 0, banded ? "--solid-fraction" : "--rebound-threshold",
+                     "no point of the sampled box has " + why);
   }
   OT::Point ubest = search[best];
   double jbest = j[best];
@@ -418,6 +280,7 @@ OT::Point search_best(GrainCalibrationResult& r, const Surrogate& sur,
     r.best_mean[c] = sur.models[c].getMetaModel()(ubest)[0];
     r.best_sd[c] = std::sqrt(std::max(0.0, sur.models[c].getConditionalMarginalVariance(ubest)));
   }
+  if (sur.rebound) r.best_rebound = sur.rebound->getMetaModel()(ubest)[0];
   if (sur.packing) {
     r.best_solid_fraction = sur.packing->getMetaModel()(ubest)[0];
     r.best_solid_fraction_sd =
@@ -462,8 +325,12 @@ GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const De
     throw InputError(target.source, 0, "vout", "the target needs at least 2 impacts");
   ImpactSet set = read_impact_set_h5(campaign_h5);
   set = filter_nonempty(set, options.where, campaign_h5);
-  for (const auto& e : read_campaign_index(campaign_h5))
+  const auto index = read_campaign_index(campaign_h5);
+  for (const auto& e : index)
     if (e.status != "rebound") ++r.failed;
+  if (!(options.rebound_threshold >= 0 && options.rebound_threshold < 1))
+    throw InputError("<command line>", 0, "--rebound-threshold",
+                     fmt::format("{} is outside [0, 1)", options.rebound_threshold));
   if (!options.solid_fraction.empty()) {
     const auto& b = options.solid_fraction;
     if (options.bed_cache.empty())
@@ -477,6 +344,7 @@ GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const De
   const auto grain = campaign_grain_parameters(campaign_h5, decks);
   choose_inputs(r, set, grain, decks, options);
   const double mean_replicas = gather_points(r, set, grain);
+  tally_rebounds(r, index, grain);
   if (!options.bed_cache.empty())
     measure_points_packing(r, campaign_h5, options.bed_cache, options.packing_from_grain_count,
                            grain);
@@ -510,6 +378,10 @@ GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const De
   OT::RandomGenerator::SetSeed(options.seed);
   Surrogate sur = fit_surrogate(r, u, mean_replicas);
   if (!options.bed_cache.empty()) sur.packing = fit_packing(r, u);
+  if (options.rebound_threshold > 0) {
+    sur.rebound = fit_rebound_region(r);
+    if (sur.rebound) r.rebound_threshold = options.rebound_threshold;
+  }
   sobol_on_surrogate(r, sur, options.sobol_n);
   const OT::Point ubest = search_best(r, sur, search_u, local, options.search_n);
   abacus(r, sur, ubest);

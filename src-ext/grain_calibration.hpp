@@ -11,6 +11,8 @@
 // misfit  J(x) = sum_c [(m_c(x) - t_c)^2 + s_c(x)^2] / sd_c^2,  m_c and s_c^2 the kriging mean and
 // variance, t_c and sd_c the target's mean and standard deviation: the posterior expectation of
 // the squared distance in target standard deviations, which favours regions the design supports.
+// The search is confined to where the bed is sand-like (the solid fraction's kriging within a
+// band, grain_packing.hpp) and where the design's blocks rebound (rebound_region.hpp).
 #pragma once
 
 #include <array>
@@ -43,6 +45,11 @@ struct GrainCalibrationOptions {
   /// geometry (every bed.* value that is not a surrogate input, bed.seed aside), instead of an
   /// error. Needs bed_cache.
   bool packing_from_grain_count = false;
+  /// The rebound region (rebound_region.hpp): the calibrated point is searched only where the
+  /// indicator kriging of the design's rebounds is at least this probability (the default: the
+  /// lab's 28 rebounds in 28 releases, rebound_region.hpp). 0: no constraint. No constraint
+  /// either when every counted impact of the design rebounded.
+  double rebound_threshold = 0.9;
 };
 
 /// The grain-count estimate of one geometry's beds (GrainCalibrationOptions::
@@ -69,6 +76,14 @@ struct GrainPoint {
   std::string solid_fraction_source;
 };
 
+/// One design point's outcomes, rebounds or not (rebound_region.hpp, tally_rebounds).
+struct ReboundTally {
+  std::vector<double> x;  ///< parameter values (units of the decks)
+  std::size_t rebounds = 0, counted = 0;
+  std::vector<std::string> missed;  ///< ids of its counted impacts that did not rebound
+  double loo = NAN;                 ///< leave-one-out indicator prediction of rebounds / counted
+};
+
 struct GrainCalibrationResult {
   std::string source;                   ///< the campaign file
   std::vector<std::string> parameters;  ///< surrogate inputs
@@ -88,10 +103,19 @@ struct GrainCalibrationResult {
   Vel3 best_mean{}, best_sd{};  ///< surrogate mean and standard deviation at `best`
   double best_misfit = 0;       ///< J(best)
   /// With bed_cache: the solid fraction's surrogate at `best` (mean, sd), its leave-one-out Q2,
-  /// the band searched (empty without one) and the share of the sampled box inside it.
+  /// and the band searched (empty without one).
   double best_solid_fraction = NAN, best_solid_fraction_sd = NAN, solid_fraction_q2 = NAN;
   std::vector<double> solid_fraction_band;
   std::vector<GrainCountEstimate> grain_count_estimates;  ///< empty unless some bed needed one
+  /// The rebound region (GrainCalibrationOptions::rebound_threshold): every design point's
+  /// outcomes, the threshold searched (0: none; also 0 when every counted impact rebounded), the
+  /// indicator's leave-one-out agreement with the points' observed side of 0.5, the share of the
+  /// sampled box inside the region, and the indicator at `best` (NaN without a region).
+  std::vector<ReboundTally> rebound_points;
+  double rebound_threshold = 0;
+  double rebound_loo_agreement = NAN, rebound_box_fraction = NAN, best_rebound = NAN;
+  /// Share of the sampled box where the search may place `best`: inside the solid-fraction band
+  /// and the rebound region (1 without either).
   double admissible_fraction = 1;
   /// Fraction of the sampled box where every component's surrogate mean is within 0.5 target
   /// standard deviations of the target mean (the acceptable set: how unique `best` is).

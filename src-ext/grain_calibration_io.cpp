@@ -57,8 +57,7 @@ std::string grain_calibration_json(const GrainCalibrationResult& r) {
     j["packing"] = {{"solid_fraction_band", r.solid_fraction_band},
                     {"calibrated_solid_fraction", r.best_solid_fraction},
                     {"calibrated_solid_fraction_sd", r.best_solid_fraction_sd},
-                    {"q2_loo", r.solid_fraction_q2},
-                    {"admissible_fraction", r.admissible_fraction}};
+                    {"q2_loo", r.solid_fraction_q2}};
   if (!r.grain_count_estimates.empty()) {
     json est = json::array();
     for (const auto& e : r.grain_count_estimates)
@@ -69,6 +68,22 @@ std::string grain_calibration_json(const GrainCalibrationResult& r) {
                       std::isfinite(e.loo_max_abs) ? json(e.loo_max_abs) : json(nullptr)}});
     j["packing_from_grain_count"] = est;
   }
+  if (!r.rebound_points.empty()) {
+    json pts = json::array();
+    for (const auto& t : r.rebound_points)
+      pts.push_back({{"x", t.x},
+                     {"rebounds", t.rebounds},
+                     {"counted", t.counted},
+                     {"missed", t.missed},
+                     {"loo", std::isfinite(t.loo) ? json(t.loo) : json(nullptr)}});
+    const auto num = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
+    j["rebound_region"] = {{"threshold", r.rebound_threshold},
+                           {"loo_agreement", num(r.rebound_loo_agreement)},
+                           {"box_fraction", num(r.rebound_box_fraction)},
+                           {"calibrated_rebound", num(r.best_rebound)},
+                           {"points", pts}};
+  }
+  j["admissible_fraction"] = r.admissible_fraction;
   j["acceptable_fraction"] = r.acceptable_fraction;
   j["target_impacts"] = r.target_n;
   json pts = json::array();

@@ -103,6 +103,8 @@ const std::vector<BadCase> kCases = {
      "field '--lab-where': 'id==C99' keeps no release"},
     {"calibrate-grains " + kCampaign + " --lab " + kCyl + " --lab-where \"vinx<3\"",
      "--lab-where: field 'vinx<3': unknown feature"},
+    {"calibrate-grains " + kCampaign + " --lab " + kCyl + " --rebound-threshold 1",
+     "--rebound-threshold: value 1 is outside [0, 0.999]"},
 };
 
 class BadOptions : public test::ProgramTest, public ::testing::WithParamInterface<BadCase> {};

@@ -266,6 +266,8 @@ void OptionDefaults::resolved_model() {
   expect("upscale", "--shape", Shape::cylinder().name);
   expect("upscale", "--lab-noise-draws", static_cast<double>(stats::LabGapOptions{}.noise_draws));
   expect("calibrate-grains", "--seed", static_cast<double>(dem::GrainCalibrationOptions{}.seed));
+  expect("calibrate-grains", "--rebound-threshold",
+         dem::GrainCalibrationOptions{}.rebound_threshold);
   const Vel3 vin = dem::ImpactSpec{}.vin;
   std::ostringstream text;
   text << vin[0] << "," << vin[1] << "," << vin[2];

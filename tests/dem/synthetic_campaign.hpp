@@ -33,8 +33,13 @@ using BedKeyOf = std::function<std::string(double mu_gg, double mur_gb, double e
 /// Grain count of a design point's bed (the index's "grains"); empty: 0.
 using GrainsOf = std::function<long(double mu_gg, double mur_gb, double e_gg)>;
 
+/// Status of a design point's impacts (e.g. "timeout" where its block never leaves the bed);
+/// empty: every impact rebounds.
+using StatusOf = std::function<std::string(double mu_gg, double mur_gb, double e_gg)>;
+
 inline std::string make_campaign(const std::filesystem::path& dir, std::size_t points,
-                                 const BedKeyOf& bed_key = {}, const GrainsOf& grains = {}) {
+                                 const BedKeyOf& bed_key = {}, const GrainsOf& grains = {},
+                                 const StatusOf& status = {}) {
   const std::string path = (dir / "campaign.h5").string();
   const auto u = fit::lhs_unit_design(3, points, 7);
   for (std::size_t p = 0; p < points; ++p) {
@@ -49,7 +54,7 @@ inline std::string make_campaign(const std::filesystem::path& dir, std::size_t p
       spec.params.run["x_impact_frac"] = fmt::format("{}", 0.28 + 0.06 * rep);
       ImpactResult r;
       r.id = spec.id;
-      r.status = "rebound";
+      r.status = status ? status(mu, mur, e) : "rebound";
       r.impact.id = spec.id;
       r.impact.shape = "cylinder";
       r.impact.vin = spec.vin;
