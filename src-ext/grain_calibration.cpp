@@ -295,6 +295,7 @@ void abacus(GrainCalibrationResult& r, const Surrogate& sur, const OT::Point& ub
   r.grid.resize(d);
   r.curve_mean.resize(d);
   r.curve_sd.resize(d);
+  if (sur.rebound) r.curve_rebound.resize(d);
   for (std::size_t k = 0; k < d; ++k) {
     OT::Sample s(grid_n, d);
     for (std::size_t i = 0; i < grid_n; ++i) {
@@ -309,6 +310,10 @@ void abacus(GrainCalibrationResult& r, const Surrogate& sur, const OT::Point& ub
         r.curve_mean[k][c].push_back(m(i, 0));
         r.curve_sd[k][c].push_back(std::sqrt(std::max(0.0, v(i, 0))));
       }
+    }
+    if (sur.rebound) {
+      const OT::Sample p = sur.rebound->getMetaModel()(s);
+      for (std::size_t i = 0; i < grid_n; ++i) r.curve_rebound[k].push_back(p(i, 0));
     }
   }
 }

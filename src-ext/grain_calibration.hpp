@@ -124,6 +124,8 @@ struct GrainCalibrationResult {
   /// others at `best`: grid[k], mean[k][c][i], sd[k][c][i].
   std::vector<std::vector<double>> grid;
   std::vector<std::array<std::vector<double>, 3>> curve_mean, curve_sd;
+  /// With a rebound region: the indicator along the same grids, curve_rebound[k][i].
+  std::vector<std::vector<double>> curve_rebound;
   double seconds = 0;
 };
 
@@ -146,7 +148,9 @@ std::string grain_calibration_json(const GrainCalibrationResult& r);
 /// Figures (SVG) into `dir`: grains_sobol.svg (first and total indices per parameter, per V_out
 /// component, with intervals), grains_loo.svg (leave-one-out prediction against the replicas'
 /// mean), grains_abacus.svg (each component against each parameter through the calibrated
-/// point, surrogate mean +- 2 sd, design points, target band). Returns the files written.
+/// point, surrogate mean +- 2 sd, design points, target band), and with a rebound region
+/// grains_rebound.svg (the indicator against each parameter through the calibrated point, the
+/// threshold, each design point's rebound fraction). Returns the files written.
 std::vector<std::string> write_grain_calibration_figures(const GrainCalibrationResult& r,
                                                          const std::string& dir);
 

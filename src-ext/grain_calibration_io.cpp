@@ -214,6 +214,43 @@ std::vector<std::string> write_grain_calibration_figures(const GrainCalibrationR
     }
   files.push_back(dir + "/grains_abacus.svg");
   report::render(abacus, files.back());
+
+  if (!r.curve_rebound.empty()) {
+    Figure rebound;
+    rebound.title = fmt::format(
+        "Rebound region: indicator kriging of the design's rebounds through the calibrated point "
+        "(searched where >= {}; points: each design point's rebound fraction, all parameters "
+        "projected)",
+        r.rebound_threshold);
+    rebound.columns = static_cast<int>(d);
+    rebound.width_px = 260 * static_cast<int>(d);
+    rebound.height_px = 300;
+    for (std::size_t k = 0; k < d; ++k) {
+      Panel p;
+      p.xlabel = r.parameters[k];
+      p.ylabel = "P(rebound)";
+      p.key = "off";
+      Series pts{"design points", {}, {}, "points", {}, {}, colour::kGrey, 7};
+      for (const auto& t : r.rebound_points) {
+        pts.x.push_back(t.x[k]);
+        pts.y.push_back(static_cast<double>(t.rebounds) / static_cast<double>(t.counted));
+      }
+      Series m{"indicator", r.grid[k], r.curve_rebound[k], "lines", {}, {}, palette[0], 7};
+      Series th{"threshold",
+                {r.lower[k], r.upper[k]},
+                {r.rebound_threshold, r.rebound_threshold},
+                "lines",
+                {},
+                {},
+                colour::kVermillion,
+                7};
+      Series at{"calibrated", {r.best[k]}, {r.best_rebound}, "points", {}, {}, colour::kBlack, 5};
+      p.series = {pts, m, th, at};
+      rebound.panels.push_back(p);
+    }
+    files.push_back(dir + "/grains_rebound.svg");
+    report::render(rebound, files.back());
+  }
   return files;
 }
 

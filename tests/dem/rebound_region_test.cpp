@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 
 #include "campaign_store.hpp"
 #include "common/error.hpp"
@@ -94,6 +95,11 @@ TEST_F(ReboundRegion, KeepsTheCalibratedPointWhereTheDesignRebounds) {
   // Out of the corner (at 0.5 the search would sit on the indicator's blurred edge, which runs a
   // few hundredths inside the corner).
   EXPECT_FALSE(stuck(r.best[1], r.best[2])) << r.best[1] << " " << r.best[2];
+  // Its figure beside the other three.
+  const auto files = write_grain_calibration_figures(r, dir_.string());
+  ASSERT_EQ(files.size(), 4u);
+  EXPECT_EQ(files.back(), dir_.string() + "/grains_rebound.svg");
+  EXPECT_GT(std::filesystem::file_size(files.back()), 1000u);
   // Without the region the surrogate of the rebounds alone goes into the corner, at the target.
   o.rebound_threshold = 0;
   const auto free = calibrate_grains(path, decks(), target_set(), o);
@@ -111,6 +117,7 @@ TEST_F(ReboundRegion, IsNoConstraintWhenEveryImpactReboundedAndAThresholdOutOfRa
   EXPECT_EQ(r.rebound_threshold, 0.0);
   EXPECT_TRUE(std::isnan(r.best_rebound));
   EXPECT_EQ(r.admissible_fraction, 1.0);
+  EXPECT_EQ(write_grain_calibration_figures(r, dir_.string()).size(), 3u);  // no region figure
   o.rebound_threshold = 1.0;
   try {
     calibrate_grains(path, decks(), target_set(), o);
