@@ -11,6 +11,7 @@
 #include <set>
 
 #include "bed.hpp"
+#include "campaign_schedule.hpp"
 #include "common/clock.hpp"
 #include "common/error.hpp"
 #include "common/h5.hpp"
@@ -119,8 +120,9 @@ void record_packing(const std::string& out, const BedFiles& bed) {
   }
 }
 
-// The pending impacts of `design` (those not in options.out), in waves of beds. `planned`: the
-// campaign's impacts in all (the progress lines' denominator; the reruns' pass adds them).
+// The pending impacts of `design` (those not in options.out), in the order and on the groups of
+// campaign_schedule.hpp. `planned`: the campaign's impacts in all (the progress lines'
+// denominator; the reruns' pass adds them).
 CampaignSummary run_pending(const CampaignDesign& design, const Decks& decks,
                             const CampaignOptions& options, MPI_Comm world, std::size_t planned) {
   const auto start = std::chrono::steady_clock::now();
@@ -177,55 +179,18 @@ CampaignSummary run_pending(const CampaignDesign& design, const Decks& decks,
   pending.resize(static_cast<std::size_t>(n_pending));
   MPI_Bcast(pending.data(), n_pending, MPI_INT, 0, world);
 
-  // The schedule: waves of `groups` beds. In each wave every group builds one bed (each bed
-  // once, by one group), then the wave's impacts are dealt round robin over the groups. A bed's
-  // impacts thus come right after it: a design of many beds (the sand calibration: 20 beds of two
-  // impacts, half an hour each to build at 1.5e9 Pa) writes its first impacts within the first
-  // hour instead of after every bed, so a session that stops keeps impacts, not beds that a new
-  // machine would have to build again. With one group each bed is built when its first impact
-  // comes. Pending impacts are taken in design order within their bed, beds in the order
-  // of their first pending impact. One group keeps the design's order exactly (one wave): a design
-  // ordered from cheap to expensive, or the cylinder on every replica bed before the triangles
-  // (stiffness-plateau.toml), stopped early has what its order put first. With several groups, the
-  // pending impacts of beds the cache already holds (a session stopped mid-wave) come first, as one
-  // wave with nothing to build, dealt over every group: a group whose bed was cached used to wait
-  // at the wave's barrier while the other built its bed (half an hour of one core at 1.5e9 Pa).
-  std::vector<std::string> wave_key;  // the wave of each pending impact (its bed key)
-  std::vector<std::string> bed_order;
-  for (int i : pending) {
-    wave_key.push_back(
-        groups == 1 ? std::string("all")
-                    : bed_key(decks, bed_overrides(design.impacts[static_cast<std::size_t>(i)])));
-    if (std::find(bed_order.begin(), bed_order.end(), wave_key.back()) == bed_order.end())
-      bed_order.push_back(wave_key.back());
-  }
-  const std::size_t G = static_cast<std::size_t>(groups);
-  std::vector<std::vector<std::string>> waves;
-  std::vector<char> build_wave;  // whether the groups build the wave's beds before its impacts
-  if (groups == 1) {
-    waves.push_back(bed_order);
-    build_wave.push_back(0);
-  } else {
-    // Rank 0 looks at the cache once and tells the others, so that every rank has one schedule.
-    std::vector<char> ready(bed_order.size(), 0);
-    if (wrank == 0)
-      for (std::size_t b = 0; b < bed_order.size(); ++b)
-        ready[b] = bed_cached(design.cache_dir, bed_order[b]) ? 1 : 0;
-    MPI_Bcast(ready.data(), static_cast<int>(ready.size()), MPI_CHAR, 0, world);
-    std::vector<std::string> in_cache, to_build;
-    for (std::size_t b = 0; b < bed_order.size(); ++b)
-      (ready[b] ? in_cache : to_build).push_back(bed_order[b]);
-    if (!in_cache.empty()) {
-      waves.push_back(in_cache);
-      build_wave.push_back(0);
-    }
-    for (std::size_t w0 = 0; w0 < to_build.size(); w0 += G) {
-      waves.emplace_back(
-          to_build.begin() + static_cast<std::ptrdiff_t>(w0),
-          to_build.begin() + static_cast<std::ptrdiff_t>(std::min(w0 + G, to_build.size())));
-      build_wave.push_back(1);
-    }
-  }
+  // The schedule (campaign_schedule.hpp): with several groups each takes the next impact as soon
+  // as it is free, building its bed first when no one has; rank 0 looks at the cache once for the
+  // order, so that every rank has the same one.
+  std::vector<std::string> keys;  // the bed of each pending impact
+  for (int i : pending)
+    keys.push_back(bed_key(decks, bed_overrides(design.impacts[static_cast<std::size_t>(i)])));
+  std::vector<char> cached(keys.size(), 0);
+  if (wrank == 0)
+    for (std::size_t n = 0; n < keys.size(); ++n)
+      cached[n] = bed_cached(design.cache_dir, keys[n]) ? 1 : 0;
+  MPI_Bcast(cached.data(), static_cast<int>(cached.size()), MPI_CHAR, 0, world);
+  const std::vector<int> order = schedule_order(keys, cached, groups);
   // The bed of an impact, built first when the cache does not hold it (said by the group's rank 0).
   const auto bed_for = [&](const ImpactSpec& spec) {
     bool built = false;
@@ -236,71 +201,68 @@ CampaignSummary run_pending(const CampaignDesign& design, const Decks& decks,
                                b.grains, bed_wall, color);
     return b;
   };
-  for (std::size_t w = 0; w < waves.size(); ++w) {
-    const std::vector<std::string>& wave = waves[w];
-    std::vector<int> wave_impacts;
-    for (std::size_t b = 0; b < wave.size(); ++b)
-      for (std::size_t n = 0; n < pending.size(); ++n)
-        if (wave_key[n] == wave[b]) wave_impacts.push_back(pending[n]);
-    if (build_wave[w]) {
-      // Each group builds its bed of the wave before any impact runs on it.
-      if (group != MPI_COMM_NULL && static_cast<std::size_t>(color) < wave.size()) {
-        const auto it =
-            std::find(wave_key.begin(), wave_key.end(), wave[static_cast<std::size_t>(color)]);
-        const ImpactSpec& first = design.impacts[static_cast<std::size_t>(
-            pending[static_cast<std::size_t>(it - wave_key.begin())])];
-        (void)bed_for(first);
-      }
-      MPI_Barrier(world);
+  // Pending impact n (a position into `pending`) on this group.
+  const auto run_one = [&](std::size_t n) {
+    const ImpactSpec& spec = design.impacts[static_cast<std::size_t>(pending[n])];
+    ImpactContext ctx;
+    ctx.decks = &decks;
+    if (grank == 0) {
+      // A line before the work (an impact on a stiff bed takes an hour, its bed longer): what
+      // runs now, and whether its bed must be built first.
+      std::cerr << fmt::format("[dem] starting {} (group {}), bed {}{}\n", spec.id, color, keys[n],
+                               bed_cached(design.cache_dir, keys[n]) ? "" : ": building it first");
     }
-    for (std::size_t n = 0; n < wave_impacts.size(); ++n) {
-      if (group == MPI_COMM_NULL || static_cast<int>(n % G) != color) continue;
-      const ImpactSpec& spec = design.impacts[static_cast<std::size_t>(wave_impacts[n])];
-      ImpactContext ctx;
-      ctx.decks = &decks;
-      if (grank == 0) {
-        // A line before the work (an impact on a stiff bed takes an hour, its bed longer): what
-        // runs now, and whether its bed must be built first.
-        const std::string key = bed_key(decks, bed_overrides(spec));
-        std::cerr << fmt::format("[dem] starting {} (group {}), bed {}{}\n", spec.id, color, key,
-                                 bed_cached(design.cache_dir, key) ? "" : ": building it first");
-      }
-      ctx.bed = bed_for(spec);
-      ctx.extract = design.extract;
-      ctx.work_dir = (fs::path(design.work_dir) / spec.id).string();
-      if (options.vtk_every > 0) {
-        ctx.vtk_dir = (fs::path(options.vtk_dir) / spec.id).string();
-        ctx.vtk_every = options.vtk_every;
-      }
-      // The campaign's picture (report, upscale --figures): its first impact.
-      if (options.picture && wave_impacts[n] == 0)
-        ctx.picture_dir = (fs::path(ctx.work_dir) / "picture-frames").string();
-      const Shape shape = Shape::resolve(spec.shape);
-      ctx.template_include = ensure_template(shape, ctx.bed, design.work_dir + "/templates", group);
-      ImpactProgress bar(spec.id, wrank == 0 && options.progress);
-      ctx.progress = bar.callback();
-      if (grank == 0) mark_running(options.out, spec.id, ctx.work_dir);
-      ImpactResult r;
-      try {
-        r = run_impact(spec, ctx, group);
-      } catch (const std::exception& e) {
-        r.id = spec.id;
-        r.status = "error";
-        r.message = e.what();
-        r.work_dir = ctx.work_dir;
-      }
-      bar.finish();
-      ++summary.ran;
-      if (grank == 0) {
-        append_result(options.out, r, spec, design.name);
-        if (!read_bed_packings(options.out).count(ctx.bed.key))
-          record_packing(options.out, ctx.bed);
-        const auto total = read_campaign_index(options.out).size();
-        std::cerr << fmt::format("[dem] {}/{} {} (group {}): {} in {:.0f} s, {}\n", total, planned,
-                                 spec.id, color, r.status, r.wall_s, r.message);
-      }
+    ctx.bed = bed_for(spec);
+    ctx.extract = design.extract;
+    ctx.work_dir = (fs::path(design.work_dir) / spec.id).string();
+    if (options.vtk_every > 0) {
+      ctx.vtk_dir = (fs::path(options.vtk_dir) / spec.id).string();
+      ctx.vtk_every = options.vtk_every;
+    }
+    // The campaign's picture (report, upscale --figures): its first impact.
+    if (options.picture && pending[n] == 0)
+      ctx.picture_dir = (fs::path(ctx.work_dir) / "picture-frames").string();
+    const Shape shape = Shape::resolve(spec.shape);
+    ctx.template_include = ensure_template(shape, ctx.bed, design.work_dir + "/templates", group);
+    ImpactProgress bar(spec.id, wrank == 0 && options.progress);
+    ctx.progress = bar.callback();
+    if (grank == 0) mark_running(options.out, spec.id, ctx.work_dir);
+    ImpactResult r;
+    try {
+      r = run_impact(spec, ctx, group);
+    } catch (const std::exception& e) {
+      r.id = spec.id;
+      r.status = "error";
+      r.message = e.what();
+      r.work_dir = ctx.work_dir;
+    }
+    bar.finish();
+    ++summary.ran;
+    if (grank == 0) {
+      append_result(options.out, r, spec, design.name);
+      if (!read_bed_packings(options.out).count(ctx.bed.key)) record_packing(options.out, ctx.bed);
+      const auto total = read_campaign_index(options.out).size();
+      std::cerr << fmt::format("[dem] {}/{} {} (group {}): {} in {:.0f} s, {}\n", total, planned,
+                               spec.id, color, r.status, r.wall_s, r.message);
+    }
+  };
+  if (groups == 1) {
+    if (group != MPI_COMM_NULL)
+      for (int n : order) run_one(static_cast<std::size_t>(n));
+  } else {
+    // The claims of this run, beside the campaign file (a killed run's are stale: emptied here).
+    const std::string claims = options.out + ".claims";
+    if (wrank == 0) std::ofstream(claims, std::ios::trunc);
+    MPI_Barrier(world);
+    while (group != MPI_COMM_NULL) {
+      int next = -1;
+      if (grank == 0) next = claim_next(claims, order, keys, design.cache_dir);
+      MPI_Bcast(&next, 1, MPI_INT, 0, group);
+      if (next < 0) break;
+      run_one(static_cast<std::size_t>(next));
     }
     MPI_Barrier(world);
+    if (wrank == 0) fs::remove(claims);
   }
   MPI_Barrier(world);
   unsigned long ran = summary.ran;
