@@ -262,7 +262,10 @@ CampaignSummary run_pending(const CampaignDesign& design, const Decks& decks,
       run_one(static_cast<std::size_t>(next));
     }
     MPI_Barrier(world);
-    if (wrank == 0) fs::remove(claims);
+    if (wrank == 0) {
+      fs::remove(claims);
+      fs::remove(claims + ".lock");
+    }
   }
   MPI_Barrier(world);
   unsigned long ran = summary.ran;

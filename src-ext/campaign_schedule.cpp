@@ -1,15 +1,12 @@
 #include "campaign_schedule.hpp"
 
-#include <fcntl.h>
-#include <sys/file.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <cstring>
+#include <fstream>
 #include <set>
 #include <stdexcept>
 
 #include "bed.hpp"
+#include "file_lock.hpp"
 
 namespace ricochet::dem {
 
@@ -39,51 +36,14 @@ std::vector<int> schedule_order(const std::vector<std::string>& bed_keys,
   return order;
 }
 
-namespace {
-
-// An flock held for the object's lifetime on a file opened for reading and writing.
-class LockedFile {
- public:
-  explicit LockedFile(const std::string& path) : path_(path) {
-    fd_ = ::open(path.c_str(), O_RDWR | O_CREAT, 0644);
-    if (fd_ < 0) fail("cannot open");
-    if (::flock(fd_, LOCK_EX) != 0) fail("cannot lock");
-  }
-  ~LockedFile() { ::close(fd_); }  // closing releases the lock
-  LockedFile(const LockedFile&) = delete;
-  LockedFile& operator=(const LockedFile&) = delete;
-  std::string read_all() const {
-    std::string text;
-    char buf[4096];
-    ::lseek(fd_, 0, SEEK_SET);
-    for (ssize_t got; (got = ::read(fd_, buf, sizeof buf)) > 0;)
-      text.append(buf, static_cast<std::size_t>(got));
-    return text;
-  }
-  void append(const std::string& text) const {
-    ::lseek(fd_, 0, SEEK_END);
-    if (::write(fd_, text.data(), text.size()) != static_cast<ssize_t>(text.size()))
-      fail("cannot write");
-  }
-
- private:
-  [[noreturn]] void fail(const char* what) const {
-    throw std::runtime_error(std::string("campaign claims file ") + path_ + ": " + what + ": " +
-                             std::strerror(errno));
-  }
-  std::string path_;
-  int fd_ = -1;
-};
-
-}  // namespace
-
 int claim_next(const std::string& claims_path, const std::vector<int>& order,
                const std::vector<std::string>& bed_keys, const std::string& cache_dir) {
-  const LockedFile file(claims_path);
+  const FileLock lock(claims_path);
   std::set<int> claimed;
-  const std::string text = file.read_all();
-  for (std::size_t a = 0, b; (b = text.find('\n', a)) != std::string::npos; a = b + 1)
-    claimed.insert(std::stoi(text.substr(a, b - a)));
+  {
+    std::ifstream in(claims_path);
+    for (int c; in >> c;) claimed.insert(c);
+  }
   std::set<std::string> taken;  // beds that a claim of another group builds or waits for
   for (int c : claimed) {
     const std::string& key = bed_keys.at(static_cast<std::size_t>(c));
@@ -101,7 +61,12 @@ int claim_next(const std::string& claims_path, const std::vector<int>& order,
     if (waiting < 0) waiting = i;
   }
   if (pick < 0) pick = unbuilt >= 0 ? unbuilt : waiting;
-  if (pick >= 0) file.append(std::to_string(pick) + "\n");
+  if (pick >= 0) {
+    std::ofstream out(claims_path, std::ios::app);
+    out << pick << "\n";
+    if (!out.flush())
+      throw std::runtime_error("campaign claims file " + claims_path + ": cannot write");
+  }
   return pick;
 }
 

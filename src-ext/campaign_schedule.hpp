@@ -22,13 +22,14 @@ namespace ricochet::dem {
 std::vector<int> schedule_order(const std::vector<std::string>& bed_keys,
                                 const std::vector<char>& cached, int groups);
 
-/// Claims the next impact for one group; its rank 0 calls it, under an flock on `claims_path`,
-/// which lists the positions claimed so far in this run, one per line (run_pending empties it
-/// before the first claim). The claim is the first unclaimed position of `order` whose bed
-/// `cache_dir` holds; else the first whose bed nobody builds (no other claim has that bed, and
-/// bed_building says no process holds its lock): this group builds it; else the first (another
-/// group builds its bed: this one waits for it in ensure_bed). Returns -1 when every position is
-/// claimed. Throws std::runtime_error naming the file when it cannot be opened or locked.
+/// Claims the next impact for one group; its rank 0 calls it, under an flock on
+/// `claims_path`.lock (file_lock.hpp). `claims_path` lists the positions claimed so far in this
+/// run, one per line (run_pending empties it before the first claim). The claim is the first
+/// unclaimed position of `order` whose bed `cache_dir` holds; else the first whose bed nobody
+/// builds (no other claim has that bed, and bed_building says no process holds its lock): this
+/// group builds it; else the first (another group builds its bed: this one waits for it in
+/// ensure_bed). Returns -1 when every position is claimed. Throws std::runtime_error naming the
+/// file when it cannot be locked or written.
 int claim_next(const std::string& claims_path, const std::vector<int>& order,
                const std::vector<std::string>& bed_keys, const std::string& cache_dir);
 

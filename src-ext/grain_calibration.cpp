@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <filesystem>
 #include <limits>
 #include <map>
 #include <mutex>
@@ -13,7 +12,6 @@
 #include <optional>
 #include <set>
 
-#include "bed.hpp"
 #include "campaign_store.hpp"
 #include "common/clock.hpp"
 #include "common/error.hpp"

@@ -17,6 +17,11 @@ namespace {
 const char* kComponent[3] = {"vout_x", "vout_y", "wout"};
 const char* kLabel[3] = {"V_out^x [m/s]", "V_out^y [m/s]", "omega_out [rad/s]"};
 
+// A number, or null where it is undefined (NaN: e.g. a leave-one-out error with one reference).
+nlohmann::json finite_or_null(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
+
 }  // namespace
 
 std::string grain_calibration_json(const GrainCalibrationResult& r) {
@@ -64,8 +69,7 @@ std::string grain_calibration_json(const GrainCalibrationResult& r) {
       est.push_back({{"geometry", e.geometry},
                      {"beds", e.beds},
                      {"references", e.references},
-                     {"loo_max_abs_error",
-                      std::isfinite(e.loo_max_abs) ? json(e.loo_max_abs) : json(nullptr)}});
+                     {"loo_max_abs_error", finite_or_null(e.loo_max_abs)}});
     j["packing_from_grain_count"] = est;
   }
   if (!r.rebound_points.empty()) {
@@ -75,12 +79,11 @@ std::string grain_calibration_json(const GrainCalibrationResult& r) {
                      {"rebounds", t.rebounds},
                      {"counted", t.counted},
                      {"missed", t.missed},
-                     {"loo", std::isfinite(t.loo) ? json(t.loo) : json(nullptr)}});
-    const auto num = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
+                     {"loo", finite_or_null(t.loo)}});
     j["rebound_region"] = {{"threshold", r.rebound_threshold},
-                           {"loo_agreement", num(r.rebound_loo_agreement)},
-                           {"box_fraction", num(r.rebound_box_fraction)},
-                           {"calibrated_rebound", num(r.best_rebound)},
+                           {"loo_agreement", finite_or_null(r.rebound_loo_agreement)},
+                           {"box_fraction", finite_or_null(r.rebound_box_fraction)},
+                           {"calibrated_rebound", finite_or_null(r.best_rebound)},
                            {"points", pts}};
   }
   j["admissible_fraction"] = r.admissible_fraction;

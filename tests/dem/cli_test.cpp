@@ -379,6 +379,7 @@ TEST(DemCampaign, TwoGroupsBuildTwoNewBedsAtOnceAndACachedBedsImpactGoesFirst) {
   ASSERT_NE(second_start, std::string::npos) << log;
   EXPECT_LT(second_start, built[0]) << log;
   EXPECT_FALSE(fs::exists(out + ".claims"));  // removed at the end
+  EXPECT_FALSE(fs::exists(out + ".claims.lock"));
   const auto index = read_campaign_index(out);
   ASSERT_EQ(index.size(), 2u);
   for (const auto& e : index) EXPECT_EQ(e.status, "rebound") << e.id << ": " << e.message;
