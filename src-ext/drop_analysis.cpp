@@ -6,6 +6,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "common/json_number.hpp"
 #include "effects/registry.hpp"
 #include "engine/shape.hpp"
 
@@ -66,7 +67,7 @@ KatsuragiDurianOutcome katsuragi_durian_outcome(std::span<const KdSample> pooled
 json cell_json(const std::string& text) {
   char* end = nullptr;
   const double v = std::strtod(text.c_str(), &end);
-  if (end != text.c_str() && *end == '\0') return std::isfinite(v) ? json(v) : json(nullptr);
+  if (end != text.c_str() && *end == '\0') return finite_or_null(v);
   return text;
 }
 

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "common/json_number.hpp"
 #include "grain_calibration.hpp"
 #include "report/plot.hpp"
 
@@ -16,11 +17,6 @@ namespace {
 
 const char* kComponent[3] = {"vout_x", "vout_y", "wout"};
 const char* kLabel[3] = {"V_out^x [m/s]", "V_out^y [m/s]", "omega_out [rad/s]"};
-
-// A number, or null where it is undefined (NaN: e.g. a leave-one-out error with one reference).
-nlohmann::json finite_or_null(double v) {
-  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-}
 
 }  // namespace
 

@@ -1,17 +1,10 @@
 // The JSON documents of compare, diagnose and ladder (docs/commands/*.md).
 #include <cmath>
 
+#include "common/json_number.hpp"
 #include "diagnosis/diagnose.hpp"
 
 namespace ricochet::diagnosis {
-namespace {
-
-// A number, or null where it is not finite (JSON has no NaN).
-nlohmann::json num(double v) {
-  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-}
-
-}  // namespace
 
 nlohmann::json to_json(const Assessment& a, const NoiseFloor& floor) {
   nlohmann::json params = nlohmann::json::object();
@@ -104,22 +97,22 @@ nlohmann::json to_json(const Candidate& c, const std::array<bool, kObservables>&
                       {"effects", c.effects},
                       {"generated", c.generated},
                       {"law", c.law},
-                      {"t", num(c.t)},
-                      {"p_value", num(c.p_value)},
-                      {"p_adjusted", num(c.p_adjusted)},
-                      {"p_holm", num(c.p_holm)},
-                      {"heldout_t", num(c.heldout_t)},
-                      {"heldout_p", num(c.heldout_p)},
+                      {"t", finite_or_null(c.t)},
+                      {"p_value", finite_or_null(c.p_value)},
+                      {"p_adjusted", finite_or_null(c.p_adjusted)},
+                      {"p_holm", finite_or_null(c.p_holm)},
+                      {"heldout_t", finite_or_null(c.heldout_t)},
+                      {"heldout_p", finite_or_null(c.heldout_p)},
                       {"signature_trends", c.signature_trends},
-                      {"heldout_error", num(c.heldout_error)},
-                      {"error_drop", num(c.error_drop)},
+                      {"heldout_error", finite_or_null(c.heldout_error)},
+                      {"error_drop", finite_or_null(c.error_drop)},
                       {"evidence", c.evidence},
-                      {"drop_se", num(c.drop_se)},
-                      {"penalty", num(c.penalty)},
-                      {"penalised_heldout_error", num(c.penalised_heldout)},
+                      {"drop_se", finite_or_null(c.drop_se)},
+                      {"penalty", finite_or_null(c.penalty)},
+                      {"penalised_heldout_error", finite_or_null(c.penalised_heldout)},
                       {"supported", c.supported},
                       {"adequate_after", c.adequacy.adequate},
-                      {"signature_r", num(c.signature_r)},
+                      {"signature_r", finite_or_null(c.signature_r)},
                       {"meaning", c.meaning},
                       {"parameters", params}};
   if (c.error.empty()) {
@@ -143,9 +136,9 @@ nlohmann::json to_json(const LawConfidenceSet& cs, const std::array<bool, kObser
                        {"families", families},
                        {"variable", variable_name(m.variable)},
                        {"statistic",
-                        {{"T", num(m.statistic)},
-                         {"gap_to_best", num(m.gap_to_best)},
-                         {"mcb_critical", num(m.critical)}}},
+                        {{"T", finite_or_null(m.statistic)},
+                         {"gap_to_best", finite_or_null(m.gap_to_best)},
+                         {"mcb_critical", finite_or_null(m.critical)}}},
                        {"differs_from_best", to_json(m.differs_from_best, use)}});
   }
   nlohmann::json families = nlohmann::json::array();
@@ -167,7 +160,7 @@ nlohmann::json to_json(const LawConfidenceSet& cs, const std::array<bool, kObser
     for (std::size_t a = 0; a < e->laws.size(); ++a) {
       nlohmann::json t = nlohmann::json::object();
       for (std::size_t b = 0; b < e->laws.size(); ++b)
-        if (b != a) t[e->laws[b]] = num(e->t[a][b]);
+        if (b != a) t[e->laws[b]] = finite_or_null(e->t[a][b]);
       const int by = e->excluded_by[a];
       laws.push_back(
           {{"effect", e->laws[a]},
@@ -179,7 +172,7 @@ nlohmann::json to_json(const LawConfidenceSet& cs, const std::array<bool, kObser
            {"t", t}});
     }
     out["encompassing"] = {{"alpha", e->alpha},
-                           {"critical", num(e->critical)},
+                           {"critical", finite_or_null(e->critical)},
                            {"seconds", e->seconds},
                            {"laws", laws}};
   }
@@ -191,25 +184,26 @@ nlohmann::json to_json(const std::vector<Detectable>& rows,
   nlohmann::json out = nlohmann::json::array();
   for (const Detectable& r : rows) {
     nlohmann::json curve = nlohmann::json::array();  // [change, E[T]] pairs (power.hpp)
-    for (const auto& [change, t] : r.t_curve) curve.push_back({num(change), num(t)});
+    for (const auto& [change, t] : r.t_curve)
+      curve.push_back({finite_or_null(change), finite_or_null(t)});
     out.push_back({{"family", family_name(r.family)},
                    {"variable", variable_name(r.variable)},
                    {"effect", r.effect},
                    {"parameter", r.parameter},
                    {"unit", r.unit},
-                   {"neutral", num(r.neutral)},
-                   {"value", num(r.value)},
-                   {"change_80", num(r.change_80)},
-                   {"t_per_unit", num(r.t_per_unit)},
-                   {"t_ceiling", num(r.t_ceiling)},
+                   {"neutral", finite_or_null(r.neutral)},
+                   {"value", finite_or_null(r.value)},
+                   {"change_80", finite_or_null(r.change_80)},
+                   {"t_per_unit", finite_or_null(r.t_per_unit)},
+                   {"t_ceiling", finite_or_null(r.t_ceiling)},
                    {"t_curve", std::move(curve)},
                    {"law", r.law},
                    {"shift", to_json(r.shift, use)},
-                   {"noise_units", num(r.noise_units)},
-                   {"z_80", num(r.z_80)},
+                   {"noise_units", finite_or_null(r.noise_units)},
+                   {"z_80", finite_or_null(r.z_80)},
                    {"power", r.power},
-                   {"level", num(r.level)},
-                   {"critical_value", num(r.critical)}});
+                   {"level", finite_or_null(r.level)},
+                   {"critical_value", finite_or_null(r.critical)}});
   }
   return out;
 }
@@ -223,16 +217,16 @@ nlohmann::json to_json(const Diagnosis& d) {
   nlohmann::json screened = nlohmann::json::array();
   for (const auto& s : d.screened_out)
     screened.push_back({{"effect", s.effect},
-                        {"signature_r", num(s.signature_r)},
-                        {"t", num(s.t)},
-                        {"p_value", num(s.p_value)},
-                        {"p_adjusted", num(s.p_adjusted)}});
+                        {"signature_r", finite_or_null(s.signature_r)},
+                        {"t", finite_or_null(s.t)},
+                        {"p_value", finite_or_null(s.p_value)},
+                        {"p_adjusted", finite_or_null(s.p_adjusted)}});
   const nlohmann::json cs = to_json(d.confidence_set, b.base.use);
   nlohmann::json underpowered = nlohmann::json::array();
   for (Family f : d.underpowered) underpowered.push_back(family_name(f));
   return {{"verdict", d.verdict},
           {"underpowered_families", underpowered},
-          {"adequate_z", num(d.adequate_z)},
+          {"adequate_z", finite_or_null(d.adequate_z)},
           {"confidence_set", cs["members"]},
           {"confidence_set_detail", cs},
           {"minimum_detectable", to_json(d.detectable, b.base.use)},
@@ -291,9 +285,9 @@ nlohmann::json to_json(const Ladder& l) {
       if (!d.ranking.empty())
         r["best"] = {{"effect", d.ranking.front().effect},
                      {"law", d.ranking.front().law},
-                     {"t", num(d.ranking.front().t)},
-                     {"p_adjusted", num(d.ranking.front().p_adjusted)},
-                     {"p_holm", num(d.ranking.front().p_holm)},
+                     {"t", finite_or_null(d.ranking.front().t)},
+                     {"p_adjusted", finite_or_null(d.ranking.front().p_adjusted)},
+                     {"p_holm", finite_or_null(d.ranking.front().p_holm)},
                      {"supported", d.ranking.front().supported},
                      {"error_drop", d.ranking.front().error_drop},
                      {"drop_se", d.ranking.front().drop_se}};

@@ -1,6 +1,7 @@
 // The force-history error of a calibrated model and the discovered law as a model
 // (force_history.hpp).
 #include "diagnosis/force_history.hpp"
+#include "common/json_number.hpp"
 #include "common/nan.hpp"
 
 #include <fmt/format.h>
@@ -109,8 +110,7 @@ nlohmann::json to_json(const ForceHistoryError& e) {
   const auto by_component = [](const std::array<double, kForceComponents>& v) {
     nlohmann::json j = nlohmann::json::object();
     for (std::size_t c = 0; c < kForceComponents; ++c)
-      j[std::string(component_name(static_cast<ForceComponent>(c)))] =
-          std::isfinite(v[c]) ? nlohmann::json(v[c]) : nlohmann::json(nullptr);
+      j[std::string(component_name(static_cast<ForceComponent>(c)))] = finite_or_null(v[c]);
     return j;
   };
   return {{"insample_rms", by_component(e.insample_rms)},

@@ -4,21 +4,17 @@
 #include <cmath>
 
 #include "common/csv.hpp"
+#include "common/json_number.hpp"
 #include "diagnosis/throw_design.hpp"
 
 namespace ricochet::diagnosis {
 namespace {
 
-// NaN (no decidable pair) as JSON null.
-nlohmann::json number(double x) {
-  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
-}
-
 nlohmann::json to_json(const PairOnDesign& p) {
-  return {{"lambda", number(p.lambda)},
-          {"lambda_ab", number(p.lambda_ab)},
-          {"lambda_ba", number(p.lambda_ba)},
-          {"power", number(p.power)}};
+  return {{"lambda", finite_or_null(p.lambda)},
+          {"lambda_ab", finite_or_null(p.lambda_ab)},
+          {"lambda_ba", finite_or_null(p.lambda_ba)},
+          {"power", finite_or_null(p.power)}};
 }
 
 nlohmann::json states_json(const std::vector<Vel3>& states, const char* prefix) {
@@ -43,7 +39,7 @@ nlohmann::json to_json(const ThrowDesign& d) {
                       {"effects", r.effects},
                       {"law", r.law},
                       {"calibrated", params},
-                      {"error", number(r.error)}});
+                      {"error", finite_or_null(r.error)}});
   }
   nlohmann::json pairs = nlohmann::json::array();
   for (const PairResult& p : d.pairs)
@@ -76,7 +72,7 @@ nlohmann::json to_json(const ThrowDesign& d) {
        {{"plan", to_json(d.min_plan)},
         {"uniform", to_json(d.min_uniform)},
         {"set", to_json(d.min_set)}}},
-      {"greedy_lambda", number(d.greedy_lambda)},
+      {"greedy_lambda", finite_or_null(d.greedy_lambda)},
       {"exchange", {{"passes", d.passes}, {"swaps", d.swaps}}},
       {"plan", states_json(d.plan, "D")},
       {"uniform", states_json(d.uniform, "U")},

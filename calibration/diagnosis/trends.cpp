@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/json_number.hpp"
 #include "stats/stats.hpp"
 
 namespace ricochet::diagnosis {
@@ -206,11 +207,11 @@ nlohmann::json to_json(const Trend& t) {
   return {{"quantity", t.quantity},
           {"feature", t.feature},
           {"feature_label", t.feature_label},
-          {"r", std::isfinite(t.r) ? nlohmann::json(t.r) : nlohmann::json(nullptr)},
-          {"p", std::isfinite(t.p) ? nlohmann::json(t.p) : nlohmann::json(nullptr)},
-          {"rho", std::isfinite(t.rho) ? nlohmann::json(t.rho) : nlohmann::json(nullptr)},
-          {"p_rank", std::isfinite(t.p_rank) ? nlohmann::json(t.p_rank) : nlohmann::json(nullptr)},
-          {"p_holm", std::isfinite(t.p_holm) ? nlohmann::json(t.p_holm) : nlohmann::json(nullptr)},
+          {"r", finite_or_null(t.r)},
+          {"p", finite_or_null(t.p)},
+          {"rho", finite_or_null(t.rho)},
+          {"p_rank", finite_or_null(t.p_rank)},
+          {"p_holm", finite_or_null(t.p_holm)},
           {"n", t.n},
           {"significant", t.significant},
           {"text", describe(t)}};

@@ -7,6 +7,7 @@
 #include "common/csv.hpp"
 #include "common/error.hpp"
 #include "common/h5.hpp"
+#include "common/json_number.hpp"
 #include "stats/stats.hpp"
 
 namespace ricochet::fit {
@@ -14,12 +15,8 @@ namespace {
 
 constexpr const char* kSchema = "ricochet-calibration-1";
 
-nlohmann::json num(double v) {
-  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
-}
-
 nlohmann::json vel(const Vel3& v) {
-  return nlohmann::json::array({num(v[0]), num(v[1]), num(v[2])});
+  return nlohmann::json::array({finite_or_null(v[0]), finite_or_null(v[1]), finite_or_null(v[2])});
 }
 
 int status_code(Identifiability s) {
@@ -48,10 +45,10 @@ std::vector<std::string> calibrated_names(const Model& model) {
 }  // namespace
 
 nlohmann::json to_json(const ParameterInterval& iv) {
-  return {{"value", num(iv.value)},
-          {"lo", num(iv.lo)},
-          {"hi", num(iv.hi)},
-          {"bounds", {num(iv.bound_lo), num(iv.bound_hi)}},
+  return {{"value", finite_or_null(iv.value)},
+          {"lo", finite_or_null(iv.lo)},
+          {"hi", finite_or_null(iv.hi)},
+          {"bounds", {finite_or_null(iv.bound_lo), finite_or_null(iv.bound_hi)}},
           {"status", identifiability_name(iv.status)},
           {"statement", iv.statement},
           {"unit", iv.unit}};
@@ -61,12 +58,12 @@ nlohmann::json to_json(const ReleaseFit& f) {
   nlohmann::json params = nlohmann::json::object(), fixed = nlohmann::json::object();
   for (std::size_t i = 0; i < f.names.size(); ++i) {
     const bool cal = std::find(f.calibrated.begin(), f.calibrated.end(), i) != f.calibrated.end();
-    (cal ? params : fixed)[f.names[i]] = num(f.params[i]);
+    (cal ? params : fixed)[f.names[i]] = finite_or_null(f.params[i]);
   }
   nlohmann::json intervals = nlohmann::json::object(), ident = nlohmann::json::object(),
                  statements = nlohmann::json::object();
   for (const auto& iv : f.intervals) {
-    intervals[iv.name] = {num(iv.lo), num(iv.hi)};
+    intervals[iv.name] = {finite_or_null(iv.lo), finite_or_null(iv.hi)};
     ident[iv.name] = identifiability_name(iv.status);
     statements[iv.name] = iv.statement;
   }
@@ -76,8 +73,8 @@ nlohmann::json to_json(const ReleaseFit& f) {
                       {"intervals", intervals},
                       {"identifiability", ident},
                       {"statements", statements},
-                      {"error", num(f.error)},
-                      {"threshold", num(f.threshold)},
+                      {"error", finite_or_null(f.error)},
+                      {"threshold", finite_or_null(f.threshold)},
                       {"vout_measured", vel(f.measured)},
                       {"vout_simulated", vel(f.simulated)},
                       {"error_terms", vel(f.terms)},
@@ -87,10 +84,11 @@ nlohmann::json to_json(const ReleaseFit& f) {
                       {"seconds", f.seconds}};
   if (f.alpha_source != "none" && !f.alpha_source.empty()) {
     nlohmann::json a = {{"source", f.alpha_source},
-                        {"value_rad", num(f.alpha_rad)},
-                        {"value_deg", num(f.alpha_rad * 180.0 / M_PI)}};
+                        {"value_rad", finite_or_null(f.alpha_rad)},
+                        {"value_deg", finite_or_null(f.alpha_rad * 180.0 / M_PI)}};
     if (f.alpha_interval) {
-      a["interval_rad"] = {num(f.alpha_interval->lo), num(f.alpha_interval->hi)};
+      a["interval_rad"] = {finite_or_null(f.alpha_interval->lo),
+                           finite_or_null(f.alpha_interval->hi)};
       a["identifiability"] = identifiability_name(f.alpha_interval->status);
       a["statement"] = f.alpha_interval->statement;
     }
@@ -121,15 +119,16 @@ nlohmann::json summary_json(const std::vector<ReleaseFit>& fits) {
       }
     }
     const stats::Summary s = stats::summarize(all);
-    nlohmann::json j = {{"mean", num(s.mean)}, {"std", num(s.std)}, {"n", s.n}};
+    nlohmann::json j = {
+        {"mean", finite_or_null(s.mean)}, {"std", finite_or_null(s.std)}, {"n", s.n}};
     if (!los.empty()) {
       const stats::Summary si = stats::summarize(identified);
       j["counts"] = counts;
-      j["mean_identified"] = num(si.mean);
-      j["std_identified"] = num(si.std);
+      j["mean_identified"] = finite_or_null(si.mean);
+      j["std_identified"] = finite_or_null(si.std);
       j["n_identified"] = si.n;
-      j["mean_lo"] = num(stats::summarize(los).mean);
-      j["mean_hi"] = num(stats::summarize(his).mean);
+      j["mean_lo"] = finite_or_null(stats::summarize(los).mean);
+      j["mean_hi"] = finite_or_null(stats::summarize(his).mean);
     }
     out[name] = j;
   }
@@ -138,31 +137,33 @@ nlohmann::json summary_json(const std::vector<ReleaseFit>& fits) {
     if (f.alpha_source == "fitted") alpha.push_back(f.alpha_rad * 180.0 / M_PI);
   if (!alpha.empty()) {
     const stats::Summary s = stats::summarize(alpha);
-    out["alpha_in_deg"] = {{"mean", num(s.mean)}, {"std", num(s.std)}, {"n", s.n}};
+    out["alpha_in_deg"] = {
+        {"mean", finite_or_null(s.mean)}, {"std", finite_or_null(s.std)}, {"n", s.n}};
   }
   return out;
 }
 
 nlohmann::json to_json(const PopulationFit& p) {
   nlohmann::json params = nlohmann::json::object();
-  for (std::size_t i : p.calibrated) params[p.names[i]] = num(p.params[i]);
+  for (std::size_t i : p.calibrated) params[p.names[i]] = finite_or_null(p.params[i]);
   nlohmann::json intervals = nlohmann::json::object(), ident = nlohmann::json::object(),
                  statements = nlohmann::json::object();
   for (const auto& iv : p.intervals) {
-    intervals[iv.name] = {num(iv.lo), num(iv.hi)};
+    intervals[iv.name] = {finite_or_null(iv.lo), finite_or_null(iv.hi)};
     ident[iv.name] = identifiability_name(iv.status);
     statements[iv.name] = iv.statement;
   }
-  return {{"params", params},
-          {"intervals", intervals},
-          {"identifiability", ident},
-          {"statements", statements},
-          {"error", num(p.error)},
-          {"mean_error", num(p.error / std::max<std::size_t>(1, p.release_errors.size()))},
-          {"threshold", num(p.threshold)},
-          {"start_errors", p.start_errors},
-          {"evaluations", p.evaluations},
-          {"seconds", p.seconds}};
+  return {
+      {"params", params},
+      {"intervals", intervals},
+      {"identifiability", ident},
+      {"statements", statements},
+      {"error", finite_or_null(p.error)},
+      {"mean_error", finite_or_null(p.error / std::max<std::size_t>(1, p.release_errors.size()))},
+      {"threshold", finite_or_null(p.threshold)},
+      {"start_errors", p.start_errors},
+      {"evaluations", p.evaluations},
+      {"seconds", p.seconds}};
 }
 
 nlohmann::json to_json(const FitOptions& o) {

@@ -6,6 +6,7 @@
 #include "common/csv.hpp"
 #include "common/error.hpp"
 #include "common/h5.hpp"
+#include "common/json_number.hpp"
 #include "stats/stats.hpp"
 
 namespace ricochet::uq {
@@ -15,22 +16,18 @@ constexpr const char* kMcSchema = "ricochet-montecarlo-1";
 constexpr const char* kSobolSchema = "ricochet-sobol-1";
 constexpr std::size_t kExtraColumns = 8;  // vin (3), alpha, vout (3), status
 
-nlohmann::json num(double v) {
-  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
-}
-
 }  // namespace
 
 nlohmann::json components_json(const Vel3& v) {
-  return {{"vx", num(v[0])}, {"vy", num(v[1])}, {"w", num(v[2])}};
+  return {{"vx", finite_or_null(v[0])}, {"vy", finite_or_null(v[1])}, {"w", finite_or_null(v[2])}};
 }
 
 nlohmann::json inputs_json(const std::vector<ParameterInput>& inputs) {
   nlohmann::json j = nlohmann::json::object();
   for (const auto& in : inputs)
     j[in.name] = {{"distribution", in.distribution.description()},
-                  {"lo", num(in.distribution.lower())},
-                  {"hi", num(in.distribution.upper())}};
+                  {"lo", finite_or_null(in.distribution.lower())},
+                  {"hi", finite_or_null(in.distribution.upper())}};
   return j;
 }
 
@@ -42,14 +39,17 @@ nlohmann::json to_json(const SobolResult& r) {
     total[out] = nlohmann::json::object();
     second[out] = nlohmann::json::object();
     for (std::size_t i = 0; i < r.inputs.size(); ++i) {
-      first[out][r.inputs[i]] = num(r.first[o][i].value);
-      total[out][r.inputs[i]] = num(r.total[o][i].value);
-      ifirst[out][r.inputs[i]] = {num(r.first[o][i].lo), num(r.first[o][i].hi)};
-      itotal[out][r.inputs[i]] = {num(r.total[o][i].lo), num(r.total[o][i].hi)};
+      first[out][r.inputs[i]] = finite_or_null(r.first[o][i].value);
+      total[out][r.inputs[i]] = finite_or_null(r.total[o][i].value);
+      ifirst[out][r.inputs[i]] = {finite_or_null(r.first[o][i].lo),
+                                  finite_or_null(r.first[o][i].hi)};
+      itotal[out][r.inputs[i]] = {finite_or_null(r.total[o][i].lo),
+                                  finite_or_null(r.total[o][i].hi)};
       for (std::size_t j = i + 1; j < r.inputs.size(); ++j) {
         const std::string pair = r.inputs[i] + "-" + r.inputs[j];
-        second[out][pair] = num(r.second[o][i][j].value);
-        isecond[out][pair] = {num(r.second[o][i][j].lo), num(r.second[o][i][j].hi)};
+        second[out][pair] = finite_or_null(r.second[o][i][j].value);
+        isecond[out][pair] = {finite_or_null(r.second[o][i][j].lo),
+                              finite_or_null(r.second[o][i][j].hi)};
       }
     }
   }
