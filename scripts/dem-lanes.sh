@@ -8,15 +8,18 @@
 #   1b. then the calibration itself (calibrate-grains with the solid-fraction band), the active
 #      zone's paired check at its grains (scripts/active-zone-verdict.sh: the zone is used below
 #      only if it passed), its verification campaign (every lab state on three 1.5 m beds of the calibrated grains, into
-#      results/sand-verification/), the blind triangles and issue 33's force campaign (the speed
-#      campaign's states) on those grains, on both cores;
+#      results/sand-verification/) and the blind triangles on those grains, on both cores, and
+#      the design of issue 33's force campaign (the speed campaign's states on those grains);
 #   2. then two lanes of one core each:
-#      lane A: the stiffness plateau's 1.5e10 Pa level up to its pre-registered minimum (the
-#              cylinder and the triangle states T18, T02, T10: the design's first 75 impacts,
-#              12 pairs), the floor check at that level (wall-stiffness-1.5e10.toml, into
-#              results/wall-stiffness-1.5e10/), the convergence at 1.5e9 Pa (width, depth, grain
-#              size: convergence-1.5e9.toml, into results/convergence-1.5e9/), then the level's
-#              other three triangle states;
+#      lane A: the convergence at 1.5e9 Pa (width, depth, grain size: convergence-1.5e9.toml,
+#              into results/convergence-1.5e9/; issue 32, item 3), issue 33's force campaign
+#              (its design from 1b, on one core), the stiffness plateau's 1.5e10 Pa level up to its
+#              pre-registered minimum (the cylinder and the triangle states T18, T02, T10: the
+#              design's first 75 impacts, 12 pairs), the floor check at that level
+#              (wall-stiffness-1.5e10.toml, into results/wall-stiffness-1.5e10/), then the level's
+#              other three triangle states (reordered on 2026-12-05: the 1.5e10 Pa level, about
+#              three times an impact's cost at 1.5e9 Pa and 84 impacts with 12 beds to build,
+#              would have held the convergence, which issue 32 needs done, for many sessions);
 #      lane B: the sphere drop on the 1.5e9 Pa box bed (scripts/plateau-drop.sh), the same drops
 #              on the calibrated grains (issue 33's Katsuragi-Durian comparison, into
 #              results/sand-drop/), then the packing-scatter beds' solid fractions
@@ -155,22 +158,24 @@ if [ -f "$CAL/calibrate-grains.json" ]; then
     PLATEAU_FILE=sand-blind-triangles-1.5e9 PLATEAU_RANKS=2 scripts/stiffness-plateau.sh
   # 1d. Issue 33's force campaign on the same grains and bed: the speed campaign's 9 states x 3
   #     positions (verification-campaign.py --states-from), tracks kept, for the force-residual
-  #     discovery on the plateau bed.
+  #     discovery on the plateau bed. Its design is written here; it runs in lane A below, after
+  #     the convergence that issue 32 needs.
   [ -f "$CAL/sand-speeds-1.5e9.toml" ] ||
     scripts/verification-campaign.py liggghts-inputs/campaigns/sand-calibration-1.5e9.toml \
       "$CAL/calibrate-grains.json" --bed-length-m 1.5 "${ZONE_ARGS[@]}" \
       --states-from liggghts-inputs/campaigns/speeds-calibrated-long.toml \
       --name sand-speeds-1.5e9 --out "$CAL/sand-speeds-1.5e9.toml" >> "$CAL/campaign.log" 2>&1
-  PLATEAU_DESIGN=sand-speeds-1.5e9 PLATEAU_DESIGN_PATH="$CAL/sand-speeds-1.5e9.toml" \
-    PLATEAU_OUT=results/sand-verification PLATEAU_FILE=sand-speeds-1.5e9 PLATEAU_RANKS=2 \
-    scripts/stiffness-plateau.sh
 fi
 {
+  PLATEAU_DESIGN=convergence-1.5e9 PLATEAU_OUT=results/convergence-1.5e9 \
+    PLATEAU_FILE=convergence-1.5e9 scripts/stiffness-plateau.sh
+  [ -f "$CAL/sand-speeds-1.5e9.toml" ] &&
+    PLATEAU_DESIGN=sand-speeds-1.5e9 PLATEAU_DESIGN_PATH="$CAL/sand-speeds-1.5e9.toml" \
+      PLATEAU_OUT=results/sand-verification PLATEAU_FILE=sand-speeds-1.5e9 \
+      scripts/stiffness-plateau.sh
   PLATEAU_DESIGN=stiffness-plateau-1.5e10 PLATEAU_FIRST=75 scripts/stiffness-plateau.sh
   PLATEAU_DESIGN=wall-stiffness-1.5e10 PLATEAU_OUT=results/wall-stiffness-1.5e10 \
     PLATEAU_FILE=wall-stiffness-1.5e10 scripts/stiffness-plateau.sh
-  PLATEAU_DESIGN=convergence-1.5e9 PLATEAU_OUT=results/convergence-1.5e9 \
-    PLATEAU_FILE=convergence-1.5e9 scripts/stiffness-plateau.sh
   PLATEAU_DESIGN=stiffness-plateau-1.5e10 scripts/stiffness-plateau.sh
 } &
 lane_a=$!
