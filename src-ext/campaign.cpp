@@ -201,8 +201,9 @@ CampaignSummary run_pending(const CampaignDesign& design, const Decks& decks,
                                b.grains, bed_wall, color);
     return b;
   };
-  // Pending impact n (a position into `pending`) on this group.
-  const auto run_one = [&](std::size_t n) {
+  // Pending impact n (a position into `pending`) on this group; `waits`: its bed is another
+  // group's to build (claim_next).
+  const auto run_one = [&](std::size_t n, bool waits) {
     const ImpactSpec& spec = design.impacts[static_cast<std::size_t>(pending[n])];
     ImpactContext ctx;
     ctx.decks = &decks;
@@ -210,7 +211,9 @@ CampaignSummary run_pending(const CampaignDesign& design, const Decks& decks,
       // A line before the work (an impact on a stiff bed takes an hour, its bed longer): what
       // runs now, and whether its bed must be built first.
       std::cerr << fmt::format("[dem] starting {} (group {}), bed {}{}\n", spec.id, color, keys[n],
-                               bed_cached(design.cache_dir, keys[n]) ? "" : ": building it first");
+                               bed_cached(design.cache_dir, keys[n]) ? ""
+                               : waits ? ": another group builds it, waiting for it"
+                                       : ": building it first");
     }
     ctx.bed = bed_for(spec);
     ctx.extract = design.extract;
@@ -248,7 +251,7 @@ CampaignSummary run_pending(const CampaignDesign& design, const Decks& decks,
   };
   if (groups == 1) {
     if (group != MPI_COMM_NULL)
-      for (int n : order) run_one(static_cast<std::size_t>(n));
+      for (int n : order) run_one(static_cast<std::size_t>(n), false);
   } else {
     // The claims of this run, beside the campaign file (a killed run's are stale: emptied here).
     const std::string claims = options.out + ".claims";
@@ -256,10 +259,11 @@ CampaignSummary run_pending(const CampaignDesign& design, const Decks& decks,
     MPI_Barrier(world);
     while (group != MPI_COMM_NULL) {
       int next = -1;
-      if (grank == 0) next = claim_next(claims, order, keys, design.cache_dir);
+      bool waits = false;  // read by the group's rank 0 only
+      if (grank == 0) next = claim_next(claims, order, keys, design.cache_dir, &waits);
       MPI_Bcast(&next, 1, MPI_INT, 0, group);
       if (next < 0) break;
-      run_one(static_cast<std::size_t>(next));
+      run_one(static_cast<std::size_t>(next), waits);
     }
     MPI_Barrier(world);
     if (wrank == 0) {

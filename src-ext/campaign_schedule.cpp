@@ -37,7 +37,8 @@ std::vector<int> schedule_order(const std::vector<std::string>& bed_keys,
 }
 
 int claim_next(const std::string& claims_path, const std::vector<int>& order,
-               const std::vector<std::string>& bed_keys, const std::string& cache_dir) {
+               const std::vector<std::string>& bed_keys, const std::string& cache_dir,
+               bool* waits) {
   const FileLock lock(claims_path);
   std::set<int> claimed;
   {
@@ -50,6 +51,7 @@ int claim_next(const std::string& claims_path, const std::vector<int>& order,
     if (!bed_cached(cache_dir, key)) taken.insert(key);
   }
   int pick = -1, unbuilt = -1, waiting = -1;
+  if (waits) *waits = false;
   for (int i : order) {
     if (claimed.count(i)) continue;
     const std::string& key = bed_keys.at(static_cast<std::size_t>(i));
@@ -60,7 +62,10 @@ int claim_next(const std::string& claims_path, const std::vector<int>& order,
     if (unbuilt < 0 && !taken.count(key) && !bed_building(cache_dir, key)) unbuilt = i;
     if (waiting < 0) waiting = i;
   }
-  if (pick < 0) pick = unbuilt >= 0 ? unbuilt : waiting;
+  if (pick < 0) {
+    pick = unbuilt >= 0 ? unbuilt : waiting;
+    if (waits) *waits = pick >= 0 && unbuilt < 0;
+  }
   if (pick >= 0) {
     std::ofstream out(claims_path, std::ios::app);
     out << pick << "\n";

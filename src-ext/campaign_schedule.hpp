@@ -28,9 +28,11 @@ std::vector<int> schedule_order(const std::vector<std::string>& bed_keys,
 /// unclaimed position of `order` whose bed `cache_dir` holds; else the first whose bed nobody
 /// builds (no other claim has that bed, and bed_building says no process holds its lock): this
 /// group builds it; else the first (another group builds its bed: this one waits for it in
-/// ensure_bed). Returns -1 when every position is claimed. Throws std::runtime_error naming the
-/// file when it cannot be locked or written.
+/// ensure_bed). Returns -1 when every position is claimed. `waits`, when given, is set to whether
+/// the claim is of that last kind (for the log line that says so). Throws std::runtime_error
+/// naming the file when it cannot be locked or written.
 int claim_next(const std::string& claims_path, const std::vector<int>& order,
-               const std::vector<std::string>& bed_keys, const std::string& cache_dir);
+               const std::vector<std::string>& bed_keys, const std::string& cache_dir,
+               bool* waits = nullptr);
 
 }  // namespace ricochet::dem

@@ -43,13 +43,21 @@ TEST_F(CampaignClaims, AFreeGroupTakesACachedBedsImpactElseBuildsABedNobodyBuild
   const std::vector<int> order = {0, 1, 2, 3, 4};
   cache("z");
   const std::string cache_dir = dir_.string();
-  EXPECT_EQ(claim_next(claims(), order, keys, cache_dir), 4);  // z is cached
-  EXPECT_EQ(claim_next(claims(), order, keys, cache_dir), 0);  // builds x
-  EXPECT_EQ(claim_next(claims(), order, keys, cache_dir), 2);  // x is taken: builds y
-  EXPECT_EQ(claim_next(claims(), order, keys, cache_dir), 1);  // all taken: waits for x
-  cache("y");                                                  // y is built meanwhile
-  EXPECT_EQ(claim_next(claims(), order, keys, cache_dir), 3);
-  EXPECT_EQ(claim_next(claims(), order, keys, cache_dir), -1);
+  // `waits`: whether the claim is of a bed another group builds (the log line says so).
+  bool waits = true;
+  EXPECT_EQ(claim_next(claims(), order, keys, cache_dir, &waits), 4);  // z is cached
+  EXPECT_FALSE(waits);
+  EXPECT_EQ(claim_next(claims(), order, keys, cache_dir, &waits), 0);  // builds x
+  EXPECT_FALSE(waits);
+  EXPECT_EQ(claim_next(claims(), order, keys, cache_dir, &waits), 2);  // x is taken: builds y
+  EXPECT_FALSE(waits);
+  EXPECT_EQ(claim_next(claims(), order, keys, cache_dir, &waits), 1);  // all taken: waits for x
+  EXPECT_TRUE(waits);
+  cache("y");  // y is built meanwhile
+  EXPECT_EQ(claim_next(claims(), order, keys, cache_dir, &waits), 3);
+  EXPECT_FALSE(waits);
+  EXPECT_EQ(claim_next(claims(), order, keys, cache_dir, &waits), -1);
+  EXPECT_FALSE(waits);
   std::ifstream in(claims());
   std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_EQ(all, "4\n0\n2\n1\n3\n");
@@ -62,8 +70,11 @@ TEST_F(CampaignClaims, ABedAnotherProcessBuildsIsLeftToIt) {
   const int fd = ::open((bed_prefix(dir_.string(), "x") + ".lock").c_str(), O_RDWR | O_CREAT, 0644);
   ASSERT_GE(fd, 0);
   ASSERT_EQ(::flock(fd, LOCK_EX), 0);
-  EXPECT_EQ(claim_next(claims(), {0, 1}, keys, dir_.string()), 1);
-  EXPECT_EQ(claim_next(claims(), {0, 1}, keys, dir_.string()), 0);  // then waits for x
+  bool waits = true;
+  EXPECT_EQ(claim_next(claims(), {0, 1}, keys, dir_.string(), &waits), 1);
+  EXPECT_FALSE(waits);
+  EXPECT_EQ(claim_next(claims(), {0, 1}, keys, dir_.string(), &waits), 0);  // then waits for x
+  EXPECT_TRUE(waits);
   ::close(fd);
 }
 
