@@ -21,8 +21,10 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "stats/stats.hpp"
 
@@ -286,6 +288,33 @@ void check_figure(const Figure& figure, const std::string& path, const std::stri
       check_series(figure.panels[p], p, figure.panels[p].series[k], k);
 }
 
+// The step of a linear axis's ticks so that at most `max_ticks` intervals span [lo, hi]: the
+// smallest of 1, 2, 2.5, 5 x 10^k that does. gnuplot's own choice ignores the panel's width, and
+// on the narrow panels of a wide grid (six parameters side by side) its labels ran together.
+double tick_step(double lo, double hi, int max_ticks) {
+  const double span = hi - lo;
+  if (!(span > 0) || !std::isfinite(span) || max_ticks < 1) return 0;
+  const double raw = span / max_ticks;
+  const double decade = std::pow(10.0, std::floor(std::log10(raw)));
+  for (const double m : {1.0, 2.0, 2.5, 5.0, 10.0})
+    if (m * decade >= raw * (1 - 1e-9)) return m * decade;
+  return 10 * decade;
+}
+
+// The x range that the panel shows: its fixed bounds, else its drawable points' extent.
+std::pair<double, double> x_extent(const Panel& panel) {
+  double lo = panel.xmin, hi = panel.xmax;
+  if (!std::isnan(lo) && !std::isnan(hi)) return {lo, hi};
+  double dlo = std::numeric_limits<double>::infinity(), dhi = -dlo;
+  for (const Series& s : panel.series)
+    for (double x : s.x)
+      if (drawable(x, panel.logx)) {
+        dlo = std::min(dlo, x);
+        dhi = std::max(dhi, x);
+      }
+  return {std::isnan(lo) ? dlo : lo, std::isnan(hi) ? dhi : hi};
+}
+
 // The terminal, the output file, the project's style and the multiplot layout.
 void figure_preamble(std::ostringstream& script, const Figure& figure, const std::string& ext,
                      const std::string& produced_name) {
@@ -314,7 +343,7 @@ void figure_preamble(std::ostringstream& script, const Figure& figure, const std
 
 // Panel p: its settings, its series written as data files in `dir`, and its plot command.
 void panel_script(std::ostringstream& script, const Panel& panel, std::size_t p,
-                  const fs::path& dir) {
+                  const fs::path& dir, double panel_width_px) {
   script << "reset\n";
   script << "set title " << quote(panel.title) << "\n";
   script << "set xlabel " << quote(panel.xlabel) << "\n";
@@ -349,6 +378,12 @@ void panel_script(std::ostringstream& script, const Panel& panel, std::size_t p,
   }
   range(script, "x", xmin, xmax);
   range(script, "y", ymin, ymax);
+  // About 70 px per x tick label (a label such as "0.55" is about 30 px at the 11 pt font).
+  if (!panel.logx && drawn_total > 0) {
+    const auto [lo, hi] = x_extent(panel);
+    const double step = tick_step(lo, hi, std::max(2, static_cast<int>(panel_width_px / 70)));
+    if (step > 0) script << "set xtics " << number(step) << "\n";
+  }
   if (panel.equal_aspect) script << "set size ratio -1\n";
   // viridis (van der Walt and Smith 2015), sampled at 5 stops: colour-blind-safe and
   // readable in grey.
@@ -396,8 +431,11 @@ void render(const Figure& figure, const std::string& path) {
   const std::string produced_name = "figure" + ext;
   std::ostringstream script;
   figure_preamble(script, figure, ext, produced_name);
+  const double panel_width_px =
+      static_cast<double>(figure.width_px) /
+      static_cast<double>(std::min<std::size_t>(std::max(1, figure.columns), figure.panels.size()));
   for (std::size_t p = 0; p < figure.panels.size(); ++p)
-    panel_script(script, figure.panels[p], p, dir.path());
+    panel_script(script, figure.panels[p], p, dir.path(), panel_width_px);
   script << "unset multiplot\nset output\n";
   run_script(script.str(), dir.path(), ext, produced_name, path);
 }

@@ -87,6 +87,44 @@ TEST_F(Plot, GridOfPanelsWithTheExpectedNumberOfSeries) {
   EXPECT_NE(svg.find("three panels"), std::string::npos);
 }
 
+// The x tick labels of narrow panels do not run together: six panels side by side in 1,200 px
+// (200 px each) over x in [0.5, 0.9] get at most 4 labels each, where gnuplot alone put 9 (0.5,
+// 0.55, ..., 0.9) and the abacus of calibrate-grains was unreadable; one wide panel keeps more.
+TEST_F(Plot, NarrowPanelsGetFewerXTickLabels) {
+  // The numeric labels in [0, 1.5] of an SVG: the x ticks (the y data lie in 100..200).
+  const auto x_labels = [](const std::string& svg) {
+    int n = 0;
+    const std::regex text("<text>\\s*([-0-9.]+)\\s*<");
+    for (auto it = std::sregex_iterator(svg.begin(), svg.end(), text); it != std::sregex_iterator();
+         ++it) {
+      const double v = std::stod((*it)[1].str());
+      if (v >= 0 && v <= 1.5) ++n;
+    }
+    return n;
+  };
+  Series s;
+  for (int i = 0; i <= 40; ++i) {
+    s.x.push_back(0.5 + 0.01 * i);
+    s.y.push_back(100 + 2.5 * i);
+  }
+  Panel p;
+  p.series = {s};
+  Figure narrow;
+  narrow.columns = 6;
+  narrow.width_px = 1200;
+  narrow.panels.assign(6, p);
+  report::render(narrow, (dir_ / "narrow.svg").string());
+  const int per_panel = x_labels(slurp(dir_ / "narrow.svg")) / 6;
+  EXPECT_GE(per_panel, 2);
+  EXPECT_LE(per_panel, 4);
+  Figure wide;
+  wide.columns = 1;
+  wide.width_px = 1200;
+  wide.panels = {p};
+  report::render(wide, (dir_ / "wide.svg").string());
+  EXPECT_GE(x_labels(slurp(dir_ / "wide.svg")), 5);
+}
+
 TEST_F(Plot, TitlesWithQuotesAndUnderscoresArePrintedLiterally) {
   Figure f;
   Panel p;
