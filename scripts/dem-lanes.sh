@@ -147,6 +147,11 @@ if [ -f "$CAL/calibrate-grains.json" ]; then
         mv "results/sand-verification/check-$half.json.tmp" "results/sand-verification/check-$half.json"
       echo "== $(date '+%F %T') the verification's $half half checked (status $?)" >> "$CAL/campaign.log"
     done
+    [ -f results/sand-verification/check-held-out.json ] &&
+      [ -f results/sand-verification/check-calibration.json ] &&
+      scripts/verification-table.py held-out=results/sand-verification/check-held-out.json \
+        calibration=results/sand-verification/check-calibration.json \
+        > results/sand-verification/table.md 2>> "$CAL/campaign.log"
     # The diagnosis fixed on 2026-12-02 for a bed that misses the lab (docs/resolved-model.md,
     # "If no sand-like setting reaches the lab"): the verification's equivalent law over the
     # held-out half, held fixed while each candidate effect fits its own parameters on the lab's
