@@ -344,13 +344,13 @@ GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const De
                        "expects LO,HI with 0 < LO < HI < 1");
     r.solid_fraction_band = b;
   }
-  const auto grain = campaign_grain_parameters(campaign_h5, decks);
+  const auto grain = campaign_grain_parameters(campaign_h5, index, decks);
   choose_inputs(r, set, grain, decks, options);
   const double mean_replicas = gather_points(r, set, grain);
   tally_rebounds(r, index, grain);
   if (!options.bed_cache.empty())
-    measure_points_packing(r, campaign_h5, options.bed_cache, options.packing_from_grain_count,
-                           grain);
+    measure_points_packing(r, campaign_h5, index, options.bed_cache,
+                           options.packing_from_grain_count, grain);
   const std::size_t n = r.points.size(), d = r.parameters.size();
   OT::Sample u(n, d);
   for (std::size_t i = 0; i < n; ++i)

@@ -31,13 +31,14 @@ std::string bed_geometry(const std::map<std::string, std::map<std::string, std::
 }  // namespace
 
 void measure_points_packing(
-    GrainCalibrationResult& r, const std::string& campaign_h5, const std::string& cache,
-    bool from_grain_count, const std::map<std::string, std::map<std::string, std::string>>& grain) {
+    GrainCalibrationResult& r, const std::string& campaign_h5,
+    const std::vector<CampaignEntry>& index, const std::string& cache, bool from_grain_count,
+    const std::map<std::string, std::map<std::string, std::string>>& grain) {
   const auto& names = campaign_value_names();
   const std::size_t grains_col = std::find(names.begin(), names.end(), "grains") - names.begin();
   std::map<std::string, std::string> bed_of, geometry_of;
   std::map<std::string, long> grains_of;
-  for (const auto& e : read_campaign_index(campaign_h5)) {
+  for (const auto& e : index) {
     bed_of[e.id] = e.bed_key;
     if (e.bed_key.empty() || geometry_of.count(e.bed_key)) continue;
     geometry_of[e.bed_key] = bed_geometry(grain, e.id, r.parameters);

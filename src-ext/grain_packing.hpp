@@ -7,7 +7,9 @@
 #include <map>
 #include <openturns/OT.hxx>
 #include <string>
+#include <vector>
 
+#include "campaign_store.hpp"
 #include "grain_calibration.hpp"
 
 namespace ricochet::dem {
@@ -18,9 +20,11 @@ namespace ricochet::dem {
 /// measured once on the restart file in `cache` (needs MPI initialised), else
 /// (`from_grain_count`) estimated from the bed's grain count and the recorded beds of its
 /// geometry (r.grain_count_estimates). `grain`: every impact's grain parameters
-/// (campaign_grain_parameters). Throws InputError naming the file when a bed has none of these.
+/// (campaign_grain_parameters); `index`: the file's /dem/index (read_campaign_index). Throws
+/// InputError naming the file when a bed has none of these.
 void measure_points_packing(GrainCalibrationResult& r, const std::string& campaign_h5,
-                            const std::string& cache, bool from_grain_count,
+                            const std::vector<CampaignEntry>& index, const std::string& cache,
+                            bool from_grain_count,
                             const std::map<std::string, std::map<std::string, std::string>>& grain);
 
 /// The solid fraction's kriging over the points' unit coordinates `u` (no nugget: a bed is

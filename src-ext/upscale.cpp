@@ -20,9 +20,9 @@ namespace ricochet::dem {
 namespace fs = std::filesystem;
 
 std::map<std::string, std::map<std::string, std::string>> campaign_grain_parameters(
-    const std::string& campaign_h5, const Decks& decks) {
+    const std::string& campaign_h5, const std::vector<CampaignEntry>& index, const Decks& decks) {
   std::map<std::string, std::map<std::string, std::string>> out;
-  for (const auto& e : read_campaign_index(campaign_h5)) {
+  for (const auto& e : index) {
     nlohmann::json j;
     try {
       j = nlohmann::json::parse(e.params);
@@ -61,7 +61,8 @@ UpscaleResult upscale(const std::string& campaign_h5, const Decks& decks, const 
   ImpactSet all = read_impact_set_h5(campaign_h5);
   all = filter_nonempty(all, options.where, campaign_h5);
   r.set = fit::select_shape(all, shape);
-  const auto grain = campaign_grain_parameters(campaign_h5, decks);
+  const auto grain =
+      campaign_grain_parameters(campaign_h5, read_campaign_index(campaign_h5), decks);
   for (const auto& im : r.set.impacts)
     if (!grain.count(im.id))
       throw InputError(campaign_h5, 0, "/dem/index/id",

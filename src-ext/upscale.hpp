@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "campaign_store.hpp"
 #include "effects/model.hpp"
 #include "engine/shape.hpp"
 #include "fit/fit.hpp"
@@ -77,8 +78,9 @@ UpscaleResult upscale(const std::string& campaign_h5, const Decks& decks, const 
 
 /// Effective grain-scale parameters of each impact of a campaign file, by id: every bed.* and
 /// block.* parameter of the decks with the impact's overrides applied (the seed included).
+/// `index`: the file's /dem/index (read_campaign_index); `campaign_h5` names it in errors.
 std::map<std::string, std::map<std::string, std::string>> campaign_grain_parameters(
-    const std::string& campaign_h5, const Decks& decks);
+    const std::string& campaign_h5, const std::vector<CampaignEntry>& index, const Decks& decks);
 
 /// Figures (SVG, report/plot.hpp) into `dir`:
 ///   upscale_parameters.svg  the fitted parameters per impact against the incident speed
