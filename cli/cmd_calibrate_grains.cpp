@@ -159,12 +159,13 @@ void add_calibrate_grains_command(CLI::App& app) {
       ->check(CLI::ExistingDirectory);
   sub->add_flag(
       "--packing-from-grain-count", o->calibration.packing_from_grain_count,
-      "A bed neither recorded in the campaign file nor in --bed-cache: estimate its solid "
-      "fraction from its grain count and the recorded beds of its geometry (the "
-      "estimate's leave-one-out error on them is printed)");
+      "Report the design's packing; a bed neither recorded in the campaign file nor in "
+      "--bed-cache: estimate its solid fraction from its grain count and the recorded beds of "
+      "its geometry (the estimate's leave-one-out error on them is printed)");
   sub->add_option("--solid-fraction", o->calibration.solid_fraction,
                   "LO,HI: search the calibrated point only where the solid fraction's surrogate "
-                  "is within [LO, HI] (a sand-like bed; needs --bed-cache)")
+                  "is within [LO, HI] (a sand-like bed; each bed's packing from the file's "
+                  "record, --bed-cache or --packing-from-grain-count)")
       ->delimiter(',')
       ->expected(2);
   sub->add_option("--rebound-threshold", o->calibration.rebound_threshold,

@@ -58,12 +58,11 @@ if [ $HAVE_DEM -eq 1 ]; then
   # cylinders (split seed 3201), the solid fraction held in the band of sand, the search kept where
   # the design's blocks rebound (docs/resolved-model.md, "Recalibration with what sand has"; the
   # held-out half is the verification campaign's). Every bed's packing is in the file or follows
-  # from its grain count, so the bed cache it asks for is an empty folder.
-  mkdir -p "$OUT/dem/no-bed-cache"
+  # from its grain count: no bed cache.
   "$R" calibrate-grains "$ROOT/data/resolved/sand-calibration-1.5e9.h5" --lab "$CYL" --seed 4 \
     --lab-where "$("$ROOT/scripts/lab-split.py" "$CYL" 3201 --where calibration)" \
     --parameters bed.mu_gg bed.mur_gg block.mu_gb bed.e_gg block.e_gb bed.mu_pour \
-    --bed-cache "$OUT/dem/no-bed-cache" --packing-from-grain-count --solid-fraction 0.56,0.62 \
+    --packing-from-grain-count --solid-fraction 0.56,0.62 \
     --figures "$OUT/figures/calibrate-grains-sand" --out "$OUT/calibrate-grains-sand.json"
   # The lab cylinder states reconstructed like the lab (the geometric contact window of paper
   # Fig. 8b): the fair comparison with the lab's V_out (docs/resolved-calibration.md).

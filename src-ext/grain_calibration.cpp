@@ -28,7 +28,7 @@ namespace {
 // One kriging model per V_out component, on inputs scaled to [0, 1].
 struct Surrogate {
   std::vector<OT::KrigingResult> models;
-  std::optional<OT::KrigingResult> packing;  ///< solid fraction, with bed_cache
+  std::optional<OT::KrigingResult> packing;  ///< solid fraction, when the packing is asked for
   std::optional<OT::KrigingResult> rebound;  ///< rebound indicator (rebound_region.hpp)
   Vel3 predict_mean(const OT::Point& u) const {
     Vel3 m{};
@@ -336,9 +336,6 @@ GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const De
                      fmt::format("{} is outside [0, 1)", options.rebound_threshold));
   if (!options.solid_fraction.empty()) {
     const auto& b = options.solid_fraction;
-    if (options.bed_cache.empty())
-      throw InputError("<command line>", 0, "--solid-fraction",
-                       "needs the campaign's bed cache (--bed-cache) to measure the beds");
     if (b.size() != 2 || !(b[0] > 0 && b[0] < b[1] && b[1] < 1))
       throw InputError("<command line>", 0, "--solid-fraction",
                        "expects LO,HI with 0 < LO < HI < 1");
@@ -348,7 +345,12 @@ GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const De
   choose_inputs(r, set, grain, decks, options);
   const double mean_replicas = gather_points(r, set, grain);
   tally_rebounds(r, index, grain);
-  if (!options.bed_cache.empty())
+  // The packing: asked for by any of the three options. Each bed's comes from the file's record,
+  // else the cache, else its grain count, so the cache is needed only for a bed that is neither
+  // recorded nor counted (measure_points_packing says which).
+  const bool packing = !options.bed_cache.empty() || options.packing_from_grain_count ||
+                       !options.solid_fraction.empty();
+  if (packing)
     measure_points_packing(r, campaign_h5, index, options.bed_cache,
                            options.packing_from_grain_count, grain);
   const std::size_t n = r.points.size(), d = r.parameters.size();
@@ -380,7 +382,7 @@ GrainCalibrationResult calibrate_grains(const std::string& campaign_h5, const De
   } one_thread;
   OT::RandomGenerator::SetSeed(options.seed);
   Surrogate sur = fit_surrogate(r, u, mean_replicas);
-  if (!options.bed_cache.empty()) sur.packing = fit_packing(r, u);
+  if (packing) sur.packing = fit_packing(r, u);
   if (options.rebound_threshold > 0) {
     sur.rebound = fit_rebound_region(r);
     if (sur.rebound) r.rebound_threshold = options.rebound_threshold;

@@ -86,16 +86,18 @@ void measure_points_packing(
       const std::string prefix = bed_prefix(cache, key);
       auto it = phi_of.find(key);
       if (it == phi_of.end()) {
-        const bool cached = !key.empty() && std::filesystem::exists(prefix + ".params");
+        const bool cached =
+            !cache.empty() && !key.empty() && std::filesystem::exists(prefix + ".params");
         if (!cached && !(from_grain_count && !key.empty()))
           throw InputError(campaign_h5, 0, "/dem/index/bed_key",
                            "impact " + id + ": its bed " + (key.empty() ? "(no key)" : key) +
                                " is neither recorded in the file (/dem/beds) nor in the bed "
                                "cache " +
-                               cache + " (--bed-cache): `ricochet dem campaign DESIGN --out " +
-                               campaign_h5 +
-                               " --record-beds` records it, or --packing-from-grain-count "
-                               "estimates it");
+                               (cache.empty() ? std::string("(no --bed-cache given)")
+                                              : cache + " (--bed-cache)") +
+                               ": `ricochet dem campaign DESIGN --out " + campaign_h5 +
+                               " --record-beds` records it, --bed-cache measures it, or "
+                               "--packing-from-grain-count estimates it");
         std::pair<double, std::string> v;
         if (cached)
           v = {measure_packing(read_bed_files(prefix), MPI_COMM_SELF).solid_fraction, "measured"};

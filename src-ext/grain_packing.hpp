@@ -17,7 +17,7 @@ namespace ricochet::dem {
 /// Each design point's solid fraction [-] (GrainPoint::solid_fraction and its source): the mean
 /// over the beds its replicas were hit on (one bed per point in a [design.sample] campaign), as
 /// the campaign file records it (/dem/beds, record_bed_packing: it outlives the cache), else
-/// measured once on the restart file in `cache` (needs MPI initialised), else
+/// measured once on the restart file in `cache` (when not empty; needs MPI initialised), else
 /// (`from_grain_count`) estimated from the bed's grain count and the recorded beds of its
 /// geometry (r.grain_count_estimates). `grain`: every impact's grain parameters
 /// (campaign_grain_parameters); `index`: the file's /dem/index (read_campaign_index). Throws

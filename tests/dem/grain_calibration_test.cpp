@@ -92,16 +92,20 @@ TEST_F(GrainCalibration, TooFewDesignPointsIsAnErrorNamingTheFile) {
   }
 }
 
-TEST_F(GrainCalibration, ASolidFractionBandNeedsTheBedCacheAndAnOrderedRange) {
+// A band needs each bed's packing: this synthetic campaign records none and has no cache given,
+// so the first bed is named, with the three ways to get its packing.
+TEST_F(GrainCalibration, ASolidFractionBandNeedsEachBedsPackingAndAnOrderedRange) {
   const std::string path = make_campaign(dir_, 8);
   GrainCalibrationOptions o;
   o.solid_fraction = {0.56, 0.62};
   try {
     calibrate_grains(path, decks(), target_set(), o);
-    FAIL() << "a band without a bed cache accepted";
+    FAIL() << "a band without any bed's packing accepted";
   } catch (const InputError& e) {
-    EXPECT_EQ(e.field(), "--solid-fraction");
-    EXPECT_NE(std::string(e.what()).find("--bed-cache"), std::string::npos) << e.what();
+    EXPECT_EQ(e.file(), path);
+    const std::string what = e.what();
+    for (const char* way : {"no --bed-cache given", "--record-beds", "--packing-from-grain-count"})
+      EXPECT_NE(what.find(way), std::string::npos) << what;
   }
   o.bed_cache = dir_.string();
   o.solid_fraction = {0.62, 0.56};
@@ -157,6 +161,13 @@ TEST_F(GrainCalibration, SolidFractionsComeFromTheFileWhenTheCacheLacksTheBeds) 
     for (const auto& [k, v] : phi) found = found || v == pt.solid_fraction;
     EXPECT_TRUE(found) << pt.solid_fraction;
   }
+  // A file that records every bed needs no cache at all: the same points and optimum.
+  o.bed_cache.clear();
+  const auto no_cache = calibrate_grains(path, decks(), target_set(), o);
+  ASSERT_EQ(no_cache.points.size(), r.points.size());
+  for (std::size_t i = 0; i < r.points.size(); ++i)
+    EXPECT_EQ(no_cache.points[i].solid_fraction, r.points[i].solid_fraction);
+  EXPECT_EQ(no_cache.best, r.best);
 }
 
 // A new machine has lost the cache of beds built before the file recorded packings: with
