@@ -296,7 +296,7 @@ double tick_step(double lo, double hi, int max_ticks) {
   if (!(span > 0) || !std::isfinite(span) || max_ticks < 1) return 0;
   const double raw = span / max_ticks;
   const double decade = std::pow(10.0, std::floor(std::log10(raw)));
-  for (const double m : {1.0, 2.0, 2.5, 5.0, 10.0})
+  for (const double m : {1.0, 2.0, 2.5, 5.0})
     if (m * decade >= raw * (1 - 1e-9)) return m * decade;
   return 10 * decade;
 }
