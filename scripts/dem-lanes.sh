@@ -84,12 +84,10 @@ if [ ! -f "$CAL/calibrate-grains.json" ]; then
   # from their grain count and the recorded beds of the same geometry (--packing-from-grain-count,
   # amended on 2026-12-02 before the calibration ran, docs/resolved-model.md: it replaces
   # rebuilding them, about 2.5 h of both cores; `dem campaign --record-beds` still does that).
+  # shellcheck source=sand-calibration-args.sh
+  source scripts/sand-calibration-args.sh
   flock /tmp/ricochet-build.lock build/cli/ricochet calibrate-grains "$CAL/sand-calibration-1.5e9.h5" \
-    --lab data/lab/cylinders.csv --seed 4 \
-    --lab-where "$(scripts/lab-split.py data/lab/cylinders.csv 3201 --where calibration)" \
-    --parameters bed.mu_gg bed.mur_gg block.mu_gb bed.e_gg block.e_gb bed.mu_pour \
-    --bed-cache "$CAL/dem-cache" --packing-from-grain-count --solid-fraction 0.56,0.62 \
-    --decks "$CAL/pinned/liggghts-inputs" \
+    "${SAND_CALIBRATION_ARGS[@]}" --bed-cache "$CAL/dem-cache" --decks "$CAL/pinned/liggghts-inputs" \
     --figures "$CAL/figures" --out "$CAL/calibrate-grains.json" > "$CAL/calibrate-grains.txt" 2>&1
   echo "== $(date '+%F %T') calibrate-grains ended with status $?" >> "$CAL/campaign.log"
 fi

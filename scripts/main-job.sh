@@ -53,16 +53,15 @@ if [ $HAVE_DEM -eq 1 ]; then
   # files are beside them).
   "$R" calibrate-grains "$ROOT/data/resolved/bed-calibration-rolling-gb.h5" --lab "$CYL" \
     --without-gross-errors --seed 4 --figures "$OUT/figures/calibrate-grains"
-  echo "== The sand-only recalibration at E_grain 1.5e9 Pa (issue 32, item 2): the current one, not on a stiffness plateau"
+  echo "== The sand-only recalibration at E_grain 1.5e9 Pa (issue 32, item 2): it replaces the fifth once verified; not on a stiffness plateau"
   # Six grain parameters bounded by sand references, aimed at the calibration half of the lab
   # cylinders (split seed 3201), the solid fraction held in the band of sand, the search kept where
   # the design's blocks rebound (docs/resolved-model.md, "Recalibration with what sand has"; the
   # held-out half is the verification campaign's). Every bed's packing is in the file or follows
   # from its grain count: no bed cache.
-  "$R" calibrate-grains "$ROOT/data/resolved/sand-calibration-1.5e9.h5" --lab "$CYL" --seed 4 \
-    --lab-where "$("$ROOT/scripts/lab-split.py" "$CYL" 3201 --where calibration)" \
-    --parameters bed.mu_gg bed.mur_gg block.mu_gb bed.e_gg block.e_gb bed.mu_pour \
-    --packing-from-grain-count --solid-fraction 0.56,0.62 \
+  # shellcheck source=sand-calibration-args.sh
+  source "$ROOT/scripts/sand-calibration-args.sh"
+  "$R" calibrate-grains "$ROOT/data/resolved/sand-calibration-1.5e9.h5" "${SAND_CALIBRATION_ARGS[@]}" \
     --figures "$OUT/figures/calibrate-grains-sand" --out "$OUT/calibrate-grains-sand.json"
   # The lab cylinder states reconstructed like the lab (the geometric contact window of paper
   # Fig. 8b): the fair comparison with the lab's V_out (docs/resolved-calibration.md).
@@ -83,11 +82,13 @@ if [ $HAVE_DEM -eq 1 ]; then
   REPORT_DATA+=("$OUT/dem/main-job.h5"); REPORT_LABELS+=(--label "LIGGGHTS campaign (small bed)")
 fi
 REPORT_DATA+=("$ROOT/data/resolved/lab-cylinders-rolling-gb-ground.h5")
-REPORT_LABELS+=(--label "LIGGGHTS, fifth calibration (softened grains, E_grain 1.5e7 Pa, not on a stiffness plateau), lab cylinder states, geometric contact window (paper Fig. 8b)")
+# The fifth calibration's sets, labelled so that a reader knows they are not the current bed.
+FIFTH="LIGGGHTS, fifth calibration (softened grains, E_grain 1.5e7 Pa, not on a stiffness plateau)"
+REPORT_LABELS+=(--label "$FIFTH, lab cylinder states, geometric contact window (paper Fig. 8b)")
 if [ $QUICK -eq 0 ]; then
   # The blind prediction of the lab triangles on the same bed (nothing re-tuned), against the lab.
   REPORT_DATA+=("$ROOT/data/resolved/lab-triangles-blind-rolling-gb.h5")
-  REPORT_LABELS+=(--label "LIGGGHTS, fifth calibration (softened grains, E_grain 1.5e7 Pa, not on a stiffness plateau), lab triangle states, blind")
+  REPORT_LABELS+=(--label "$FIFTH, lab triangle states, blind")
   for c in "$OUT"/resolved/speeds.h5 "$OUT"/resolved/lab-cylinders.h5; do
     [ -f "$c" ] || continue
     REPORT_DATA+=("$c"); REPORT_LABELS+=(--label "LIGGGHTS campaign $(basename "$c" .h5)")
