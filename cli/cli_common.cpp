@@ -174,7 +174,7 @@ void require_out_extension(const OutputOptions& options,
     if (options.out.ends_with(ext)) return;
     list += std::string(list.empty() ? "" : ", ") + ext;
   }
-  if (options.accepts_json_file) list += ", .json";
+  if (options.accepts_json_file) list += std::string(list.empty() ? "" : ", ") + ".json";
   throw InputError(options.out, 0, "--out", "unsupported file extension; use one of " + list);
 }
 

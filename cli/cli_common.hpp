@@ -112,6 +112,8 @@ void add_report_command(CLI::App& app);
 void add_dem_command(CLI::App& app);
 /// `dem drop` (cmd_dem_drop.cpp), added to the `dem` subcommand by add_dem_command.
 void add_dem_drop_command(CLI::App& dem);
+/// `dem repose` (cmd_dem_drop.cpp), added to the `dem` subcommand by add_dem_command.
+void add_dem_repose_command(CLI::App& dem);
 void add_upscale_command(CLI::App& app);
 void add_calibrate_grains_command(CLI::App& app);
 /// In a build without LIGGGHTS (cmd_without_liggghts.cpp): `dem`, `upscale` and

@@ -550,7 +550,8 @@ void add_dem_command(CLI::App& app) {
               "upscale --figures)");
   c->callback([camp] { run_campaign_command(*camp); });
 
-  add_dem_drop_command(*dem);  // cmd_dem_drop.cpp
+  add_dem_drop_command(*dem);    // cmd_dem_drop.cpp
+  add_dem_repose_command(*dem);  // cmd_dem_drop.cpp
 }
 
 }  // namespace ricochet::cli

@@ -1,10 +1,12 @@
 // `ricochet dem drop`: spheres dropped vertically into a resolved bed from several heights, the
 // bed's angle of repose, and the checks against Uehara et al. 2003 (PRL 90, 194301) and
-// Katsuragi & Durian 2007 (Nature Physics 3, 420). See docs/commands/dem.md ("dem drop") and
-// docs/granular-impact-checks.md. The study and its analysis are src-ext's (drop_study.hpp,
-// drop_analysis.hpp): this file binds the options and prints.
+// Katsuragi & Durian 2007 (Nature Physics 3, 420); and `ricochet dem repose`, the angle of
+// repose alone (the same repose run, in the column geometry asked for). See docs/commands/dem.md
+// ("dem drop", "dem repose") and docs/granular-impact-checks.md. The study and its analysis are
+// src-ext's (drop_study.hpp, drop_analysis.hpp): this file binds the options and prints.
 #include <mpi.h>
 
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -100,7 +102,68 @@ void run_drop_command(const DropOptions& o) {
   mpi.run([&] { run_drop_command_on_rank(o, mpi); });
 }
 
+struct ReposeOptions {
+  std::vector<std::string> sets;
+  std::optional<long> seed;
+  std::string decks;
+  std::string work_dir = "dem-work";
+  OutputOptions output;
+};
+
+void run_repose_command_on_rank(const ReposeOptions& o, const MpiSession& mpi) {
+  const auto decks = dem::Decks::locate(o.decks);
+  dem::DropStudySets sets = dem::parse_drop_sets(decks, o.sets);
+  // The repose deck has neither the sphere nor the block: their settings would be ignored.
+  if (!sets.base.drop.empty() || !sets.base.block.empty())
+    throw InputError("<command line>", 0, "--set",
+                     "the repose deck reads only bed.* (the grains) and repose.* (the column): "
+                     "drop.* and block.* belong to `dem drop` and `dem impact`");
+  require_out_extension(o.output, {});
+  if (o.seed) sets.base.seed = *o.seed;
+  const dem::ReposeResult r =
+      dem::run_repose(decks, dem::drop_bed_overrides(sets.base), sets.repose,
+                      (std::filesystem::path(o.work_dir) / "repose").string(), MPI_COMM_WORLD);
+  if (mpi.rank() != 0) return;
+  json j = dem::repose_to_json(r);
+  j["ranks"] = mpi.size();
+  j["decks_digest"] = dem::drop_decks_digest(decks);
+  j["bed_overrides"] = sets.base.bed;
+  j["repose_overrides"] = sets.repose;
+  if (o.seed) j["seed"] = *o.seed;
+  if (o.output.json) {
+    print_json(j);
+  } else {
+    std::cout << fmt::format("dem repose: {} ({} grains, {:.0f} s)\n", r.message, r.grains,
+                             r.wall_s);
+  }
+  // A heap without a flank to fit is a failed measurement, not a result (exit 1; the JSON above
+  // says why).
+  if (r.status == "failed") throw std::runtime_error("dem repose: " + r.message);
+}
+
 }  // namespace
+
+void add_dem_repose_command(CLI::App& dem) {
+  auto o = std::make_shared<ReposeOptions>();
+  auto* s = dem.add_subcommand(
+      "repose",
+      "Angle of repose of a bed's grains: a column collapsed into a heap, its flank fitted");
+  s->add_option("--set", o->sets,
+                "SECTION.NAME=VALUE, SECTION bed (the grains, as for every dem command) or repose "
+                "(repose/in.repose: L_col_m, H_col_m, L_floor_m, W_m, t_collapse_max_s); "
+                "repeatable");
+  s->add_option("--seed", o->seed, "Replica seed of the column's grains (default: the decks' own)");
+  s->add_option("--decks", o->decks, "liggghts-inputs folder");
+  s->add_option("--work", o->work_dir, "Work folder (the run's log and final grains in repose/)");
+  add_output_options(s, o->output);
+  s->get_option("--out")->description(
+      "Write the --json document (with the heap's surface profile) to FILE.json");
+  check_range(s, "--seed", 0, 1e6);
+  s->callback([o] {
+    MpiSession mpi;
+    mpi.run([&] { run_repose_command_on_rank(*o, mpi); });
+  });
+}
 
 void add_dem_drop_command(CLI::App& dem) {
   auto o = std::make_shared<DropOptions>();

@@ -70,6 +70,7 @@ const std::vector<OutCase> kCases = {
      {".h5", ".hdf5"},
      false},
     {"dem drop", {".csv"}, false},
+    {"dem repose", {".json"}, false},
     {"upscale " + quote(kSource + "/data/resolved/bed-probe-width-cdt.h5"),
      {".h5", ".hdf5", ".json"}},
     {"calibrate-grains " + quote(kSource + "/data/resolved/bed-calibration-cdt.h5") + " --lab " +
