@@ -108,6 +108,16 @@ TrackSummary summarize_track(const BlockTrack& tr, const std::string& id) {
     s.contact_start_s = tr.t[first];
     s.contact_end_s = tr.t[last];
     s.contact_duration_s = s.contact_end_s - s.contact_start_s;
+    // The impact proper ends where the force no longer exceeds the weight: from there on the bed
+    // carries the block rather than stopping it.
+    const double weight = s.block_mass_kg * kGravity_mps2;
+    std::size_t end = peak + 1;
+    while (end < n && !(force(end) <= weight)) ++end;
+    if (std::isfinite(weight) && end < n) {
+      s.impact_duration_s = tr.t[end] - s.contact_start_s;
+      s.vy_impact_end_mps = tr.vy[end];
+      if (tr.vy[first] < 0) s.impact_restitution = tr.vy[end] / -tr.vy[first];
+    }
   }
   s.peak_normal_force_N = finite_max(n, [&](std::size_t i) { return tr.fcy[i]; });
   s.peak_tangential_force_N = finite_max(n, [&](std::size_t i) { return std::abs(tr.fcx[i]); });
@@ -134,6 +144,11 @@ const std::vector<TrackQuantity>& track_quantities() {
        &TrackSummary::final_penetration_m},
       {"elastic_recovery", "m", "elastic recovery [mm]", 1e3, &TrackSummary::elastic_recovery_m},
       {"max_overlap_d", "-", "max grain overlap / d [-]", 1, &TrackSummary::max_overlap_d},
+      {"impact_duration", "s", "impact, to force < m g [ms]", 1e3,
+       &TrackSummary::impact_duration_s},
+      {"vy_impact_end", "m/s", "vy at the impact's end [m/s]", 1, &TrackSummary::vy_impact_end_mps},
+      {"impact_restitution", "-", "impact's own vy restitution [-]", 1,
+       &TrackSummary::impact_restitution},
       {"block_mass", "kg", "simulated block mass [kg]", 1, &TrackSummary::block_mass_kg},
   };
   return q;
@@ -214,7 +229,9 @@ std::string format_text(const TrackTable& t) {
       "Contact: the run of records around the peak force above 0.2 x the block's weight (and "
       "above 2 s.e. where the force is estimated from tracked accelerations). Forces "
       "and torque are the simulated block's (a slab carries a fraction of the lab block). n: "
-      "tracks with that column (older tracks have no torque or overlap). Per impact: --json.\n";
+      "tracks with that column (older tracks have no torque or overlap). Impact: from the "
+      "contact's start to the first record after the peak whose force is at most the block's "
+      "weight; its restitution is vy there over -vy at the contact's start. Per impact: --json.\n";
   return out;
 }
 

@@ -1,6 +1,7 @@
 // What the tracks of a resolved campaign say about its contacts (issue 32, item 4): per impact,
 // the records and their spacing, the contact window from the force, the peak force and torque,
-// the depth and its elastic recovery, the largest grain overlap; over the impacts, their summary.
+// the depth and its elastic recovery, the largest grain overlap, the impact proper (until the
+// force falls to the block's weight) and the speed it gives back; over the impacts, their summary.
 // `ricochet stats` prints it for a file that keeps tracks (docs/commands/stats.md, "Tracks").
 #pragma once
 
@@ -48,6 +49,17 @@ struct TrackSummary {
   double final_penetration_m = std::numeric_limits<double>::quiet_NaN();
   double elastic_recovery_m = std::numeric_limits<double>::quiet_NaN();
   double max_overlap_d = std::numeric_limits<double>::quiet_NaN();  ///< max overlap_d_max [-]
+  /// The impact proper: from the contact window's start to the first record after the largest
+  /// force at which the contact force no longer exceeds the block's weight m g, i.e. the bed no
+  /// longer decelerates the block more than it carries it [s]; the block's vertical velocity
+  /// there [m/s]; and the impact's own restitution, that velocity over minus the one at the
+  /// window's start [-]. NaN without a block mass or without such a record. What follows within
+  /// the contact window is the block carried by a force of about its weight: a cylinder rolling
+  /// out of its crater over the rim it pushed up (the sand-calibrated grains at 1.5e9 Pa,
+  /// docs/resolved-model.md) gains there the upward speed the impact did not give back.
+  double impact_duration_s = std::numeric_limits<double>::quiet_NaN();
+  double vy_impact_end_mps = std::numeric_limits<double>::quiet_NaN();
+  double impact_restitution = std::numeric_limits<double>::quiet_NaN();
   /// The simulated block's mass [kg] (its forces are its own: a slab carries the fraction slab
   /// width / block length of the lab block): the track's when the file keeps it ("file"), else
   /// free_flight_mass_kg ("free flight"), else NaN ("unknown").

@@ -110,6 +110,39 @@ TEST(TrackSummary, TheFilesMassDecidesTheCriterionAndWithoutOneAnyTouchCounts) {
   EXPECT_NEAR(s.contact_end_s, kTc + 0.006, 1e-12);
 }
 
+// The impact proper: from the window's start to the first record after the peak whose force is
+// at most m g. On the pulse (m = 3 kg from the free flight, m g = 29.43 N): 1000 (1 - |dt| / 5
+// ms) <= 29.43 from |dt| = 4.853 ms, so the record at kTc + 5.0 ms (a 3 N touch); the window
+// starts at kTc - 4.5 ms. The block's vy is made to rise through the pulse, from its free-flight
+// value at the window's start to +0.3 m/s at kTc + 4.5 ms, then to fall under gravity.
+TEST(TrackSummary, TheImpactEndsWhereTheForceFallsToTheWeight) {
+  BlockTrack tr = pulse_track();
+  const double t0 = kTc - 0.0045, t1 = kTc + 0.0045;
+  const double vy0 = -3.0 - kG * t0;
+  for (std::size_t i = 0; i < tr.size(); ++i) {
+    const double t = tr.t[i];
+    if (t > t0 + 1e-12)
+      tr.vy[i] = t <= t1 + 1e-12 ? vy0 + (t - t0) * (0.3 - vy0) / (t1 - t0) : 0.3 - kG * (t - t1);
+  }
+  stats::TrackSummary s = stats::summarize_track(tr, "pulse");
+  EXPECT_NEAR(s.impact_duration_s, 0.0095, 1e-12);
+  const double vy_end = 0.3 - kG * 0.0005;
+  EXPECT_NEAR(s.vy_impact_end_mps, vy_end, 1e-12);
+  EXPECT_NEAR(s.impact_restitution, vy_end / -vy0, 1e-12);
+  // A 100 kg block (m g = 981 N): the first record after the peak, kTc + 0.5 ms (900 N), ends
+  // it; its window (above 196.2 N) starts at kTc - 4.0 ms.
+  tr.block_mass_kg = 100.0;
+  s = stats::summarize_track(tr, "heavy");
+  EXPECT_NEAR(s.impact_duration_s, 0.0045, 1e-12);
+  // No mass: no weight to compare with.
+  tr.block_mass_kg = std::numeric_limits<double>::quiet_NaN();
+  for (auto& e : tr.ke_block) e = std::nan("");
+  s = stats::summarize_track(tr, "massless");
+  EXPECT_TRUE(std::isnan(s.impact_duration_s));
+  EXPECT_TRUE(std::isnan(s.vy_impact_end_mps));
+  EXPECT_TRUE(std::isnan(s.impact_restitution));
+}
+
 TEST(TrackSummary, AnEstimatedForceBearsOnlyAboveTwiceItsStandardError) {
   // A force from tracked accelerations carries sigma_fcx, sigma_fcy: the criterion becomes
   // max(0.2 m g, 2 hypot(sigma_fcx, sigma_fcy)). The pulse's record k half-intervals from its
