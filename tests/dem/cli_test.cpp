@@ -329,6 +329,27 @@ TEST(DemCampaign, AnErrorUnderMpirunEndsTheJobWithItsStatus) {
   EXPECT_FALSE(fs::exists(dir / "x.h5"));
 }
 
+// `dem repose` runs only the repose deck: a sphere's or a block's setting would be silently
+// ignored there, so it is refused before LIGGGHTS starts, as a misspelt column parameter is.
+TEST(DemRepose, SettingsItsDeckWouldIgnoreAreRefusedBeforeAnyRun) {
+  const auto dir = temp_dir("repose-refused");
+  const std::string base = std::string("timeout 60 ") + RICOCHET_BIN + " dem repose --decks " +
+                           RICOCHET_SOURCE_DIR + "/liggghts-inputs --work " +
+                           (dir / "work").string() + " ";
+  for (const char* set : {"block.mu_gb=0.5", "drop.D_sphere_m=0.1"}) {
+    const auto [rc, out] = shell(base + "--set " + set + " 2>&1");
+    EXPECT_EQ(rc, 2) << out;
+    EXPECT_NE(out.find("field '--set': the repose deck reads only bed.*"), std::string::npos)
+        << out;
+  }
+  const auto [rc, out] = shell(base + "--set repose.H_col=0.06 2>&1");
+  EXPECT_EQ(rc, 2) << out;
+  EXPECT_NE(out.find("field 'repose.H_col': unknown parameter (known: L_col_m, H_col_m"),
+            std::string::npos)
+      << out;
+  EXPECT_FALSE(fs::exists(dir / "work"));
+}
+
 // LIGGGHTS's VTK dump synchronises every MPI rank when it is created: a campaign whose ranks
 // run different impacts would wait forever, so --vtk is refused there, before any bed is built.
 TEST(DemCampaign, VtkWithSeveralLiggghtsInstancesIsRefused) {
