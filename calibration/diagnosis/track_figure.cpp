@@ -130,6 +130,22 @@ std::optional<NamedFigure> contact_track_figure(const std::string& data, const I
       panel("normal contact force", "force [N]", liggghts, law, &Curves::normal_N),
       panel("tangential contact force", "force [N]", liggghts, law, &Curves::tangential_N),
       panel("penetration", "depth below the surface [mm]", liggghts, law, &Curves::penetration_mm)};
+  // Where the impact proper ends (the force falls to the block's weight, stats/track_summary.hpp):
+  // after it a long contact is a block carried out of its crater, not an impact.
+  std::string impact_end;
+  if (std::isfinite(dem.impact_duration_s)) {
+    const double t_ms = 1e3 * (dem.impact_duration_s + dem.contact_start_s - t0);
+    f.figure.panels[0].series.push_back(Series{.title = "impact's end (force = weight)",
+                                               .x = {t_ms, t_ms},
+                                               .y = {0.0, scale * dem.peak_normal_force_N},
+                                               .style = "lines",
+                                               .color = report::colour::kGrey});
+    impact_end = fmt::format(
+        " The impact proper (LIGGGHTS, grey line: until the force first falls to the block's "
+        "weight) lasts {:.1f} ms and gives back vy = {:.3g} m/s, {:.2f} of the landing vy; "
+        "the rest of the contact is the block carried by a force of about its weight.",
+        1e3 * dem.impact_duration_s, dem.vy_impact_end_mps, dem.impact_restitution);
+  }
   f.caption = fmt::format(
       "One impact of this campaign in time: the contact force and the penetration of release {} "
       "(V_in = ({:.3g} m/s, {:.3g} m/s, {:.3g} rad/s)) from its LIGGGHTS track, beside the "
@@ -142,10 +158,10 @@ std::optional<NamedFigure> contact_track_figure(const std::string& data, const I
       "reached, at {:.1f} mm here) and the deepest vertex overlap with the ground line (reduced "
       "law). Contact "
       "{:.1f} ms and peak normal force {:.4g} N (LIGGGHTS, scaled), against {:.1f} ms and {:.4g} "
-      "N (reduced law, status {}).",
+      "N (reduced law, status {}).{}",
       im->id, im->vin[kVx], im->vin[kVy], im->vin[kW], fmt::join(model.effect_names(), " + "),
       scaling, liggghts_touch_mm, 1e3 * dem.contact_duration_s, scale * dem.peak_normal_force_N,
-      1e3 * result.contact_duration_s, law_peak, status_name(result.status));
+      1e3 * result.contact_duration_s, law_peak, status_name(result.status), impact_end);
   return f;
 }
 

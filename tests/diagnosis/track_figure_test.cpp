@@ -36,7 +36,7 @@ TEST(TrackFigure, LiggghtsBesideTheReducedLawScaledToTheLabBlock) {
   EXPECT_EQ(f->stem, "contact-track-C03");  // the preferred release, which has a track
   ASSERT_EQ(f->figure.panels.size(), 3u);
   const auto& normal = f->figure.panels[0].series;
-  ASSERT_EQ(normal.size(), 2u);
+  ASSERT_EQ(normal.size(), 3u);  // LIGGGHTS, the reduced law, the impact's end
 
   // The slab is 0.06 m of the 0.29 m cylinder: 2.876 kg, read from the track's free flight (the
   // file has no block mass), so its force is multiplied by 13.9 / 2.876 = 4.833.
@@ -45,6 +45,18 @@ TEST(TrackFigure, LiggghtsBesideTheReducedLawScaledToTheLabBlock) {
   EXPECT_NEAR(dem.block_mass_kg, 13.9 * 0.06 / 0.29, 0.01);
   EXPECT_NEAR(max_of(normal[0].y), dem.peak_normal_force_N * 13.9 / dem.block_mass_kg, 1e-6);
   EXPECT_NE(f->caption.find("from the track's free flight"), std::string::npos) << f->caption;
+  // The impact's end: a vertical line at the first record after the peak whose force is at most
+  // the slab block's weight, on the figure's time axis (ms from the contact's start).
+  ASSERT_TRUE(std::isfinite(dem.impact_duration_s));
+  const auto& end = normal[2];
+  ASSERT_EQ(end.x.size(), 2u);
+  EXPECT_EQ(end.x[0], end.x[1]);
+  EXPECT_NEAR(end.x[0], 1e3 * dem.impact_duration_s, 1e-9);
+  const auto at = std::find_if(normal[0].x.begin(), normal[0].x.end(),
+                               [&](double x) { return std::abs(x - end.x[0]) < 1e-9; });
+  ASSERT_NE(at, normal[0].x.end());
+  EXPECT_LE(*(normal[0].y.begin() + (at - normal[0].x.begin())), 13.9 * 9.81 + 1e-9);
+  EXPECT_NE(f->caption.find("The impact proper"), std::string::npos) << f->caption;
   // Time zero at the contact's start: the force there is above 0.2 of the slab block's weight,
   // and the record before it is not.
   const auto& t = normal[0].x;
