@@ -134,7 +134,8 @@ std::optional<NamedFigure> contact_track_figure(const std::string& data, const I
   // after it a long contact is a block carried out of its crater, not an impact.
   std::string impact_end;
   if (std::isfinite(dem.impact_duration_s)) {
-    const double t_ms = 1e3 * (dem.impact_duration_s + dem.contact_start_s - t0);
+    // A finite impact duration implies a contact window, whose start is t0.
+    const double t_ms = 1e3 * dem.impact_duration_s;
     f.figure.panels[0].series.push_back(Series{.title = "impact's end (force = weight)",
                                                .x = {t_ms, t_ms},
                                                .y = {0.0, scale * dem.peak_normal_force_N},

@@ -110,13 +110,14 @@ TrackSummary summarize_track(const BlockTrack& tr, const std::string& id) {
     s.contact_duration_s = s.contact_end_s - s.contact_start_s;
     // The impact proper ends where the force no longer exceeds the weight: from there on the bed
     // carries the block rather than stopping it.
-    const double weight = s.block_mass_kg * kGravity_mps2;
-    std::size_t end = peak + 1;
-    while (end < n && !(force(end) <= weight)) ++end;
-    if (std::isfinite(weight) && end < n) {
-      s.impact_duration_s = tr.t[end] - s.contact_start_s;
-      s.vy_impact_end_mps = tr.vy[end];
-      if (tr.vy[first] < 0) s.impact_restitution = tr.vy[end] / -tr.vy[first];
+    if (const double weight = s.block_mass_kg * kGravity_mps2; std::isfinite(weight)) {
+      std::size_t end = peak + 1;
+      while (end < n && !(force(end) <= weight)) ++end;
+      if (end < n) {
+        s.impact_duration_s = tr.t[end] - s.contact_start_s;
+        s.vy_impact_end_mps = tr.vy[end];
+        if (tr.vy[first] < 0) s.impact_restitution = tr.vy[end] / -tr.vy[first];
+      }
     }
   }
   s.peak_normal_force_N = finite_max(n, [&](std::size_t i) { return tr.fcy[i]; });
