@@ -74,6 +74,7 @@ def main():
             ("penetration [mm]", lambda i: 1e3 * tracks[i]["max_penetration"], None),
             ("elastic recovery [mm]", lambda i: 1e3 * tracks[i]["elastic_recovery"], None),
             ("impact's e_y", lambda i: tracks[i]["impact_restitution"], "cylinder"),
+            ("impact [ms]", lambda i: 1e3 * tracks[i]["impact_duration"], "cylinder"),
             ("overlap / d", lambda i: tracks[i]["max_overlap_d"], None),
             ("contact [ms]", lambda i: 1e3 * tracks[i]["contact_duration"], None),
             ("dt [us]", lambda i: 1e6 * index[i]["dt_s"], None),
