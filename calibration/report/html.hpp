@@ -49,7 +49,7 @@ class HtmlPage {
   /// Renders `figure` with gnuplot into a temporary file and embeds it: as SVG, or as PNG when it
   /// has more than kMaxVectorPanels panels or kMaxVectorPoints points (the page's size).
   void figure(const Figure& figure, const std::string& caption);
-  static constexpr std::size_t kMaxVectorPanels = 4, kMaxVectorPoints = 3000;
+  static constexpr std::size_t kMaxVectorPanels = 2, kMaxVectorPoints = 1000;
 
   /// Number of figures embedded so far.
   std::size_t figures() const { return figures_; }
