@@ -97,7 +97,7 @@ fi
 # is compared with the lab's releases of the same ids.
 VER=$ROOT/data/resolved/sand-verification-1.5e9.h5
 VER_N=$("$R" stats "$VER" --json | jq '.n')
-SAND="LIGGGHTS, sand-only recalibration (E_grain 1.5e9 Pa, not on a stiffness plateau; $VER_N of 28 lab states in)"
+SAND="LIGGGHTS, sand-only recalibration (E_grain 1.5e9 Pa, not on a stiffness plateau; $VER_N rebounds at the 28 lab states)"
 for half in held-out calibration; do
   REPORT_DATA+=("$VER"); REPORT_LABELS+=(--label "$SAND, $half half")
   REPORT_WHERE+=("$("$ROOT/scripts/lab-split.py" "$CYL" 3201 --where "$half")")
