@@ -1,7 +1,8 @@
 // The main job's validation report (results/report.html, written by ./run.sh main and by the
 // quick main job that ./run.sh test runs before ctest), read as a reviewer would (issue 13):
 // under 3 MB, every set opening with its verdict sentence and its ladder figure, every LIGGGHTS
-// campaign with a picture of one impact, and in headless Chromium every figure shown with drawn
+// campaign with a picture of one impact, the current calibration's verification in two halves
+// against the lab, and in headless Chromium every figure shown with drawn
 // content and no legend inside a plot area; a screenshot is kept under the build folder.
 #include <gtest/gtest.h>
 
@@ -70,10 +71,21 @@ TEST(MainJobReport, ReadsAsAReviewerWouldInChromium) {
        it != std::sregex_iterator(); ++it)
     sets.emplace_back((*it)[1].str(), static_cast<std::size_t>(it->position()));
   ASSERT_GE(sets.size(), 2u) << "the main job reports the lab cylinders and a LIGGGHTS set";
+  // The current calibration's verification (issue 32, item 5): its held-out half, against the
+  // lab's releases of the same ids, and its calibration half beside it.
+  int verification_halves = 0;
   for (std::size_t k = 0; k < sets.size(); ++k) {
     const std::size_t end = k + 1 < sets.size() ? sets[k + 1].second : page.size();
     const std::string section = page.substr(sets[k].second, end - sets[k].second);
     const std::string& label = sets[k].first;
+    if (label.find("sand-only recalibration") != std::string::npos &&
+        (label.find("held-out half") != std::string::npos ||
+         label.find("calibration half") != std::string::npos)) {
+      ++verification_halves;
+      EXPECT_NE(label.find("not on a stiffness plateau"), std::string::npos) << label;
+      EXPECT_NE(section.find("those this set was run at"), std::string::npos)
+          << label << ": not compared with the lab's releases of its own ids";
+    }
     const auto verdict = section.find("<p class=\"verdict\">");
     ASSERT_NE(verdict, std::string::npos) << label << ": no verdict sentence";
     EXPECT_LT(verdict, section.find("<details>")) << label << ": the verdict is not first";
@@ -90,6 +102,9 @@ TEST(MainJobReport, ReadsAsAReviewerWouldInChromium) {
       }
     }
   }
+
+  EXPECT_EQ(verification_halves, 2)
+      << "the report lacks a half of the sand recalibration's verification";
 
   const fs::path dir = fs::temp_directory_path() / "ricochet-main-job-report";
   fs::create_directories(dir);
