@@ -11,6 +11,9 @@ mkdir -p "$OUT/figures"
 R="$BUILD/cli/ricochet"
 CYL=$ROOT/data/lab/cylinders.csv
 TRI=$ROOT/data/lab/triangles.csv
+# The sand-only recalibration's arguments and its split's halves (sand_half).
+# shellcheck source=sand-calibration-args.sh
+source "$ROOT/scripts/sand-calibration-args.sh"
 
 echo "== Statistics of the lab releases (paper Table 2)"
 "$R" stats "$CYL"
@@ -59,14 +62,12 @@ if [ $HAVE_DEM -eq 1 ]; then
   # the design's blocks rebound (docs/resolved-model.md, "Recalibration with what sand has"; the
   # held-out half is the verification campaign's). Every bed's packing is in the file or follows
   # from its grain count: no bed cache.
-  # shellcheck source=sand-calibration-args.sh
-  source "$ROOT/scripts/sand-calibration-args.sh"
   "$R" calibrate-grains "$ROOT/data/resolved/sand-calibration-1.5e9.h5" "${SAND_CALIBRATION_ARGS[@]}" \
     --figures "$OUT/figures/calibrate-grains-sand" --out "$OUT/calibrate-grains-sand.json"
   # Its verification: the calibrated grains at the lab states of the held-out half, against the
   # lab's same releases, the paper's Table 1 reading noise added to the resolved values (seed
   # 3202): the targets fixed before the run (docs/resolved-model.md, "Targets").
-  HELD_OUT=$("$ROOT/scripts/lab-split.py" "$CYL" 3201 --where held-out)
+  HELD_OUT=$(sand_half held-out)
   "$R" upscale "$ROOT/data/resolved/sand-verification-1.5e9.h5" --lab "$CYL" --where "$HELD_OUT" \
     --lab-where "$HELD_OUT" --lab-noise 0.1,0.1,3.4 --seed 3202
   # The lab cylinder states reconstructed like the lab (the geometric contact window of paper
@@ -82,15 +83,15 @@ echo "== Compare, diagnose, model ladder and the HTML validation report (issue 6
 # The resolved campaigns join the lab data: the diagnosis works on any impact set, so the
 # resolved model is judged as a truth like the lab (the long studies of
 # scripts/resolved-study.sh join too when they have been run).
-# REPORT_WHERE holds one --data-where filter per set ("" for the whole set).
-REPORT_DATA=("$CYL"); REPORT_LABELS=(--label "lab cylinders"); REPORT_WHERE=("")
-if [ $QUICK -eq 0 ]; then
-  REPORT_DATA+=("$TRI"); REPORT_LABELS+=(--label "lab triangles"); REPORT_WHERE+=("")
-fi
-if [ $HAVE_DEM -eq 1 ]; then
-  REPORT_DATA+=("$OUT/dem/main-job.h5"); REPORT_LABELS+=(--label "LIGGGHTS campaign (small bed)")
-  REPORT_WHERE+=("")
-fi
+# report_set FILE LABEL [WHERE]: one set of the report, its label and its --data-where filter
+# (the whole set without one).
+REPORT_DATA=(); REPORT_ARGS=()
+report_set() {
+  REPORT_DATA+=("$1"); REPORT_ARGS+=(--label "$2" --data-where "${3:-}")
+}
+report_set "$CYL" "lab cylinders"
+if [ $QUICK -eq 0 ]; then report_set "$TRI" "lab triangles"; fi
+if [ $HAVE_DEM -eq 1 ]; then report_set "$OUT/dem/main-job.h5" "LIGGGHTS campaign (small bed)"; fi
 # The current calibration (issue 32, item 5): the sand-only recalibration's grains at the 28 lab
 # cylinder states, twice: its held-out half (the verification's targets) and its calibration half
 # (in-sample), split by the seed fixed before the run (scripts/lab-split.py, seed 3201). Each half
@@ -99,8 +100,7 @@ VER=$ROOT/data/resolved/sand-verification-1.5e9.h5
 VER_N=$("$R" stats "$VER" --json | jq '.n')
 SAND="LIGGGHTS, sand-only recalibration (E_grain 1.5e9 Pa, not on a stiffness plateau; $VER_N rebounds at the 28 lab states)"
 for half in held-out calibration; do
-  REPORT_DATA+=("$VER"); REPORT_LABELS+=(--label "$SAND, $half half")
-  REPORT_WHERE+=("$("$ROOT/scripts/lab-split.py" "$CYL" 3201 --where "$half")")
+  report_set "$VER" "$SAND, $half half" "$(sand_half "$half")"
 done
 # The fifth calibration's cylinder states left the report with it (the verification above is the
 # current calibration's; the upscaling above still prints them). Its blind triangles stay, labelled,
@@ -108,20 +108,16 @@ done
 FIFTH="LIGGGHTS, fifth calibration (softened grains, E_grain 1.5e7 Pa, not on a stiffness plateau; superseded)"
 if [ $QUICK -eq 0 ]; then
   # The blind prediction of the lab triangles on that bed (nothing re-tuned), against the lab.
-  REPORT_DATA+=("$ROOT/data/resolved/lab-triangles-blind-rolling-gb.h5"); REPORT_WHERE+=("")
-  REPORT_LABELS+=(--label "$FIFTH, lab triangle states, blind")
+  report_set "$ROOT/data/resolved/lab-triangles-blind-rolling-gb.h5" \
+    "$FIFTH, lab triangle states, blind"
   for c in "$OUT"/resolved/speeds.h5 "$OUT"/resolved/lab-cylinders.h5; do
-    [ -f "$c" ] || continue
-    REPORT_DATA+=("$c"); REPORT_LABELS+=(--label "LIGGGHTS campaign $(basename "$c" .h5)")
-    REPORT_WHERE+=("")
+    if [ -f "$c" ]; then report_set "$c" "LIGGGHTS campaign $(basename "$c" .h5)"; fi
   done
 fi
 "$R" diagnose "$CYL" --shape cylinder --figures "$OUT/figures/diagnosis-cylinders" \
   --out "$OUT/diagnose-cylinders.h5"
-REPORT_WHERE_ARGS=()
-for w in "${REPORT_WHERE[@]}"; do REPORT_WHERE_ARGS+=(--data-where "$w"); done
-"$R" report "${REPORT_DATA[@]}" "${REPORT_LABELS[@]}" "${REPORT_WHERE_ARGS[@]}" \
-  --against "$CYL" --against "$TRI" --rounds 2 --out "$OUT/report.html"
+"$R" report "${REPORT_DATA[@]}" "${REPORT_ARGS[@]}" --against "$CYL" --against "$TRI" --rounds 2 \
+  --out "$OUT/report.html"
 # The page is read in a browser and mailed around: issue 13 keeps it under 3 MB.
 REPORT_BYTES=$(stat -c %s "$OUT/report.html")
 echo "report.html: $REPORT_BYTES bytes (limit 3000000)"

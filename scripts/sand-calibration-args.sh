@@ -6,12 +6,17 @@
 # the packing of the beds that the file does not record from their grain count (amended on
 # 2026-12-02). One place for them: scripts/dem-lanes.sh runs the calibration with them, and
 # scripts/main-job.sh repeats it on the shipped file. Sourced; needs ROOT (the checkout) and sets
-# SAND_CALIBRATION_ARGS.
+# SAND_CALIBRATION_ARGS and sand_half.
+# The --where filter of one half of the lab cylinders' split (calibration or held-out), e.g.
+# for the verification's checks against the lab.
+sand_half() {
+  "$ROOT/scripts/lab-split.py" "$ROOT/data/lab/cylinders.csv" 3201 --where "$1"
+}
 # SC2034: used by the scripts that source it; SC2054: 0.56,0.62 is one argument, LO,HI.
 # shellcheck disable=SC2034,SC2054
 SAND_CALIBRATION_ARGS=(
   --lab "$ROOT/data/lab/cylinders.csv" --seed 4
-  --lab-where "$("$ROOT/scripts/lab-split.py" "$ROOT/data/lab/cylinders.csv" 3201 --where calibration)"
+  --lab-where "$(sand_half calibration)"
   --parameters bed.mu_gg bed.mur_gg block.mu_gb bed.e_gg block.e_gb bed.mu_pour
   --packing-from-grain-count --solid-fraction 0.56,0.62
 )
