@@ -344,6 +344,7 @@ struct CampaignOptions {
   bool no_picture = false;
   bool dry_run = false;
   bool record_beds = false;
+  std::vector<std::string> only;  ///< empty: every impact of the design
 };
 
 // --dry-run: what a run would do (dem::plan_campaign), printed by rank 0; nothing runs.
@@ -392,7 +393,8 @@ void print_campaign_plan(const CampaignOptions& o, const dem::CampaignDesign& de
 
 void run_campaign_command_on_rank(const CampaignOptions& o, const MpiSession& mpi) {
   const auto decks = dem::Decks::locate(o.decks);
-  const auto design = dem::read_campaign_design(o.design, decks);
+  auto design = dem::read_campaign_design(o.design, decks);
+  if (!o.only.empty()) design = dem::select_impacts(std::move(design), o.only);
   if (o.dry_run) {
     if (mpi.rank() == 0) print_campaign_plan(o, design, decks);
     return;
@@ -541,6 +543,10 @@ void add_dem_command(CLI::App& app) {
       "--dry-run", camp->dry_run,
       "Run nothing: list each impact's bed (cached, building or to build) and whether --out FILE "
       "already has it");
+  c->add_option("--only", camp->only,
+                "Run (or list) only these impacts of the design, by id, comma-separated, in the "
+                "design's order (their end-wall reruns included)")
+      ->delimiter(',');
   c->add_flag("--record-beds", camp->record_beds,
               "Run no impact: record in --out FILE the packing of every bed it has impacts on and "
               "does not record yet (measured on the cached bed, or on the bed built again from "

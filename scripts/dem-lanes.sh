@@ -8,7 +8,8 @@
 #   1b. then the calibration itself (calibrate-grains with the solid-fraction band), the active
 #      zone's paired check at its grains (scripts/active-zone-verdict.sh: the zone is used below
 #      only if it passed), its verification campaign (every lab state on three 1.5 m beds of the calibrated grains, into
-#      results/sand-verification/) and the blind triangles on those grains, on both cores, and
+#      results/sand-verification/) and the blind triangles on those grains, on both cores (after
+#      their own active-zone check, amended on 2026-12-06: the zone when it passes), and
 #      the design of issue 33's force campaign (the speed campaign's states on those grains);
 #   2. then two lanes of one core each:
 #      lane A: the convergence at 1.5e9 Pa (width, depth, grain size: convergence-1.5e9.toml,
@@ -86,10 +87,18 @@ if [ ! -f "$CAL/calibrate-grains.json" ]; then
   # rebuilding them, about 2.5 h of both cores; `dem campaign --record-beds` still does that).
   # shellcheck source=sand-calibration-args.sh
   source scripts/sand-calibration-args.sh
+  mkdir -p "$CAL/dem-cache"  # a new machine's cache is empty; the option wants the folder
   flock /tmp/ricochet-build.lock build/cli/ricochet calibrate-grains "$CAL/sand-calibration-1.5e9.h5" \
     "${SAND_CALIBRATION_ARGS[@]}" --bed-cache "$CAL/dem-cache" --decks "$CAL/pinned/liggghts-inputs" \
     --figures "$CAL/figures" --out "$CAL/calibrate-grains.json" > "$CAL/calibrate-grains.txt" 2>&1
-  echo "== $(date '+%F %T') calibrate-grains ended with status $?" >> "$CAL/campaign.log"
+  rc=$?
+  echo "== $(date '+%F %T') calibrate-grains ended with status $rc" >> "$CAL/campaign.log"
+  # Everything of 1b needs the calibration: stop rather than hide its failure behind the lanes.
+  if [ ! -f "$CAL/calibrate-grains.json" ]; then
+    echo "== $(date '+%F %T') no calibration ($CAL/calibrate-grains.txt): nothing else started" \
+      >> "$CAL/campaign.log"
+    exit 1
+  fi
 fi
 if [ -f "$CAL/calibrate-grains.json" ]; then
   # 1b'. The active zone's paired check at the calibrated grains (amended on 2026-12-05, before the
@@ -136,14 +145,17 @@ if [ -f "$CAL/calibrate-grains.json" ]; then
   # it as in-sample, once the 28 impacts are in (a minute of analysis, the tree's program).
   VER=results/sand-verification/sand-verification-1.5e9.h5
   if campaign_done results/sand-verification sand-verification-1.5e9 sand-verification-1.5e9; then
+    # shellcheck source=sand-calibration-args.sh
+    source scripts/sand-calibration-args.sh
     for half in held-out calibration; do
       [ -f "results/sand-verification/check-$half.json" ] && continue
-      W=$(scripts/lab-split.py data/lab/cylinders.csv 3201 --where "$half")
+      W=$(sand_half "$half")
       flock /tmp/ricochet-build.lock build/cli/ricochet upscale "$VER" --lab data/lab/cylinders.csv \
         --where "$W" --lab-where "$W" --lab-noise 0.1,0.1,3.4 --seed 3202 --json \
         > "results/sand-verification/check-$half.json.tmp" 2>> "$CAL/campaign.log" &&
         mv "results/sand-verification/check-$half.json.tmp" "results/sand-verification/check-$half.json"
-      echo "== $(date '+%F %T') the verification's $half half checked (status $?)" >> "$CAL/campaign.log"
+      rc=$?
+      echo "== $(date '+%F %T') the verification's $half half checked (status $rc)" >> "$CAL/campaign.log"
     done
     [ -f results/sand-verification/check-held-out.json ] &&
       [ -f results/sand-verification/check-calibration.json ] &&
@@ -155,7 +167,7 @@ if [ -f "$CAL/calibrate-grains.json" ]; then
     # held-out half, held fixed while each candidate effect fits its own parameters on the lab's
     # held-out half, and beside it the paper's law refitted there. A few minutes of the tree's
     # program, run whatever the check found; the docs read it only as the plan says.
-    H=$(scripts/lab-split.py data/lab/cylinders.csv 3201 --where held-out)
+    H=$(sand_half held-out)
     D=results/sand-verification
     if [ ! -f "$D/diagnose-held-out.json" ]; then
       flock /tmp/ricochet-build.lock build/cli/ricochet upscale "$VER" --where "$H" \
@@ -165,7 +177,8 @@ if [ -f "$CAL/calibrate-grains.json" ]; then
         flock /tmp/ricochet-build.lock build/cli/ricochet diagnose data/lab/cylinders.csv --where "$H" \
           --model "$D/bed-law.toml" --json > "$D/diagnose-held-out.json.tmp" 2>> "$CAL/campaign.log" &&
         mv "$D/diagnose-held-out.json.tmp" "$D/diagnose-held-out.json"
-      echo "== $(date '+%F %T') the held-out half's diagnosis (status $?)" >> "$CAL/campaign.log"
+      rc=$?
+      echo "== $(date '+%F %T') the held-out half's diagnosis (status $rc)" >> "$CAL/campaign.log"
     fi
   fi
   # 1c. The blind triangles on the same grains (the verification's first bed, its cache).
@@ -173,9 +186,54 @@ if [ -f "$CAL/calibrate-grains.json" ]; then
     scripts/verification-campaign.py liggghts-inputs/campaigns/sand-calibration-1.5e9.toml \
       "$CAL/calibrate-grains.json" data/lab/triangles.csv --blind-triangles --bed-length-m 1.5 \
       --name sand-blind-triangles-1.5e9 --out "$CAL/sand-blind-triangles-1.5e9.toml" >> "$CAL/campaign.log" 2>&1
-  PLATEAU_DESIGN=sand-blind-triangles-1.5e9 \
-    PLATEAU_DESIGN_PATH="$CAL/sand-blind-triangles-1.5e9.toml" PLATEAU_OUT=results/sand-verification \
-    PLATEAU_FILE=sand-blind-triangles-1.5e9 PLATEAU_RANKS=2 scripts/stiffness-plateau.sh
+  # 1c'. The active zone's check on the triangles (amended on 2026-12-06, when T02 alone had run,
+  #      on the whole bed; docs/resolved-model.md, "Active zone"): the blind design's first three
+  #      states T01-T03 on the whole bed (its own impacts, `--only`) and in a 0.30 m zone (the
+  #      same design under the prefix zone0.3-: the same orientations), the cylinders' rule
+  #      (scripts/active-zone-verdict.sh) in the lab triangles' sd. The other 28 triangles run in
+  #      the zone when it passes (about half an impact's cost), on the whole bed otherwise.
+  TRI_VERDICT=$CAL/triangle-zone-check.json
+  TRI_WHOLE=T01,T02,T03 TRI_ZONE=zone0.3-T01,zone0.3-T02,zone0.3-T03
+  TRI_DESIGN=sand-blind-triangles-1.5e9
+  if [ ! -f "$TRI_VERDICT" ]; then
+    PLATEAU_DESIGN=sand-blind-triangles-1.5e9 PLATEAU_ONLY=$TRI_WHOLE \
+      PLATEAU_DESIGN_PATH="$CAL/sand-blind-triangles-1.5e9.toml" PLATEAU_OUT=results/sand-verification \
+      PLATEAU_FILE=sand-blind-triangles-1.5e9 PLATEAU_RANKS=2 scripts/stiffness-plateau.sh
+    [ -f "$CAL/sand-triangle-zone-check-1.5e9.toml" ] ||
+      scripts/verification-campaign.py liggghts-inputs/campaigns/sand-calibration-1.5e9.toml \
+        "$CAL/calibrate-grains.json" data/lab/triangles.csv --blind-triangles --bed-length-m 1.5 \
+        --active-zone-m 0.3 --id-prefix zone0.3- --name sand-triangle-zone-check-1.5e9 \
+        --out "$CAL/sand-triangle-zone-check-1.5e9.toml" >> "$CAL/campaign.log" 2>&1
+    PLATEAU_DESIGN=sand-triangle-zone-check-1.5e9 PLATEAU_ONLY=$TRI_ZONE \
+      PLATEAU_DESIGN_PATH="$CAL/sand-triangle-zone-check-1.5e9.toml" \
+      PLATEAU_OUT=results/sand-verification PLATEAU_FILE=sand-blind-triangles-1.5e9 PLATEAU_RANKS=2 \
+      scripts/stiffness-plateau.sh
+    if ZONE_BASE=T ZONE_BASE_NAME=sand-blind-triangles-1.5e9 ZONE_BASE_ONLY=$TRI_WHOLE \
+        ZONE_ONLY=$TRI_ZONE flock /tmp/ricochet-build.lock scripts/active-zone-verdict.sh \
+        results/sand-verification sand-triangle-zone-check-1.5e9 \
+        "$ROOT/results/sand-verification/sand-blind-triangles-1.5e9.h5" 0.3 > "$TRI_VERDICT.tmp" \
+        2>> "$CAL/campaign.log"; then
+      mv "$TRI_VERDICT.tmp" "$TRI_VERDICT"
+      echo "== $(date '+%F %T') the triangles' active-zone check: $(jq -c 'del(.statuses)' "$TRI_VERDICT")" \
+        >> "$CAL/campaign.log"
+    else
+      rm -f "$TRI_VERDICT.tmp"
+      echo "== $(date '+%F %T') the triangles' active-zone check has no verdict (see above):" \
+        "the blind triangles go on on the whole bed" >> "$CAL/campaign.log"
+    fi
+  fi
+  if [ -f "$TRI_VERDICT" ] && [ "$(jq -r .active_zone_m "$TRI_VERDICT")" != 0 ]; then
+    TRI_DESIGN=sand-blind-triangles-zone-1.5e9
+    [ -f "$CAL/$TRI_DESIGN.toml" ] ||
+      scripts/verification-campaign.py liggghts-inputs/campaigns/sand-calibration-1.5e9.toml \
+        "$CAL/calibrate-grains.json" data/lab/triangles.csv --blind-triangles --bed-length-m 1.5 \
+        --active-zone-m 0.3 --name "$TRI_DESIGN" --out "$CAL/$TRI_DESIGN.toml" >> "$CAL/campaign.log" 2>&1
+  fi
+  # The rest of the blind triangles (the ids already in the file, T01-T03 on the whole bed, are
+  # skipped: every impact records its own run.active_zone_m).
+  PLATEAU_DESIGN=$TRI_DESIGN PLATEAU_DESIGN_PATH="$CAL/$TRI_DESIGN.toml" \
+    PLATEAU_OUT=results/sand-verification PLATEAU_FILE=sand-blind-triangles-1.5e9 PLATEAU_RANKS=2 \
+    scripts/stiffness-plateau.sh
   # 1d. Issue 33's force campaign on the same grains and bed: the speed campaign's 9 states x 3
   #     positions (verification-campaign.py --states-from), tracks kept, for the force-residual
   #     discovery on the plateau bed. Its design is written here; it runs in lane A below, after

@@ -45,6 +45,10 @@
 #   stopped early by design, e.g. the 1.5e10 Pa level's pre-registered minimum: its cylinder and
 #   first three triangle states, PLATEAU_FIRST=75); the same campaign file, so a later run of the
 #   whole design resumes after them.
+# - PLATEAU_ONLY=ID,... (environment, optional): run only these impacts of the design
+#   (`dem campaign --only`: the specs the whole design gives them, e.g. a generated design's
+#   sampled orientations), into the same campaign file (the triangles' active-zone check of
+#   scripts/dem-lanes.sh).
 set -uo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 # shellcheck source=pin-program.sh
@@ -104,14 +108,19 @@ fi
     awk -v n="$PLATEAU_FIRST" '/^\[\[impact\]\]/ { k++ } k <= n' "$PIN/$NAME.toml" > "$RUN_DESIGN"
     echo "running the first $PLATEAU_FIRST impacts of the design ($RUN_DESIGN)"
   fi
+  ONLY=()
+  if [ -n "${PLATEAU_ONLY:-}" ]; then
+    ONLY=(--only "$PLATEAU_ONLY")
+    echo "running only $PLATEAU_ONLY of the design"
+  fi
   cd "$OUT" || exit 1   # cache_dir and work_dir of the design are relative to this folder
   mpirun --oversubscribe --allow-run-as-root -np "${PLATEAU_RANKS:-1}" "$PIN/ricochet" dem campaign \
-    "$RUN_DESIGN" --decks "$PIN/liggghts-inputs" \
+    "$RUN_DESIGN" --decks "$PIN/liggghts-inputs" "${ONLY[@]}" \
     --out "$OUT/$FILE.h5" --retry-crashed
   rc=$?
   echo "== $(date '+%F %T') $NAME: campaign command ended with status $rc"
   if [ "$rc" -eq 0 ]; then
-    "$PIN/ricochet" dem campaign "$RUN_DESIGN" --decks "$PIN/liggghts-inputs" \
+    "$PIN/ricochet" dem campaign "$RUN_DESIGN" --decks "$PIN/liggghts-inputs" "${ONLY[@]}" \
       --out "$OUT/$FILE.h5" --json 2>/dev/null \
       | python3 -c "import json,sys; d=json.load(sys.stdin); print('status counts:', d['status_counts'])" \
       || true

@@ -57,6 +57,13 @@ as `whole-ID` (the whole bed) and `zoneR-ID` (run.active_zone_m = R), for
 `ricochet paired --base whole- --against zoneR-` (scripts/active-zone-verdict.sh; the rule is
 fixed in docs/resolved-model.md before any run).
 
+With --id-prefix P (with --blind-triangles only) every generated id starts with P ([design]
+id_prefix): the same orientations and states under other ids, for the triangles' active-zone check
+(amended on 2026-12-06, before any triangle ran in a zone: scripts/dem-lanes.sh, docs/
+resolved-model.md "Active zone"): `--blind-triangles --active-zone-m 0.3 --id-prefix zone0.3-`
+is the blind design's zone arm, run with `dem campaign --only` beside the whole bed's own impacts,
+and `ricochet paired --base T --against zone0.3-T` pairs them.
+
 With --sets the script prints the calibrated grains' bed.* and block.* settings instead, one
 SECTION.NAME=VALUE per line (the sampled campaign's [bed] and [block], the calibrated values, the
 ties), for `ricochet dem drop --set`: scripts/plateau-drop.sh drops the sphere on the same grains
@@ -129,7 +136,10 @@ def main(argv: list) -> int:
     ap.add_argument("--bed-length-m", type=float)
     ap.add_argument("--active-zone-m", type=float)
     ap.add_argument("--zone-check", type=float, metavar="R")
+    ap.add_argument("--id-prefix", metavar="P")
     a = ap.parse_args(argv)
+    if a.id_prefix is not None and (not a.blind_triangles or not a.id_prefix.strip()):
+        fail("--id-prefix", "a non-empty prefix, with --blind-triangles only")
     if a.zone_check is not None and (a.states_from or a.blind_triangles):
         fail("--zone-check", "checks the verification's own design: not with --states-from or "
              "--blind-triangles")
@@ -242,6 +252,8 @@ def main(argv: list) -> int:
         lab_path = os.path.abspath(a.lab)
         out += ["", "[design]", 'shape = "triangle"', f"incident_from = {json.dumps(lab_path)}",
                 "alpha_in_deg_sample = { range = [-60.0, 60.0], seed = 1 }", "seeds = [0]"]
+        if a.id_prefix:
+            out += [f"id_prefix = {json.dumps(a.id_prefix)}"]
         lab = []
     if states:
         rows = ", ".join("[" + ", ".join(repr(float(c)) for c in v) + "]" for v in states["incident"])

@@ -563,5 +563,21 @@ CampaignDesign parse_campaign_design(const std::string& text, const std::string&
   return d;
 }
 
+CampaignDesign select_impacts(CampaignDesign design, const std::vector<std::string>& ids) {
+  std::set<std::string> known;
+  for (const ImpactSpec& s : design.impacts) known.insert(s.id);
+  for (const std::string& id : ids)
+    if (!known.count(id)) {
+      std::string list;
+      for (const ImpactSpec& s : design.impacts) list += (list.empty() ? "" : ", ") + s.id;
+      throw InputError(
+          "<command line>", 0, "--only",
+          fmt::format("'{}' is not an impact of {} (its impacts: {})", id, design.source, list));
+    }
+  const std::set<std::string> wanted(ids.begin(), ids.end());
+  std::erase_if(design.impacts, [&](const ImpactSpec& s) { return !wanted.count(s.id); });
+  return design;
+}
+
 // ---------------------------------------------------------------- results file
 }  // namespace ricochet::dem

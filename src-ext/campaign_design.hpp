@@ -33,5 +33,10 @@ CampaignDesign read_campaign_design(const std::string& path, const Decks& decks)
 /// Same from TOML text; `path` names the file in errors and anchors a relative incident_from.
 CampaignDesign parse_campaign_design(const std::string& text, const std::string& path,
                                      const Decks& decks);
+/// The design restricted to the impacts whose ids are in `ids`, in the design's order (`dem
+/// campaign --only`: a few impacts of a generated design run first, e.g. a paired check's base
+/// arm, with the specs the whole design gives them). Throws InputError("<command line>", 0,
+/// "--only") naming an id the design does not have, with the design's ids.
+CampaignDesign select_impacts(CampaignDesign design, const std::vector<std::string>& ids);
 
 }  // namespace ricochet::dem

@@ -235,6 +235,48 @@ TEST(DemActiveZone, TheVerdictScriptPassesAZoneThatChangesNothingAndFailsOneThat
   EXPECT_EQ(fail["active_zone_m"].get<double>(), 0.0);
   EXPECT_GT(fail["mean_abs_lab_sd"]["vout_y"].get<double>(), 0.25) << ftext;
   EXPECT_EQ(verdict("more", "10").first, 2);
+  // The triangles' form (amended 2026-12-06): the whole-bed arm is another design's own impacts
+  // (ids without a prefix of their own, here T*), chosen with --only, and the zone arm's ids are
+  // zoneR- followed by them. The same rule; TD, outside both --only lists, is never run.
+  std::ostringstream base, zoned;
+  base << small_bed_campaign("base", RICOCHET_TEST_CACHE, dir);
+  zoned << small_bed_campaign("tzone", RICOCHET_TEST_CACHE, dir);
+  for (const auto& [id, vin] : states) {
+    base << "[[impact]]\nid = \"T" << id << "\"\nvin = " << vin << "\n";
+    zoned << "[[impact]]\nid = \"zone10-T" << id << "\"\nvin = " << vin
+          << "\nrun = { active_zone_m = 10.0 }\n";
+  }
+  base << "[[impact]]\nid = \"TD\"\nvin = [3.0, -2.0, -60.0]\n";
+  zoned << "[[impact]]\nid = \"zone10-TD\"\nvin = [3.0, -2.0, -60.0]\n";
+  std::ofstream(dir / "pinned" / "base.toml") << base.str();
+  std::ofstream(dir / "pinned" / "tzone.toml") << zoned.str();
+  const std::string tri = (dir / "tri.h5").string();
+  for (const auto& [name, only] : {std::pair<std::string, std::string>{"base", "TA,TB,TC"},
+                                   {"tzone", "zone10-TA,zone10-TB,zone10-TC"}}) {
+    const auto [trc, ttext] =
+        shell("cd " + dir.string() + " && " + RICOCHET_BIN + " dem campaign pinned/" + name +
+              ".toml --only " + only + " --out " + tri + " --json 2> /dev/null");
+    ASSERT_EQ(trc, 0) << ttext;
+  }
+  const std::string env =
+      "ZONE_BASE=T ZONE_BASE_NAME=base ZONE_BASE_ONLY=TA,TB,TC "
+      "ZONE_ONLY=zone10-TA,zone10-TB,zone10-TC ";
+  const auto [trc, ttext] = shell(std::string("cd ") + RICOCHET_SOURCE_DIR + " && " + env +
+                                  "scripts/active-zone-verdict.sh " + dir.string() + " tzone " +
+                                  tri + " 10 " + RICOCHET_BIN + " 2> /dev/null");
+  ASSERT_EQ(trc, 0) << ttext;
+  const auto tpass = nlohmann::json::parse(ttext);
+  EXPECT_TRUE(tpass["passed"].get<bool>()) << ttext;
+  EXPECT_EQ(tpass["pairs"], 3);
+  EXPECT_EQ(tpass["states"], 3);
+  EXPECT_EQ(tpass["status_changed"], 0);
+  // Without --only the base design still has TD to run: no verdict.
+  EXPECT_EQ(shell(std::string("cd ") + RICOCHET_SOURCE_DIR +
+                  " && ZONE_BASE=T ZONE_BASE_NAME=base ZONE_ONLY=zone10-TA,zone10-TB,zone10-TC "
+                  "scripts/active-zone-verdict.sh " +
+                  dir.string() + " tzone " + tri + " 10 " + RICOCHET_BIN + " 2> /dev/null")
+                .first,
+            2);
 }
 
 // --vtk DIR: ParaView's file series of the grains and of the block's spheres, one file each per

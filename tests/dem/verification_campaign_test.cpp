@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "campaign_design.hpp"
+#include "common/error.hpp"
 #include "dem_support.hpp"
 #include "drop_study.hpp"
 #include "impact/impact_set.hpp"
@@ -183,6 +184,51 @@ TEST(VerificationCampaign, TheActiveZoneCheckIsTheVerificationsFirstBedTwice) {
   EXPECT_EQ(run_script(dir / "cal.json", dir / "bad.toml", dir / "err", "cylinders.csv",
                        " --zone-check 0.01"),
             2);
+  fs::remove_all(dir);
+}
+
+// The triangles' active-zone check (amended 2026-12-06): --id-prefix gives the blind design's
+// states and stratified orientations under prefixed ids, with the zone on each, and
+// select_impacts (`dem campaign --only`) keeps the chosen impacts of the whole design with the
+// specs the whole design gives them, in its order; an id it lacks is refused, naming it.
+TEST(VerificationCampaign, TheTrianglesZoneArmIsTheBlindDesignUnderAPrefix) {
+  const fs::path dir = calibration_folder("dem-trizone-");
+  ASSERT_EQ(run_script(dir / "cal.json", dir / "blind.toml", dir / "err", "triangles.csv",
+                       " --blind-triangles --bed-length-m 1.5"),
+            0);
+  ASSERT_EQ(run_script(dir / "cal.json", dir / "zone.toml", dir / "err", "triangles.csv",
+                       " --blind-triangles --bed-length-m 1.5 --active-zone-m 0.3"
+                       " --id-prefix zone0.3-"),
+            0);
+  const CampaignDesign b = read_campaign_design((dir / "blind.toml").string(), test::decks());
+  const CampaignDesign z = read_campaign_design((dir / "zone.toml").string(), test::decks());
+  ASSERT_EQ(b.impacts.size(), z.impacts.size());
+  for (std::size_t k = 0; k < b.impacts.size(); ++k) {
+    const ImpactSpec &w = b.impacts[k], &s = z.impacts[k];
+    EXPECT_EQ(s.id, "zone0.3-" + w.id);
+    EXPECT_EQ(s.alpha_in_rad, w.alpha_in_rad) << s.id;  // bit for bit: the same sample
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(s.vin[c], w.vin[c]) << s.id;
+    EXPECT_EQ(s.params.bed, w.params.bed) << s.id;  // the same bed and cache key
+    EXPECT_EQ(s.params.block, w.params.block) << s.id;
+    EXPECT_DOUBLE_EQ(std::stod(s.params.run.at("active_zone_m")), 0.3) << s.id;
+    EXPECT_EQ(w.params.run.count("active_zone_m"), 0u) << w.id;
+  }
+  const CampaignDesign only = select_impacts(b, {"T03", "T01", "T02"});
+  ASSERT_EQ(only.impacts.size(), 3u);
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_EQ(only.impacts[k].id, b.impacts[k].id);  // the design's order, not the list's
+    EXPECT_EQ(only.impacts[k].alpha_in_rad, b.impacts[k].alpha_in_rad);
+  }
+  try {
+    (void)select_impacts(z, {"zone0.3-T01", "T01"});
+    ADD_FAILURE() << "an id the design lacks was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'T01' is not an impact"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("zone0.3-T31"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(run_script(dir / "cal.json", dir / "bad.toml", dir / "err", "cylinders.csv",
+                       " --id-prefix zone0.3-"),
+            2);  // only with --blind-triangles
   fs::remove_all(dir);
 }
 
