@@ -1,6 +1,7 @@
 // The effect registry, model composition, and the invariants of every registered effect.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -27,6 +28,59 @@ TEST(Effects, EveryRegisteredEffectSatisfiesTheInvariants) {
     const auto problems = check_effect_invariants(*e);
     EXPECT_TRUE(problems.empty()) << e->name() << ": " << (problems.empty() ? "" : problems[0]);
   }
+}
+
+// crater_ramp by hand: a contact that reached h_max = 3 mm, then moves along x at constant depth
+// 2 mm (1 mm risen) at 2 m/s. After n steps of dt its travel is s = 2 n dt, its overlap with a
+// ramp of slope 0.25 is delta = 0.25 s - 1 mm once positive, and the wall pushes with k delta
+// up and tan_beta k delta back; a deeper step resets the travel; out of contact nothing.
+TEST(Effects, CraterRampIsTheOverlapWithARampRisingAheadOfTheBlock) {
+  const auto registry = EffectRegistry::with_builtins();
+  const Effect& e = registry.get("crater_ramp");
+  ASSERT_FALSE(e.default_candidate());
+  const double dt = 1e-3, tb = 0.25, k = 2e6;
+  double active = 1, h = 0.003, dh = 0, vn = 0, vt = 0, w = 0, lever = 0.08, vx = 2.0, vy = 0;
+  double kf = 1, ef = 1, enf = 1, muf = 1, murf = 1, fn = 0, ft = 0, mom = 0, fx = 0, fy = 0;
+  double h_max = 0, s = 0;
+  ContactBatch c;
+  c.n = 1, c.dt = dt, c.active = &active, c.h = &h, c.dh = &dh, c.vn = &vn, c.vt = &vt;
+  c.w = &w, c.lever = &lever, c.vx = &vx, c.vy = &vy, c.mass = 13.9, c.length = 0.29;
+  c.kn_factor = &kf, c.elastic_factor = &ef, c.en2_factor = &enf, c.mu_factor = &muf;
+  c.muR_factor = &murf, c.fn = &fn, c.ft = &ft, c.moment = &mom, c.fx_body = &fx, c.fy_body = &fy;
+  const double params[] = {tb, k};
+  const double* p[] = {&params[0], &params[1]};
+  double* st[] = {&h_max, &s};
+  e.apply(c, p, st);  // the deepest point: travel starts from 0
+  EXPECT_EQ(h_max, 0.003);
+  EXPECT_EQ(s, 0.0);
+  EXPECT_EQ(fy, 0.0);
+  h = 0.002;
+  for (int n = 1; n <= 5; ++n) {
+    fx = fy = 0;
+    e.apply(c, p, st);
+    const double travel = 2.0 * n * dt, delta = std::max(0.0, tb * travel - 0.001);
+    EXPECT_NEAR(s, travel, 1e-15) << n;
+    EXPECT_NEAR(fy, k * delta, 1e-9) << n;
+    EXPECT_NEAR(fx, -tb * k * delta, 1e-9) << n;
+  }
+  EXPECT_GT(fy, 0.0);  // 0.25 x 10 mm - 1 mm = 1.5 mm of overlap
+  vx = -2.0;           // moving back: the ramp behind, pushing forward
+  for (int n = 0; n < 10; ++n) e.apply(c, p, st);
+  fx = fy = 0;
+  e.apply(c, p, st);
+  EXPECT_NEAR(s, -0.012, 1e-12);
+  EXPECT_NEAR(fx, tb * k * (tb * 0.012 - 0.001), 1e-9);
+  h = 0.004;  // deeper than ever: a new deepest point, no travel, no wall
+  fx = fy = 0;
+  e.apply(c, p, st);
+  EXPECT_EQ(h_max, 0.004);
+  EXPECT_EQ(s, 0.0);
+  EXPECT_EQ(fy, 0.0);
+  active = 0, h = 0;  // out of contact: no force, the state cleared
+  e.apply(c, p, st);
+  EXPECT_EQ(fy, 0.0);
+  EXPECT_EQ(h_max, 0.0);
+  EXPECT_EQ(s, 0.0);
 }
 
 // The checker itself must catch a broken effect, or the test above proves nothing.
