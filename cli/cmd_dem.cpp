@@ -3,6 +3,7 @@
 // See docs/commands/dem.md and docs/resolved-model.md.
 #include <mpi.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -344,7 +345,8 @@ struct CampaignOptions {
   bool no_picture = false;
   bool dry_run = false;
   bool record_beds = false;
-  std::vector<std::string> only;  ///< empty: every impact of the design
+  std::vector<std::string> only;    ///< empty: every impact of the design
+  std::vector<std::string> forget;  ///< impacts to remove from --out (run again next time)
 };
 
 // --dry-run: what a run would do (dem::plan_campaign), printed by rank 0; nothing runs.
@@ -402,6 +404,27 @@ void run_campaign_command_on_rank(const CampaignOptions& o, const MpiSession& mp
   if (o.output.out.empty())
     throw InputError("<command line>", 0, "--out", "a campaign needs --out FILE.h5 (resumable)");
   require_extension("--out", o.output.out, {".h5", ".hdf5"});
+  if (!o.forget.empty()) {
+    // Only on world rank 0: the file's lock serialises the writers, not the ranks of one run.
+    if (mpi.rank() != 0) return;
+    for (const std::string& id : o.forget)
+      if (std::none_of(design.impacts.begin(), design.impacts.end(),
+                       [&](const dem::ImpactSpec& s) { return s.id == id; }))
+        throw InputError("<command line>", 0, "--forget",
+                         fmt::format("'{}' is not an impact of {}", id, design.source));
+    const auto gone = dem::forget_impacts(o.output.out, o.forget);
+    if (o.output.json) {
+      json list = json::array();
+      for (const auto& e : gone)
+        list.push_back({{"id", e.id}, {"status", e.status}, {"message", e.message}});
+      print_json({{"design", design.source}, {"out", o.output.out}, {"forgotten", list}});
+      return;
+    }
+    for (const auto& e : gone)
+      std::cout << fmt::format("forgot {} ({}{}{}): it runs again with the design\n", e.id,
+                               e.status, e.message.empty() ? "" : ": ", e.message);
+    return;
+  }
   if (o.record_beds) {
     if (!std::filesystem::exists(o.output.out))
       throw InputError(o.output.out, 0, "--record-beds", "no campaign file: nothing to record");
@@ -546,6 +569,11 @@ void add_dem_command(CLI::App& app) {
   c->add_option("--only", camp->only,
                 "Run (or list) only these impacts of the design, by id, comma-separated, in the "
                 "design's order (their end-wall reruns included)")
+      ->delimiter(',');
+  c->add_option("--forget", camp->forget,
+                "Run nothing: remove these impacts (by id, comma-separated) from --out FILE, "
+                "their index rows and tracks, so that the next run of the design runs them again "
+                "(the repair of a record a fault wrote)")
       ->delimiter(',');
   c->add_flag("--record-beds", camp->record_beds,
               "Run no impact: record in --out FILE the packing of every bed it has impacts on and "

@@ -187,13 +187,16 @@ if [ -f "$CAL/calibrate-grains.json" ]; then
       "$CAL/calibrate-grains.json" data/lab/triangles.csv --blind-triangles --bed-length-m 1.5 \
       --name sand-blind-triangles-1.5e9 --out "$CAL/sand-blind-triangles-1.5e9.toml" >> "$CAL/campaign.log" 2>&1
   # 1c'. The active zone's check on the triangles (amended on 2026-12-06, when T02 alone had run,
-  #      on the whole bed; docs/resolved-model.md, "Active zone"): the blind design's first three
-  #      states T01-T03 on the whole bed (its own impacts, `--only`) and in a 0.30 m zone (the
+  #      on the whole bed; docs/resolved-model.md, "Active zone"): the blind design's first four
+  #      states T01-T04 on the whole bed (its own impacts, `--only`) and in a 0.30 m zone (the
   #      same design under the prefix zone0.3-: the same orientations), the cylinders' rule
-  #      (scripts/active-zone-verdict.sh) in the lab triangles' sd. The other 28 triangles run in
-  #      the zone when it passes (about half an impact's cost), on the whole bed otherwise.
+  #      (scripts/active-zone-verdict.sh) in the lab triangles' sd. The other 27 triangles run in
+  #      the zone when it passes (about half an impact's cost), on the whole bed otherwise. (Three
+  #      states at first; the fourth added at 09:15 the same day, before any zone arm ran, when
+  #      T01's whole-bed run was seen ploughing towards a timeout: with three states one censored
+  #      state fails the rule's three rebounds by construction, and the cylinders' check had four.)
   TRI_VERDICT=$CAL/triangle-zone-check.json
-  TRI_WHOLE=T01,T02,T03 TRI_ZONE=zone0.3-T01,zone0.3-T02,zone0.3-T03
+  TRI_WHOLE=T01,T02,T03,T04 TRI_ZONE=zone0.3-T01,zone0.3-T02,zone0.3-T03,zone0.3-T04
   TRI_DESIGN=sand-blind-triangles-1.5e9
   if [ ! -f "$TRI_VERDICT" ]; then
     PLATEAU_DESIGN=sand-blind-triangles-1.5e9 PLATEAU_ONLY=$TRI_WHOLE \
@@ -229,7 +232,7 @@ if [ -f "$CAL/calibrate-grains.json" ]; then
         "$CAL/calibrate-grains.json" data/lab/triangles.csv --blind-triangles --bed-length-m 1.5 \
         --active-zone-m 0.3 --name "$TRI_DESIGN" --out "$CAL/$TRI_DESIGN.toml" >> "$CAL/campaign.log" 2>&1
   fi
-  # The rest of the blind triangles (the ids already in the file, T01-T03 on the whole bed, are
+  # The rest of the blind triangles (the ids already in the file, T01-T04 on the whole bed, are
   # skipped: every impact records its own run.active_zone_m).
   PLATEAU_DESIGN=$TRI_DESIGN PLATEAU_DESIGN_PATH="$CAL/$TRI_DESIGN.toml" \
     PLATEAU_OUT=results/sand-verification PLATEAU_FILE=sand-blind-triangles-1.5e9 PLATEAU_RANKS=2 \

@@ -8,8 +8,10 @@
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <stdexcept>
 
+#include "common/error.hpp"
 #include "common/h5.hpp"
 #include "common/nan.hpp"
 #include "file_lock.hpp"
@@ -342,5 +344,58 @@ void append_result(const std::string& path, const ImpactResult& r, const ImpactS
   }
   if (r.snapshot) write_snapshot(path, *r.snapshot);
   rewrite_impact_set_unlocked(path, read_index_unlocked(path), design_name);
+}
+
+std::vector<CampaignEntry> forget_impacts(const std::string& path,
+                                          const std::vector<std::string>& ids) {
+  if (!fs::exists(path)) throw InputError(path, 0, "--forget", "no such campaign file");
+  FileLock lock(path);
+  std::vector<CampaignEntry> kept, gone;
+  std::string design;
+  {
+    h5::File f(path, h5::File::Mode::kReadWrite);
+    repair_index(f);
+    if (f.has_attr("/dem", "design")) design = f.attr_string("/dem", "design");
+  }
+  const std::set<std::string> wanted(ids.begin(), ids.end());
+  for (auto& e : read_index_unlocked(path)) (wanted.count(e.id) ? gone : kept).push_back(e);
+  for (const std::string& id : wanted)
+    if (std::none_of(gone.begin(), gone.end(),
+                     [&](const CampaignEntry& e) { return e.id == id; })) {
+      std::string list;
+      for (const auto& e : kept) list += (list.empty() ? "" : ", ") + e.id;
+      throw InputError(path, 0, "--forget",
+                       fmt::format("no impact '{}' in the file (its impacts: {})", id, list));
+    }
+  {
+    h5::File f(path, h5::File::Mode::kReadWrite);
+    f.remove("/dem/index");
+    const std::size_t columns = campaign_value_names().size();
+    std::vector<double> rows;
+    std::map<std::string, std::vector<std::string>> strings;
+    for (const auto& e : kept) {
+      rows.insert(rows.end(), e.values.begin(), e.values.begin() + static_cast<long>(columns));
+      for (const auto& [c, v] : std::map<std::string, const std::string*>{{"id", &e.id},
+                                                                          {"status", &e.status},
+                                                                          {"message", &e.message},
+                                                                          {"shape", &e.shape},
+                                                                          {"bed_key", &e.bed_key},
+                                                                          {"work_dir", &e.work_dir},
+                                                                          {"params", &e.params}})
+        strings[c].push_back(*v);
+    }
+    if (!kept.empty()) {
+      f.append_rows("/dem/index/values", rows, columns);
+      f.set_attr("/dem/index/values", "columns", join(campaign_value_names()));
+      for (const char* c : kStringColumns)
+        f.append_strings(std::string("/dem/index/") + c, strings[c]);
+    }
+    for (const auto& e : gone)
+      if (f.exists("/dem/tracks/" + e.id)) f.remove("/dem/tracks/" + e.id);
+    if (f.exists("/impacts")) f.remove("/impacts");  // rewritten below from what is kept
+    f.flush();
+  }
+  rewrite_impact_set_unlocked(path, kept, design);
+  return gone;
 }
 }  // namespace ricochet::dem

@@ -56,6 +56,14 @@ std::string params_json(const ImpactSpec& spec, const ImpactResult& result);
 void rewrite_impact_set(const std::string& path, const std::vector<CampaignEntry>& entries,
                         const std::string& design_name);
 
+/// Removes impacts `ids` from the campaign file (their index rows and tracks; /impacts is
+/// rewritten) under its exclusive lock, so that the next run of the design runs them again: the
+/// repair of a record that a fault of the program wrote (`dem campaign --forget`). Returns the
+/// entries removed, in the file's order; an id the file does not have is an InputError(path, 0,
+/// "--forget") listing the file's ids. Nothing is removed unless every id is found.
+std::vector<CampaignEntry> forget_impacts(const std::string& path,
+                                          const std::vector<std::string>& ids);
+
 /// Records that impact `id` is running (group /dem/running/ID with its work folder), so that a
 /// killed run can tell it apart on resume.
 void mark_running(const std::string& path, const std::string& id, const std::string& work_dir);

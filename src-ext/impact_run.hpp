@@ -136,6 +136,18 @@ std::string validate_setup(const ImpactSpec& spec, const Shape& shape, const Dec
 /// says what happened. Results are complete on rank 0 of comm.
 ImpactResult run_impact(const ImpactSpec& spec, const ImpactContext& ctx, MPI_Comm comm);
 
+/// The atoms an impact may have lost and still count (the deck's check.in applies the same rule):
+/// a few grains thrown out of the box by the block (the triangles' vertices splash them over the
+/// top) do not change its motion; a lost block sphere, or more than a hundredth of the bed's
+/// `bed_grains`, ends the run. `atoms` and `grains` are the instance's counts now. Returns the
+/// grains lost (>= 0) when the loss is acceptable, -1 when it is not.
+long acceptable_grain_loss(long atoms, long grains, long bed_grains, long block_spheres);
+/// Whether the block was inserted: a fresh impact has every atom (`atoms` == bed_grains +
+/// block_spheres); a resumed one (`resumed`) lacks the grains its checkpoint had lost already,
+/// which acceptable_grain_loss judges (2026-12-06: T01 of the blind triangles had lost 327 grains
+/// by its checkpoint and was recorded not_inserted on resuming).
+bool block_inserted(long atoms, long grains, long bed_grains, long block_spheres, bool resumed);
+
 /// Names and SI units of the extra impact-set columns of a resolved impact (Impact::extra):
 /// energy_dissipated_frac [-], crater_depth [m], crater_width [m], the block velocity at the
 /// ends of the contact-force window (vin_x_direct ... wout_direct) and force_contact_duration [s].

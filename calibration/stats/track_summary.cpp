@@ -108,6 +108,16 @@ TrackSummary summarize_track(const BlockTrack& tr, const std::string& id) {
     s.contact_start_s = tr.t[first];
     s.contact_end_s = tr.t[last];
     s.contact_duration_s = s.contact_end_s - s.contact_start_s;
+    double lift = 0, above = 0;
+    bool depth_known = true;
+    for (std::size_t i = first; i <= last; ++i) {
+      const double dt = i + 1 < n ? tr.t[i + 1] - tr.t[i] : (i > 0 ? tr.t[i] - tr.t[i - 1] : 0.0);
+      const double up = std::isfinite(tr.fcy[i]) && tr.fcy[i] > 0 ? tr.fcy[i] * dt : 0.0;
+      depth_known = depth_known && std::isfinite(tr.penetration[i]);
+      lift += up;
+      if (tr.penetration[i] < 0) above += up;
+    }
+    if (depth_known && lift > 0) s.lift_above_surface = above / lift;
     // The impact proper ends where the force no longer exceeds the weight: from there on the bed
     // carries the block rather than stopping it.
     if (const double weight = s.block_mass_kg * kGravity_mps2; std::isfinite(weight)) {
@@ -145,6 +155,8 @@ const std::vector<TrackQuantity>& track_quantities() {
        &TrackSummary::final_penetration_m},
       {"elastic_recovery", "m", "elastic recovery [mm]", 1e3, &TrackSummary::elastic_recovery_m},
       {"max_overlap_d", "-", "max grain overlap / d [-]", 1, &TrackSummary::max_overlap_d},
+      {"lift_above_surface", "-", "lift share above the surface [-]", 1,
+       &TrackSummary::lift_above_surface},
       {"impact_duration", "s", "impact, to force < m g [ms]", 1e3,
        &TrackSummary::impact_duration_s},
       {"vy_impact_end", "m/s", "vy at the impact's end [m/s]", 1, &TrackSummary::vy_impact_end_mps},

@@ -49,6 +49,11 @@ struct TrackSummary {
   double final_penetration_m = std::numeric_limits<double>::quiet_NaN();
   double elastic_recovery_m = std::numeric_limits<double>::quiet_NaN();
   double max_overlap_d = std::numeric_limits<double>::quiet_NaN();  ///< max overlap_d_max [-]
+  /// The share of the contact window's upward impulse, sum of max(fcy, 0) dt over its records (dt:
+  /// to the next record), taken while the penetration is negative: the block's lowest point above
+  /// the levelled surface, pushed by grains heaped above it (the rim of a crater) [-]. 0 on a bed
+  /// that only pushes from below the surface; NaN without a window or a penetration column.
+  double lift_above_surface = std::numeric_limits<double>::quiet_NaN();
   /// The impact proper: from the contact window's start to the first record after the largest
   /// force at which the contact force no longer exceeds the block's weight m g, i.e. the bed no
   /// longer decelerates the block more than it carries it [s]; the block's vertical velocity

@@ -8,11 +8,16 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <functional>
 #include <iostream>
 
 #include "campaign.hpp"
+#include "campaign_store.hpp"
+#include "common/error.hpp"
+#include "impact/impact_set.hpp"
+#include "impact_run.hpp"
 
 namespace {
 
@@ -133,6 +138,67 @@ TEST(DemCampaignStore, AShippedCopyWithoutItsLockFileNeverCollides) {
     });
   }
   fs::remove_all(fs::path(path).parent_path());
+}
+
+// `dem campaign --forget`: a record a fault of the program wrote (2026-12-06: T01 of the blind
+// triangles recorded not_inserted on resuming) is removed with its track, the rest of the file
+// kept row for row, so that the next run of the design runs it again; an id the file lacks
+// removes nothing.
+TEST(DemCampaignStore, ForgettingAnImpactRemovesItsRowAndTrackAndKeepsTheRest) {
+  const std::string path = fresh_campaign("dem-forget-test");
+  for (int i = 0; i < 3; ++i) {
+    ImpactSpec spec;
+    spec.id = "impact-" + std::to_string(i);
+    ImpactResult r;
+    r.id = spec.id;
+    r.status = i == 1 ? "not_inserted" : "rebound";
+    r.message = i == 1 ? "93977 atoms after the block insertion" : "";
+    r.impact.shape = "cylinder";
+    r.impact.vin = {2.0, -3.0 - i, 1.0};
+    r.impact.vout = {1.5, 0.5 + i, -20.0};
+    r.impact.extra.assign(impact_extra_names().size(), 0.0);
+    for (int k = 0; k < 5; ++k)
+      for (const auto& name : BlockTrack::column_names())
+        r.track.column(name)->push_back(1e-3 * k + i);
+    append_result(path, r, spec, "forget-test");
+  }
+  const auto before = read_campaign_index(path);
+  EXPECT_THROW(forget_impacts(path, {"impact-1", "impact-9"}), InputError);
+  EXPECT_EQ(read_campaign_index(path).size(), 3u);  // nothing removed
+  const auto gone = forget_impacts(path, {"impact-1"});
+  ASSERT_EQ(gone.size(), 1u);
+  EXPECT_EQ(gone[0].status, "not_inserted");
+  const auto after = read_campaign_index(path);
+  ASSERT_EQ(after.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    const CampaignEntry& want = before[k == 0 ? 0 : 2];
+    EXPECT_EQ(after[k].id, want.id);
+    EXPECT_EQ(after[k].status, want.status);
+    EXPECT_EQ(after[k].params, want.params);
+    for (std::size_t c = 0; c < want.values.size(); ++c)
+      EXPECT_TRUE(after[k].values[c] == want.values[c] ||
+                  (std::isnan(after[k].values[c]) && std::isnan(want.values[c])))
+          << after[k].id << " column " << c;
+  }
+  EXPECT_THROW(read_campaign_track(path, "impact-1"), InputError);
+  EXPECT_EQ(read_campaign_track(path, "impact-2").t.front(), 2.0);
+  const ImpactSet set = read_impact_set(path);
+  ASSERT_EQ(set.size(), 2u);
+  EXPECT_EQ(set.impacts[1].id, "impact-2");
+  fs::remove_all(fs::path(path).parent_path());
+}
+
+// A resumed impact lacks the grains its checkpoint had lost; the rule that judges every chunk
+// judges them (a hundredth of the bed's grains, every block sphere), not the fresh start's count.
+TEST(DemCampaignStore, AResumedImpactIsJudgedByTheGrainLossRule) {
+  const long bed = 91532, spheres = 2772;
+  EXPECT_TRUE(block_inserted(bed + spheres, bed, bed, spheres, false));
+  EXPECT_FALSE(block_inserted(bed + spheres - 327, bed - 327, bed, spheres, false));
+  EXPECT_TRUE(block_inserted(bed + spheres - 327, bed - 327, bed, spheres, true));  // T01's case
+  EXPECT_EQ(acceptable_grain_loss(bed + spheres - 327, bed - 327, bed, spheres), 327);
+  EXPECT_EQ(acceptable_grain_loss(bed + spheres - 916, bed - 916, bed, spheres), 916);
+  EXPECT_EQ(acceptable_grain_loss(bed + spheres - 917, bed - 917, bed, spheres), -1);  // > 1 %
+  EXPECT_FALSE(block_inserted(bed + spheres - 1, bed, bed, spheres, true));  // a sphere lost
 }
 
 }  // namespace

@@ -204,7 +204,8 @@ TEST(ForceTerm, TheRegistryNamesTheFamilyAndDiagnoseLeavesItOut) {
   for (const Effect* e : registry.all()) {
     const bool is_term = e->name().starts_with("term_");
     terms += is_term;
-    EXPECT_EQ(e->default_candidate(), !is_term) << e->name();
+    // crater_ramp, a contact geometry added by hand, is the one other effect left out.
+    EXPECT_EQ(e->default_candidate(), !is_term && e->name() != "crater_ramp") << e->name();
   }
   EXPECT_EQ(terms, effects::force_terms().size());
 }

@@ -91,6 +91,10 @@ TEST(TrackSummary, TrianglePulseGivesItsKnownNumbers) {
   EXPECT_NEAR(s.final_penetration_m, 0.0032, 1e-12);
   EXPECT_NEAR(s.elastic_recovery_m, 0.0018, 1e-12);
   EXPECT_NEAR(s.max_overlap_d, 0.07, 1e-12);
+  // The window's records are 0.5 ms apart and carry 1000 (1 - k / 10) N, k = -9..9 half-ms from
+  // the peak: 10,000 N in all. The penetration is negative at kTc - 4.5 ... - 3.0 ms (-4 ... -1
+  // mm; 0 at kTc - 2.5 ms), where the force is 100 + 200 + 300 + 400 = 1,000 N: a share of 0.1.
+  EXPECT_NEAR(s.lift_above_surface, 0.1, 1e-12);
 }
 
 TEST(TrackSummary, TheFilesMassDecidesTheCriterionAndWithoutOneAnyTouchCounts) {
@@ -166,6 +170,9 @@ TEST(TrackSummary, LegacyColumnsAndAnEmptyTrackGiveNaNNotNumbers) {
   EXPECT_TRUE(std::isnan(s.peak_torque_Nm));
   EXPECT_TRUE(std::isnan(s.max_overlap_d));
   EXPECT_NEAR(s.peak_normal_force_N, kPeak, 1e-9);
+  EXPECT_NEAR(s.lift_above_surface, 0.1, 1e-12);
+  for (auto& v : tr.penetration) v = std::nan("");
+  EXPECT_TRUE(std::isnan(stats::summarize_track(tr, "no depth").lift_above_surface));
   const stats::TrackSummary e = stats::summarize_track(BlockTrack{}, "empty");
   EXPECT_EQ(e.records, 0u);
   EXPECT_TRUE(std::isnan(e.contact_duration_s));
