@@ -187,21 +187,40 @@ if [ -f "$CAL/calibrate-grains.json" ]; then
       "$CAL/calibrate-grains.json" data/lab/triangles.csv --blind-triangles --bed-length-m 1.5 \
       --name sand-blind-triangles-1.5e9 --out "$CAL/sand-blind-triangles-1.5e9.toml" >> "$CAL/campaign.log" 2>&1
   # 1c'. The active zone's check on the triangles (amended on 2026-12-06, when T02 alone had run,
-  #      on the whole bed; docs/resolved-model.md, "Active zone"): the blind design's first four
-  #      states T01-T04 on the whole bed (its own impacts, `--only`) and in a 0.30 m zone (the
-  #      same design under the prefix zone0.3-: the same orientations), the cylinders' rule
-  #      (scripts/active-zone-verdict.sh) in the lab triangles' sd. The other 27 triangles run in
-  #      the zone when it passes (about half an impact's cost), on the whole bed otherwise. (Three
-  #      states at first; the fourth added at 09:15 the same day, before any zone arm ran, when
-  #      T01's whole-bed run was seen ploughing towards a timeout: with three states one censored
-  #      state fails the rule's three rebounds by construction, and the cylinders' check had four.)
+  #      on the whole bed; docs/resolved-model.md, "Active zone", "The check on the triangles"):
+  #      the blind design's states in its order on the whole bed (its own impacts, `--only`), T01-T04
+  #      first, then two at a time until three of them have rebounded (at most T10), and each of
+  #      those states in a 0.30 m zone (the same design under the prefix zone0.3-: the same
+  #      orientations); the cylinders' rule (scripts/active-zone-verdict.sh) in the lab triangles'
+  #      sd. The other triangles run in the zone when it passes (about half an impact's cost), on
+  #      the whole bed otherwise. (The states grew twice on that day, each time before any zone
+  #      arm had a result and on the whole bed's statuses alone, never on a zone-whole difference:
+  #      T01-T03 became T01-T04 when T01 was seen ploughing towards a timeout, and the batches of
+  #      two were added when T01 and T04 timed out, captured by the bed, leaving two rebounds.)
   TRI_VERDICT=$CAL/triangle-zone-check.json
-  TRI_WHOLE=T01,T02,T03,T04 TRI_ZONE=zone0.3-T01,zone0.3-T02,zone0.3-T03,zone0.3-T04
   TRI_DESIGN=sand-blind-triangles-1.5e9
+  TRI_STATES=(T01 T02 T03 T04)
+  # The rebounds among the whole bed's check states, by the pinned program's dry run.
+  tri_rebounds() {
+    (cd results/sand-verification && pinned/ricochet dem campaign pinned/sand-blind-triangles-1.5e9.toml \
+      --decks pinned/liggghts-inputs --only "$1" --out sand-blind-triangles-1.5e9.h5 --dry-run \
+      --json 2>/dev/null) | jq '[.impacts[] | select(.status == "rebound")] | length'
+  }
   if [ ! -f "$TRI_VERDICT" ]; then
-    PLATEAU_DESIGN=sand-blind-triangles-1.5e9 PLATEAU_ONLY=$TRI_WHOLE \
-      PLATEAU_DESIGN_PATH="$CAL/sand-blind-triangles-1.5e9.toml" PLATEAU_OUT=results/sand-verification \
-      PLATEAU_FILE=sand-blind-triangles-1.5e9 PLATEAU_RANKS=2 scripts/stiffness-plateau.sh
+    while :; do
+      TRI_WHOLE=$(IFS=,; echo "${TRI_STATES[*]}")
+      PLATEAU_DESIGN=sand-blind-triangles-1.5e9 PLATEAU_ONLY=$TRI_WHOLE \
+        PLATEAU_DESIGN_PATH="$CAL/sand-blind-triangles-1.5e9.toml" PLATEAU_OUT=results/sand-verification \
+        PLATEAU_FILE=sand-blind-triangles-1.5e9 PLATEAU_RANKS=2 scripts/stiffness-plateau.sh
+      rebounds=$(tri_rebounds "$TRI_WHOLE")
+      echo "== $(date '+%F %T') the triangles' zone check: ${rebounds:-?} rebounds on the whole bed" \
+        "among $TRI_WHOLE" >> "$CAL/campaign.log"
+      if [ "${rebounds:-0}" -ge 3 ] || [ "${#TRI_STATES[@]}" -ge 10 ]; then break; fi
+      n=${#TRI_STATES[@]}
+      TRI_STATES+=("$(printf 'T%02d' $((n + 1)))" "$(printf 'T%02d' $((n + 2)))")
+    done
+    TRI_ZONE=$(printf 'zone0.3-%s,' "${TRI_STATES[@]}")
+    TRI_ZONE=${TRI_ZONE%,}
     [ -f "$CAL/sand-triangle-zone-check-1.5e9.toml" ] ||
       scripts/verification-campaign.py liggghts-inputs/campaigns/sand-calibration-1.5e9.toml \
         "$CAL/calibrate-grains.json" data/lab/triangles.csv --blind-triangles --bed-length-m 1.5 \
@@ -232,7 +251,7 @@ if [ -f "$CAL/calibrate-grains.json" ]; then
         "$CAL/calibrate-grains.json" data/lab/triangles.csv --blind-triangles --bed-length-m 1.5 \
         --active-zone-m 0.3 --name "$TRI_DESIGN" --out "$CAL/$TRI_DESIGN.toml" >> "$CAL/campaign.log" 2>&1
   fi
-  # The rest of the blind triangles (the ids already in the file, T01-T04 on the whole bed, are
+  # The rest of the blind triangles (the ids already in the file, the check's on the whole bed, are
   # skipped: every impact records its own run.active_zone_m).
   PLATEAU_DESIGN=$TRI_DESIGN PLATEAU_DESIGN_PATH="$CAL/$TRI_DESIGN.toml" \
     PLATEAU_OUT=results/sand-verification PLATEAU_FILE=sand-blind-triangles-1.5e9 PLATEAU_RANKS=2 \
