@@ -182,10 +182,24 @@ if [ -f "$CAL/calibrate-grains.json" ]; then
     fi
   fi
   # 1c. The blind triangles on the same grains (the verification's first bed, its cache).
-  [ -f "$CAL/sand-blind-triangles-1.5e9.toml" ] ||
-    scripts/verification-campaign.py liggghts-inputs/campaigns/sand-calibration-1.5e9.toml \
-      "$CAL/calibrate-grains.json" data/lab/triangles.csv --blind-triangles --bed-length-m 1.5 \
-      --name sand-blind-triangles-1.5e9 --out "$CAL/sand-blind-triangles-1.5e9.toml" >> "$CAL/campaign.log" 2>&1
+  # blind_design NAME [ARGS...]: a design of the blind triangles (verification-campaign.py
+  # --blind-triangles on the 1.5 m bed, and ARGS), written once into $CAL/NAME.toml.
+  blind_design() {
+    local name=$1
+    shift
+    [ -f "$CAL/$name.toml" ] ||
+      scripts/verification-campaign.py liggghts-inputs/campaigns/sand-calibration-1.5e9.toml \
+        "$CAL/calibrate-grains.json" data/lab/triangles.csv --blind-triangles --bed-length-m 1.5 \
+        "$@" --name "$name" --out "$CAL/$name.toml" >> "$CAL/campaign.log" 2>&1
+  }
+  # blind_run NAME [ONLY]: design NAME run on both cores into the blind triangles' one file, only
+  # its impacts ONLY (comma-separated) when given.
+  blind_run() {
+    PLATEAU_DESIGN=$1 PLATEAU_DESIGN_PATH="$CAL/$1.toml" PLATEAU_ONLY=${2:-} \
+      PLATEAU_OUT=results/sand-verification PLATEAU_FILE=sand-blind-triangles-1.5e9 PLATEAU_RANKS=2 \
+      scripts/stiffness-plateau.sh
+  }
+  blind_design sand-blind-triangles-1.5e9
   # 1c'. The active zone's check on the triangles (amended on 2026-12-06, when T02 alone had run,
   #      on the whole bed; docs/resolved-model.md, "Active zone", "The check on the triangles"):
   #      the blind design's states in its order on the whole bed (its own impacts, `--only`), T01-T04
@@ -209,9 +223,7 @@ if [ -f "$CAL/calibrate-grains.json" ]; then
   if [ ! -f "$TRI_VERDICT" ]; then
     while :; do
       TRI_WHOLE=$(IFS=,; echo "${TRI_STATES[*]}")
-      PLATEAU_DESIGN=sand-blind-triangles-1.5e9 PLATEAU_ONLY=$TRI_WHOLE \
-        PLATEAU_DESIGN_PATH="$CAL/sand-blind-triangles-1.5e9.toml" PLATEAU_OUT=results/sand-verification \
-        PLATEAU_FILE=sand-blind-triangles-1.5e9 PLATEAU_RANKS=2 scripts/stiffness-plateau.sh
+      blind_run sand-blind-triangles-1.5e9 "$TRI_WHOLE"
       rebounds=$(tri_rebounds "$TRI_WHOLE")
       echo "== $(date '+%F %T') the triangles' zone check: ${rebounds:-?} rebounds on the whole bed" \
         "among $TRI_WHOLE" >> "$CAL/campaign.log"
@@ -221,15 +233,8 @@ if [ -f "$CAL/calibrate-grains.json" ]; then
     done
     TRI_ZONE=$(printf 'zone0.3-%s,' "${TRI_STATES[@]}")
     TRI_ZONE=${TRI_ZONE%,}
-    [ -f "$CAL/sand-triangle-zone-check-1.5e9.toml" ] ||
-      scripts/verification-campaign.py liggghts-inputs/campaigns/sand-calibration-1.5e9.toml \
-        "$CAL/calibrate-grains.json" data/lab/triangles.csv --blind-triangles --bed-length-m 1.5 \
-        --active-zone-m 0.3 --id-prefix zone0.3- --name sand-triangle-zone-check-1.5e9 \
-        --out "$CAL/sand-triangle-zone-check-1.5e9.toml" >> "$CAL/campaign.log" 2>&1
-    PLATEAU_DESIGN=sand-triangle-zone-check-1.5e9 PLATEAU_ONLY=$TRI_ZONE \
-      PLATEAU_DESIGN_PATH="$CAL/sand-triangle-zone-check-1.5e9.toml" \
-      PLATEAU_OUT=results/sand-verification PLATEAU_FILE=sand-blind-triangles-1.5e9 PLATEAU_RANKS=2 \
-      scripts/stiffness-plateau.sh
+    blind_design sand-triangle-zone-check-1.5e9 --active-zone-m 0.3 --id-prefix zone0.3-
+    blind_run sand-triangle-zone-check-1.5e9 "$TRI_ZONE"
     if ZONE_BASE=T ZONE_BASE_NAME=sand-blind-triangles-1.5e9 ZONE_BASE_ONLY=$TRI_WHOLE \
         ZONE_ONLY=$TRI_ZONE flock /tmp/ricochet-build.lock scripts/active-zone-verdict.sh \
         results/sand-verification sand-triangle-zone-check-1.5e9 \
@@ -246,16 +251,11 @@ if [ -f "$CAL/calibrate-grains.json" ]; then
   fi
   if [ -f "$TRI_VERDICT" ] && [ "$(jq -r .active_zone_m "$TRI_VERDICT")" != 0 ]; then
     TRI_DESIGN=sand-blind-triangles-zone-1.5e9
-    [ -f "$CAL/$TRI_DESIGN.toml" ] ||
-      scripts/verification-campaign.py liggghts-inputs/campaigns/sand-calibration-1.5e9.toml \
-        "$CAL/calibrate-grains.json" data/lab/triangles.csv --blind-triangles --bed-length-m 1.5 \
-        --active-zone-m 0.3 --name "$TRI_DESIGN" --out "$CAL/$TRI_DESIGN.toml" >> "$CAL/campaign.log" 2>&1
+    blind_design "$TRI_DESIGN" --active-zone-m 0.3
   fi
   # The rest of the blind triangles (the ids already in the file, the check's on the whole bed, are
   # skipped: every impact records its own run.active_zone_m).
-  PLATEAU_DESIGN=$TRI_DESIGN PLATEAU_DESIGN_PATH="$CAL/$TRI_DESIGN.toml" \
-    PLATEAU_OUT=results/sand-verification PLATEAU_FILE=sand-blind-triangles-1.5e9 PLATEAU_RANKS=2 \
-    scripts/stiffness-plateau.sh
+  blind_run "$TRI_DESIGN"
   # 1d. Issue 33's force campaign on the same grains and bed: the speed campaign's 9 states x 3
   #     positions (verification-campaign.py --states-from), tracks kept, for the force-residual
   #     discovery on the plateau bed. Its design is written here; it runs in lane A below, after

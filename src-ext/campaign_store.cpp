@@ -81,6 +81,17 @@ std::string join(const std::vector<std::string>& v) {
   return s;
 }
 
+// Replaces /dem/index with `rows` (row-major, campaign_value_names() wide) and the string columns
+// `strings` (kStringColumns, each as long as the rows); nothing is written for no row.
+void write_index(h5::File& f, const std::vector<double>& rows,
+                 const std::map<std::string, std::vector<std::string>>& strings) {
+  if (f.exists("/dem/index")) f.remove("/dem/index");
+  if (rows.empty()) return;
+  f.append_rows("/dem/index/values", rows, campaign_value_names().size());
+  f.set_attr("/dem/index/values", "columns", join(campaign_value_names()));
+  for (const auto& [c, v] : strings) f.append_strings("/dem/index/" + c, v);
+}
+
 // Index datasets are appended one after the other: a run killed between two appends leaves them
 // with different lengths. Truncate to the shortest so that they line up again. An index written
 // before the last value columns existed (campaign_value_names() only grows at its end, e.g.
@@ -108,18 +119,12 @@ void repair_index(h5::File& f) {
   bool aligned = (dims.empty() ? n == 0 : dims[0] == n) && width == columns;
   for (const auto& [c, s] : strings) aligned = aligned && s.size() == n;
   if (aligned) return;
-  f.remove("/dem/index");
-  if (n == 0) return;
   std::vector<double> rows(n * columns, kNaN);
   for (std::size_t i = 0; i < n; ++i)
     std::copy_n(values.begin() + static_cast<long>(i * width), width,
                 rows.begin() + static_cast<long>(i * columns));
-  f.append_rows("/dem/index/values", rows, columns);
-  f.set_attr("/dem/index/values", "columns", join(campaign_value_names()));
-  for (auto& [c, s] : strings) {
-    s.resize(n);
-    f.append_strings("/dem/index/" + c, s);
-  }
+  for (auto& [c, s] : strings) s.resize(n);
+  write_index(f, rows, strings);
 }
 
 // Replicate label of an impact: what its spec says about the experiment, without the replica
@@ -369,27 +374,20 @@ std::vector<CampaignEntry> forget_impacts(const std::string& path,
     }
   {
     h5::File f(path, h5::File::Mode::kReadWrite);
-    f.remove("/dem/index");
     const std::size_t columns = campaign_value_names().size();
     std::vector<double> rows;
     std::map<std::string, std::vector<std::string>> strings;
     for (const auto& e : kept) {
       rows.insert(rows.end(), e.values.begin(), e.values.begin() + static_cast<long>(columns));
-      for (const auto& [c, v] : std::map<std::string, const std::string*>{{"id", &e.id},
-                                                                          {"status", &e.status},
-                                                                          {"message", &e.message},
-                                                                          {"shape", &e.shape},
-                                                                          {"bed_key", &e.bed_key},
-                                                                          {"work_dir", &e.work_dir},
-                                                                          {"params", &e.params}})
-        strings[c].push_back(*v);
+      strings["id"].push_back(e.id);
+      strings["status"].push_back(e.status);
+      strings["message"].push_back(e.message);
+      strings["shape"].push_back(e.shape);
+      strings["bed_key"].push_back(e.bed_key);
+      strings["work_dir"].push_back(e.work_dir);
+      strings["params"].push_back(e.params);
     }
-    if (!kept.empty()) {
-      f.append_rows("/dem/index/values", rows, columns);
-      f.set_attr("/dem/index/values", "columns", join(campaign_value_names()));
-      for (const char* c : kStringColumns)
-        f.append_strings(std::string("/dem/index/") + c, strings[c]);
-    }
+    write_index(f, rows, strings);
     for (const auto& e : gone)
       if (f.exists("/dem/tracks/" + e.id)) f.remove("/dem/tracks/" + e.id);
     if (f.exists("/impacts")) f.remove("/impacts");  // rewritten below from what is kept
