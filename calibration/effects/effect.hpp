@@ -138,6 +138,14 @@ struct ContactBatch {
   double* moment = nullptr;   ///< resisting moment on the block [N m], counter-clockwise +
   double* fx_body = nullptr;  ///< force at the centre of mass, x [N]
   double* fy_body = nullptr;  ///< force at the centre of mass, y [N]
+
+  // The ground's surface under this slot, for models with an effect whose moves_surface() is
+  // true (nullptr otherwise): how far it stands above the undisturbed ground [m]. `lift` is the
+  // surface this step's h, dh and active were measured from (read only; h - lift is the vertex's
+  // depth below the undisturbed ground); such an effect writes `lift_next` (starting from
+  // `lift`), the surface of the next step. The engine zeroes both when the contact is lost.
+  const double* lift = nullptr;
+  double* lift_next = nullptr;
 };
 
 /// The largest approach speed -v_n of a contact so far [m/s], held in the state slot `v0` and
@@ -296,6 +304,10 @@ class Effect {
   virtual bool default_candidate() const { return true; }
   /// Which inlined law of the engine this effect is (FusedLaw); kNone for every other effect.
   virtual FusedLaw fused_law() const { return FusedLaw::kNone; }
+  /// Whether the effect moves the ground's surface under its contact (ContactBatch::lift_next):
+  /// the sand it heaps up, which the block then stands on. A model with such an effect is
+  /// integrated on the engine's generic path, never the fused kernel.
+  virtual bool moves_surface() const { return false; }
   /// The largest factor [-] by which this effect multiplies the normal loading stiffness
   /// (ContactBatch::kn_factor) at any penetration up to `max_penetration_m` [m], given its
   /// parameter values `values` (declaration order). critical_time_step multiplies the model's

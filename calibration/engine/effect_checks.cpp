@@ -20,6 +20,7 @@ struct Fixture {
   std::array<double, kLanes> active{}, h{}, dh{}, vn{}, vt{}, w{}, lever{}, vx{}, vy{};
   std::array<double, kLanes> kf{}, ef{}, enf{}, muf{}, murf{};
   std::array<double, kLanes> fn{}, ft{}, moment{}, fxb{}, fyb{};
+  std::array<double, kLanes> lift{}, lift_next{};  // a surface raised by half the overlap
   ContactBatch batch;
 
   Fixture(bool in_contact, double scale) {
@@ -36,6 +37,7 @@ struct Fixture {
       vy[i] = -2.5 * s * scale;
       kf[i] = ef[i] = enf[i] = muf[i] = murf[i] = 1.0;
       fn[i] = in_contact ? 1e4 * s : 0.0;  // what a normal stage would have produced
+      lift[i] = lift_next[i] = 0.5 * h[i];
     }
     batch.n = kLanes;
     batch.dt = 1e-5;
@@ -60,6 +62,8 @@ struct Fixture {
     batch.moment = moment.data();
     batch.fx_body = fxb.data();
     batch.fy_body = fyb.data();
+    batch.lift = lift.data();
+    batch.lift_next = lift_next.data();
   }
 };
 
@@ -135,6 +139,8 @@ void check_out_of_contact(const Effect& effect, const std::string& who, Problems
       !unchanged(fx.moment, before.moment) || !unchanged(fx.fxb, before.fxb) ||
       !unchanged(fx.fyb, before.fyb))
     problems.push_back(who + "adds a force or moment out of contact");
+  if (!unchanged(fx.lift_next, before.lift_next))
+    problems.push_back(who + "raises the surface out of contact");
   for (const auto& s : state)
     for (double v : s)
       if (v != 0.0) problems.push_back(who + "keeps a non-zero state out of contact");
@@ -164,10 +170,13 @@ void check_stage_and_finiteness(const Effect& effect, const std::string& who, Pr
       if (st != Stage::kBody && (!unchanged(fx.fxb, before.fxb) || !unchanged(fx.fyb, before.fyb)))
         problems.push_back(who + "writes body forces but its stage is " +
                            std::string(stage_name(st)));
+      if (!effect.moves_surface() && !unchanged(fx.lift_next, before.lift_next))
+        problems.push_back(who +
+                           "moves the surface (lift_next) but does not declare moves_surface()");
       bool finite = all_finite(fx.fn) && all_finite(fx.ft) && all_finite(fx.moment) &&
                     all_finite(fx.fxb) && all_finite(fx.fyb) && all_finite(fx.kf) &&
                     all_finite(fx.ef) && all_finite(fx.enf) && all_finite(fx.muf) &&
-                    all_finite(fx.murf);
+                    all_finite(fx.murf) && all_finite(fx.lift_next);
       for (const auto& s : state)
         for (double v : s) finite = finite && std::isfinite(v);
       if (!finite) {

@@ -15,9 +15,11 @@ namespace ricochet {
 /// Returns the violated invariants, empty when the effect is sound:
 ///  1. declared parameters have lower <= nominal <= upper, neutral within bounds or NaN,
 ///     non-empty names and units;
-///  2. out of contact (active = 0) it adds no force or moment, and leaves its state at zero;
+///  2. out of contact (active = 0) it adds no force or moment, raises no surface, and leaves its
+///     state at zero;
 ///  3. it writes only the outputs of its stage (coefficient effects: the factors only; normal:
-///     fn; tangential: ft; rolling: moment; body: fx_body, fy_body);
+///     fn; tangential: ft; rolling: moment; body: fx_body, fy_body), and the surface
+///     (lift_next) only if it declares moves_surface();
 ///  4. outputs and state stay finite with every parameter at its lower, nominal and upper bound,
 ///     over a grid of penetrations, velocities and spins;
 ///  5. added to the paper's law, it never creates energy: over a collision of the lab cylinder and

@@ -89,7 +89,9 @@ const char* status_name(CollisionStatus status);
 struct CollisionResult {
   Vel3 vout{};                    ///< state at final separation (m/s, m/s, rad/s)
   double contact_duration_s = 0;  ///< first touch to final separation
-  double max_penetration_m = 0;   ///< largest overlap h over all slots
+  double max_penetration_m =
+      0;  ///< largest overlap h over all slots, below the undisturbed ground (a surface an effect
+          ///< heaps up, Effect::moves_surface, is not counted)
   /// Work done BY each stage's forces on the block over the collision, negated: energy
   /// dissipated [J] per Stage (coefficient stage is always 0). Springs' stored energy left at
   /// separation counts as dissipated (paper Fig. 13 gray areas).

@@ -79,9 +79,10 @@ class LaneBatch {
     for (auto& a : work_) take(a);
     slot_.resize(V_);
     for (auto& s : slot_)
-      for (double** a : {&s.h_prev, &s.active, &s.h,   &s.dh,  &s.vn,   &s.vt,   &s.lever,
-                         &s.rcx,    &s.rcy,    &s.nx,  &s.ny,  &s.fn,   &s.ft,   &s.mom,
-                         &s.fxb,    &s.fyb,    &s.pfn, &s.pft, &s.pmom, &s.pfxb, &s.pfyb})
+      for (double** a :
+           {&s.h_prev, &s.active, &s.h,    &s.dh,   &s.vn,   &s.vt,   &s.lever,    &s.rcx,
+            &s.rcy,    &s.nx,     &s.ny,   &s.fn,   &s.ft,   &s.mom,  &s.fxb,      &s.fyb,
+            &s.pfn,    &s.pft,    &s.pmom, &s.pfxb, &s.pfyb, &s.lift, &s.lift_next})
         take(*a);
     for (double** a : {&kf_, &ef_, &enf_, &muf_, &murf_}) take(*a);
     param_.resize(layout.params);
@@ -102,6 +103,7 @@ class LaneBatch {
     for (const Effect* e : layout.effects) {
       has_body_ = has_body_ || e->stage() == Stage::kBody;
       has_coefficient_ = has_coefficient_ || e->stage() == Stage::kCoefficient;
+      has_lift_ = has_lift_ || e->moves_surface();
     }
     for (double* f : {kf_, ef_, enf_, muf_, murf_}) std::fill_n(f, L_, 1.0);
     dt_ = options.dt_s;
@@ -154,21 +156,22 @@ class LaneBatch {
 
   static constexpr std::size_t kLaneArrays = 30;
   static constexpr std::size_t kStages = kStageCount;
-  static constexpr std::size_t kSlotArrays = 21;
+  static constexpr std::size_t kSlotArrays = 23;
   static constexpr std::size_t kFactorArrays = 5;
 
   struct Slot {
     double *h_prev, *active, *h, *dh, *vn, *vt, *lever, *rcx, *rcy, *nx, *ny;
     double *fn, *ft, *mom, *fxb, *fyb;
     double *pfn, *pft, *pmom, *pfxb, *pfyb;  // forces of the previous step (work accounting)
+    double *lift, *lift_next;                // the surface under the slot (ContactBatch::lift) [m]
   };
 
   // Models that hold the paper's law (normal, tangential, rolling), on flat ground, without a
-  // trace and within the kernel's fixed sizes run in the fused kernel (engine/paper_kernel.hpp);
-  // anything else steps here.
+  // trace, an effect that moves the surface or sizes beyond the kernel's fixed ones run in the
+  // fused kernel (engine/paper_kernel.hpp); anything else steps here.
   void set_up_fused() {
     using detail::FusedEffect;
-    if (trace_ || V_ > detail::kFusedMaxVertices ||
+    if (trace_ || has_lift_ || V_ > detail::kFusedMaxVertices ||
         layout_.effects.size() > detail::kFusedMaxEffects)
       return;
     detail::PaperLanes& a = paper_;
@@ -282,7 +285,8 @@ class LaneBatch {
     y_in_[i] = y_[i];
     ke_in_[i] = kinetic(i);
     for (auto& s : slot_)
-      s.h_prev[i] = s.pfn[i] = s.pft[i] = s.pmom[i] = s.pfxb[i] = s.pfyb[i] = 0.0;
+      s.h_prev[i] = s.pfn[i] = s.pft[i] = s.pmom[i] = s.pfxb[i] = s.pfyb[i] = s.lift[i] =
+          s.lift_next[i] = 0.0;
     for (auto& s : state_) s[i] = 0.0;
     const double* row = broadcast_ ? params_.data() : params_.data() + k * layout_.params;
     for (std::size_t q = 0; q < layout_.params; ++q) param_[q][i] = row[q];
@@ -392,6 +396,8 @@ class LaneBatch {
     double* __restrict enf = enf_;
     double* __restrict muf = muf_;
     double* __restrict murf = murf_;
+    const bool lifts = has_lift_;
+    double* __restrict lift = sl.lift;
     RICOCHET_SIMD
     for (std::size_t i = 0; i < n; ++i) {
       double px, py, nx = 0.0, ny = 1.0, ground = 0.0;
@@ -403,6 +409,7 @@ class LaneBatch {
         py = y[i] + sn[i] * vbx + c[i] * vby;
       }
       if (!kFlat) opt_.ground.surface(px, ground, nx, ny);
+      if (lifts) ground += lift[i];  // the surface an effect has moved (moves_surface)
       const auto k = detail::vertex_contact < kDisc &&
                      kFlat > (px, py, x[i], y[i], vxh[i], vyh[i], wh[i], nx, ny, ground, r);
       active[i] = k.active;
@@ -465,6 +472,11 @@ class LaneBatch {
     cb.moment = sl.mom;
     cb.fx_body = sl.fxb;
     cb.fy_body = sl.fyb;
+    if (has_lift_) {
+      std::copy_n(sl.lift, n, sl.lift_next);
+      cb.lift = sl.lift;
+      cb.lift_next = sl.lift_next;
+    }
     for (std::size_t e = 0; e < layout_.effects.size(); ++e)
       layout_.effects[e]->apply(cb, eparams_[e].data(), estate_[e * V_ + s].data());
     // History is cleared when the contact is lost (whatever the effect did).
@@ -493,9 +505,14 @@ class LaneBatch {
     constexpr bool kDiscFlat = kDisc && kFlat;
     RICOCHET_SIMD
     for (std::size_t i = 0; i < n; ++i) {
-      const detail::VertexContact<double> k{
-          hh[i],    kDiscFlat ? 0.0 : rcx_a[i], kDiscFlat ? 0.0 : rcy_a[i], lever[i], vn[i], vt[i],
-          active[i]};
+      // The penetration kept (maxh) is the depth below the undisturbed ground.
+      const detail::VertexContact<double> k{lifts ? hh[i] - lift[i] : hh[i],
+                                            kDiscFlat ? 0.0 : rcx_a[i],
+                                            kDiscFlat ? 0.0 : rcy_a[i],
+                                            lever[i],
+                                            vn[i],
+                                            vt[i],
+                                            active[i]};
       detail::add_contact<kDiscFlat>(fn[i], ft[i], mom[i], k, kDiscFlat ? 0.0 : nx_a[i],
                                      kDiscFlat ? 1.0 : ny_a[i], wh[i], dt_, fx[i], fy[i], tq[i],
                                      wn[i], wt[i], wr[i], pfn[i], pft[i], pmom[i], any[i], maxh[i]);
@@ -505,6 +522,11 @@ class LaneBatch {
       for (std::size_t i = 0; i < n; ++i)
         detail::add_body(fxb[i], fyb[i], vxh[i], vyh[i], dt_, fx[i], fy[i], wb[i], pfxb[i],
                          pfyb[i]);
+    }
+    if (lifts) {  // the moved surface holds while the contact does
+      const double* __restrict next = sl.lift_next;
+      RICOCHET_SIMD
+      for (std::size_t i = 0; i < n; ++i) lift[i] = active[i] > 0.0 ? next[i] : 0.0;
     }
   }
 
@@ -644,7 +666,7 @@ class LaneBatch {
   std::vector<long> case_of_;
   std::size_t next_ = 0;
   double dt_, g_, r_, inv_m_, inv_i_;
-  bool has_body_ = false, has_coefficient_ = false;
+  bool has_body_ = false, has_coefficient_ = false, has_lift_ = false;
 
   double *x_, *y_, *th_, *vx_, *vy_, *w_, *ax_, *ay_, *aw_, *vxh_, *vyh_, *wh_;
   double *fx_, *fy_, *tq_, *t_, *t_first_, *had_, *any_, *prev_, *maxh_, *phases_;

@@ -1,5 +1,5 @@
-// law_force_along (path_force.hpp): the engine's contact step (engine/lane_batch.hpp, LaneBatch::contacts)
-// with one lane and the block placed on the path instead of integrated.
+// law_force_along (path_force.hpp): the engine's contact step (engine/lane_batch.hpp,
+// LaneBatch::contacts) with one lane and the block placed on the path instead of integrated.
 #include "engine/path_force.hpp"
 
 #include <fmt/format.h>
@@ -62,6 +62,10 @@ std::vector<PathForce> law_force_along(const Model& model, const Shape& shape,
     }
   }
   std::vector<double> h_prev(slots, 0.0);
+  // The surface under each slot, moved by effects that heap sand (Effect::moves_surface).
+  bool lifts = false;
+  for (const Effect* e : effects) lifts = lifts || e->moves_surface();
+  std::vector<double> lift(slots, 0.0);
 
   const double r = shape.rounding_radius_m;
   // One contact step at state p over a step dt: every slot's effects, their history carried.
@@ -74,6 +78,7 @@ std::vector<PathForce> law_force_along(const Model& model, const Shape& shape,
       const double px = p.x_m + c * vbx - sn * vby, py = p.y_m + sn * vbx + c * vby;
       double ground = 0.0, nx = 0.0, ny = 1.0;
       if (!options.ground.flat()) options.ground.surface(px, ground, nx, ny);
+      ground += lift[s];
       const auto kc = detail::vertex_contact<false>(px, py, p.x_m, p.y_m, p.vx_mps, p.vy_mps,
                                                     p.w_radps, nx, ny, ground, r);
       double active = kc.active, h = kc.h, dh = kc.h - h_prev[s];
@@ -105,13 +110,19 @@ std::vector<PathForce> law_force_along(const Model& model, const Shape& shape,
       cb.moment = &mom;
       cb.fx_body = &fxb;
       cb.fy_body = &fyb;
+      double lift_next = lift[s];
+      if (lifts) {
+        cb.lift = &lift[s];
+        cb.lift_next = &lift_next;
+      }
       for (std::size_t e = 0; e < effects.size(); ++e)
         effects[e]->apply(cb, eparams[e].data(), state_ptr[e * slots + s].data());
+      lift[s] = active > 0.0 ? lift_next : 0.0;
       if (!(active > 0.0))
         for (std::size_t e = 0; e < effects.size(); ++e)
           for (double& v : state[e * slots + s]) v = 0.0;
-      // The contact force acts at the contact point (engine/lane_batch.hpp, add_contact), the body force
-      // at the centre of mass.
+      // The contact force acts at the contact point (engine/lane_batch.hpp, add_contact), the body
+      // force at the centre of mass.
       const double fcx = fn * nx + ft * ny, fcy = fn * ny - ft * nx;
       f.fx_N += fcx + fxb;
       f.fy_N += fcy + fyb;

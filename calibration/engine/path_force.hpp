@@ -36,7 +36,8 @@ struct PathForce {
   /// The deepest contact slot: penetration [m], the normal and tangential velocities of its
   /// contact point [m/s], its lever (contact point to centre of mass) [m] and that point
   /// relative to the centre (rcx, rcy) [m], its unit normal, and whether its penetration grew
-  /// since the previous state. h = 0 and the rest 0: no contact.
+  /// since the previous state. h = 0 and the rest 0: no contact. h is the overlap with the
+  /// surface the block touches, which an effect that heaps sand raises (Effect::moves_surface).
   double h_m = 0, vn_mps = 0, vt_mps = 0, lever_m = 0, rcx_m = 0, rcy_m = 0, nx = 0, ny = 1;
   bool loading = false;
   /// Its normal and tangential force [N] and rolling moment [N m] (the slot's own, effect.hpp).

@@ -15,6 +15,7 @@
 #include "effects/model.hpp"
 #include "effects/registry.hpp"
 #include "engine/effect_checks.hpp"
+#include "engine/engine.hpp"
 #include "engine/shape.hpp"
 
 namespace ricochet {
@@ -81,6 +82,89 @@ TEST(Effects, CraterRampIsTheOverlapWithARampRisingAheadOfTheBlock) {
   EXPECT_EQ(fy, 0.0);
   EXPECT_EQ(h_max, 0.0);
   EXPECT_EQ(s, 0.0);
+}
+
+// crater_rim by hand: a contact 2 mm below the undisturbed ground moving along x at 2 m/s, the
+// surface under it carried from step to step as the engine carries it (lift <- lift_next).
+// After n steps of dt the swept area is A = 2 mm x 2 n dt (the depth below the undisturbed
+// ground is h - L, and h is held at L + 2 mm), the heap sqrt(2 tan_phi A), and the surface
+// follows it no faster than tan_phi per metre of travel: first at that slope, then on the heap's
+// square root. The reaction is the slope climbed times fn, against the travel.
+TEST(Effects, CraterRimHeapsTheSweptSandAndTheBlockClimbsIt) {
+  const auto registry = EffectRegistry::with_builtins();
+  const Effect& e = registry.get("crater_rim");
+  ASSERT_FALSE(e.default_candidate());
+  ASSERT_TRUE(e.moves_surface());
+  const double dt = 1e-4, tp = 0.5, d = 0.002, v = 2.0, fn0 = 3000.0;
+  double active = 1, h = d, dh = 0, vn = 0, vt = 0, w = 0, lever = 0.08, vx = v, vy = 0;
+  double kf = 1, ef = 1, enf = 1, muf = 1, murf = 1, fn = fn0, ft = 0, mom = 0, fx = 0, fy = 0;
+  double area = 0, lift = 0, lift_next = 0;
+  ContactBatch c;
+  c.n = 1, c.dt = dt, c.active = &active, c.h = &h, c.dh = &dh, c.vn = &vn, c.vt = &vt;
+  c.w = &w, c.lever = &lever, c.vx = &vx, c.vy = &vy, c.mass = 13.9, c.length = 0.29;
+  c.kn_factor = &kf, c.elastic_factor = &ef, c.en2_factor = &enf, c.mu_factor = &muf;
+  c.muR_factor = &murf, c.fn = &fn, c.ft = &ft, c.moment = &mom, c.fx_body = &fx, c.fy_body = &fy;
+  c.lift = &lift, c.lift_next = &lift_next;
+  const double params[] = {tp};
+  const double* p[] = {&params[0]};
+  double* st[] = {&area};
+  double expected_lift = 0;
+  bool saw_slope = false, saw_heap = false;
+  for (int n = 1; n <= 400; ++n) {
+    fx = fy = 0;
+    lift_next = lift;
+    h = lift + d;
+    e.apply(c, p, st);
+    const double a = d * v * n * dt;
+    EXPECT_NEAR(area, a, 1e-15) << n;
+    const double next = std::min(std::sqrt(2 * tp * a), expected_lift + tp * v * dt);
+    saw_slope = saw_slope || next < std::sqrt(2 * tp * a);
+    saw_heap = saw_heap || next < expected_lift + tp * v * dt;
+    EXPECT_NEAR(lift_next, next, 1e-12) << n;
+    EXPECT_NEAR(fx, -fn0 * (next - expected_lift) / (v * dt), 1e-6) << n;
+    EXPECT_LE(-fx, tp * fn0 * (1 + 1e-12)) << n;  // never steeper than the heap's face
+    EXPECT_EQ(fy, 0.0);
+    expected_lift = next;
+    lift = lift_next;
+  }
+  EXPECT_TRUE(saw_slope && saw_heap);  // both branches of the min were exercised
+  // 80 mm of travel at 2 mm depth: A = 1.6e-4 m^2, a heap of sqrt(2 x 0.5 x A) = 12.6 mm.
+  EXPECT_NEAR(lift, std::sqrt(2 * tp * d * v * 400 * dt), 1e-12);
+  vx = -v;  // moving back: the reaction turns, still against the travel
+  fx = 0;
+  lift_next = lift;
+  h = lift + d;
+  e.apply(c, p, st);
+  EXPECT_GT(fx, 0.0);
+  active = 0, h = 0;  // out of contact: no force, state and surface cleared
+  fx = 0;
+  e.apply(c, p, st);
+  EXPECT_EQ(fx, 0.0);
+  EXPECT_EQ(area, 0.0);
+  EXPECT_EQ(lift_next, 0.0);
+}
+
+// In the engine the rim keeps a plastic contact going while the block climbs out above the
+// level: a longer contact, more V_out^y and less V_out^x than the paper's law alone, and the
+// penetration kept is the depth below the undisturbed ground (at tan_phi = 0, the law itself).
+TEST(Effects, CraterRimLengthensTheContactAndLiftsTheBlock) {
+  const auto registry = EffectRegistry::with_builtins();
+  const Model base = Model::paper(registry);
+  const Model rim = base.with_effect("crater_rim", false, registry);
+  const CollisionCase c{{2.9, -2.3, -65.0}, 0.0};
+  std::vector<double> b = base.values(), r = rim.values();
+  b[base.index("en2")] = r[rim.index("en2")] = 0.05;
+  r[rim.index("tan_phi")] = 0.0;
+  const CollisionResult flat = simulate(base, Shape::cylinder(), c, b);
+  const CollisionResult neutral = simulate(rim, Shape::cylinder(), c, r);
+  EXPECT_EQ(neutral.vout, flat.vout);
+  EXPECT_EQ(neutral.max_penetration_m, flat.max_penetration_m);
+  r[rim.index("tan_phi")] = 0.6;
+  const CollisionResult heaped = simulate(rim, Shape::cylinder(), c, r);
+  EXPECT_GT(heaped.contact_duration_s, 1.2 * flat.contact_duration_s);
+  EXPECT_GT(heaped.vout[kVy], flat.vout[kVy]);
+  EXPECT_LT(heaped.vout[kVx], flat.vout[kVx]);
+  EXPECT_LT(heaped.max_penetration_m, 2 * flat.max_penetration_m);
 }
 
 // The checker itself must catch a broken effect, or the test above proves nothing.
