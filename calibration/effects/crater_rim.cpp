@@ -1,9 +1,9 @@
 // `crater_rim`: the rim of sand a block pushes up ahead of itself, and climbs. A block that moves
 // along the ground while it is below the surface sweeps the sand ahead into a heap; the heap
-// lifts the block, so that the contact lasts while the block rises above the undisturbed
-// level: the roll-out of the resolved sand bed, whose block leaves about a centimetre above the
-// level after penetrating 4 mm (docs/resolved-model.md, "The verification"; docs/diagnosis.md,
-// "The force-residual discovery": what the flat ground of `crater_ramp` cannot hold).
+// lifts the block, and the contact goes on while the block rises above the undisturbed level:
+// the roll-out of the resolved sand bed, whose block leaves about a centimetre above the level
+// after penetrating 4 mm (docs/resolved-model.md, "The verification"; docs/diagnosis.md, "The
+// force-residual discovery": what the flat ground of `crater_ramp` cannot hold).
 //
 // Per contact (2-D, per unit length of the block), with L the surface's height above the
 // undisturbed ground under the contact (ContactBatch::lift, zero when the contact starts) and
@@ -24,7 +24,8 @@
 // mechanics (Bekker 1969, "Introduction to terrain-vehicle systems", bulldozing resistance;
 // Wong 2008, "Theory of ground vehicles", 4th ed., section 2.6); RAMMS::ROCKFALL's scarring
 // model keeps the scar a block leaves in soil (Lu et al. 2019). Signature: the base model's
-// contacts are too short, and V_out^y too low, the more the block travels in its crater.
+// V_out^y too low and V_out^x too high, the more the block travels in its crater (faster
+// V_in^x).
 #include <cmath>
 #include <memory>
 
@@ -41,8 +42,8 @@ constexpr StateSpec kState[] = {{"A", "m^2"}};
 
 // Signature (docs/effects/crater_rim.md, "Signature in residuals").
 constexpr SignatureTrend kSignature[] = {
-    {"residual contact_duration", "vin_x"},
     {"residual vy", "vin_x"},
+    {"residual vx", "vin_x"},
 };
 
 class CraterRim final : public Effect {
