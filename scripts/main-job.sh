@@ -76,6 +76,11 @@ if [ $HAVE_DEM -eq 1 ]; then
     --figures "$OUT/figures/resolved-lab-cylinders"
   "$R" upscale "$ROOT/data/resolved/lab-triangles-blind-rolling-gb.h5" --shape triangle \
     --lab "$TRI" --figures "$OUT/figures/resolved-lab-triangles-blind"
+  # The sand-only recalibration's blind triangles (issue 32, item 3; nothing re-tuned), as far as
+  # the campaign has run (scripts/dem-lanes.sh), against the lab's same releases.
+  BLIND=$ROOT/data/resolved/sand-blind-triangles-1.5e9.h5
+  "$R" upscale "$BLIND" --shape triangle --where "$SAND_BLIND_WHERE" --lab "$TRI" \
+    --figures "$OUT/figures/resolved-sand-blind-triangles"
 else
   echo "== Resolved model skipped: this ricochet has no LIGGGHTS (docs/building.md)"
 fi
@@ -104,9 +109,15 @@ for half in held-out calibration; do
 done
 # The fifth calibration's cylinder states left the report with it (the verification above is the
 # current calibration's; the upscaling above still prints them). Its blind triangles stay, labelled,
-# until the sand-only recalibration's blind triangles are in (scripts/dem-lanes.sh runs them next).
+# until all 31 of the sand-only recalibration's blind triangles have run (scripts/dem-lanes.sh is running them).
 FIFTH="LIGGGHTS, fifth calibration (softened grains, E_grain 1.5e7 Pa, not on a stiffness plateau; superseded)"
 if [ $QUICK -eq 0 ]; then
+  # The current calibration's blind triangles, as far as their campaign has run.
+  BLIND=$ROOT/data/resolved/sand-blind-triangles-1.5e9.h5
+  BLIND_N=$("$R" stats "$BLIND" --where "$SAND_BLIND_WHERE" --json | jq '.n')
+  report_set "$BLIND" \
+    "LIGGGHTS, sand-only recalibration (E_grain 1.5e9 Pa, not on a stiffness plateau), lab triangle states, blind (campaign running: $BLIND_N rebounds so far of 31 states)" \
+    "$SAND_BLIND_WHERE"
   # The blind prediction of the lab triangles on that bed (nothing re-tuned), against the lab.
   report_set "$ROOT/data/resolved/lab-triangles-blind-rolling-gb.h5" \
     "$FIFTH, lab triangle states, blind"
