@@ -48,6 +48,7 @@ for spec in $FAMILIES; do
     base=$OUT/sets/$fam-$seed
     "$T" --family "$fam" --strength "$s" --n 40 --design lab --seed "$seed" --out "$base.old.csv" > /dev/null
     before=$("$R" diagnose "$base.old.csv" --json 2>/dev/null | families_of)
+    # shellcheck disable=SC2086  # BOX: zero or more options, split on purpose
     "$R" design "$base.old.csv" --shape cylinder --budget "$BUDGET" $BOX --seed "$seed" \
       --out "$base.plan.csv" --json > "$base.design.json" 2>/dev/null
     "$T" --family "$fam" --strength "$s" --states "$base.plan.csv" --seed $((seed + 100000)) \

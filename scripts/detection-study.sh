@@ -81,7 +81,7 @@ strength_of() {  # FAMILY TOKEN: a number, "lab" or "2lab"
 
 # The list of sets: NAME FAMILY STRENGTH N SEED LADDER(0/1).
 plan() {
-  local fam s n seed k lab two
+  local fam s n seed k two
   for fam in $FAMILIES; do
     for tok in $STRENGTHS; do
       s=$(strength_of "$fam" "$tok")

@@ -20,6 +20,7 @@ SCRATCH=${1:-$(mktemp -d /tmp/fresh-debian12-XXXX)}
 MIRROR=${DEBIAN_MIRROR:-http://deb.debian.org/debian}
 command -v debootstrap > /dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y -qq debootstrap
 
+# shellcheck disable=SC2317  # run by the EXIT trap
 cleanup() {
   # Unmount before anything is removed: the chroot's /dev, /proc and /sys are the host's.
   umount -R "$SCRATCH/proc" "$SCRATCH/sys" "$SCRATCH/dev" 2> /dev/null || true

@@ -1,3 +1,4 @@
+# shellcheck shell=bash
 # Sourced by the long background campaigns (scripts/stiffness-plateau.sh, plateau-drop.sh).
 # pin_program ROOT PIN: on the first start, copies ROOT/build/cli/ricochet (under the shared build
 # lock, so that it never copies a binary being linked) and ROOT/liggghts-inputs/ into PIN, with

@@ -85,7 +85,6 @@ cat "$OUT/strengths.tsv"
 # 2. The reporting seeds.
 TSV=$OUT/cells.tsv
 [ -f "$TSV" ] || printf 'family\ttarget\tstrength\tseed\tpredicted\trejected\tverdict\ttop_family\tpredicted_t\tt\n' > "$TSV"
-total=$(( $(wc -l < "$OUT/strengths.tsv") - 1 ))
 for seed in ${SEEDS:-$(seq 8801 8830)}; do
   null=$(diag "$seed" 0 none)
   tail -n +2 "$OUT/strengths.tsv" | while IFS=$'\t' read -r fam fr s; do

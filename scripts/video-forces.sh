@@ -45,7 +45,7 @@ for fps in 400 1000 2000 5000; do
   for noise in 1e-3 2e-4; do
     for k in 2 4; do
       tag=seed$SEED-fps$fps-noise$noise-k$k
-      rm -rf "$OUT/$tag" "$OUT/$tag.h5"
+      rm -rf "${OUT:?}/$tag" "$OUT/$tag.h5"
       "$FILM" "$SOURCE" "$OUT/$tag" --radius 0.08 --fps "$fps" --noise-m "$noise" --seed "$SEED" > /dev/null
       "$RICOCHET" reconstruct "$OUT/$tag"/*.csv --shape cylinder --track-forces --smooth "$k" \
         --sigma-position "$noise" --out "$OUT/$tag.h5" --json > "$OUT/reconstruct-$tag.json"
@@ -59,7 +59,7 @@ print(f"{seed}\t{fps:g}\t{noise}\t{k}\t{1e3 * 2 * k / fps:.3g}\t{c['releases']}\
       f"{c['rms_error_fcy_N']:.4g}\t{c['median_se_fcy_N']:.4g}\t{c['rms_z']:.3g}\t"
       f"{c['within_2se']:.3g}\t{c['median_peak_ratio']:.3g}\t{law}")
 PY
-      rm -rf "$OUT/$tag"  # the films are reproducible from the seed
+      rm -rf "${OUT:?}/$tag"  # the films are reproducible from the seed
       tail -n 1 "$summary"
     done
   done

@@ -61,13 +61,16 @@ ImpactSet hidden_set(const HiddenCase& c) {
   return set;
 }
 
-// The hand-written catalog: registered effects that are neither the paper's law nor generated.
+// The hand-written catalog that `diagnose` tries by default: registered effects that are neither
+// the paper's law nor generated, and not added by hand only (crater_ramp, crater_rim: contact
+// geometries for the resolved bed, Effect::default_candidate).
 std::vector<std::string> catalog() {
   std::vector<std::string> out;
   const Model paper = Model::paper();
-  for (const auto& n : EffectRegistry::global().names())
-    if (!paper.has_effect(n) && !EffectRegistry::global().get(n).generated())
-      out.push_back(n);
+  for (const auto& n : EffectRegistry::global().names()) {
+    const Effect& e = EffectRegistry::global().get(n);
+    if (!paper.has_effect(n) && !e.generated() && e.default_candidate()) out.push_back(n);
+  }
   return out;
 }
 
