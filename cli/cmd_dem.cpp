@@ -354,11 +354,12 @@ void print_campaign_plan(const CampaignOptions& o, const dem::CampaignDesign& de
                          const dem::Decks& decks) {
   const auto plan = dem::plan_campaign(design, decks, o.output.out);
   std::set<std::string> beds, to_build;
-  std::size_t to_run = 0;
+  std::size_t to_run = 0, refused = 0;
   for (const auto& p : plan) {
     beds.insert(p.bed_key);
     if (!p.status.empty()) continue;
     ++to_run;
+    if (!p.invalid.empty()) ++refused;
     if (!p.bed_cached) to_build.insert(p.bed_key);
   }
   if (o.output.json) {
@@ -368,7 +369,9 @@ void print_campaign_plan(const CampaignOptions& o, const dem::CampaignDesign& de
                       {"bed_key", p.bed_key},
                       {"bed_cached", p.bed_cached},
                       {"bed_building", p.bed_building},
-                      {"status", p.status.empty() ? json(nullptr) : json(p.status)}});
+                      {"status", p.status.empty() ? json(nullptr) : json(p.status)},
+                      {"invalid", p.invalid.empty() ? json(nullptr) : json(p.invalid)},
+                      {"spec", json::parse(p.spec)}});
     print_json({{"design", design.source},
                 {"name", design.name},
                 {"out", o.output.out},
@@ -376,6 +379,7 @@ void print_campaign_plan(const CampaignOptions& o, const dem::CampaignDesign& de
                 {"impacts", list},
                 {"beds", beds.size()},
                 {"to_run", to_run},
+                {"to_run_invalid", refused},
                 {"beds_to_build", to_build.size()}});
     return;
   }
@@ -387,6 +391,9 @@ void print_campaign_plan(const CampaignOptions& o, const dem::CampaignDesign& de
                              : p.bed_building ? "building"
                                               : "to build",
                              p.status.empty() ? "to run" : p.status);
+  for (const auto& p : plan)
+    if (p.status.empty() && !p.invalid.empty())
+      std::cout << fmt::format("  {}: would be refused (invalid): {}\n", p.id, p.invalid);
   std::cout << fmt::format(
       "to run: {} impact{}, {} bed{} to build{}\n", to_run, to_run == 1 ? "" : "s", to_build.size(),
       to_build.size() == 1 ? "" : "s",

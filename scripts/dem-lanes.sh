@@ -256,6 +256,32 @@ if [ -f "$CAL/calibrate-grains.json" ]; then
   # The rest of the blind triangles (the ids already in the file, the check's on the whole bed, are
   # skipped: every impact records its own run.active_zone_m).
   blind_run "$TRI_DESIGN"
+  # 1c''. The blind triangles' fast states (amended on 2026-12-06, when the driver refused T08
+  #       before LIGGGHTS, and before any of them had run; docs/resolved-model.md, "The blind
+  #       triangles' fast states"): the lab's four fastest releases (V_in^x 5.31-5.69 m/s) would
+  #       start their 25 ms run-up behind the back wall's margin (status invalid). They run with
+  #       the free flight shortened to fit (scripts/short-runup-design.py: everything else as the
+  #       blind design gives it), under their own ids: each refusal recorded in the file is
+  #       forgotten first, so the blind design above, resumed, finds them done.
+  RUNUP=sand-blind-triangles-runup-1.5e9
+  [ -f "$CAL/$RUNUP.toml" ] ||
+    (cd results/sand-verification && "$ROOT/scripts/short-runup-design.py" "$ROOT/build/cli/ricochet" \
+      "pinned/$TRI_DESIGN.toml" pinned/liggghts-inputs sand-blind-triangles-1.5e9.h5 \
+      --name "$RUNUP" --out "$ROOT/$CAL/$RUNUP.toml") >> "$CAL/campaign.log" 2>&1
+  if [ -f "$CAL/$RUNUP.toml" ]; then
+    runup_ids=$(grep -oP '^id = "\K[^"]+' "$CAL/$RUNUP.toml" | paste -sd,)
+    refused=$( (cd results/sand-verification && pinned/ricochet dem campaign "pinned/$TRI_DESIGN.toml" \
+      --decks pinned/liggghts-inputs --only "$runup_ids" --out sand-blind-triangles-1.5e9.h5 \
+      --dry-run --json 2>/dev/null) | jq -r '[.impacts[] | select(.status == "invalid") | .id] | join(",")')
+    if [ -n "$refused" ]; then
+      echo "== $(date '+%F %T') forgetting the refused $refused to run them with a shorter run-up" \
+        >> "$CAL/campaign.log"
+      (cd results/sand-verification && pinned/ricochet dem campaign "pinned/$TRI_DESIGN.toml" \
+        --decks pinned/liggghts-inputs --out sand-blind-triangles-1.5e9.h5 --forget "$refused") \
+        >> "$CAL/campaign.log" 2>&1
+    fi
+    blind_run "$RUNUP"
+  fi
   # 1d. Issue 33's force campaign on the same grains and bed: the speed campaign's 9 states x 3
   #     positions (verification-campaign.py --states-from), tracks kept, for the force-residual
   #     discovery on the plateau bed. Its design is written here; it runs in lane A below, after

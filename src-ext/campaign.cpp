@@ -17,6 +17,7 @@
 #include "common/h5.hpp"
 #include "common/progress.hpp"
 #include "engine/shape.hpp"
+#include "impact_run.hpp"
 
 namespace ricochet::dem {
 
@@ -77,6 +78,10 @@ std::vector<PlannedImpact> plan_campaign(const CampaignDesign& design, const Dec
     p.bed_key = bed_key(decks, bed_overrides(spec));
     p.bed_cached = bed_cached(design.cache_dir, p.bed_key);
     p.bed_building = !p.bed_cached && bed_building(design.cache_dir, p.bed_key);
+    p.spec = spec_json(spec);
+    if (p.bed_cached)
+      p.invalid = validate_setup(spec, Shape::resolve(spec.shape), decks,
+                                 read_bed_files(bed_prefix(design.cache_dir, p.bed_key)));
     const auto d = done.find(spec.id);
     if (d != done.end()) p.status = d->second;
     plan.push_back(std::move(p));

@@ -43,6 +43,11 @@ struct PlannedImpact {
   bool bed_cached = false;    ///< the design's cache_dir holds that bed
   bool bed_building = false;  ///< not cached, and a process is building it now (bed_building)
   std::string status;         ///< its status in the campaign file; empty: still to run
+  std::string spec;           ///< the impact as the campaign file records it (spec_json)
+  /// Why the driver would refuse it before LIGGGHTS (status `invalid`, validate_setup: e.g. a
+  /// run-up that starts behind the back wall's margin), checked on its bed when that bed is
+  /// cached; empty when it passes or its bed is not built yet.
+  std::string invalid;
 };
 
 /// The reruns that `design.end_wall_rerun_Lx_m` (L) asks for, given the campaign file's `index`:

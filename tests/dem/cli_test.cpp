@@ -282,6 +282,72 @@ TEST(DemActiveZone, TheVerdictScriptPassesAZoneThatChangesNothingAndFailsOneThat
 // --vtk DIR: ParaView's file series of the grains and of the block's spheres, one file each per
 // --vtk-every steps, legacy VTK with the points of every grain (and every sphere) and the fields
 // ParaView colours by (v, radius, id, type).
+// A dry run names the impacts the driver would refuse before LIGGGHTS, with the reason, on a
+// cached bed: here a 50 ms run-up at 2.9 m/s to a landing 0.21 m from the back wall of the
+// 0.6 m test bed (the decks' x_impact_frac 0.35) would start the block inside the wall's margin.
+// Each impact's spec is listed as the campaign file's index would record it, and
+// scripts/short-runup-design.py turns the refused one into a design with the longest free flight (a
+// multiple of 2.5 ms) that fits, which the driver then accepts; the impact that fitted is left out.
+TEST(DemCampaign, DryRunNamesTheRefusedImpactsAndTheRunUpIsShortenedToFit) {
+  const fs::path dir = temp_dir("runup");
+  std::string bed = std::string(RICOCHET_BIN) + " dem bed --cache " + RICOCHET_TEST_CACHE +
+                    " --decks " + RICOCHET_SOURCE_DIR + "/liggghts-inputs";
+  for (const auto& a : kTestBed)
+    if (a.rfind("bed.", 0) == 0) bed += " --set " + a;
+  const auto [brc, btext] = shell(bed + " 2>&1");  // cached by the other tests, or built here
+  ASSERT_EQ(brc, 0) << btext;
+  const std::string design = (dir / "design.toml").string();
+  std::ofstream(design) << small_bed_campaign("runup", RICOCHET_TEST_CACHE, dir)
+                        << "[[impact]]\nid = \"fits\"\nvin = [2.9, -2.3, -65.0]\n"
+                           "[[impact]]\nid = \"long\"\nvin = [2.9, -2.3, -65.0]\n"
+                           "alpha_in_deg = 12.5\nrun = { t_pre_s = 0.05 }\n";
+  const std::string dry = std::string(RICOCHET_BIN) + " dem campaign --dry-run --decks " +
+                          RICOCHET_SOURCE_DIR + "/liggghts-inputs ";
+  const auto [rc, text] = shell(dry + design + " --json");
+  ASSERT_EQ(rc, 0) << text;
+  const auto plan = nlohmann::json::parse(text);
+  EXPECT_EQ(plan["to_run"], 2);
+  EXPECT_EQ(plan["to_run_invalid"], 1);
+  ASSERT_EQ(plan["impacts"].size(), 2u);
+  EXPECT_TRUE(plan["impacts"][0]["invalid"].is_null()) << plan["impacts"][0];
+  const auto& refused = plan["impacts"][1];
+  ASSERT_TRUE(refused["invalid"].is_string()) << refused;
+  EXPECT_NE(refused["invalid"].get<std::string>().find("from the wall behind it"),
+            std::string::npos);
+  EXPECT_EQ(refused["spec"]["run"]["t_pre_s"], "0.05");
+  EXPECT_NEAR(refused["spec"]["alpha_in_rad"].get<double>(), 12.5 * M_PI / 180, 1e-15);
+  const auto [trc, table] = shell(dry + design + " 2>&1");
+  ASSERT_EQ(trc, 0) << table;
+  EXPECT_NE(table.find("long: would be refused (invalid): the block would start at x ="),
+            std::string::npos)
+      << table;
+
+  const std::string shorter = (dir / "shorter.toml").string();
+  const auto [src, stext] =
+      shell(std::string(RICOCHET_SOURCE_DIR) + "/scripts/short-runup-design.py " + RICOCHET_BIN +
+            " " + design + " " + RICOCHET_SOURCE_DIR + "/liggghts-inputs " +
+            (dir / "none.h5").string() + " --name shorter --out " + shorter + " 2>&1");
+  ASSERT_EQ(src, 0) << stext;
+  const auto [rc2, text2] = shell(dry + shorter + " --json");
+  ASSERT_EQ(rc2, 0) << text2;
+  const auto fixed = nlohmann::json::parse(text2);
+  ASSERT_EQ(fixed["impacts"].size(), 1u) << text2;
+  const auto& one = fixed["impacts"][0];
+  EXPECT_EQ(one["id"], "long");
+  EXPECT_TRUE(one["invalid"].is_null()) << one;
+  EXPECT_EQ(one["bed_key"], refused["bed_key"]);  // the same bed, the same landing
+  nlohmann::json run_after = one["spec"]["run"], run_before = refused["spec"]["run"];
+  run_after.erase("t_pre_s");
+  run_before.erase("t_pre_s");
+  EXPECT_EQ(run_after, run_before);  // only the free flight changed
+  EXPECT_NEAR(one["spec"]["alpha_in_rad"].get<double>(),
+              refused["spec"]["alpha_in_rad"].get<double>(), 1e-15);
+  const double t_pre = std::stod(one["spec"]["run"]["t_pre_s"].get<std::string>());
+  EXPECT_LT(t_pre, 0.05);
+  EXPECT_GE(t_pre, 0.0125);
+  EXPECT_NEAR(std::fmod(t_pre + 1e-12, 0.0025), 0.0, 1e-9);
+}
+
 TEST(DemEndToEnd, VtkFramesForParaView) {
   const fs::path work = temp_dir("vtk");
   const fs::path vtk = work / "paraview";
