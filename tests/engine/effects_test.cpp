@@ -31,6 +31,23 @@ TEST(Effects, EveryRegisteredEffectSatisfiesTheInvariants) {
   }
 }
 
+// One contact lane for an effect driven by hand: every input and output of ContactBatch as a
+// named double, the batch pointing at them.
+struct OneLane {
+  double active = 1, h = 0, dh = 0, vn = 0, vt = 0, w = 0, lever = 0.08, vx = 0, vy = 0;
+  double kf = 1, ef = 1, enf = 1, muf = 1, murf = 1, fn = 0, ft = 0, mom = 0, fx = 0, fy = 0;
+  double lift = 0, lift_next = 0;
+  ContactBatch batch(double dt) {
+    ContactBatch c;
+    c.n = 1, c.dt = dt, c.active = &active, c.h = &h, c.dh = &dh, c.vn = &vn, c.vt = &vt;
+    c.w = &w, c.lever = &lever, c.vx = &vx, c.vy = &vy, c.mass = 13.9, c.length = 0.29;
+    c.kn_factor = &kf, c.elastic_factor = &ef, c.en2_factor = &enf, c.mu_factor = &muf;
+    c.muR_factor = &murf, c.fn = &fn, c.ft = &ft, c.moment = &mom, c.fx_body = &fx;
+    c.fy_body = &fy, c.lift = &lift, c.lift_next = &lift_next;
+    return c;
+  }
+};
+
 // crater_ramp by hand: a contact that reached h_max = 3 mm, then moves along x at constant depth
 // 2 mm (1 mm risen) at 2 m/s. After n steps of dt its travel is s = 2 n dt, its overlap with a
 // ramp of slope 0.25 is delta = 0.25 s - 1 mm once positive, and the wall pushes with k delta
@@ -40,14 +57,11 @@ TEST(Effects, CraterRampIsTheOverlapWithARampRisingAheadOfTheBlock) {
   const Effect& e = registry.get("crater_ramp");
   ASSERT_FALSE(e.default_candidate());
   const double dt = 1e-3, tb = 0.25, k = 2e6;
-  double active = 1, h = 0.003, dh = 0, vn = 0, vt = 0, w = 0, lever = 0.08, vx = 2.0, vy = 0;
-  double kf = 1, ef = 1, enf = 1, muf = 1, murf = 1, fn = 0, ft = 0, mom = 0, fx = 0, fy = 0;
+  OneLane l;
+  l.h = 0.003, l.vx = 2.0;
+  double &active = l.active, &h = l.h, &vx = l.vx, &fx = l.fx, &fy = l.fy;
   double h_max = 0, s = 0;
-  ContactBatch c;
-  c.n = 1, c.dt = dt, c.active = &active, c.h = &h, c.dh = &dh, c.vn = &vn, c.vt = &vt;
-  c.w = &w, c.lever = &lever, c.vx = &vx, c.vy = &vy, c.mass = 13.9, c.length = 0.29;
-  c.kn_factor = &kf, c.elastic_factor = &ef, c.en2_factor = &enf, c.mu_factor = &muf;
-  c.muR_factor = &murf, c.fn = &fn, c.ft = &ft, c.moment = &mom, c.fx_body = &fx, c.fy_body = &fy;
+  const ContactBatch c = l.batch(dt);
   const double params[] = {tb, k};
   const double* p[] = {&params[0], &params[1]};
   double* st[] = {&h_max, &s};
@@ -96,15 +110,12 @@ TEST(Effects, CraterRimHeapsTheSweptSandAndTheBlockClimbsIt) {
   ASSERT_FALSE(e.default_candidate());
   ASSERT_TRUE(e.moves_surface());
   const double dt = 1e-4, tp = 0.5, d = 0.002, v = 2.0, fn0 = 3000.0;
-  double active = 1, h = d, dh = 0, vn = 0, vt = 0, w = 0, lever = 0.08, vx = v, vy = 0;
-  double kf = 1, ef = 1, enf = 1, muf = 1, murf = 1, fn = fn0, ft = 0, mom = 0, fx = 0, fy = 0;
-  double area = 0, lift = 0, lift_next = 0;
-  ContactBatch c;
-  c.n = 1, c.dt = dt, c.active = &active, c.h = &h, c.dh = &dh, c.vn = &vn, c.vt = &vt;
-  c.w = &w, c.lever = &lever, c.vx = &vx, c.vy = &vy, c.mass = 13.9, c.length = 0.29;
-  c.kn_factor = &kf, c.elastic_factor = &ef, c.en2_factor = &enf, c.mu_factor = &muf;
-  c.muR_factor = &murf, c.fn = &fn, c.ft = &ft, c.moment = &mom, c.fx_body = &fx, c.fy_body = &fy;
-  c.lift = &lift, c.lift_next = &lift_next;
+  OneLane l;
+  l.h = d, l.vx = v, l.fn = fn0;
+  double &active = l.active, &h = l.h, &vx = l.vx, &fx = l.fx, &fy = l.fy;
+  double &lift = l.lift, &lift_next = l.lift_next;
+  double area = 0;
+  const ContactBatch c = l.batch(dt);
   const double params[] = {tp};
   const double* p[] = {&params[0]};
   double* st[] = {&area};
