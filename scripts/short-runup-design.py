@@ -18,7 +18,9 @@ decks' default is 12.5 ms).
 
 RICOCHET's dry run of DESIGN (decks DECKS, campaign file FILE) names the refused impacts, with
 the reason and the spec as FILE's index records it; only the run-up refusals are taken (any other
-reason stops the script, exit 2), among the impacts still to run or recorded `invalid`. The
+reason stops the script, exit 2), whatever FILE records for them, so that the design written is
+the same on every machine (an impact of it that FILE has, run under this design, is skipped when
+the design runs). With no such impact nothing is written. The
 orientation is written in degrees with 17 significant digits (the spec keeps radians): the same
 orientation to the last bit or one unit of it. Exit 2 when a run-up cannot be shortened to 12.5
 ms or more.
@@ -70,7 +72,7 @@ def main():
         source = tomllib.load(f)
     impacts = []
     for p in plan["impacts"]:
-        if p["invalid"] is None or p["status"] not in (None, "invalid"):
+        if p["invalid"] is None:
             continue
         m = RUNUP.match(p["invalid"])
         if not m:
@@ -87,6 +89,9 @@ def main():
             return 2
         run = dict(spec["run"], t_pre_s=round(t_pre, 6))
         impacts.append((spec, run, float(spec["run"]["t_pre_s"])))
+    if not impacts:
+        print(f"{a.design}: no impact would be refused for its run-up; nothing written")
+        return 0
     out = [f"# {a.name}: written by scripts/short-runup-design.py from {source['campaign']['name']}",
            "# (the impacts its driver refuses for a run-up behind the back wall, their free flight",
            "# shortened; everything else as that design gives it).", "[campaign]",
