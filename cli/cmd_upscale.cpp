@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iostream>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,9 @@ struct UpscaleCliOptions {
   /// values before the KS test (stats::ks_with_measurement_noise); empty = not done.
   std::vector<double> lab_noise;
   std::size_t lab_noise_draws = stats::LabGapOptions{}.noise_draws;
+  /// --lab-same-ids: keep only the lab releases whose ids the campaign's impacts (after --where)
+  /// carry: a campaign run at lab states compared with those releases, not with the whole lab.
+  bool lab_same_ids = false;
   /// --seed, --starts and --threads write into fit: their defaults are the fit module's.
   fit::FitOptions fit = dem::UpscaleOptions{}.fit;
   bool no_intervals = !fit::FitOptions{}.intervals;
@@ -138,10 +142,11 @@ LabGapText add_lab_gap(const UpscaleCliOptions& o, const dem::UpscaleResult& r,
   j["gap_to_lab"] = gap;
   j["lab_checks"] = stats::checks_json(lab_gap);
   text.lab = stats::to_text(lab_gap);
-  if (!o.lab_where.empty())
-    text.lab =
-        fmt::format("  lab: the {} releases of {} that match --lab-where\n", lab.size(), o.lab) +
-        text.lab;
+  if (!o.lab_where.empty() || o.lab_same_ids)
+    text.lab = fmt::format("  lab: the {} releases of {} {}\n", lab.size(), o.lab,
+                           o.lab_same_ids ? "with the ids of the campaign's impacts"
+                                          : "that match --lab-where") +
+               text.lab;
   nlohmann::json params;
   if (!r.impacts.empty())
     for (std::size_t c : r.impacts.front().fit.calibrated) {
@@ -211,10 +216,22 @@ void run(const UpscaleCliOptions& o) {
     throw InputError("<command line>", 0, "--lab-noise", "needs --lab (the lab set it models)");
   if (!o.lab_where.empty() && o.lab.empty())
     throw InputError("<command line>", 0, "--lab-where", "needs --lab (the lab set it filters)");
+  if (o.lab_same_ids && o.lab.empty())
+    throw InputError("<command line>", 0, "--lab-same-ids", "needs --lab (the lab set it filters)");
   std::unique_ptr<ImpactSet> lab;
   if (!o.lab.empty())
     lab = std::make_unique<ImpactSet>(fit::select_shape(
         filter_nonempty(read_impact_set(o.lab), o.lab_where, o.lab, "--lab-where"), shape));
+  if (lab && o.lab_same_ids) {
+    std::set<std::string> ids;
+    for (const Impact& i :
+         filter_nonempty(read_impact_set(o.campaign), o.where, o.campaign, "--where").impacts)
+      ids.insert(i.id);
+    std::erase_if(lab->impacts, [&](const Impact& i) { return !ids.contains(i.id); });
+    if (lab->empty())
+      throw InputError(o.lab, 0, "--lab-same-ids",
+                       "no release of " + o.lab + " has the id of an impact of " + o.campaign);
+  }
   u.lab = lab.get();
   const dem::UpscaleResult r = dem::upscale(o.campaign, decks, model, shape, u);
 
@@ -241,6 +258,7 @@ void run(const UpscaleCliOptions& o) {
   nlohmann::json j = result_json(r);
   j["figures"] = figures;
   j["lab_where"] = o.lab_where;
+  j["lab_same_ids"] = o.lab_same_ids;
   if (law) j["model_file"] = o.write_model;
   std::optional<LabGapText> lab_text;
   if (lab) lab_text = add_lab_gap(o, r, *lab, shape, j);
@@ -279,6 +297,9 @@ void add_upscale_command(CLI::App& app) {
   sub->add_option("--lab-where", o->lab_where,
                   "Keep only the releases of --lab matching EXPR (docs/impact-sets.md, Filters), "
                   "e.g. the held-out half of a split; --where filters the campaign");
+  sub->add_flag("--lab-same-ids", o->lab_same_ids,
+                "Keep only the releases of --lab whose ids the campaign's impacts carry (after "
+                "--where): a campaign run at lab states against those same releases");
   sub->add_option("--lab-noise-draws", o->lab_noise_draws, "Noise draws of --lab-noise")
       ->capture_default_str();
   check_range(sub, "--lab-noise-draws", 1, 1e6);

@@ -95,6 +95,7 @@ const std::vector<BadCase> kCases = {
     {"upscale " + kCampaign + " --lab " + kCyl + " --lab-noise 0.1,0.1", "--lab-noise"},
     {"upscale " + kCampaign + " --lab-noise 0.1,0.1,8", "--lab-noise"},
     {"upscale " + kCampaign + " --lab-where id==C01", "field '--lab-where': needs --lab"},
+    {"upscale " + kCampaign + " --lab-same-ids", "field '--lab-same-ids': needs --lab"},
     {"upscale " + kCampaign + " --lab " + kCyl + " --lab-where id==C99",
      "field '--lab-where': 'id==C99' keeps no release"},
     {"calibrate-grains no-such-campaign.h5 --lab " + kCyl, "no-such-campaign.h5"},

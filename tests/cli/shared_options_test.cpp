@@ -184,6 +184,27 @@ TEST_F(SharedOptions, UpscaleLabWhereSelectsTheLabHalf) {
         << c;
 }
 
+// upscale --lab-same-ids compares a campaign run at lab states with the lab's releases of the same
+// ids, after the campaign's --where: here the sand-only verification (27 rebounds; C08 was
+// captured) less five, against the lab less the same five and C08, which is what --lab-where
+// names by hand.
+TEST_F(SharedOptions, UpscaleLabSameIdsIsTheLabOfTheCampaignsIds) {
+  if (!test::program_has_liggghts()) GTEST_SKIP() << "upscale needs LIGGGHTS";
+  const std::string upscale =
+      "upscale " +
+      quote(std::string(RICOCHET_SOURCE_DIR) + "/data/resolved/sand-verification-1.5e9.h5") +
+      " --no-intervals --lab " + kCyl;
+  const std::string where = "id!=C01 && id!=C03 && id!=C05 && id!=C06 && id!=C10";
+  const auto same = json(upscale + " --where \"" + where + "\" --lab-same-ids");
+  const auto by_hand =
+      json(upscale + " --where \"" + where + "\" --lab-where \"" + where + " && id!=C08\"");
+  EXPECT_EQ(same["lab_same_ids"], true);
+  EXPECT_EQ(same["lab_checks"]["lab_residuals"]["n"], 22);
+  EXPECT_EQ(by_hand["lab_checks"]["lab_residuals"]["n"], 22);
+  for (const char* c : {"vout_x", "vout_y", "wout"})
+    EXPECT_EQ(same["gap_to_lab"][c]["lab_mean"], by_hand["gap_to_lab"][c]["lab_mean"]) << c;
+}
+
 // upscale --write-model: the campaign's law (two groups here: the whole campaign's fit) held as a
 // model file, which diagnose takes as a base it evaluates and does not refit.
 TEST_F(SharedOptions, UpscaleWritesItsLawHeldAndDiagnoseKeepsIt) {
