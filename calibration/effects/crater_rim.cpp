@@ -9,11 +9,16 @@
 // undisturbed ground under the contact (ContactBatch::lift, zero when the contact starts) and
 // d = h - L the contact's depth below the undisturbed ground:
 //   A  <- A + max(d, 0) |v_x| dt              sand swept ahead [m^2 per m of block]
-//   L' =  min(sqrt(2 tan_phi A), L + tan_phi |v_x| dt)
+//   L' =  min(sqrt(2 tan_phi A), L + tan_phi |v_x| dt)   while fn <= w_rim m g, else L' = L
 //   F_x,body += -sign(v_x) sigma fn,   sigma = (L' - L) / (|v_x| dt)   (0 <= sigma <= tan_phi)
 // The swept sand stands as a heap with a face at slope tan_phi against the block (cross-section
 // H^2 / (2 tan_phi) = A); the surface under the contact rises to its height, no faster than
-// that slope along the travel. The rising surface loads the normal spring by fn dL; the reaction
+// that slope along the travel, and only while the block presses on it with at most w_rim times
+// its weight: loose sand heaped ahead carries about the block's weight and yields beyond it (the
+// resolved block is carried out of its crater by a force of about its weight, docs/resolved-
+// model.md; without the bound the heap, a rigid surface, could push with any force, and along a
+// measured path that the model does not follow it does: docs/diagnosis.md, "Added: the rim").
+// The rising surface loads the normal spring by fn dL; the reaction
 // sigma fn, the normal force turned back by the slope the block climbs, takes the same work from
 // the horizontal motion, so the rim turns horizontal motion into lift and makes no energy (to
 // first order in dt: the reaction reads this step's fn, the spring the next step's). Applied at
@@ -24,7 +29,7 @@
 // mechanics (Bekker 1969, "Introduction to terrain-vehicle systems", bulldozing resistance;
 // Wong 2008, "Theory of ground vehicles", 4th ed., section 2.6); RAMMS::ROCKFALL's scarring
 // model keeps the scar a block leaves in soil (Lu et al. 2019). Signature: the base model's
-// V_out^y too low and V_out^x too high, the more the block travels in its crater (faster
+// contacts too short and V_out^y too low, the more the block travels in its crater (faster
 // V_in^x).
 #include <cmath>
 #include <memory>
@@ -37,13 +42,17 @@ namespace {
 constexpr ParameterSpec kParams[] = {
     {"tan_phi", "-", 0.0, 1.2, 0.6, 0.0, true,
      "slope of the heaped sand's face (the sand's angle of repose; 0 = no rim)"},
+    {"w_rim", "-", 0.1, 100.0, 1.0, NAN, false,
+     "the most the heap carries, in block weights: pressed harder it yields and does not rise",
+     ParameterRole::kOther, IdentifiedBy::kContactFeatures},
 };
+constexpr double kG = 9.81;  // [m/s^2], the block's weight m g
 constexpr StateSpec kState[] = {{"A", "m^2"}};
 
 // Signature (docs/effects/crater_rim.md, "Signature in residuals").
 constexpr SignatureTrend kSignature[] = {
+    {"residual contact_duration", "vin_x"},
     {"residual vy", "vin_x"},
-    {"residual vx", "vin_x"},
 };
 
 class CraterRim final : public Effect {
@@ -54,9 +63,10 @@ class CraterRim final : public Effect {
            "the block climbs it";
   }
   std::string_view equation() const override {
-    return "A <- A + max(h - L, 0)*|vx|*dt; L' = min(sqrt(2*tan_phi*A), L + tan_phi*|vx|*dt); "
-           "Fx_body += -sign(vx)*fn*(L' - L)/(|vx|*dt) (L: the surface's height above the "
-           "undisturbed ground under the contact, L' the next step's)";
+    return "A <- A + max(h - L, 0)*|vx|*dt; L' = min(sqrt(2*tan_phi*A), L + tan_phi*|vx|*dt) "
+           "while fn <= w_rim*m*g, else L' = L; Fx_body += -sign(vx)*fn*(L' - L)/(|vx|*dt) (L: "
+           "the surface's height above the undisturbed ground under the contact, L' the next "
+           "step's)";
   }
   std::string_view reference() const override {
     return "Bekker (1969) Introduction to terrain-vehicle systems (bulldozing); Wong (2008) "
@@ -78,6 +88,7 @@ class CraterRim final : public Effect {
 
   void apply(const ContactBatch& c, const double* const* p, double* const* st) const override {
     const double* __restrict tp = p[0];
+    const double* __restrict wr = p[1];
     double* __restrict area = st[0];
     const double* __restrict h = c.h;
     const double* __restrict vx = c.vx;
@@ -96,7 +107,9 @@ class CraterRim final : public Effect {
       const double heap = std::sqrt(2.0 * tp[i] * a);
       const double climb = lift[i] + tp[i] * travel;
       const double next = heap < climb ? heap : climb;
-      const double rise = next > lift[i] ? next - lift[i] : 0.0;
+      // The heap carries at most w_rim block weights: pressed harder it yields (it does not rise).
+      const bool carries = fn[i] <= wr[i] * c.mass * kG;
+      const double rise = carries && next > lift[i] ? next - lift[i] : 0.0;
       const double slope = travel > 0.0 ? rise / travel : 0.0;
       fx[i] -= on ? (vx[i] >= 0.0 ? 1.0 : -1.0) * slope * fn[i] : 0.0;
       lift_next[i] = on ? lift[i] + rise : 0.0;

@@ -86,8 +86,8 @@ TEST(PathForce, GivesBackTheEngineForcesAlongItsOwnTrace) {
 // trace the normal force and the overlap with the raised surface come back. The heap reads the
 // block's horizontal speed, which the engine takes at the half step and the trace at the full
 // step (as the tangential spring above), so the raised surface, and the force on it, differ by
-// a little: the bounds were set after a first run (worst differences 0.009 % of the peak normal
-// force and 0.01 % of the largest overlap; the rim held the block 3.0 mm above the level).
+// a little: the bounds were set after a first run (worst differences 0.010 % of the peak normal
+// force and 0.009 % of the largest overlap; the rim held the block 6.0 mm above the level).
 TEST(PathForce, ARaisedSurfaceIsCarriedAsTheEngineCarriesIt) {
   const auto& registry = EffectRegistry::global();
   const Model m = Model::paper(registry).with_effect("crater_rim", false, registry);
