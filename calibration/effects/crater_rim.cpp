@@ -18,16 +18,16 @@
 // resolved block is carried out of its crater by a force of about its weight, docs/resolved-
 // model.md; without the bound the heap, a rigid surface, could push with any force, and along a
 // measured path that the model does not follow it does: docs/diagnosis.md, "Added: the rim").
-// The rising surface loads the normal spring by fn dL; the reaction
-// sigma fn, the normal force turned back by the slope the block climbs, takes the same work from
-// the horizontal motion, so the rim turns horizontal motion into lift and makes no energy (to
-// first order in dt: the reaction reads this step's fn, the spring the next step's). Applied at
+// The rising surface loads the normal spring by fn dL; the reaction sigma fn, the normal force
+// turned back by the slope the block climbs, takes the same work from the horizontal motion, so
+// the rim turns horizontal motion into lift and makes no energy (to first order in dt: the
+// reaction reads this step's fn, the spring the next step's). Applied at
 // the centre of mass, as `ploughing` and `crater_ramp`. The contact ends when the block leaves
 // the heaped surface, and the heap with it.
 //
 // The heap at the angle of repose is the bulldozing picture of wheel-soil and ploughing
 // mechanics (Bekker 1969, "Introduction to terrain-vehicle systems", bulldozing resistance;
-// Wong 2008, "Theory of ground vehicles", 4th ed., section 2.6); RAMMS::ROCKFALL's scarring
+// Wong 2008, "Theory of ground vehicles", 4th ed., chapter 2); RAMMS::ROCKFALL's scarring
 // model keeps the scar a block leaves in soil (Lu et al. 2019). Signature: the base model's
 // contacts too short and V_out^y too low, the more the block travels in its crater (faster
 // V_in^x).
@@ -70,7 +70,8 @@ class CraterRim final : public Effect {
   }
   std::string_view reference() const override {
     return "Bekker (1969) Introduction to terrain-vehicle systems (bulldozing); Wong (2008) "
-           "Theory of ground vehicles, 4th ed., sec. 2.6; Lu et al. (2019) Landslides 16:2353 "
+           "Theory of ground vehicles, 4th ed., ch. 2 (bulldozing resistance); Lu et al. (2019) "
+           "Landslides 16:2353 "
            "(rockfall scarring in soil)";
   }
   Stage stage() const override { return Stage::kBody; }
