@@ -72,6 +72,7 @@ std::vector<PlannedImpact> plan_campaign(const CampaignDesign& design, const Dec
   std::vector<ImpactSpec> specs = design.impacts;
   for (auto& s : end_wall_reruns(design, decks, index)) specs.push_back(std::move(s));
   std::vector<PlannedImpact> plan;
+  std::map<std::string, BedFiles> beds;  // each cached bed's parameters, read once
   for (const ImpactSpec& spec : specs) {
     PlannedImpact p;
     p.id = spec.id;
@@ -79,9 +80,12 @@ std::vector<PlannedImpact> plan_campaign(const CampaignDesign& design, const Dec
     p.bed_cached = bed_cached(design.cache_dir, p.bed_key);
     p.bed_building = !p.bed_cached && bed_building(design.cache_dir, p.bed_key);
     p.spec = spec_json(spec);
-    if (p.bed_cached)
-      p.invalid = validate_setup(spec, Shape::resolve(spec.shape), decks,
-                                 read_bed_files(bed_prefix(design.cache_dir, p.bed_key)));
+    if (p.bed_cached) {
+      auto it = beds.find(p.bed_key);
+      if (it == beds.end())
+        it = beds.emplace(p.bed_key, read_bed_files(bed_prefix(design.cache_dir, p.bed_key))).first;
+      p.invalid = validate_setup(spec, Shape::resolve(spec.shape), decks, it->second);
+    }
     const auto d = done.find(spec.id);
     if (d != done.end()) p.status = d->second;
     plan.push_back(std::move(p));
