@@ -8,7 +8,6 @@
 #include <fstream>
 #include <iostream>
 #include <optional>
-#include <set>
 #include <string>
 #include <vector>
 
@@ -222,17 +221,8 @@ void run(const UpscaleCliOptions& o) {
   if (!o.lab.empty())
     lab = std::make_unique<ImpactSet>(fit::select_shape(
         filter_nonempty(read_impact_set(o.lab), o.lab_where, o.lab, "--lab-where"), shape));
-  if (lab && o.lab_same_ids) {
-    std::set<std::string> ids;
-    for (const Impact& i :
-         filter_nonempty(read_impact_set(o.campaign), o.where, o.campaign, "--where").impacts)
-      ids.insert(i.id);
-    std::erase_if(lab->impacts, [&](const Impact& i) { return !ids.contains(i.id); });
-    if (lab->empty())
-      throw InputError(o.lab, 0, "--lab-same-ids",
-                       "no release of " + o.lab + " has the id of an impact of " + o.campaign);
-  }
   u.lab = lab.get();
+  u.lab_same_ids = o.lab_same_ids;
   const dem::UpscaleResult r = dem::upscale(o.campaign, decks, model, shape, u);
 
   std::vector<std::string> figures;
@@ -261,7 +251,7 @@ void run(const UpscaleCliOptions& o) {
   j["lab_same_ids"] = o.lab_same_ids;
   if (law) j["model_file"] = o.write_model;
   std::optional<LabGapText> lab_text;
-  if (lab) lab_text = add_lab_gap(o, r, *lab, shape, j);
+  if (lab) lab_text = add_lab_gap(o, r, r.lab, shape, j);  // the lab as compared (same ids)
   if (o.output.json) {
     print_json(j);
     return;

@@ -144,6 +144,15 @@ UpscaleResult upscale(const std::string& campaign_h5, const Decks& decks, const 
   if (r.groups.size() > 1) r.campaign = fit::calibrate_population(model, shape, r.set, options.fit);
   if (options.lab && !options.lab->impacts.empty()) {
     r.lab = *options.lab;
+    if (options.lab_same_ids) {
+      std::set<std::string> ids;
+      for (const auto& im : r.set.impacts) ids.insert(im.id);
+      std::erase_if(r.lab.impacts, [&](const Impact& im) { return !ids.contains(im.id); });
+      if (r.lab.empty())
+        throw InputError(
+            r.lab.source, 0, "--lab-same-ids",
+            "no release of " + r.lab.source + " has the id of an impact of " + campaign_h5);
+    }
     r.lab_fits = fit::calibrate_releases(model, shape, r.lab, options.fit);
   }
   r.seconds = seconds_since(start);

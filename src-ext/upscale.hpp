@@ -32,6 +32,10 @@ struct UpscaleOptions {
   /// resolved and the measured equivalent parameters come from one engine: the paper's Table 4
   /// was fitted by another implementation and is not a like-for-like reference.
   const ImpactSet* lab = nullptr;
+  /// Keep only the releases of `lab` whose ids the campaign's impacts (after `where`) carry: a
+  /// campaign run at lab states compared with those releases, not with the whole lab
+  /// (`upscale --lab-same-ids`). An InputError when none is left.
+  bool lab_same_ids = false;
 };
 
 /// One resolved impact with its grain-scale parameters and its calibration.
