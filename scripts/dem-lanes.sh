@@ -199,6 +199,14 @@ if [ -f "$CAL/calibrate-grains.json" ]; then
       PLATEAU_OUT=results/sand-verification PLATEAU_FILE=sand-blind-triangles-1.5e9 PLATEAU_RANKS=2 \
       scripts/stiffness-plateau.sh
   }
+  # blind_file NAME ARGS...: the pinned program's `dem campaign` of pinned design NAME on the
+  # blind triangles' file (a dry run, --only, --forget: ARGS).
+  blind_file() {
+    local name=$1
+    shift
+    (cd results/sand-verification && pinned/ricochet dem campaign "pinned/$name.toml" \
+      --decks pinned/liggghts-inputs --out sand-blind-triangles-1.5e9.h5 "$@")
+  }
   blind_design sand-blind-triangles-1.5e9
   # 1c'. The active zone's check on the triangles (amended on 2026-12-06, when T02 alone had run,
   #      on the whole bed; docs/resolved-model.md, "Active zone", "The check on the triangles"):
@@ -216,9 +224,8 @@ if [ -f "$CAL/calibrate-grains.json" ]; then
   TRI_STATES=(T01 T02 T03 T04)
   # The rebounds among the whole bed's check states, by the pinned program's dry run.
   tri_rebounds() {
-    (cd results/sand-verification && pinned/ricochet dem campaign pinned/sand-blind-triangles-1.5e9.toml \
-      --decks pinned/liggghts-inputs --only "$1" --out sand-blind-triangles-1.5e9.h5 --dry-run \
-      --json 2>/dev/null) | jq '[.impacts[] | select(.status == "rebound")] | length'
+    blind_file sand-blind-triangles-1.5e9 --only "$1" --dry-run --json 2>/dev/null |
+      jq '[.impacts[] | select(.status == "rebound")] | length'
   }
   if [ ! -f "$TRI_VERDICT" ]; then
     while :; do
@@ -270,15 +277,12 @@ if [ -f "$CAL/calibrate-grains.json" ]; then
       --name "$RUNUP" --out "$ROOT/$CAL/$RUNUP.toml") >> "$CAL/campaign.log" 2>&1
   if [ -f "$CAL/$RUNUP.toml" ]; then
     runup_ids=$(grep -oP '^id = "\K[^"]+' "$CAL/$RUNUP.toml" | paste -sd,)
-    refused=$( (cd results/sand-verification && pinned/ricochet dem campaign "pinned/$TRI_DESIGN.toml" \
-      --decks pinned/liggghts-inputs --only "$runup_ids" --out sand-blind-triangles-1.5e9.h5 \
-      --dry-run --json 2>/dev/null) | jq -r '[.impacts[] | select(.status == "invalid") | .id] | join(",")')
+    refused=$(blind_file "$TRI_DESIGN" --only "$runup_ids" --dry-run --json 2>/dev/null |
+      jq -r '[.impacts[] | select(.status == "invalid") | .id] | join(",")')
     if [ -n "$refused" ]; then
       echo "== $(date '+%F %T') forgetting the refused $refused to run them with a shorter run-up" \
         >> "$CAL/campaign.log"
-      (cd results/sand-verification && pinned/ricochet dem campaign "pinned/$TRI_DESIGN.toml" \
-        --decks pinned/liggghts-inputs --out sand-blind-triangles-1.5e9.h5 --forget "$refused") \
-        >> "$CAL/campaign.log" 2>&1
+      blind_file "$TRI_DESIGN" --forget "$refused" >> "$CAL/campaign.log" 2>&1
     fi
     blind_run "$RUNUP"
   fi
