@@ -9,6 +9,9 @@ void add_model_options(CLI::App* sub, ModelOptions& o, bool with_shape) {
   sub->add_option("--model", o.model_file, "Model file (TOML); default: the paper's law");
   sub->add_option("--add", o.add, "Add an effect to the model (repeatable)");
   sub->add_option("--set", o.set, "Set a model parameter, NAME=VALUE (repeatable)");
+  sub->add_option("--hold", o.hold,
+                  "Keep a parameter at its model value in every fit, even where the data's contact "
+                  "features would calibrate it (kn, w_rim): a held law (repeatable)");
   sub->add_option("--plugin", o.plugins, "Load user effects from a shared library (repeatable)");
   if (with_shape)
     sub->add_option("--shape", o.shape, "cylinder, triangle, or a shape file (.toml)")
@@ -40,6 +43,13 @@ Model ModelOptions::build_model() const {
     }
   }
   for (const auto& s : set) model.set_from_string(s, "--set");
+  for (const auto& name : hold) {
+    try {
+      model.set_held(name, true);
+    } catch (const std::exception& e) {
+      throw InputError("<command line>", 0, "--hold", e.what());
+    }
+  }
   return model;
 }
 

@@ -2,6 +2,7 @@
 //   --model FILE      model file (TOML, see effects/model.hpp); default: the paper's law
 //   --add EFFECT      add an effect (repeatable), e.g. --add rate_restitution
 //   --set NAME=VALUE  set a parameter (repeatable), bounds checked
+//   --hold NAME       never calibrate a parameter, not even from the contact features (repeatable)
 //   --plugin LIB      load user effects from a shared library (repeatable)
 //   --shape S         cylinder | triangle | shape file (.toml)
 //   --dt S            time step [s], in EngineOptions::kDt
@@ -18,11 +19,12 @@ namespace ricochet::cli {
 
 struct ModelOptions {
   std::string model_file;
-  std::vector<std::string> add, set, plugins;
+  std::vector<std::string> add, set, hold, plugins;
   std::string shape = "cylinder";
   double dt_s = EngineOptions{}.dt_s;
 
-  /// Loads plugins, reads the model file, adds effects, applies --set. Errors name the option.
+  /// Loads plugins, reads the model file, adds effects, applies --set and --hold. Errors name
+  /// the option.
   Model build_model() const;
   Shape build_shape() const { return Shape::resolve(shape); }
   /// The engine's options with --dt; refuses (exit 2, refuse_problems) a --dt outside the

@@ -5,7 +5,8 @@
 //     exception, crash, leak, hang or sanitizer report is a bug;
 //  2. an accepted model has its values and calibration bounds within the declared bounds;
 //  3. it survives its own writer: to_toml -> from_toml_string gives the same effects (in order),
-//     values and bounds (bit for bit) and calibrated set, and writing it again gives the same text.
+//     values and bounds (bit for bit), calibrated and held sets, and writing it again gives the
+//     same text.
 #include <cstddef>
 #include <cstdint>
 #include <exception>
@@ -28,7 +29,8 @@ bool same_model(const ricochet::Model& a, const ricochet::Model& b) {
     return false;
   for (std::size_t i = 0; i < a.parameter_count(); ++i)
     if (!same(a.values()[i], b.values()[i]) || !same(a.lower(i), b.lower(i)) ||
-        !same(a.upper(i), b.upper(i)) || a.calibrated(i) != b.calibrated(i))
+        !same(a.upper(i), b.upper(i)) || a.calibrated(i) != b.calibrated(i) ||
+        a.held(i) != b.held(i))
       return false;
   return true;
 }

@@ -14,6 +14,12 @@
 # Reading: the rim holds on the triangles when the interval lies below 0, fails when it lies above
 # 0, and the set cannot tell otherwise. A preview on the first 5 blind rebounds was printed on the
 # day the check was fixed (base 2.55 +- 0.95, rim 2.83 +- 1.28): it is not the result.
+# The second reading (added on 2026-12-06 with 7 of the 31 in, before any law predicted a
+# triangle's contact; the first reading stays the primary one): the same two held laws, kn and
+# w_rim held as fitted on the cylinders (`hold`, so that nothing is refitted), predict the
+# triangles' penetration and contact duration too (the error with contact terms), read by the
+# same paired interval. This is where the rim changed the cylinders most (the duration term
+# 0.338 -> 0.011).
 #
 #   scripts/rim-cross-shape.sh [BUILD_DIR] [OUT_DIR]     (default build, results/rim-cross-shape)
 set -euo pipefail
@@ -26,30 +32,38 @@ source "$ROOT/scripts/sand-calibration-args.sh"
 mkdir -p "$OUT"
 "$R" ladder "$ROOT/data/resolved/sand-verification-1.5e9.h5" --add crater_rim --json \
   > "$OUT/ladder-cylinders.json"
-# law RUNG EFFECTS FILE: the rung's fitted parameters as a model file with nothing calibrated.
+# law RUNG EFFECTS HOLD FILE: the rung's fitted parameters as a model file with nothing
+# calibrated and the parameters HOLD (those the contact features would calibrate) held.
 law() {
   {
     echo "# rung $1 of ricochet ladder data/resolved/sand-verification-1.5e9.h5 --add crater_rim, held"
     echo "effects = $2"
     echo "calibrate = []"
+    echo "hold = $3"
     echo
     echo "[parameters]"
     jq -r ".rungs[$1].parameters | to_entries[] | \"\(.key) = \(.value)\"" "$OUT/ladder-cylinders.json"
-  } > "$3"
+  } > "$4"
 }
-law 0 '["normal", "tangential", "rolling"]' "$OUT/base-law.toml"
-law 1 '["normal", "tangential", "rolling", "crater_rim"]' "$OUT/rim-law.toml"
+law 0 '["normal", "tangential", "rolling"]' '["kn"]' "$OUT/base-law.toml"
+law 1 '["normal", "tangential", "rolling", "crater_rim"]' '["kn", "w_rim"]' "$OUT/rim-law.toml"
 for m in base rim; do
   "$R" compare "$ROOT/data/resolved/sand-blind-triangles-1.5e9.h5" --shape triangle \
     --where "$SAND_BLIND_WHERE" --model "$OUT/$m-law.toml" --no-features --json > "$OUT/compare-$m.json"
+  "$R" compare "$ROOT/data/resolved/sand-blind-triangles-1.5e9.h5" --shape triangle \
+    --where "$SAND_BLIND_WHERE" --model "$OUT/$m-law.toml" --json > "$OUT/compare-$m-features.json"
 done
-python3 - "$OUT/compare-base.json" "$OUT/compare-rim.json" <<'PY'
+for reading in "" -features; do
+  python3 - "$OUT/compare-base$reading.json" "$OUT/compare-rim$reading.json" "$reading" <<'PY'
 import json, math, statistics, sys
 base, rim = (json.load(open(p)) for p in sys.argv[1:3])
+what = "V_out + penetration + duration" if sys.argv[3] else "V_out"
+print(f"-- {what}")
 for name, doc in (("base", base), ("rim", rim)):
     assert doc["calibrated"] == [], f"{name}: compare refitted {doc['calibrated']}"
-    print(f"{name}: V_out error {doc['heldout_error']:.3f} +- {doc['heldout_se']:.3f} over "
-          f"{len(doc['releases'])} blind rebounds")
+    print(f"{name}: {what} error {doc['heldout_error']:.3f} +- {doc['heldout_se']:.3f} over "
+          f"{len(doc['releases'])} blind rebounds; per term "
+          + ", ".join(f"{k} {v:.3g}" for k, v in doc["heldout_per_component"].items()))
 b = {r["id"]: r["heldout_error"] for r in base["releases"]}
 d = [r["heldout_error"] - b[r["id"]] for r in rim["releases"]]
 n = len(d)
@@ -67,3 +81,4 @@ verdict = ("the rim holds" if hi < 0 else "the rim fails" if lo > 0 else "the se
 print(f"rim - base, paired over {n} releases: {mean:+.3f}, 95 % interval [{lo:+.3f}, {hi:+.3f}]: "
       f"{verdict} on the blind triangles")
 PY
+done

@@ -58,11 +58,13 @@ void Model::finish() {
   lower_.clear();
   upper_.clear();
   calibrated_.clear();
+  held_.clear();
   for (const auto& p : specs_) {
     values_.push_back(p.nominal);
     lower_.push_back(p.lower);
     upper_.push_back(p.upper);
     calibrated_.push_back(p.calibrated);
+    held_.push_back(false);
   }
 }
 
@@ -79,6 +81,7 @@ Model Model::with_effect(std::string_view name, bool at_neutral,
     m.lower_[j] = lower_[i];
     m.upper_[j] = upper_[i];
     m.calibrated_[j] = calibrated_[i];
+    m.held_[j] = held_[i];
   }
   if (at_neutral)
     for (const auto& p : registry.get(name).parameters())
@@ -170,7 +173,16 @@ void Model::set_bounds(std::string_view name, double lower, double upper) {
 }
 
 void Model::set_calibrated(std::string_view name, bool on) {
-  calibrated_[index(name)] = on;
+  const std::size_t i = index(name);
+  if (on && held_[i])
+    throw std::invalid_argument("'" + std::string(name) + "' is held: it cannot be calibrated too");
+  calibrated_[i] = on;
+}
+
+void Model::set_held(std::string_view name, bool on) {
+  const std::size_t i = index(name);
+  held_[i] = on;
+  if (on) calibrated_[i] = false;
 }
 
 std::vector<std::size_t> Model::calibrated_indices() const {
@@ -199,6 +211,10 @@ nlohmann::json Model::to_json() const {
   std::vector<std::string> cal;
   for (auto i : calibrated_indices()) cal.emplace_back(specs_[i].name);
   j["calibrate"] = cal;
+  std::vector<std::string> held;
+  for (std::size_t i = 0; i < held_.size(); ++i)
+    if (held_[i]) held.emplace_back(specs_[i].name);
+  if (!held.empty()) j["hold"] = held;
   return j;
 }
 
@@ -250,6 +266,18 @@ std::string Model::to_toml() const {
     first = false;
   }
   s << "]\n";
+  // Only when something is held, so that every model file written before `hold` reads back
+  // to the same text.
+  if (std::find(held_.begin(), held_.end(), true) != held_.end()) {
+    s << "hold = [";
+    first = true;
+    for (std::size_t i = 0; i < held_.size(); ++i) {
+      if (!held_[i]) continue;
+      s << (first ? "" : ", ") << '"' << specs_[i].name << '"';
+      first = false;
+    }
+    s << "]\n";
+  }
   for (std::size_t e = first_table; e < effects_.size(); ++e) {
     const auto law = effects::parse_coefficient_law_name(effects_[e]->name());
     if (!law) continue;
@@ -290,15 +318,19 @@ Model Model::from_toml_string(const std::string& text, const std::string& name,
   }
   for (const auto& [key, node] : table) {
     const std::string k(key.str());
-    if (k != "effects" && k != "calibrate" && k != "parameters" && k != "bounds" && k != "law")
+    if (k != "effects" && k != "calibrate" && k != "hold" && k != "parameters" && k != "bounds" &&
+        k != "law")
       throw InputError(name, line_of(node), k,
-                       "unknown key; a model file has effects, calibrate, [parameters], [bounds], "
-                       "[[law]]");
+                       "unknown key; a model file has effects, calibrate, hold, [parameters], "
+                       "[bounds], [[law]]");
   }
   // A present key of the wrong kind is an error, not an absent key (found by
   // fuzz/fuzz_model_toml: `calibrate = 0` was ignored).
-  const std::pair<const char*, bool> kinds[] = {
-      {"effects", false}, {"calibrate", false}, {"parameters", true}, {"bounds", true}};
+  const std::pair<const char*, bool> kinds[] = {{"effects", false},
+                                                {"calibrate", false},
+                                                {"hold", false},
+                                                {"parameters", true},
+                                                {"bounds", true}};
   for (const auto& [key, is_table] : kinds) {
     const toml::node* n = table.get(key);
     if (n && (is_table ? !n->is_table() : !n->is_array()))
@@ -409,6 +441,19 @@ Model Model::from_toml_string(const std::string& text, const std::string& name,
         m.set_calibrated(*s, true);
       } catch (const std::exception& ex) {
         throw InputError(name, line_of(e), "calibrate", ex.what());
+      }
+    }
+  }
+  if (const toml::array* hold = table["hold"].as_array()) {
+    for (const auto& e : *hold) {
+      auto s = e.value<std::string>();
+      if (!s) throw InputError(name, line_of(e), "hold", "parameter names must be strings");
+      try {
+        if (m.calibrated(m.index(*s)) && table["calibrate"].as_array())
+          throw std::invalid_argument("'" + *s + "' is both in calibrate and held");
+        m.set_held(*s, true);
+      } catch (const std::exception& ex) {
+        throw InputError(name, line_of(e), "hold", ex.what());
       }
     }
   }

@@ -6,6 +6,8 @@
 // Model file (TOML), e.g. docs/examples/paper-plus-drag.toml:
 //   effects = ["normal", "tangential", "rolling", "inertial_drag"]
 //   calibrate = ["en2", "mu", "muR", "cd"]   # optional; default: parameters flagged calibrated
+//   hold = ["kn"]                             # optional; never fitted, not even where the
+//                                             #   contact features would identify them
 //   [parameters]                              # optional; default: nominal values
 //   en2 = 0.15
 //   cd = 50.0                                 # kg/m
@@ -86,6 +88,12 @@ class Model {
   bool calibrated(std::size_t i) const { return calibrated_[i]; }
   void set_calibrated(std::string_view name, bool on);
   std::vector<std::size_t> calibrated_indices() const;
+  /// Whether parameter i is held: no calibration fits it, not even where the set's contact
+  /// features would identify it (fit::calibration_model). A held law predicts with its values
+  /// as given. Holding a parameter also clears its calibrated flag; a held parameter cannot be
+  /// flagged calibrated (std::invalid_argument naming it).
+  bool held(std::size_t i) const { return held_[i]; }
+  void set_held(std::string_view name, bool on);
 
   /// Checks `values` against the declared bounds; throws std::out_of_range naming the parameter.
   void check(const std::vector<double>& values) const;
@@ -101,7 +109,7 @@ class Model {
   std::vector<std::size_t> offsets_;
   std::vector<ParameterSpec> specs_;
   std::vector<double> values_, lower_, upper_;
-  std::vector<bool> calibrated_;
+  std::vector<bool> calibrated_, held_;
 };
 
 }  // namespace ricochet

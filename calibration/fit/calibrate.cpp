@@ -86,7 +86,7 @@ Model calibration_model(const Model& model, const ErrorOptions& error) {
   Model m = model;
   if (!uses_contact_terms(error)) return m;
   for (std::size_t i = 0; i < model.parameter_count(); ++i)
-    if (model.spec(i).identified_by == IdentifiedBy::kContactFeatures)
+    if (model.spec(i).identified_by == IdentifiedBy::kContactFeatures && !model.held(i))
       m.set_calibrated(model.spec(i).name, true);
   return m;
 }

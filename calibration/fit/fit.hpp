@@ -94,7 +94,8 @@ ErrorOptions with_contact_terms(const ErrorOptions& error, const ImpactSet& set)
 /// The model a fit with `error` calibrates: THE decision of which parameters are fitted (file
 /// comment). `model` itself when `error` compares rebound velocities only; otherwise `model`
 /// with every parameter that its effect declares identified by the contact features
-/// (IdentifiedBy::kContactFeatures: the normal stiffness kn) flagged calibrated too. Idempotent.
+/// (IdentifiedBy::kContactFeatures: the normal stiffness kn) flagged calibrated too, unless the
+/// model holds it (Model::held: a law given with its values, e.g. to predict durations). Idempotent.
 /// Every fit function applies it; callers that enumerate the calibrated parameters themselves (the
 /// diagnosis, the calibrate command's output) apply it to the model they hold, so that both see the
 /// same parameters.

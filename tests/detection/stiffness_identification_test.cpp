@@ -53,6 +53,10 @@ TEST(StiffnessCalibration, KnJoinsTheCalibratedSetOnlyWithContactTerms) {
   // Idempotent, and kt, kr stay fixed (not identified: docs/diagnosis.md).
   EXPECT_EQ(calibrated_names(fit::calibration_model(fit::calibration_model(paper, e), e)), kWithKn);
   // The stiffness is searched in log(kn) (bounds 1e5-1e9 N/m), the coefficients linearly.
+  // A held kn stays out, contact terms or not: a law given with its values (Model::held).
+  Model held = paper;
+  held.set_held("kn", true);
+  EXPECT_EQ(calibrated_names(fit::calibration_model(held, e)), kPaper);
   EXPECT_TRUE(fit::log_scaled(paper.lower(paper.index("kn")), paper.upper(paper.index("kn"))));
   EXPECT_FALSE(fit::log_scaled(paper.lower(paper.index("en2")), paper.upper(paper.index("en2"))));
 }

@@ -297,6 +297,40 @@ TEST_F(CmdDiagnosis, TheRimLowersTheStiffBedsHeldOutError) {
             0.75 * base["heldout_per_component"]["contact_duration"].get<double>());
 }
 
+// A held law predicts the contact features with its own stiffness: on a set with penetration
+// and durations, `--hold kn` keeps kn out of the fit (which would otherwise calibrate it from
+// the features), and a model file with nothing calibrated and kn held is evaluated as given,
+// its features compared, nothing refitted; its predictions then do not depend on the data's
+// outputs, so a second kn gives other feature errors.
+TEST_F(CmdDiagnosis, AHeldLawPredictsTheContactFeaturesWithoutRefitting) {
+  const std::string resolved =
+      std::string(RICOCHET_SOURCE_DIR) + "/data/resolved/sand-verification-1.5e9.h5";
+  const RunResult fitted = ricochet("compare " + quote(resolved) + " --hold kn --json");
+  ASSERT_EQ(fitted.status, 0) << fitted.err;
+  EXPECT_EQ(nlohmann::json::parse(fitted.out)["calibrated"],
+            (std::vector<std::string>{"en2", "mu", "muR"}));
+  const std::string law = (dir_ / "held.toml").string();
+  std::ofstream(law) << "effects = [\"normal\", \"tangential\", \"rolling\"]\n"
+                        "calibrate = []\nhold = [\"kn\"]\n[parameters]\nen2 = 0.05\n";
+  std::vector<double> duration;
+  for (const char* kn : {"3e6", "1e7"}) {
+    const RunResult r = ricochet("compare " + quote(resolved) + " --model " + quote(law) +
+                                 " --set kn=" + kn + " --json");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto doc = nlohmann::json::parse(r.out);
+    EXPECT_TRUE(doc["calibrated"].empty()) << doc["calibrated"];
+    EXPECT_EQ(doc["parameters"]["kn"].get<double>(), std::stod(kn));
+    duration.push_back(doc["heldout_per_component"]["contact_duration"].get<double>());
+  }
+  // A stiffer held kn shortens the law's contacts, which are already far shorter than the
+  // resolved ones (90 ms): the duration error grows.
+  EXPECT_GT(duration[1], duration[0]);
+  const RunResult bad = ricochet("compare " + quote(resolved) + " --hold k_n");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("--hold"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("kn"), std::string::npos) << bad.err;
+}
+
 TEST_F(CmdDiagnosis, AUserPluginEffectTakesPartLikeTheBuiltIns) {
   // The tutorial's plugin (examples/user-effect): hidden in the truth, found by the diagnosis
   // among the built-ins, and climbed by the ladder.

@@ -448,6 +448,44 @@ TEST(Effects, ModelFileRoundTrip) {
   EXPECT_EQ(back.values(), m.values());
   EXPECT_EQ(back.upper(back.index("mu")), 1.0);
   EXPECT_EQ(back.calibrated_indices(), m.calibrated_indices());
+  // A model without held parameters writes no `hold` key (files written before it read back to
+  // the same text); one with them writes it and reads it back.
+  EXPECT_EQ(m.to_toml().find("hold"), std::string::npos);
+  Model held = m;
+  held.set_held("kn", true);
+  EXPECT_FALSE(held.calibrated(held.index("kn")));
+  const Model held_back = Model::from_toml_string(held.to_toml(), "held.toml");
+  EXPECT_TRUE(held_back.held(held_back.index("kn")));
+  EXPECT_FALSE(held_back.held(held_back.index("en2")));
+  EXPECT_EQ(held_back.to_toml(), held.to_toml());
+}
+
+// A held parameter is never calibrated: asking for both is an error naming the file, line and
+// key, and so is an unknown name (listing the model's names).
+TEST(Effects, HeldParametersCannotBeCalibrated) {
+  const std::string effects = "effects = [\"normal\", \"tangential\", \"rolling\"]\n";
+  for (const auto& [text, needle] : std::vector<std::pair<std::string, std::string>>{
+           {effects + "calibrate = [\"en2\"]\nhold = [\"en2\"]\n", "both"},
+           {effects + "hold = [\"k_n\"]\n", "kn"},
+           {effects + "hold = [1]\n", "strings"}}) {
+    try {
+      Model::from_toml_string(text, "m.toml");
+      ADD_FAILURE() << text;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file(), "m.toml");
+      EXPECT_EQ(e.field(), "hold") << text;
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+  }
+  // Holding a parameter the default would calibrate takes it out of the calibrated set.
+  const Model m = Model::from_toml_string(effects + "hold = [\"mu\"]\n", "m.toml");
+  std::vector<std::string> names;
+  for (auto i : m.calibrated_indices()) names.emplace_back(m.spec(i).name);
+  EXPECT_EQ(names, (std::vector<std::string>{"en2", "muR"}));
+  Model copy = m;
+  EXPECT_THROW(copy.set_calibrated("mu", true), std::invalid_argument);
+  // with_effect keeps what is held.
+  EXPECT_TRUE(m.with_effect("crater_rim").held(m.index("mu")));
 }
 
 // Found by fuzz/fuzz_model_toml: `calibrate = 0` was silently ignored (so were `parameters` and
