@@ -24,6 +24,7 @@ void run(DiagnosisCliOptions& o) {
   diagnosis::DiagnoseOptions opt = diagnose_options(o.values);
   const Model model = o.model.build_model();
   const auto in = diagnosis::load_inputs(o.data, o.shape_given ? o.model.shape : "", o.where);
+  diagnosis::borrow_floor(opt, o.values, in);
   const diagnosis::Baseline b = diagnosis::compare(model, in.shape, in.set, opt);
   nlohmann::json doc = diagnosis::to_json(b, in.set);
   doc["data"] = o.data;

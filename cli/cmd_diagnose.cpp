@@ -71,6 +71,7 @@ void run(DiagnosisCliOptions& o, const std::string& force_model) {
   diagnosis::DiagnoseOptions opt = diagnose_options(o.values);
   const Model model = o.model.build_model();  // loads plugins first: they become candidates
   const auto in = diagnosis::load_inputs(o.data, o.shape_given ? o.model.shape : "", o.where);
+  diagnosis::borrow_floor(opt, o.values, in);
   opt.progress = !o.output.json;
   const diagnosis::Diagnosis d = diagnosis::diagnose(model, in.shape, in.set, opt);
   nlohmann::json doc = diagnosis::to_json(d);

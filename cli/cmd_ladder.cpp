@@ -100,6 +100,7 @@ void run(DiagnosisCliOptions& o, int auto_rounds, bool force_law) {
   const Model model = base_options.build_model();  // loads plugins, reads --model, applies --set
   check_rungs(adds, auto_rounds, force_law, o.data);
   const auto in = diagnosis::load_inputs(o.data, o.shape_given ? o.model.shape : "", o.where);
+  diagnosis::borrow_floor(opt, o.values, in);
   opt.assess.release_fits = opt.assess.release_fits && auto_rounds >= 0;
   opt.progress = !o.output.json;
   diagnosis::Ladder l = auto_rounds >= 0

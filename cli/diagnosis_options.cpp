@@ -48,9 +48,14 @@ void add_diagnosis_options(CLI::App* sub, diagnosis::OptionValues& v,
   if (set.intervals)
     sub->add_flag("--no-intervals", v.no_intervals,
                   "Per-release fits without identifiability intervals (faster)");
-  if (set.features)
+  if (set.features) {
     sub->add_flag("--no-features", v.no_features,
                   "Ignore penetration and contact duration even when the data have them");
+    sub->add_option("--floor-replicates", v.floor_replicates,
+                    "Impact set with replicate releases on the same ground (e.g. a campaign's "
+                    "bed-position pairs): its pooled scatter is the noise floor of DATA when DATA "
+                    "has no replicates of its own");
+  }
   sub->add_option("--error", v.error,
                   "Error denominators: set-mean (Eq. 7 floored at the set's mean magnitude) or "
                   "eq7 (the paper's)")

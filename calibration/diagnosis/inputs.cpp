@@ -82,4 +82,10 @@ Inputs load_inputs(const std::string& data, const std::string& shape_name,
   return select_inputs(all, shapes.front(), data);
 }
 
+void borrow_floor(DiagnoseOptions& options, const OptionValues& values, const Inputs& inputs) {
+  if (values.floor_replicates.empty()) return;
+  options.assess.borrowed_floor =
+      borrowed_replicates(values.floor_replicates, inputs.shape.name, "--floor-replicates");
+}
+
 }  // namespace ricochet::diagnosis

@@ -30,6 +30,9 @@ struct OptionValues {
   bool no_release_fits = !AssessOptions{}.release_fits;    ///< skip per-release calibration
   bool no_intervals = !AssessOptions{}.release_intervals;  ///< per-release fits without intervals
   bool no_features = !AssessOptions{}.use_features;  ///< ignore penetration / contact duration
+  /// An impact set whose replicate scatter is the floor of a set without replicates
+  /// (AssessOptions::borrowed_floor); empty: none.
+  std::string floor_replicates;
   /// Error denominators: set-mean or eq7 (ErrorScale).
   std::string error = error_scale_name(AssessOptions{}.scale);
   /// Marginal orientation grid of non-disc blocks without alpha_in (0 also means this default).
@@ -74,5 +77,10 @@ Inputs select_inputs(const ImpactSet& set, const std::string& shape_name, const 
 /// the only one present in the data (an error lists them when there are several).
 Inputs load_inputs(const std::string& data, const std::string& shape_name,
                    const std::string& where = "");
+
+/// Sets options.assess.borrowed_floor from values.floor_replicates (borrowed_replicates of the
+/// inputs' shape; an InputError naming --floor-replicates when it has no two replicate groups);
+/// nothing when it is empty.
+void borrow_floor(DiagnoseOptions& options, const OptionValues& values, const Inputs& inputs);
 
 }  // namespace ricochet::diagnosis

@@ -7,7 +7,9 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "common/error.hpp"
 #include "diagnosis/assess.hpp"
+#include "diagnosis/inputs.hpp"
 #include "diagnosis/synth.hpp"
 
 namespace ricochet::diagnosis {
@@ -41,6 +43,28 @@ void derive_floor_terms(NoiseFloor& f, const ImpactSet& set,
   }
 }
 
+BorrowedReplicates borrowed_replicates(const std::string& path, const std::string& shape_name,
+                                       const std::string& option) {
+  const ImpactSet set = select_inputs(read_impact_set(path), shape_name, path).set;
+  const auto groups = replicate_groups(set);
+  if (groups.size() < 2)
+    throw InputError(
+        path, 0, option,
+        fmt::format("{} replicate group(s) of shape {}: the pooled scatter needs at "
+                    "least 2 (releases sharing a replicate label or an incident state)",
+                    groups.size(), shape_name));
+  BorrowedReplicates b;
+  b.groups = groups.size();
+  for (const auto& members : groups) b.dof += members.size() - 1;
+  b.source = path;
+  std::vector<double> x(set.size());
+  for (int k = 0; k < kObservables; ++k) {
+    for (std::size_t i = 0; i < set.size(); ++i) x[i] = measured_of(set.impacts[i])[k];
+    b.variance[k] = pooled_variance(x, groups);
+  }
+  return b;
+}
+
 NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const double> params,
                        const ImpactSet& set, const std::array<bool, kObservables>& use,
                        const AssessOptions& options) {
@@ -68,6 +92,16 @@ NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const d
     for (std::size_t i = 0; i < n; ++i) x[i] = m[i][k];
     pooled[k] = pooled_variance(x, replicas);
   }
+  const bool borrowed = f.replicate_groups < 2 && o.borrowed_floor.has_value();
+  if (borrowed)
+    for (int k = 0; k < kObservables; ++k) {
+      if (!use[k]) continue;
+      pooled[k] = o.borrowed_floor->variance[k];
+      if (!std::isfinite(pooled[k]))
+        throw InputError(o.borrowed_floor->source, 0, "--floor-replicates",
+                         std::string("its replicates have no ") + kObservableNames[k] +
+                             ", which the compared set's error uses");
+    }
   // The sigma of each observable per release (physical units) before scaling.
   std::vector<Obs> var(n);
   // The prediction's spread over the unknown orientation (0 for discs and known alpha_in), at
@@ -76,16 +110,24 @@ NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const d
       !shape.is_disc() && std::any_of(set.impacts.begin(), set.impacts.end(),
                                       [](const Impact& im) { return !im.alpha_in.has_value(); });
   std::vector<ObsPrediction> base;
-  if (sampled || f.replicate_groups < 2) base = predict_observables(model, shape, params, set, o);
+  if (sampled || (f.replicate_groups < 2 && !o.borrowed_floor))
+    base = predict_observables(model, shape, params, set, o);
   f.orientation.assign(n, Obs{});
   bool any_spread = false;
-  if (f.replicate_groups >= 2) {
-    f.source = "replicates";
-    f.description = fmt::format(
-        "pooled within-group variance of {} groups of replicate releases (same replicate label "
-        "or identical incident state) "
-        "({} degrees of freedom): measurement noise and release-to-release variability",
-        f.replicate_groups, dof);
+  if (f.replicate_groups >= 2 || borrowed) {
+    f.source = borrowed ? "borrowed replicates" : "replicates";
+    f.description =
+        borrowed
+            ? fmt::format(
+                  "pooled within-group variance of {} groups of replicate releases of {} "
+                  "({} degrees of freedom; the set has none of its own): the scatter of that "
+                  "ground, taken as this set's",
+                  o.borrowed_floor->groups, o.borrowed_floor->source, o.borrowed_floor->dof)
+            : fmt::format(
+                  "pooled within-group variance of {} groups of replicate releases (same "
+                  "replicate label or identical incident state) "
+                  "({} degrees of freedom): measurement noise and release-to-release variability",
+                  f.replicate_groups, dof);
     for (std::size_t i = 0; i < n; ++i)
       for (int k = 0; k < kObservables; ++k) {
         if (!use[k]) continue;

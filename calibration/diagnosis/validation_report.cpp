@@ -95,9 +95,10 @@ std::string headline_of(const ReportSection& s) {
         " (held-out error {} against a floor of {} from {}; releases with similar "
         "incident states differ by {})",
         g3(a.heldout.error.mean), g3(b.floor.value.mean),
-        b.floor.source == "replicates" ? "replicate releases"
-        : b.floor.source == "declared" ? "the set's declared uncertainties"
-                                       : "the lab's uncertainties (paper Table 1)",
+        b.floor.source == "replicates"            ? "replicate releases"
+        : b.floor.source == "borrowed replicates" ? "another set's replicate releases"
+        : b.floor.source == "declared"            ? "the set's declared uncertainties"
+                                                  : "the lab's uncertainties (paper Table 1)",
         g3(b.floor.nearest_neighbour));
   // An unknown orientation is part of the floor (assess.hpp): say how much, so that a ratio
   // against it is not read as a ratio against the measurement alone.

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <set>
 
+#include "common/error.hpp"
 #include "diagnosis/assess.hpp"
 #include "diagnosis/signature.hpp"
 #include "diagnosis/synth.hpp"
@@ -153,6 +154,45 @@ TEST(Assess, ReplicateLabelsGroupReleasesWhoseMeasuredVinDiffers) {
   // Pooled V_out^y variance: 6 releases in 2 groups, 4 * 0.01 / (6 - 2).
   EXPECT_NEAR(f.value.mean, pooled_floor(set, 4 * 0.01 / 4.0), 1e-12);
   EXPECT_GT(f.value.mean, 2.0 * declared.value.mean);
+}
+
+// A set without replicates borrows the pooled scatter of another set's replicates on the same
+// ground (--floor-replicates): its floor is then the one it would have with that scatter, and a
+// set with replicates of its own keeps its own.
+TEST(Assess, ASetWithoutReplicatesBorrowsAnotherSetsPooledScatter) {
+  const ImpactSet replicated = replicate_groups({-0.1, 0.1, -0.1, 0.1}, 0.0);
+  BorrowedReplicates b;
+  b.groups = 2;
+  b.dof = 6;
+  b.source = "other.h5";
+  b.variance = {0.0, 8 * 0.01 / 6.0, 0.0, NAN, NAN};                // by hand, as in the test above
+  ImpactSet single = replicate_groups({0.0, 0.2, 0.4, 0.6}, 0.01);  // no two V_in equal
+  for (auto& im : single.impacts) im.sigma_vout = Vel3{1e-6, 1e-6, 1e-5};
+  AssessOptions o = fast();
+  o.scale = ErrorScale::kEq7;
+  o.borrowed_floor = b;
+  const Model m = Model::paper();
+  const NoiseFloor f =
+      noise_floor(m, Shape::cylinder(), m.values(), single, observables_of(single, o), o);
+  EXPECT_EQ(f.source, "borrowed replicates");
+  EXPECT_NE(f.description.find("other.h5"), std::string::npos) << f.description;
+  EXPECT_NEAR(f.value.mean, pooled_floor(single, 8 * 0.01 / 6.0), 1e-12);
+  // Its own replicates win over borrowed ones.
+  const NoiseFloor own =
+      noise_floor(m, Shape::cylinder(), m.values(), replicated, observables_of(replicated, o), o);
+  EXPECT_EQ(own.source, "replicates");
+  // A scatter without an observable the error uses is refused, naming the option.
+  ImpactSet with_depth = single;
+  with_depth.extra_names = {"penetration"};
+  with_depth.extra_units = {"m"};
+  for (auto& im : with_depth.impacts) im.extra = {0.004};
+  try {
+    noise_floor(m, Shape::cylinder(), m.values(), with_depth, {true, true, true, true, false}, o);
+    ADD_FAILURE() << "a borrowed floor without penetration was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "--floor-replicates");
+    EXPECT_EQ(e.file(), "other.h5");
+  }
 }
 
 TEST(Assess, SetMeanFloorsRaiseSmallDenominators) {
@@ -318,8 +358,8 @@ TEST(Assess, ASplitModelIsMadeFromItsTrainingReleasesAlone) {
   for (std::size_t j = 0; j < a.cv.splits(); ++j) {
     EXPECT_EQ(seen_a[j], a.cv.train[j]);
     // The victim's outputs enter the drag of the splits that train on it, and only those.
-    const bool trains_on_victim = std::find(a.cv.train[j].begin(), a.cv.train[j].end(),
-                                            kVictim) != a.cv.train[j].end();
+    const bool trains_on_victim =
+        std::find(a.cv.train[j].begin(), a.cv.train[j].end(), kVictim) != a.cv.train[j].end();
     const std::size_t d = a.fold_models[j].index("c_inertial_drag");
     EXPECT_EQ(a.fold_models[j].values()[d] != b.fold_models[j].values()[d], trains_on_victim);
     EXPECT_EQ(a.fold_params[j][d], a.fold_models[j].values()[d]);  // held, not calibrated

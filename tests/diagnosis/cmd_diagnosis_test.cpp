@@ -331,6 +331,35 @@ TEST_F(CmdDiagnosis, AHeldLawPredictsTheContactFeaturesWithoutRefitting) {
   EXPECT_NE(bad.err.find("kn"), std::string::npos) << bad.err;
 }
 
+// --floor-replicates: the stiff bed's verification (one bed position per lab state, no
+// replicates) borrows the position-pair scatter of the calibration campaign on the same grains'
+// stiffness; its floor's standard deviations are then that campaign's own replicate floor's, and
+// a file without replicates is refused naming the option and the file.
+TEST_F(CmdDiagnosis, ASetWithoutReplicatesBorrowsTheFloorOfACampaignWithThem) {
+  const std::string resolved = std::string(RICOCHET_SOURCE_DIR) + "/data/resolved/";
+  const std::string verification = resolved + "sand-verification-1.5e9.h5";
+  const std::string calibration = resolved + "sand-calibration-1.5e9.h5";
+  const RunResult own = ricochet("compare " + quote(calibration) + " --no-release-fits --json");
+  ASSERT_EQ(own.status, 0) << own.err;
+  const auto own_floor = nlohmann::json::parse(own.out)["noise_floor"];
+  ASSERT_EQ(own_floor["source"], "replicates");
+  const RunResult borrowed =
+      ricochet("compare " + quote(verification) + " --no-release-fits --floor-replicates " +
+               quote(calibration) + " --json");
+  ASSERT_EQ(borrowed.status, 0) << borrowed.err;
+  const auto floor = nlohmann::json::parse(borrowed.out)["noise_floor"];
+  EXPECT_EQ(floor["source"], "borrowed replicates");
+  for (const char* k : {"vx", "vy", "w", "penetration", "contact_duration"})
+    EXPECT_NEAR(floor["sigma"][k].get<double>(), own_floor["sigma"][k].get<double>(),
+                1e-9 * own_floor["sigma"][k].get<double>())
+        << k;
+  const RunResult bad = ricochet("compare " + quote(verification) + " --floor-replicates " +
+                                 quote(kLab + "cylinders.csv"));
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("--floor-replicates"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("cylinders.csv"), std::string::npos) << bad.err;
+}
+
 TEST_F(CmdDiagnosis, AUserPluginEffectTakesPartLikeTheBuiltIns) {
   // The tutorial's plugin (examples/user-effect): hidden in the truth, found by the diagnosis
   // among the built-ins, and climbed by the ladder.
