@@ -235,13 +235,16 @@ void run(const UpscaleCliOptions& o) {
     const fit::PopulationFit& p = r.campaign ? *r.campaign : r.groups.front().population;
     law = model;
     law->set_values(p.params);
-    for (std::size_t i : law->calibrated_indices()) law->set_calibrated(p.names[i], false);
-    write_text_file(o.write_model,
-                    fmt::format("# The equivalent law of {} (`ricochet upscale`, population fit "
-                                "of {} impacts), held: nothing is calibrated.\n",
-                                r.source, r.impacts.size()) +
-                        law->to_toml(),
-                    "--write-model");
+    // Held, not merely uncalibrated: a set with contact features would otherwise refit kn.
+    for (std::size_t i = 0; i < law->parameter_count(); ++i) law->set_held(law->spec(i).name, true);
+    write_text_file(
+        o.write_model,
+        fmt::format("# The equivalent law of {} (`ricochet upscale`, population fit "
+                    "of {} impacts), held: nothing is calibrated, not even from contact "
+                    "features.\n",
+                    r.source, r.impacts.size()) +
+            law->to_toml(),
+        "--write-model");
   }
   if (!o.output.out.empty()) write_h5(o.output.out, r, model, shape, u.fit);
 

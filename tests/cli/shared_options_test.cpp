@@ -217,8 +217,15 @@ TEST_F(SharedOptions, UpscaleWritesItsLawHeldAndDiagnoseKeepsIt) {
   EXPECT_EQ(up["model_file"], law);
   ASSERT_GE(up["groups"].size(), 2u);
   const auto& fitted = up["campaign"]["params"];
+  // Every parameter held: on a set with contact features (the campaign itself) kn is not
+  // refitted either.
   const auto d = json("diagnose " + kCyl + " --model " + quote(law) + " --no-features");
   EXPECT_TRUE(d["base"]["calibrated"].empty());
+  const auto c =
+      json("compare " +
+           quote(std::string(RICOCHET_SOURCE_DIR) + "/data/resolved/bed-probe-width-cdt.h5") +
+           " --model " + quote(law) + " --no-release-fits");
+  EXPECT_TRUE(c["calibrated"].empty()) << c["calibrated"];
   for (const char* p : {"en2", "mu", "muR"})
     EXPECT_DOUBLE_EQ(d["base"]["parameters"][p].get<double>(), fitted[p].get<double>()) << p;
   const test::RunResult bad =
