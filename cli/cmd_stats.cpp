@@ -11,6 +11,7 @@
 #include "common/error.hpp"
 #include "impact/impact_set.hpp"
 #include "shared_options.hpp"
+#include "stats/campaign_outcomes.hpp"
 #include "stats/table2.hpp"
 #include "stats/track_summary.hpp"
 
@@ -36,6 +37,7 @@ void run(const StatsOptions& o) {
   const stats::Table2 table = stats::table2(set, o.data, o.where);
   const stats::TrackTable tracks = stats::track_table(o.data, set);
   const bool has_tracks = !tracks.impacts.empty() || tracks.other_tracks > 0;
+  const stats::CampaignOutcomes outcomes = stats::campaign_outcomes(o.data, o.where);
   if (!o.output.out.empty()) {
     if (o.output.out.ends_with(".csv"))
       stats::write_csv(o.output.out, table);
@@ -46,12 +48,14 @@ void run(const StatsOptions& o) {
     nlohmann::json doc = stats::to_json(table);
     doc["incident_only"] = plan;
     doc["tracks"] = has_tracks ? stats::to_json(tracks) : nlohmann::json(nullptr);
+    doc["outcomes"] = outcomes.impacts > 0 ? stats::to_json(outcomes) : nlohmann::json(nullptr);
     print_json(doc);
     return;
   }
   std::cout << stats::format_text(table);
   if (plan) std::cout << "Incident states only (a plan of throws): no reflected velocities.\n";
   if (has_tracks) std::cout << "\n" << stats::format_text(tracks);
+  if (outcomes.impacts > 0) std::cout << "\n" << stats::format_text(outcomes);
   if (!o.output.out.empty()) std::cout << "wrote " << o.output.out << "\n";
 }
 

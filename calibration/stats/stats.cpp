@@ -216,4 +216,14 @@ Proportion wilson(std::size_t successes, std::size_t n, double alpha) {
   return w;
 }
 
+Proportion clopper_pearson(std::size_t successes, std::size_t n, double alpha) {
+  Proportion p;
+  if (n == 0) return p;
+  const double k = static_cast<double>(successes), nn = static_cast<double>(n);
+  p.rate = k / nn;
+  p.lo = successes == 0 ? 0.0 : OT::DistFunc::qBeta(k, nn - k + 1.0, alpha / 2.0);
+  p.hi = successes == n ? 1.0 : OT::DistFunc::qBeta(k + 1.0, nn - k, 1.0 - alpha / 2.0);
+  return p;
+}
+
 }  // namespace ricochet::stats

@@ -99,5 +99,11 @@ struct Proportion {
   double rate = 0, lo = 0, hi = 1;
 };
 Proportion wilson(std::size_t successes, std::size_t n, double alpha = 0.05);
+/// Clopper-Pearson ("exact") interval of the same proportion (Clopper & Pearson 1934, Biometrika
+/// 26:404): lo = Beta^-1(alpha/2; k, n - k + 1), hi = Beta^-1(1 - alpha/2; k + 1, n - k), lo = 0
+/// at k = 0 and hi = 1 at k = n. Its coverage is at least 1 - alpha for every true rate, at the
+/// price of width: the choice of a reading fixed before its data, where Wilson's near-nominal
+/// coverage can fall below it for small n. n = 0 gives [0, 1].
+Proportion clopper_pearson(std::size_t successes, std::size_t n, double alpha = 0.05);
 
 }  // namespace ricochet::stats

@@ -129,6 +129,25 @@ TEST_F(ShippedData, StatsAnswersEveryShippedFile) {
     EXPECT_EQ(j["n"].get<int>(), rebounds.at(name)) << name;
     for (const char* c : {"vout_x", "vout_y", "wout"})
       EXPECT_TRUE(std::isfinite(j["columns"][c]["mean"].get<double>())) << name << " " << c;
+    // A campaign file's outcomes (its /dem/index): every rebound of the index is a release of
+    // the set, the statuses add up, and the captured share lies in its interval.
+    if (const auto& oc = j["outcomes"]; !oc.is_null()) {
+      const auto& by = oc["by_status"];
+      EXPECT_EQ(by.value("rebound", 0), j["n"].get<int>()) << name;
+      int sum = 0, failures = 0;
+      for (const auto& [status, count] : by.items()) {
+        sum += count.get<int>();
+        if (status == "invalid" || status == "lost_atoms" || status == "extraction_failed" ||
+            status == "crashed")
+          failures += count.get<int>();
+      }
+      EXPECT_EQ(sum, oc["impacts"].get<int>()) << name;
+      EXPECT_EQ(oc["ran"].get<int>(), sum - failures) << name;
+      EXPECT_EQ(oc["captured"].get<int>(), by.value("timeout", 0) + by.value("no_rebound", 0))
+          << name;
+      EXPECT_LE(oc["capture"]["lo"].get<double>(), oc["capture"]["rate"].get<double>()) << name;
+      EXPECT_GE(oc["capture"]["hi"].get<double>(), oc["capture"]["rate"].get<double>()) << name;
+    }
     const auto& t = j["tracks"];
     if (!tracks.count(name)) {
       EXPECT_TRUE(t.is_null()) << name << " keeps tracks: list it above";

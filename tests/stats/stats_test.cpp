@@ -311,6 +311,30 @@ TEST(Multiplicity, WilsonIntervalsMatchNewcombe) {
   EXPECT_NEAR(z.hi, 0.0876, 5e-4);
 }
 
+// Newcombe (1998, Stat. Med. 17:857), Table I, method 5 ("exact"): the Clopper-Pearson limits of
+// his examples; at k = 0 and k = n they are closed forms, 1 - (alpha/2)^(1/n) and its mirror.
+TEST(Multiplicity, ClopperPearsonIntervalsMatchNewcombe) {
+  const Proportion a = clopper_pearson(81, 263);
+  EXPECT_NEAR(a.lo, 0.2527, 5e-4);
+  EXPECT_NEAR(a.hi, 0.3676, 5e-4);
+  const Proportion b = clopper_pearson(15, 148);
+  EXPECT_NEAR(b.lo, 0.0578, 5e-4);
+  EXPECT_NEAR(b.hi, 0.1617, 5e-4);
+  const Proportion c = clopper_pearson(1, 29);
+  EXPECT_NEAR(c.lo, 0.0009, 5e-4);
+  EXPECT_NEAR(c.hi, 0.1776, 5e-4);
+  const Proportion z = clopper_pearson(0, 20);
+  EXPECT_EQ(z.lo, 0.0);
+  EXPECT_NEAR(z.hi, 1.0 - std::pow(0.025, 1.0 / 20.0), 1e-9);
+  const Proportion all = clopper_pearson(20, 20);
+  EXPECT_EQ(all.hi, 1.0);
+  EXPECT_NEAR(all.lo, std::pow(0.025, 1.0 / 20.0), 1e-9);
+  // Wider than Wilson's: its coverage is at least nominal.
+  const Proportion w = wilson(81, 263);
+  EXPECT_LT(a.lo, w.lo);
+  EXPECT_GT(a.hi, w.hi);
+}
+
 // Nadeau & Bengio (2003): the variance of the mean of J split differences is inflated by
 // n_test/n_train; by hand for d = (1, 2, 3, 4): mean 2.5, s^2 = 5/3, J = 4, n_test/n_train =
 // 1/4: se = sqrt((1/4 + 1/4) 5/3) = 0.9129, t = 2.7386, one-sided p of Student(3) = 0.0357.

@@ -1,0 +1,97 @@
+#include "stats/campaign_outcomes.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <limits>
+
+#include "common/h5.hpp"
+#include "impact/impact_set.hpp"
+
+namespace ricochet::stats {
+
+bool is_numerical_failure(const std::string& status) {
+  return status == "invalid" || status == "lost_atoms" || status == "extraction_failed" ||
+         status == "crashed";
+}
+
+bool is_capture(const std::string& status) {
+  return status == "timeout" || status == "no_rebound";
+}
+
+CampaignOutcomes campaign_outcomes(const std::string& path, const std::string& where,
+                                   const std::string& option) {
+  CampaignOutcomes o;
+  o.source = path;
+  o.where = where;
+  if (!h5::is_hdf5(path)) return o;
+  const h5::File f(path, h5::File::Mode::kRead);
+  if (!f.exists("/dem/index/status")) return o;
+  const auto ids = f.read_strings("/dem/index/id");
+  const auto statuses = f.read_strings("/dem/index/status");
+  const auto shapes = f.read_strings("/dem/index/shape");
+  const auto params = f.read_strings("/dem/index/params");
+  // The filter reads impacts: each index row becomes one, with what its spec records (the
+  // reflected velocities of a rebound come from /impacts, which holds only rebounds).
+  ImpactSet rows;
+  rows.source = path;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::map<std::string, const Impact*> rebounds;
+  const ImpactSet measured = f.exists("/impacts") ? read_impact_set(path) : ImpactSet{};
+  for (const auto& im : measured.impacts) rebounds[im.id] = &im;
+  for (std::size_t i = 0; i < ids.size() && i < statuses.size(); ++i) {
+    Impact im;
+    im.id = ids[i];
+    im.shape = i < shapes.size() ? shapes[i] : "";
+    im.vin = {nan, nan, nan};
+    im.vout = {nan, nan, nan};
+    if (const auto it = rebounds.find(ids[i]); it != rebounds.end() && statuses[i] == "rebound") {
+      im = *it->second;
+    } else if (i < params.size()) {
+      const auto spec = nlohmann::json::parse(params[i], nullptr, false);
+      if (spec.is_object() && spec.contains("vin") && spec["vin"].is_array() &&
+          spec["vin"].size() == 3)
+        for (int c = 0; c < 3; ++c) im.vin[c] = spec["vin"][c].get<double>();
+    }
+    rows.impacts.push_back(im);
+  }
+  const ImpactSet kept = filter(rows, where, option);
+  std::map<std::string, std::string> status_of;
+  for (std::size_t i = 0; i < ids.size() && i < statuses.size(); ++i)
+    status_of[ids[i]] = statuses[i];
+  for (const auto& im : kept.impacts) {
+    const std::string& s = status_of[im.id];
+    ++o.by_status[s];
+    ++o.impacts;
+    if (is_numerical_failure(s)) continue;
+    ++o.ran;
+    if (is_capture(s)) ++o.captured;
+  }
+  o.capture = clopper_pearson(o.captured, o.ran);
+  return o;
+}
+
+nlohmann::json to_json(const CampaignOutcomes& o) {
+  return {{"impacts", o.impacts},
+          {"by_status", o.by_status},
+          {"ran", o.ran},
+          {"captured", o.captured},
+          {"capture", {{"rate", o.capture.rate}, {"lo", o.capture.lo}, {"hi", o.capture.hi}}},
+          {"interval", "Clopper-Pearson 95 %"}};
+}
+
+std::string format_text(const CampaignOutcomes& o) {
+  std::string s = fmt::format("Outcomes (/dem/index): {} impact(s){}\n", o.impacts,
+                              o.where.empty() ? "" : " matching " + o.where);
+  std::string counts;
+  for (const auto& [status, n] : o.by_status)
+    counts += fmt::format("{}{} {}", counts.empty() ? "  " : ", ", status, n);
+  s += counts + "\n";
+  s += fmt::format(
+      "  captured (timeout or no_rebound): {} of the {} that ran (invalid, lost_atoms, "
+      "extraction_failed and crashed apart): {:.3f}, 95 % Clopper-Pearson [{:.3f}, {:.3f}]\n",
+      o.captured, o.ran, o.capture.rate, o.capture.lo, o.capture.hi);
+  return s;
+}
+
+}  // namespace ricochet::stats
