@@ -115,9 +115,12 @@ done
 if [ $QUICK -eq 0 ]; then
   # The current calibration's blind triangles (nothing re-tuned), as far as their campaign has run.
   BLIND=$ROOT/data/resolved/sand-blind-triangles-1.5e9.h5
-  BLIND_N=$("$R" stats "$BLIND" --where "$SAND_BLIND_WHERE" --json | jq '.n')
+  # Its outcomes (ricochet stats, "Outcomes"): the rebounds and the states the bed captured,
+  # with the Clopper-Pearson interval of the captured share (the reading's first item).
+  BLIND_OUTCOMES=$("$R" stats "$BLIND" --where "$SAND_BLIND_WHERE" --json |
+    jq -r '"\(.n) rebounds, \(.outcomes.captured) captured of the \(.outcomes.ran) states run (95 % Clopper-Pearson \(.outcomes.capture.lo * 100 | round)-\(.outcomes.capture.hi * 100 | round) %)"')
   report_set "$BLIND" \
-    "LIGGGHTS, sand-only recalibration (E_grain 1.5e9 Pa, not on a stiffness plateau), lab triangle states, blind (campaign running: $BLIND_N rebounds so far of 31 states)" \
+    "LIGGGHTS, sand-only recalibration (E_grain 1.5e9 Pa, not on a stiffness plateau), lab triangle states, blind (campaign running: $BLIND_OUTCOMES, of 31 states)" \
     "$SAND_BLIND_WHERE"
   for c in "$OUT"/resolved/speeds.h5 "$OUT"/resolved/lab-cylinders.h5; do
     if [ -f "$c" ]; then report_set "$c" "LIGGGHTS campaign $(basename "$c" .h5)"; fi
