@@ -37,7 +37,7 @@ void run(const StatsOptions& o) {
   const stats::Table2 table = stats::table2(set, o.data, o.where);
   const stats::TrackTable tracks = stats::track_table(o.data, set);
   const bool has_tracks = !tracks.impacts.empty() || tracks.other_tracks > 0;
-  const stats::CampaignOutcomes outcomes = stats::campaign_outcomes(o.data, o.where);
+  const stats::CampaignOutcomes outcomes = stats::campaign_outcomes(o.data, all, o.where);
   if (!o.output.out.empty()) {
     if (o.output.out.ends_with(".csv"))
       stats::write_csv(o.output.out, table);

@@ -98,22 +98,19 @@ enum class ErrorScale {
 };
 const char* error_scale_name(ErrorScale scale);
 
-/// The pooled within-group variance of another set's replicate releases (same replicate label or
-/// identical incident state), per observable (physical units squared; NaN for an observable that
-/// set lacks). A resolved campaign without replicates (one bed position per state) borrows its
-/// floor from a campaign with position replicates on the same bed (docs/diagnosis.md, "Noise
-/// floor").
-struct BorrowedReplicates {
+/// The pooled within-group variance of a set's replicate releases (replicate_groups: same
+/// replicate label or identical incident state), per observable (physical units squared; NaN for
+/// an observable the set lacks, or without groups). A set's own replicates make its noise floor;
+/// a resolved campaign without replicates (one bed position per state) may borrow those of a
+/// campaign with position replicates on the same bed (docs/diagnosis.md, "Noise floor";
+/// AssessOptions::borrowed_floor).
+struct ReplicateScatter {
   Obs variance{};
   std::size_t groups = 0;
   std::size_t dof = 0;  ///< sum over groups of (members - 1)
-  std::string source;   ///< the file they come from
+  std::string source;   ///< the file a borrowed scatter comes from
 };
-
-/// The replicate scatter of the releases of shape `shape_name` in the impact set at `path`. Throws
-/// InputError (field `option`) when the file has fewer than two replicate groups of that shape.
-BorrowedReplicates borrowed_replicates(const std::string& path, const std::string& shape_name,
-                                       const std::string& option = "--floor-replicates");
+ReplicateScatter replicate_scatter(const ImpactSet& set);
 
 struct AssessOptions {
   /// Calibration settings (seed, starts, alpha handling and its orientation rules, ...).
@@ -186,10 +183,10 @@ struct AssessOptions {
   /// on some splits while the true law was far from it (a hidden spin-dependent rolling
   /// resistance: 3 of 10 splits no better than the base model).
   std::size_t fold_refinements = 1;
-  /// The replicate scatter of another set on the same ground (borrowed_replicates): the floor of
-  /// a set without replicates of its own uses it as its measurement variance, as if the set had
-  /// those replicates (noise_floor). Absent: the set's own sources.
-  std::optional<BorrowedReplicates> borrowed_floor;
+  /// The replicate scatter of another set on the same ground (borrow_floor, inputs.hpp): the
+  /// floor of a set without replicates of its own uses it as its measurement variance, as if the
+  /// set had those replicates (noise_floor). Absent: the set's own sources.
+  std::optional<ReplicateScatter> borrowed_floor;
   bool release_fits = true;  ///< compare/diagnose: per-release calibration (parameter drift)
   /// Set by resolve_scale(): the error options before the set-mean floors were applied, so that
   /// a subset (a fold's training releases) can be resolved on its own releases.

@@ -1,5 +1,7 @@
 #include "diagnosis/inputs.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 
 #include "common/error.hpp"
@@ -83,9 +85,18 @@ Inputs load_inputs(const std::string& data, const std::string& shape_name,
 }
 
 void borrow_floor(DiagnoseOptions& options, const OptionValues& values, const Inputs& inputs) {
-  if (values.floor_replicates.empty()) return;
-  options.assess.borrowed_floor =
-      borrowed_replicates(values.floor_replicates, inputs.shape.name, "--floor-replicates");
+  const std::string& path = values.floor_replicates;
+  if (path.empty()) return;
+  const std::string& shape = inputs.shape.name;
+  ReplicateScatter r = replicate_scatter(select_inputs(read_impact_set(path), shape, path).set);
+  if (r.groups < 2)
+    throw InputError(path, 0, "--floor-replicates",
+                     fmt::format("{} replicate group(s) of shape {}: the pooled scatter needs at "
+                                 "least 2 (releases sharing a replicate label or an incident "
+                                 "state)",
+                                 r.groups, shape));
+  r.source = path;
+  options.assess.borrowed_floor = r;
 }
 
 }  // namespace ricochet::diagnosis

@@ -78,9 +78,9 @@ Inputs select_inputs(const ImpactSet& set, const std::string& shape_name, const 
 Inputs load_inputs(const std::string& data, const std::string& shape_name,
                    const std::string& where = "");
 
-/// Sets options.assess.borrowed_floor from values.floor_replicates (borrowed_replicates of the
-/// inputs' shape; an InputError naming --floor-replicates when it has no two replicate groups);
-/// nothing when it is empty.
+/// Sets options.assess.borrowed_floor from values.floor_replicates: the replicate scatter
+/// (replicate_scatter) of that file's releases of the inputs' shape. An InputError (file, field
+/// --floor-replicates) when it has fewer than two replicate groups; nothing when it is empty.
 void borrow_floor(DiagnoseOptions& options, const OptionValues& values, const Inputs& inputs);
 
 }  // namespace ricochet::diagnosis

@@ -9,7 +9,6 @@
 
 #include "common/error.hpp"
 #include "diagnosis/assess.hpp"
-#include "diagnosis/inputs.hpp"
 #include "diagnosis/synth.hpp"
 
 namespace ricochet::diagnosis {
@@ -43,26 +42,17 @@ void derive_floor_terms(NoiseFloor& f, const ImpactSet& set,
   }
 }
 
-BorrowedReplicates borrowed_replicates(const std::string& path, const std::string& shape_name,
-                                       const std::string& option) {
-  const ImpactSet set = select_inputs(read_impact_set(path), shape_name, path).set;
+ReplicateScatter replicate_scatter(const ImpactSet& set) {
   const auto groups = replicate_groups(set);
-  if (groups.size() < 2)
-    throw InputError(
-        path, 0, option,
-        fmt::format("{} replicate group(s) of shape {}: the pooled scatter needs at "
-                    "least 2 (releases sharing a replicate label or an incident state)",
-                    groups.size(), shape_name));
-  BorrowedReplicates b;
-  b.groups = groups.size();
-  for (const auto& members : groups) b.dof += members.size() - 1;
-  b.source = path;
+  ReplicateScatter r;
+  r.groups = groups.size();
+  for (const auto& members : groups) r.dof += members.size() - 1;
   std::vector<double> x(set.size());
   for (int k = 0; k < kObservables; ++k) {
     for (std::size_t i = 0; i < set.size(); ++i) x[i] = measured_of(set.impacts[i])[k];
-    b.variance[k] = pooled_variance(x, groups);
+    r.variance[k] = pooled_variance(x, groups);
   }
-  return b;
+  return r;
 }
 
 NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const double> params,
@@ -80,28 +70,18 @@ NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const d
 
   // Replicates: releases sharing a replicate label (a resolved campaign's replica beds and
   // positions: their measured V_in differ slightly, the experiment is the same), or releases
-  // with identical incident state (and orientation).
-  const auto replicas = replicate_groups(set);
-  f.replicate_groups = replicas.size();
-  std::size_t dof = 0;
-  for (const auto& members : replicas) dof += members.size() - 1;
-  Obs pooled{};
-  std::vector<double> x(n);
-  for (int k = 0; k < kObservables; ++k) {
-    if (!use[k]) continue;
-    for (std::size_t i = 0; i < n; ++i) x[i] = m[i][k];
-    pooled[k] = pooled_variance(x, replicas);
-  }
-  const bool borrowed = f.replicate_groups < 2 && o.borrowed_floor.has_value();
+  // with identical incident state (and orientation); else another set's, when borrowed.
+  const ReplicateScatter own = replicate_scatter(set);
+  f.replicate_groups = own.groups;
+  const bool borrowed = own.groups < 2 && o.borrowed_floor.has_value();
+  const bool replicated = own.groups >= 2 || borrowed;
+  const ReplicateScatter& pooled = borrowed ? *o.borrowed_floor : own;
   if (borrowed)
-    for (int k = 0; k < kObservables; ++k) {
-      if (!use[k]) continue;
-      pooled[k] = o.borrowed_floor->variance[k];
-      if (!std::isfinite(pooled[k]))
-        throw InputError(o.borrowed_floor->source, 0, "--floor-replicates",
+    for (int k = 0; k < kObservables; ++k)
+      if (use[k] && !std::isfinite(pooled.variance[k]))
+        throw InputError(pooled.source, 0, "--floor-replicates",
                          std::string("its replicates have no ") + kObservableNames[k] +
                              ", which the compared set's error uses");
-    }
   // The sigma of each observable per release (physical units) before scaling.
   std::vector<Obs> var(n);
   // The prediction's spread over the unknown orientation (0 for discs and known alpha_in), at
@@ -110,11 +90,10 @@ NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const d
       !shape.is_disc() && std::any_of(set.impacts.begin(), set.impacts.end(),
                                       [](const Impact& im) { return !im.alpha_in.has_value(); });
   std::vector<ObsPrediction> base;
-  if (sampled || (f.replicate_groups < 2 && !o.borrowed_floor))
-    base = predict_observables(model, shape, params, set, o);
+  if (sampled || !replicated) base = predict_observables(model, shape, params, set, o);
   f.orientation.assign(n, Obs{});
   bool any_spread = false;
-  if (f.replicate_groups >= 2 || borrowed) {
+  if (replicated) {
     f.source = borrowed ? "borrowed replicates" : "replicates";
     f.description =
         borrowed
@@ -122,12 +101,12 @@ NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const d
                   "pooled within-group variance of {} groups of replicate releases of {} "
                   "({} degrees of freedom; the set has none of its own): the scatter of that "
                   "ground, taken as this set's",
-                  o.borrowed_floor->groups, o.borrowed_floor->source, o.borrowed_floor->dof)
+                  pooled.groups, pooled.source, pooled.dof)
             : fmt::format(
                   "pooled within-group variance of {} groups of replicate releases (same "
                   "replicate label or identical incident state) "
                   "({} degrees of freedom): measurement noise and release-to-release variability",
-                  f.replicate_groups, dof);
+                  pooled.groups, pooled.dof);
     for (std::size_t i = 0; i < n; ++i)
       for (int k = 0; k < kObservables; ++k) {
         if (!use[k]) continue;
@@ -136,7 +115,7 @@ NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const d
         const double spread = sampled ? base[i].spread[k] : 0.0;
         any_spread = any_spread || spread > 0;
         f.orientation[i][k] = spread * spread;
-        var[i][k] = pooled[k] + f.orientation[i][k];
+        var[i][k] = pooled.variance[k] + f.orientation[i][k];
       }
     if (any_spread)
       f.description += ", plus the spread of the prediction over the unknown block orientation";

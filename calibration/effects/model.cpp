@@ -208,14 +208,16 @@ nlohmann::json Model::to_json() const {
     j["units"][n] = std::string(specs_[i].unit);
     j["bounds"][n] = {lower_[i], upper_[i]};
   }
-  std::vector<std::string> cal;
-  for (auto i : calibrated_indices()) cal.emplace_back(specs_[i].name);
-  j["calibrate"] = cal;
-  std::vector<std::string> held;
-  for (std::size_t i = 0; i < held_.size(); ++i)
-    if (held_[i]) held.emplace_back(specs_[i].name);
-  if (!held.empty()) j["hold"] = held;
+  j["calibrate"] = names_of(calibrated_);
+  if (const auto held = names_of(held_); !held.empty()) j["hold"] = held;
   return j;
+}
+
+std::vector<std::string> Model::names_of(const std::vector<bool>& flags) const {
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < flags.size(); ++i)
+    if (flags[i]) out.emplace_back(specs_[i].name);
+  return out;
 }
 
 namespace {
@@ -259,25 +261,16 @@ std::string Model::to_toml() const {
     s << (first ? "" : ", ") << '"' << effects_[e]->name() << '"';
     first = false;
   }
-  s << "]\ncalibrate = [";
-  first = true;
-  for (auto i : calibrated_indices()) {
-    s << (first ? "" : ", ") << '"' << specs_[i].name << '"';
-    first = false;
-  }
   s << "]\n";
+  const auto write_names = [&s](const char* key, const std::vector<std::string>& names) {
+    s << key << " = [";
+    for (std::size_t i = 0; i < names.size(); ++i) s << (i ? ", " : "") << '"' << names[i] << '"';
+    s << "]\n";
+  };
+  write_names("calibrate", names_of(calibrated_));
   // Only when something is held, so that every model file written before `hold` reads back
   // to the same text.
-  if (std::find(held_.begin(), held_.end(), true) != held_.end()) {
-    s << "hold = [";
-    first = true;
-    for (std::size_t i = 0; i < held_.size(); ++i) {
-      if (!held_[i]) continue;
-      s << (first ? "" : ", ") << '"' << specs_[i].name << '"';
-      first = false;
-    }
-    s << "]\n";
-  }
+  if (const auto held = names_of(held_); !held.empty()) write_names("hold", held);
   for (std::size_t e = first_table; e < effects_.size(); ++e) {
     const auto law = effects::parse_coefficient_law_name(effects_[e]->name());
     if (!law) continue;

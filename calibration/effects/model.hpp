@@ -104,6 +104,8 @@ class Model {
  private:
   void add(const Effect& effect);
   void finish();
+  /// The names of the parameters whose flag is set, in parameter order.
+  std::vector<std::string> names_of(const std::vector<bool>& flags) const;
 
   std::vector<const Effect*> effects_;
   std::vector<std::size_t> offsets_;

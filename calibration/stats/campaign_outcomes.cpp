@@ -19,8 +19,8 @@ bool is_capture(const std::string& status) {
   return status == "timeout" || status == "no_rebound";
 }
 
-CampaignOutcomes campaign_outcomes(const std::string& path, const std::string& where,
-                                   const std::string& option) {
+CampaignOutcomes campaign_outcomes(const std::string& path, const ImpactSet& impacts,
+                                   const std::string& where, const std::string& option) {
   CampaignOutcomes o;
   o.source = path;
   o.where = where;
@@ -37,8 +37,7 @@ CampaignOutcomes campaign_outcomes(const std::string& path, const std::string& w
   rows.source = path;
   const double nan = std::numeric_limits<double>::quiet_NaN();
   std::map<std::string, const Impact*> rebounds;
-  const ImpactSet measured = f.exists("/impacts") ? read_impact_set(path) : ImpactSet{};
-  for (const auto& im : measured.impacts) rebounds[im.id] = &im;
+  for (const auto& im : impacts.impacts) rebounds[im.id] = &im;
   for (std::size_t i = 0; i < ids.size() && i < statuses.size(); ++i) {
     Impact im;
     im.id = ids[i];

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "impact/impact_set.hpp"
 #include "stats/stats.hpp"
 
 namespace ricochet::stats {
@@ -33,10 +34,12 @@ bool is_capture(const std::string& status);
 
 /// The outcomes of the campaign file `path`'s index, over the impacts that match `where` (the
 /// --where syntax, evaluated on each impact's id, shape and incident state as its spec records
-/// them; the reflected velocities only where it rebounded, so a condition on them keeps
-/// rebounds only). Returns impacts = 0 for a file without /dem/index (a CSV, a lab set).
-/// Throws InputError (field `option`) for a malformed filter.
-CampaignOutcomes campaign_outcomes(const std::string& path, const std::string& where = "",
+/// them; the reflected velocities only where it rebounded, from `impacts`, the file's impact
+/// set as already read and not filtered, so a condition on them keeps rebounds only). Returns
+/// impacts = 0 for a file without /dem/index (a CSV, a lab set). Throws InputError (field
+/// `option`) for a malformed filter.
+CampaignOutcomes campaign_outcomes(const std::string& path, const ImpactSet& impacts,
+                                   const std::string& where = "",
                                    const std::string& option = "--where");
 
 nlohmann::json to_json(const CampaignOutcomes& o);

@@ -161,7 +161,7 @@ TEST(Assess, ReplicateLabelsGroupReleasesWhoseMeasuredVinDiffers) {
 // set with replicates of its own keeps its own.
 TEST(Assess, ASetWithoutReplicatesBorrowsAnotherSetsPooledScatter) {
   const ImpactSet replicated = replicate_groups({-0.1, 0.1, -0.1, 0.1}, 0.0);
-  BorrowedReplicates b;
+  ReplicateScatter b;
   b.groups = 2;
   b.dof = 6;
   b.source = "other.h5";
