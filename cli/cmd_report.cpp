@@ -28,7 +28,8 @@ struct ReportCliOptions {
   std::vector<std::string> labels;
   std::vector<std::string> against;
   std::string where;
-  std::vector<std::string> data_where;  ///< one filter per DATA file ("" = none), after --where
+  std::vector<std::string> data_where;   ///< one filter per DATA file ("" = none), after --where
+  std::vector<std::string> data_floors;  ///< a borrowed floor's file per DATA file ("" = none)
   ModelOptions model;
   diagnosis::OptionValues values;
   OutputOptions output;
@@ -72,6 +73,10 @@ void run(ReportCliOptions& o) {
     throw InputError(
         "<command line>", 0, "--data-where",
         "give one filter per DATA file (" + std::to_string(o.data.size()) + "; \"\" for none)");
+  if (!o.data_floors.empty() && o.data_floors.size() != o.data.size())
+    throw InputError(
+        "<command line>", 0, "--data-floor-replicates",
+        "give one file per DATA file (" + std::to_string(o.data.size()) + "; \"\" for none)");
   const Model model = o.model.build_model();
 
   // --against: the measured sets each input of the same shape is compared with.
@@ -91,6 +96,9 @@ void run(ReportCliOptions& o) {
       in.data = o.data[f];
       in.shape = std::move(selected.shape);
       in.set = std::move(selected.set);
+      if (!o.data_floors.empty() && !o.data_floors[f].empty())
+        in.borrowed_floor =
+            diagnosis::borrowed_scatter(o.data_floors[f], in.shape.name, "--data-floor-replicates");
       const std::string stem = std::filesystem::path(o.data[f]).stem().string();
       in.label = (o.labels.empty() ? stem : o.labels[f]) +
                  (shapes.size() > 1 || o.labels.empty() ? " (" + in.shape.name + ")" : "");
@@ -136,6 +144,11 @@ void add_report_command(CLI::App& app) {
   sub->add_option("--data-where", o->data_where,
                   "A filter per DATA file, in order (\"\" for none), after --where: e.g. the same "
                   "campaign twice, its held-out and its calibration half (repeatable)");
+  sub->add_option("--data-floor-replicates", o->data_floors,
+                  "A file per DATA file, in order (\"\" for none): an impact set with replicate "
+                  "releases on the same ground whose pooled scatter is that DATA's noise floor "
+                  "when it has no replicates of its own (compare's --floor-replicates; "
+                  "repeatable)");
   add_model_options(sub, o->model);
   sub->add_option("--rounds", o->report.rounds,
                   "Effects the automatic ladder may add (rounds of diagnosis after the first)")

@@ -90,11 +90,13 @@ echo "== Compare, diagnose, model ladder and the HTML validation report (issue 6
 # The resolved campaigns join the lab data: the diagnosis works on any impact set, so the
 # resolved model is judged as a truth like the lab (the long studies of
 # scripts/resolved-study.sh join too when they have been run).
-# report_set FILE LABEL [WHERE]: one set of the report, its label and its --data-where filter
-# (the whole set without one).
+# report_set FILE LABEL [WHERE [FLOOR]]: one set of the report, its label, its --data-where filter
+# (the whole set without one) and the file whose replicate scatter is its noise floor when it has
+# no replicates of its own (--data-floor-replicates; none without one).
 REPORT_DATA=(); REPORT_ARGS=()
 report_set() {
-  REPORT_DATA+=("$1"); REPORT_ARGS+=(--label "$2" --data-where "${3:-}")
+  REPORT_DATA+=("$1")
+  REPORT_ARGS+=(--label "$2" --data-where "${3:-}" --data-floor-replicates "${4:-}")
 }
 report_set "$CYL" "lab cylinders"
 if [ $QUICK -eq 0 ]; then report_set "$TRI" "lab triangles"; fi
@@ -102,12 +104,15 @@ if [ $HAVE_DEM -eq 1 ]; then report_set "$OUT/dem/main-job.h5" "LIGGGHTS campaig
 # The current calibration (issue 32, item 5): the sand-only recalibration's grains at the 28 lab
 # cylinder states, twice: its held-out half (the verification's targets) and its calibration half
 # (in-sample), split by the seed fixed before the run (scripts/lab-split.py, seed 3201). Each half
-# is compared with the lab's releases of the same ids.
+# is compared with the lab's releases of the same ids. The verification has one bed position per
+# state, so no replicates: its floor is the bed-position pairs of the sand calibration's campaign
+# on the same slabs (docs/diagnosis.md, "Added: the rim", "Against the bed's own scatter").
 VER=$ROOT/data/resolved/sand-verification-1.5e9.h5
 VER_N=$("$R" stats "$VER" --json | jq '.n')
 SAND="LIGGGHTS, sand-only recalibration (E_grain 1.5e9 Pa, not on a stiffness plateau; $VER_N rebounds at the 28 lab states)"
 for half in held-out calibration; do
-  report_set "$VER" "$SAND, $half half" "$(sand_half "$half")"
+  report_set "$VER" "$SAND, $half half" "$(sand_half "$half")" \
+    "$ROOT/data/resolved/sand-calibration-1.5e9.h5"
 done
 # The fifth calibration's sets left the report with it (the verification above is the current
 # calibration's; the upscaling above still prints the fifth's cylinder states and blind

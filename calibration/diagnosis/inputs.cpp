@@ -84,19 +84,23 @@ Inputs load_inputs(const std::string& data, const std::string& shape_name,
   return select_inputs(all, shapes.front(), data);
 }
 
-void borrow_floor(DiagnoseOptions& options, const OptionValues& values, const Inputs& inputs) {
-  const std::string& path = values.floor_replicates;
-  if (path.empty()) return;
-  const std::string& shape = inputs.shape.name;
+ReplicateScatter borrowed_scatter(const std::string& path, const std::string& shape,
+                                  const std::string& option) {
   ReplicateScatter r = replicate_scatter(select_inputs(read_impact_set(path), shape, path).set);
   if (r.groups < 2)
-    throw InputError(path, 0, "--floor-replicates",
+    throw InputError(path, 0, option,
                      fmt::format("{} replicate group(s) of shape {}: the pooled scatter needs at "
                                  "least 2 (releases sharing a replicate label or an incident "
                                  "state)",
                                  r.groups, shape));
   r.source = path;
-  options.assess.borrowed_floor = r;
+  return r;
+}
+
+void borrow_floor(DiagnoseOptions& options, const OptionValues& values, const Inputs& inputs) {
+  if (values.floor_replicates.empty()) return;
+  options.assess.borrowed_floor =
+      borrowed_scatter(values.floor_replicates, inputs.shape.name, "--floor-replicates");
 }
 
 }  // namespace ricochet::diagnosis

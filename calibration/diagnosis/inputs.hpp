@@ -78,9 +78,14 @@ Inputs select_inputs(const ImpactSet& set, const std::string& shape_name, const 
 Inputs load_inputs(const std::string& data, const std::string& shape_name,
                    const std::string& where = "");
 
-/// Sets options.assess.borrowed_floor from values.floor_replicates: the replicate scatter
-/// (replicate_scatter) of that file's releases of the inputs' shape. An InputError (file, field
-/// --floor-replicates) when it has fewer than two replicate groups; nothing when it is empty.
+/// The replicate scatter (replicate_scatter) of the impact set at `path`, its releases of shape
+/// `shape` only, with `source` = path: the floor a set without replicates borrows. An InputError
+/// (file, field `option`) when it has fewer than two replicate groups.
+ReplicateScatter borrowed_scatter(const std::string& path, const std::string& shape,
+                                  const std::string& option);
+
+/// Sets options.assess.borrowed_floor from values.floor_replicates (borrowed_scatter of the
+/// inputs' shape, errors naming --floor-replicates); nothing when it is empty.
 void borrow_floor(DiagnoseOptions& options, const OptionValues& values, const Inputs& inputs);
 
 }  // namespace ricochet::diagnosis

@@ -79,9 +79,9 @@ NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const d
   if (borrowed)
     for (int k = 0; k < kObservables; ++k)
       if (use[k] && !std::isfinite(pooled.variance[k]))
-        throw InputError(pooled.source, 0, "--floor-replicates",
-                         std::string("its replicates have no ") + kObservableNames[k] +
-                             ", which the compared set's error uses");
+        throw InputError(pooled.source, 0, kObservableNames[k],
+                         "no replicate group of this borrowed floor has it, and the compared "
+                         "set's error uses it");
   // The sigma of each observable per release (physical units) before scaling.
   std::vector<Obs> var(n);
   // The prediction's spread over the unknown orientation (0 for discs and known alpha_in), at

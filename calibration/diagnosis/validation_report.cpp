@@ -400,8 +400,10 @@ std::vector<ReportSection> analyse(const std::vector<ReportInput>& inputs, const
   for (const auto& in : inputs) {
     ReportSection s;
     s.input = in;
-    s.diagnosis = diagnose(model, in.shape, in.set, o.diagnose);
-    s.ladder = auto_ladder(model, in.shape, in.set, o.rounds, o.diagnose, &s.diagnosis);
+    DiagnoseOptions d = o.diagnose;
+    if (in.borrowed_floor) d.assess.borrowed_floor = in.borrowed_floor;
+    s.diagnosis = diagnose(model, in.shape, in.set, d);
+    s.ladder = auto_ladder(model, in.shape, in.set, o.rounds, d, &s.diagnosis);
     // A history the discovery cannot read is said on the page, not fatal: the rest stands.
     try {
       s.force_law =

@@ -30,6 +30,10 @@ struct ReportInput {
   /// `lab` holds only the releases this set was run at (every impact's id names one of lab_data's
   /// releases, impact/release_index.hpp), not the whole file.
   bool lab_matched = false;
+  /// Another set's replicate scatter on the same ground, the floor of this set when it has no
+  /// replicates of its own (`report --data-floor-replicates`; AssessOptions::borrowed_floor
+  /// of this set's diagnosis and ladder). Absent: the set's own sources.
+  std::optional<ReplicateScatter> borrowed_floor;
 };
 
 struct ReportOptions {

@@ -181,7 +181,7 @@ TEST(Assess, ASetWithoutReplicatesBorrowsAnotherSetsPooledScatter) {
   const NoiseFloor own =
       noise_floor(m, Shape::cylinder(), m.values(), replicated, observables_of(replicated, o), o);
   EXPECT_EQ(own.source, "replicates");
-  // A scatter without an observable the error uses is refused, naming the option.
+  // A scatter without an observable the error uses is refused, naming the file and the field.
   ImpactSet with_depth = single;
   with_depth.extra_names = {"penetration"};
   with_depth.extra_units = {"m"};
@@ -190,7 +190,7 @@ TEST(Assess, ASetWithoutReplicatesBorrowsAnotherSetsPooledScatter) {
     noise_floor(m, Shape::cylinder(), m.values(), with_depth, {true, true, true, true, false}, o);
     ADD_FAILURE() << "a borrowed floor without penetration was accepted";
   } catch (const InputError& e) {
-    EXPECT_EQ(e.field(), "--floor-replicates");
+    EXPECT_EQ(e.field(), "penetration");
     EXPECT_EQ(e.file(), "other.h5");
   }
 }

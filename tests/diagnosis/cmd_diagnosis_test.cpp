@@ -504,6 +504,37 @@ TEST_F(CmdDiagnosis, ReportComparesACampaignRunAtLabReleasesWithThoseReleases) {
   EXPECT_NE(bad.err.find("'--data-where'"), std::string::npos) << bad.err;
 }
 
+// --data-floor-replicates: per DATA file, the report's own --floor-replicates. The stiff bed's
+// verification given twice, once borrowing the calibration campaign's position pairs: that
+// section's floor is compare's borrowed one, the other keeps its declared floor; a count that
+// does not match the DATA files is refused naming the option.
+TEST_F(CmdDiagnosis, ReportBorrowsAFloorPerDataFile) {
+  const std::string resolved = std::string(RICOCHET_SOURCE_DIR) + "/data/resolved/";
+  const std::string verification = quote(resolved + "sand-verification-1.5e9.h5");
+  const std::string calibration = quote(resolved + "sand-calibration-1.5e9.h5");
+  const RunResult c = ricochet("compare " + verification +
+                               " --no-release-fits --floor-replicates " + calibration + " --json");
+  ASSERT_EQ(c.status, 0) << c.err;
+  const double borrowed = nlohmann::json::parse(c.out)["noise_floor"]["value"].get<double>();
+  const RunResult r = ricochet("report " + verification + " " + verification +
+                               " --data-floor-replicates " + calibration +
+                               " --data-floor-replicates \"\" --rounds 0 --folds 3 "
+                               "--no-intervals --json --out " +
+                               quote((dir_ / "borrowed.html").string()));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto sets = nlohmann::json::parse(r.out)["sets"];
+  ASSERT_EQ(sets.size(), 2u);
+  EXPECT_EQ(sets[0]["noise_floor_source"], "borrowed replicates");
+  EXPECT_NEAR(sets[0]["noise_floor"].get<double>(), borrowed, 1e-9 * borrowed);
+  EXPECT_NE(sets[1]["noise_floor_source"], "borrowed replicates");
+  EXPECT_LT(sets[1]["noise_floor"].get<double>(), borrowed);
+  const RunResult bad =
+      ricochet("report " + verification + " " + verification + " --data-floor-replicates " +
+               calibration + " --out " + quote((dir_ / "bad.html").string()));
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("--data-floor-replicates"), std::string::npos) << bad.err;
+}
+
 // A set whose declared uncertainties are tiny (a LIGGGHTS campaign: the reconstruction's
 // standard errors) misses its floor by thousands: the headline gives that ratio without
 // meaningless decimals and the numbers behind it, with the model-free yardstick (how much
