@@ -76,8 +76,8 @@ if [ $HAVE_DEM -eq 1 ]; then
     --figures "$OUT/figures/resolved-lab-cylinders"
   "$R" upscale "$ROOT/data/resolved/lab-triangles-blind-rolling-gb.h5" --shape triangle \
     --lab "$TRI" --figures "$OUT/figures/resolved-lab-triangles-blind"
-  # The sand-only recalibration's blind triangles (issue 32, item 3; nothing re-tuned), as far as
-  # the campaign has run (scripts/dem-lanes.sh), against the lab's same releases.
+  # The sand-only recalibration's blind triangles (issue 32, item 3; nothing re-tuned; all 31
+  # states), against the lab's same releases.
   BLIND=$ROOT/data/resolved/sand-blind-triangles-1.5e9.h5
   # The reading fixed in docs/resolved-model.md ("The blind triangles' reading"): the lab's
   # releases of the same ids, its reading noise added to the resolved values (seed 3203).
@@ -118,14 +118,14 @@ done
 # calibration's; the upscaling above still prints the fifth's cylinder states and blind
 # triangles). The report's 3 MB holds one set of blind triangles: the current calibration's.
 if [ $QUICK -eq 0 ]; then
-  # The current calibration's blind triangles (nothing re-tuned), as far as their campaign has run.
+  # The current calibration's blind triangles (nothing re-tuned; all 31 states since 2026-12-06).
   BLIND=$ROOT/data/resolved/sand-blind-triangles-1.5e9.h5
   # Its outcomes (ricochet stats, "Outcomes"): the rebounds and the states the bed captured,
   # with the Clopper-Pearson interval of the captured share (the reading's first item).
   BLIND_OUTCOMES=$("$R" stats "$BLIND" --where "$SAND_BLIND_WHERE" --json |
     jq -r '"\(.n) rebounds, \(.outcomes.captured) captured of the \(.outcomes.ran) states run (95 % Clopper-Pearson \(.outcomes.capture.lo * 100 | round)-\(.outcomes.capture.hi * 100 | round) %)"')
   report_set "$BLIND" \
-    "LIGGGHTS, sand-only recalibration (E_grain 1.5e9 Pa, not on a stiffness plateau), lab triangle states, blind (campaign running: $BLIND_OUTCOMES, of 31 states)" \
+    "LIGGGHTS, sand-only recalibration (E_grain 1.5e9 Pa, not on a stiffness plateau), lab triangle states, blind ($BLIND_OUTCOMES)" \
     "$SAND_BLIND_WHERE"
   for c in "$OUT"/resolved/speeds.h5 "$OUT"/resolved/lab-cylinders.h5; do
     if [ -f "$c" ]; then report_set "$c" "LIGGGHTS campaign $(basename "$c" .h5)"; fi
