@@ -2,10 +2,12 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "common/h5.hpp"
+#include "impact/block_track.hpp"
 #include "impact/impact_set.hpp"
 
 namespace ricochet::stats {
@@ -66,17 +68,46 @@ CampaignOutcomes campaign_outcomes(const std::string& path, const ImpactSet& imp
     ++o.ran;
     if (is_capture(s)) ++o.captured;
   }
+  const std::vector<std::string> tracked = block_track_ids(path);
+  for (const auto& im : kept.impacts) {
+    const std::string& s = status_of[im.id];
+    if (!is_capture(s) || std::find(tracked.begin(), tracked.end(), im.id) == tracked.end())
+      continue;
+    const BlockTrack track = read_block_track(path, im.id);
+    if (track.size() == 0) continue;
+    const std::size_t last = track.size() - 1;
+    CapturedEnd e;
+    e.id = im.id;
+    e.status = s;
+    e.t_s = track.t[last];
+    e.speed_mps = std::hypot(track.vx[last], track.vy[last]);
+    e.spin_radps = track.w[last];
+    e.penetration_m = track.penetration[last];
+    e.ke_block_J = track.ke_block[last];
+    o.captured_ends.push_back(e);
+  }
   o.capture = clopper_pearson(o.captured, o.ran);
   return o;
 }
 
 nlohmann::json to_json(const CampaignOutcomes& o) {
+  const auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
+  nlohmann::json ends = nlohmann::json::array();
+  for (const auto& e : o.captured_ends)
+    ends.push_back({{"id", e.id},
+                    {"status", e.status},
+                    {"t", num(e.t_s)},
+                    {"speed", num(e.speed_mps)},
+                    {"spin", num(e.spin_radps)},
+                    {"penetration", num(e.penetration_m)},
+                    {"ke_block", num(e.ke_block_J)}});
   return {{"impacts", o.impacts},
           {"by_status", o.by_status},
           {"ran", o.ran},
           {"captured", o.captured},
           {"capture", {{"rate", o.capture.rate}, {"lo", o.capture.lo}, {"hi", o.capture.hi}}},
-          {"interval", "Clopper-Pearson 95 %"}};
+          {"interval", "Clopper-Pearson 95 %"},
+          {"captured_ends", ends}};
 }
 
 std::string format_text(const CampaignOutcomes& o) {
@@ -90,6 +121,14 @@ std::string format_text(const CampaignOutcomes& o) {
       "  captured (timeout or no_rebound): {} of the {} that ran (invalid, lost_atoms, "
       "extraction_failed and crashed apart): {:.3f}, 95 % Clopper-Pearson [{:.3f}, {:.3f}]\n",
       o.captured, o.ran, o.capture.rate, o.capture.lo, o.capture.hi);
+  if (!o.captured_ends.empty())
+    s += "  where the captured tracks end (last record; lowest point below the level, < 0 "
+         "above):\n";
+  for (const auto& e : o.captured_ends)
+    s += fmt::format(
+        "    {} ({}): t = {:.3f} s, |v| = {:.3f} m/s, omega = {:.2f} rad/s, lowest point {:.1f} "
+        "mm, block kinetic energy {:.3g} J\n",
+        e.id, e.status, e.t_s, e.speed_mps, e.spin_radps, e.penetration_m * 1e3, e.ke_block_J);
   return s;
 }
 

@@ -147,6 +147,13 @@ TEST_F(ShippedData, StatsAnswersEveryShippedFile) {
           << name;
       EXPECT_LE(oc["capture"]["lo"].get<double>(), oc["capture"]["rate"].get<double>()) << name;
       EXPECT_GE(oc["capture"]["hi"].get<double>(), oc["capture"]["rate"].get<double>()) << name;
+      // Where a captured impact's track ends: only captures, at most one each, at a time.
+      EXPECT_LE(oc["captured_ends"].size(), oc["captured"].get<std::size_t>()) << name;
+      for (const auto& e : oc["captured_ends"]) {
+        const std::string status = e["status"].get<std::string>();
+        EXPECT_TRUE(status == "timeout" || status == "no_rebound") << name << " " << e["id"];
+        EXPECT_GT(e["t"].get<double>(), 0) << name << " " << e["id"];
+      }
     }
     const auto& t = j["tracks"];
     if (!tracks.count(name)) {

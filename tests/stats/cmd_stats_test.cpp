@@ -189,6 +189,53 @@ TEST_F(CmdStats, SummarisesTheTracksOfACampaignFile) {
   EXPECT_TRUE(nlohmann::json::parse(lab.out)["tracks"].is_null());
 }
 
+// A campaign file's outcomes: its index says C01 rebounded, T01 timed out and T02 was refused.
+// The captured T01's track ends at t = 0.3 s moving at (0.3, -0.4) m/s, 6 mm below the level:
+// the outcome gives that last record (|v| = 0.5 m/s); the refused T02, with a track too, is not
+// captured and gets none.
+TEST_F(CmdStats, OutcomesSayWhereACapturedTrackEnds) {
+  const std::string path = campaign_file(dir_, false);
+  {
+    h5::File f(path, h5::File::Mode::kReadWrite);
+    f.write_strings("/dem/index/id", {"C01", "T01", "T02"});
+    f.write_strings("/dem/index/status", {"rebound", "timeout", "invalid"});
+    f.write_strings("/dem/index/shape", {"cylinder", "triangle", "triangle"});
+    f.write_strings("/dem/index/params", {"{}", R"({"vin": [3.0, -2.0, -20.0]})", "{}"});
+  }
+  BlockTrack tr;
+  for (int k = 0; k <= 3; ++k) {
+    tr.t.push_back(0.1 * k);
+    tr.vx.push_back(k == 3 ? 0.3 : 1.0);
+    tr.vy.push_back(k == 3 ? -0.4 : 0.0);
+    tr.w.push_back(k == 3 ? -2.5 : -10.0);
+    tr.penetration.push_back(k == 3 ? 0.006 : 0.0);
+    tr.ke_block.push_back(k == 3 ? 1.25 : 10.0);
+  }
+  tr.pad();
+  write_block_track(path, "T01", tr);
+  write_block_track(path, "T02", tr);
+  const RunResult run = ricochet("stats --json " + quote(path));
+  ASSERT_EQ(run.status, 0) << run.err;
+  const auto oc = nlohmann::json::parse(run.out)["outcomes"];
+  EXPECT_EQ(oc["captured"], 1);
+  EXPECT_EQ(oc["ran"], 2);
+  ASSERT_EQ(oc["captured_ends"].size(), 1u) << oc.dump();
+  const auto& e = oc["captured_ends"][0];
+  EXPECT_EQ(e["id"], "T01");
+  EXPECT_EQ(e["status"], "timeout");
+  EXPECT_DOUBLE_EQ(e["t"].get<double>(), 0.3);
+  EXPECT_DOUBLE_EQ(e["speed"].get<double>(), 0.5);
+  EXPECT_DOUBLE_EQ(e["spin"].get<double>(), -2.5);
+  EXPECT_DOUBLE_EQ(e["penetration"].get<double>(), 0.006);
+  EXPECT_DOUBLE_EQ(e["ke_block"].get<double>(), 1.25);
+  const RunResult text = ricochet("stats " + quote(path));
+  ASSERT_EQ(text.status, 0) << text.err;
+  EXPECT_NE(text.out.find("T01 (timeout): t = 0.300 s, |v| = 0.500 m/s, omega = -2.50 rad/s, "
+                          "lowest point 6.0 mm"),
+            std::string::npos)
+      << text.out;
+}
+
 TEST_F(CmdStats, AMalformedTrackExitsWithTwoAndNamesTheFileAndTheTrack) {
   const std::string path = campaign_file(dir_, true);
   const RunResult run = ricochet("stats " + quote(path));
