@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <cmath>
 #include <filesystem>
+#include <map>
 
 #include "diagnosis/evidence.hpp"
 #include "diagnosis/figures.hpp"
@@ -472,6 +473,9 @@ std::size_t write_report(const std::vector<ReportSection>& sections, const Model
       "(release-to-release spread of the parameters, no deterministic trend), missing physics.",
   });
 
+  // The section that pictured each file's first impact: a file given twice (a campaign's two
+  // halves) shows its picture once, the second section points to it (the page has a size limit).
+  std::map<std::string, std::string> pictured;
   for (std::size_t i = 0; i < sections.size(); ++i) {
     const auto& s = sections[i];
     const std::string id = fmt::format("set{}", i + 1);
@@ -482,11 +486,18 @@ std::size_t write_report(const std::vector<ReportSection>& sections, const Model
     for (const auto& f : ladder_figures(s.ladder, s.input.label)) page.figure(f.figure, f.caption);
     // A resolved campaign shows what the numbers are about: its first impact, through the contact.
     const auto snap = read_snapshot(s.input.data);
-    if (snap)
+    if (snap && pictured.count(s.input.data))
+      page.paragraph(
+          "This campaign's first impact, through the contact, is pictured in the "
+          "section \"" +
+          pictured.at(s.input.data) + "\" (the same file).");
+    else if (snap) {
       page.figure(report::impact_picture(*snap, s.input.label),
                   "One impact of this campaign (LIGGGHTS), side view through the block's "
                   "mid-plane at frames through the contact: grains coloured by speed, the block's "
                   "spheres in grey. The crater, the bulge and the grains the block pushes.");
+      pictured[s.input.data] = s.input.label;
+    }
     // ... and, when the campaign keeps its tracks, that impact's contact in time beside the
     // reduced law at the same incident state: what upscaling asks the law to reproduce.
     track_section(page, s, model, o, snap ? snap->impact_id : std::string());

@@ -528,6 +528,21 @@ TEST_F(CmdDiagnosis, ReportBorrowsAFloorPerDataFile) {
   EXPECT_NEAR(sets[0]["noise_floor"].get<double>(), borrowed, 1e-9 * borrowed);
   EXPECT_NE(sets[1]["noise_floor_source"], "borrowed replicates");
   EXPECT_LT(sets[1]["noise_floor"].get<double>(), borrowed);
+  // The file given twice shows its first impact's picture once; the second section points to it.
+  // (Each figure's caption is on the page as often as the page repeats a caption: counted against
+  // the ladder figure, which each section has.)
+  const std::string page = test::slurp(dir_ / "borrowed.html");
+  const auto count = [&](const std::string& text) {
+    std::size_t n = 0;
+    for (auto at = page.find(text); at != std::string::npos; at = page.find(text, at + 1)) ++n;
+    return n;
+  };
+  const std::size_t pictures = count("One impact of this campaign (LIGGGHTS), side view");
+  const std::size_t ladders = count("Each rung adds one effect and is recalibrated");
+  ASSERT_GT(pictures, 0u);
+  EXPECT_EQ(2 * pictures, ladders);
+  EXPECT_NE(page.find("first impact, through the contact, is pictured in the section"),
+            std::string::npos);
   const RunResult bad =
       ricochet("report " + verification + " " + verification + " --data-floor-replicates " +
                calibration + " --out " + quote((dir_ / "bad.html").string()));
