@@ -56,6 +56,15 @@ bool keep_matched_releases(ImpactSet& lab, const ImpactSet& set) {
   return true;
 }
 
+// An option given once per DATA file, in order, or not at all: any other count is refused,
+// naming the option (`what`: one of its values; `none`: how a file without one is written).
+void require_one_per_data(std::size_t given, std::size_t data, const char* option, const char* what,
+                          const char* none) {
+  if (given != 0 && given != data)
+    throw InputError("<command line>", 0, option,
+                     fmt::format("give one {} per DATA file ({}{})", what, data, none));
+}
+
 void run(ReportCliOptions& o) {
   require_extension("--out", o.output.out, {".html", ".htm"});
   o.values.dt_s = o.model.dt_s;
@@ -66,17 +75,11 @@ void run(ReportCliOptions& o) {
   for (const auto& [field, name] : diagnosis_option_names())
     names.emplace_back("diagnose." + field, name);
   refuse_problems(ro.problems(), names);
-  if (!o.labels.empty() && o.labels.size() != o.data.size())
-    throw InputError("<command line>", 0, "--label",
-                     "give one label per DATA file (" + std::to_string(o.data.size()) + ")");
-  if (!o.data_where.empty() && o.data_where.size() != o.data.size())
-    throw InputError(
-        "<command line>", 0, "--data-where",
-        "give one filter per DATA file (" + std::to_string(o.data.size()) + "; \"\" for none)");
-  if (!o.data_floors.empty() && o.data_floors.size() != o.data.size())
-    throw InputError(
-        "<command line>", 0, "--data-floor-replicates",
-        "give one file per DATA file (" + std::to_string(o.data.size()) + "; \"\" for none)");
+  require_one_per_data(o.labels.size(), o.data.size(), "--label", "label", "");
+  require_one_per_data(o.data_where.size(), o.data.size(), "--data-where", "filter",
+                       "; \"\" for none");
+  require_one_per_data(o.data_floors.size(), o.data.size(), "--data-floor-replicates", "file",
+                       "; \"\" for none");
   const Model model = o.model.build_model();
 
   // --against: the measured sets each input of the same shape is compared with.

@@ -486,11 +486,12 @@ std::size_t write_report(const std::vector<ReportSection>& sections, const Model
     for (const auto& f : ladder_figures(s.ladder, s.input.label)) page.figure(f.figure, f.caption);
     // A resolved campaign shows what the numbers are about: its first impact, through the contact.
     const auto snap = read_snapshot(s.input.data);
-    if (snap && pictured.count(s.input.data))
+    const auto shown = pictured.find(s.input.data);
+    if (snap && shown != pictured.end())
       page.paragraph(
           "This campaign's first impact, through the contact, is pictured in the "
           "section \"" +
-          pictured.at(s.input.data) + "\" (the same file).");
+          shown->second + "\" (the same file).");
     else if (snap) {
       page.figure(report::impact_picture(*snap, s.input.label),
                   "One impact of this campaign (LIGGGHTS), side view through the block's "

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "common/h5.hpp"
+#include "common/json_number.hpp"
 #include "impact/block_track.hpp"
 #include "impact/impact_set.hpp"
 
@@ -60,19 +61,17 @@ CampaignOutcomes campaign_outcomes(const std::string& path, const ImpactSet& imp
   std::map<std::string, std::string> status_of;
   for (std::size_t i = 0; i < ids.size() && i < statuses.size(); ++i)
     status_of[ids[i]] = statuses[i];
+  const std::vector<std::string> tracked = block_track_ids(path);
   for (const auto& im : kept.impacts) {
     const std::string& s = status_of[im.id];
     ++o.by_status[s];
     ++o.impacts;
     if (is_numerical_failure(s)) continue;
     ++o.ran;
-    if (is_capture(s)) ++o.captured;
-  }
-  const std::vector<std::string> tracked = block_track_ids(path);
-  for (const auto& im : kept.impacts) {
-    const std::string& s = status_of[im.id];
-    if (!is_capture(s) || std::find(tracked.begin(), tracked.end(), im.id) == tracked.end())
-      continue;
+    if (!is_capture(s)) continue;
+    ++o.captured;
+    // Where it ends, when the file keeps its track.
+    if (std::find(tracked.begin(), tracked.end(), im.id) == tracked.end()) continue;
     const BlockTrack track = read_block_track(path, im.id);
     if (track.size() == 0) continue;
     const std::size_t last = track.size() - 1;
@@ -91,16 +90,15 @@ CampaignOutcomes campaign_outcomes(const std::string& path, const ImpactSet& imp
 }
 
 nlohmann::json to_json(const CampaignOutcomes& o) {
-  const auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
   nlohmann::json ends = nlohmann::json::array();
   for (const auto& e : o.captured_ends)
     ends.push_back({{"id", e.id},
                     {"status", e.status},
-                    {"t", num(e.t_s)},
-                    {"speed", num(e.speed_mps)},
-                    {"spin", num(e.spin_radps)},
-                    {"penetration", num(e.penetration_m)},
-                    {"ke_block", num(e.ke_block_J)}});
+                    {"t", finite_or_null(e.t_s)},
+                    {"speed", finite_or_null(e.speed_mps)},
+                    {"spin", finite_or_null(e.spin_radps)},
+                    {"penetration", finite_or_null(e.penetration_m)},
+                    {"ke_block", finite_or_null(e.ke_block_J)}});
   return {{"impacts", o.impacts},
           {"by_status", o.by_status},
           {"ran", o.ran},
