@@ -13,18 +13,23 @@
 #      the design of issue 33's force campaign (the speed campaign's states on those grains);
 #   2. then two lanes of one core each:
 #      lane A: the convergence at 1.5e9 Pa (width, depth, grain size: convergence-1.5e9.toml,
-#              into results/convergence-1.5e9/; issue 32, item 3), issue 33's force campaign
-#              (its design from 1b, on one core), the stiffness plateau's 1.5e10 Pa level up to its
-#              pre-registered minimum (the cylinder and the triangle states T18, T02, T10: the
-#              design's first 75 impacts, 12 pairs), the floor check at that level
-#              (wall-stiffness-1.5e10.toml, into results/wall-stiffness-1.5e10/), then the level's
-#              other three triangle states (reordered on 2026-12-05: the 1.5e10 Pa level, about
-#              three times an impact's cost at 1.5e9 Pa and 84 impacts with 12 beds to build,
-#              would have held the convergence, which issue 32 needs done, for many sessions);
-#      lane B: the sphere drop on the 1.5e9 Pa box bed (scripts/plateau-drop.sh), the same drops
-#              on the calibrated grains (issue 33's Katsuragi-Durian comparison, into
-#              results/sand-drop/), then the packing-scatter beds' solid fractions
+#              into results/convergence-1.5e9/; issue 32, item 3), then issue 33's force campaign
+#              (its design from 1b, on one core), then whatever of the stiffness plateau's 1.5e10
+#              Pa level lane B has not taken (below);
+#      lane B: the sphere drop on the 1.5e9 Pa box bed (scripts/plateau-drop.sh), then the
+#              stiffness plateau's 1.5e10 Pa level up to its pre-registered minimum (the cylinder
+#              and the triangle states T18, T02, T10: the design's first 75 impacts, 12 pairs), the
+#              floor check at that level (wall-stiffness-1.5e10.toml, into
+#              results/wall-stiffness-1.5e10/), the same drops on the calibrated grains (issue 33's
+#              Katsuragi-Durian comparison, into results/sand-drop/), the level's other three
+#              triangle states, then the packing-scatter beds' solid fractions
 #              (scripts/packing-scatter-beds.sh).
+#      (Reordered on 2026-12-06, evening, before any 1.5e10 Pa result beyond the cylinder's three
+#      pairs: the plateau decides at which stiffness everything else of issue 32 is read, and the
+#      drops free lane B within a session, while the convergence holds lane A for about five; so
+#      the level goes to lane B ahead of issue 33's drops, by the lowest issue first. A campaign
+#      holds its folder's lock, so the lane that reaches a campaign the other one runs skips it
+#      and goes on: stiffness-plateau.sh exits at once, saying so in that campaign's log.)
 # Start it at the beginning of a session and let it run; a session's end stops it, the next
 # start resumes it (an impact that was running resumes from its last checkpoint, every
 # run.checkpoint_steps steps, in every campaign pinned since 2026-12-05: docs/commands/dem.md). On a new machine, build the program alone first, start the campaigns, then
@@ -296,6 +301,14 @@ if [ -f "$CAL/calibrate-grains.json" ]; then
       --states-from liggghts-inputs/campaigns/speeds-calibrated-long.toml \
       --name sand-speeds-1.5e9 --out "$CAL/sand-speeds-1.5e9.toml" >> "$CAL/campaign.log" 2>&1
 fi
+# The 1.5e10 Pa level's steps, in their order: the pre-registered minimum, the floor check at that
+# level, and the rest of the level. Either lane runs them; a step the other lane holds is skipped.
+level_minimum() { PLATEAU_DESIGN=stiffness-plateau-1.5e10 PLATEAU_FIRST=75 scripts/stiffness-plateau.sh; }
+level_floor() {
+  PLATEAU_DESIGN=wall-stiffness-1.5e10 PLATEAU_OUT=results/wall-stiffness-1.5e10 \
+    PLATEAU_FILE=wall-stiffness-1.5e10 scripts/stiffness-plateau.sh
+}
+level_rest() { PLATEAU_DESIGN=stiffness-plateau-1.5e10 scripts/stiffness-plateau.sh; }
 {
   PLATEAU_DESIGN=convergence-1.5e9 PLATEAU_OUT=results/convergence-1.5e9 \
     PLATEAU_FILE=convergence-1.5e9 scripts/stiffness-plateau.sh
@@ -303,19 +316,21 @@ fi
     PLATEAU_DESIGN=sand-speeds-1.5e9 PLATEAU_DESIGN_PATH="$CAL/sand-speeds-1.5e9.toml" \
       PLATEAU_OUT=results/sand-verification PLATEAU_FILE=sand-speeds-1.5e9 \
       scripts/stiffness-plateau.sh
-  PLATEAU_DESIGN=stiffness-plateau-1.5e10 PLATEAU_FIRST=75 scripts/stiffness-plateau.sh
-  PLATEAU_DESIGN=wall-stiffness-1.5e10 PLATEAU_OUT=results/wall-stiffness-1.5e10 \
-    PLATEAU_FILE=wall-stiffness-1.5e10 scripts/stiffness-plateau.sh
-  PLATEAU_DESIGN=stiffness-plateau-1.5e10 scripts/stiffness-plateau.sh
+  level_minimum
+  level_floor
+  level_rest
 } &
 lane_a=$!
 {
   scripts/plateau-drop.sh
+  level_minimum
+  level_floor
   # Issue 33: the same sphere drops on the calibrated grains, the bed of its force campaign (the
   # Katsuragi-Durian comparison of docs/granular-impact-checks.md, "On the sand-calibrated grains").
   [ -f "$CAL/calibrate-grains.json" ] &&
     DROP_GRAINS_FROM="liggghts-inputs/campaigns/sand-calibration-1.5e9.toml $CAL/calibrate-grains.json" \
       DROP_OUT="$ROOT/results/sand-drop" DROP_FILE=sphere-drop-sand-1.5e9 scripts/plateau-drop.sh
+  level_rest
   mkdir -p results/packing-scatter
   scripts/packing-scatter-beds.sh > results/packing-scatter/table.md 2> results/packing-scatter/error.log
 } &
