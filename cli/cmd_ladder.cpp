@@ -70,8 +70,11 @@ void print_rungs(const diagnosis::Ladder& l) {
   std::cout << floor_line << "\n";
 }
 
+// The force histories' table; with a replicate floor, its row and each rung's held-out RMS over
+// it ("x floor": issue 33's 2 x reads there).
 void print_force_history(const diagnosis::Ladder& l,
-                         const std::vector<diagnosis::ForceHistoryError>& errors) {
+                         const std::vector<diagnosis::ForceHistoryError>& errors,
+                         const std::optional<diagnosis::ForceHistoryScatter>& floor) {
   if (errors.empty()) return;
   std::cout << fmt::format(
       "\nforce histories ({} releases, {} contact samples; RMS of measured minus model, "
@@ -86,8 +89,24 @@ void print_force_history(const diagnosis::Ladder& l,
                   ? fmt::format("{:>12.4g} /{:>8.4g}", errors[r].insample_rms[c],
                                 errors[r].heldout_rms[c])
                   : fmt::format("{:>22}", "-");
+    if (floor) {
+      line += "   x floor";
+      for (std::size_t c = 0; c < diagnosis::kForceComponents; ++c)
+        line += fmt::format(" {:.2f}", errors[r].heldout_rms[c] / floor->rms[c]);
+    }
     std::cout << line << "\n";
   }
+  if (!floor) return;
+  std::string line = fmt::format("{:<5}{:<22}", "", "replicate floor");
+  for (std::size_t c = 0; c < diagnosis::kForceComponents; ++c)
+    line += std::isfinite(floor->rms[c]) ? fmt::format("{:>12} /{:>8.4g}", "", floor->rms[c])
+                                         : fmt::format("{:>22}", "-");
+  std::cout << line << "\n"
+            << fmt::format(
+                   "     (one history's RMS distance from its replicates' mean history, {} groups "
+                   "of {} histories{}; moment about the lowest point)\n",
+                   floor->groups, floor->histories,
+                   floor->source.empty() ? "" : ", borrowed from " + floor->source);
 }
 
 void run(DiagnosisCliOptions& o, int auto_rounds, bool force_law) {
@@ -109,15 +128,18 @@ void run(DiagnosisCliOptions& o, int auto_rounds, bool force_law) {
   std::optional<diagnosis::ForceLawReport> discovered;
   if (force_law)
     discovered = diagnosis::add_force_law_rung(l, model, in.shape, in.set, o.data, opt);
-  const auto force_errors = diagnosis::ladder_force_history(
-      model, l, in.shape, diagnosis::measured_histories(o.data, in.set, in.shape),
-      o.model.engine_options());
+  const auto histories = diagnosis::measured_histories(o.data, in.set, in.shape);
+  const auto force_errors =
+      diagnosis::ladder_force_history(model, l, in.shape, histories, o.model.engine_options());
+  const auto force_floor =
+      force_errors.empty() ? std::nullopt : diagnosis::force_history_floor(in, histories, o.values);
   nlohmann::json doc = diagnosis::to_json(l);
   if (discovered) doc["force_law"] = diagnosis::to_json(*discovered);
   if (!force_errors.empty()) {
     doc["force_history"] = nlohmann::json::array();
     for (const auto& e : force_errors) doc["force_history"].push_back(diagnosis::to_json(e));
   }
+  if (force_floor) doc["force_history_floor"] = diagnosis::to_json(*force_floor);
   doc["data"] = o.data;
   doc["shape"] = in.shape.name;
   std::vector<std::string> figures;
@@ -138,7 +160,7 @@ void run(DiagnosisCliOptions& o, int auto_rounds, bool force_law) {
   std::cout << fmt::format("{} ({} releases of shape {}); noise floor {:.4g} ({})\n\n", o.data,
                            in.set.size(), in.shape.name, l.floor.value.mean, l.floor.source);
   print_rungs(l);
-  print_force_history(l, force_errors);
+  print_force_history(l, force_errors, force_floor);
   if (discovered) std::cout << "\n" << diagnosis::format_text(*discovered);
   if (!l.stop_reason.empty()) std::cout << "\nstopped: " << l.stop_reason << "\n";
   print_written(figures, o.output.out);

@@ -119,6 +119,129 @@ nlohmann::json to_json(const ForceHistoryError& e) {
           {"samples", e.samples}};
 }
 
+namespace {
+
+constexpr double kG = 9.81;              // [m/s^2]
+constexpr double kContactWeights = 0.2;  // the contact rule of `ricochet stats`
+
+// The lowest point of `shape` turned by theta, relative to its centroid [m]: the vertex
+// Shape::depth_below_centroid finds, less the rounding radius below it.
+std::array<double, 2> lowest_point(const Shape& shape, double theta) {
+  const double c = std::cos(theta), s = std::sin(theta);
+  std::size_t low = 0;
+  double y_low = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < shape.vertices.size(); ++k) {
+    const double y = s * shape.vertices[k][0] + c * shape.vertices[k][1];
+    if (y < y_low) {
+      y_low = y;
+      low = k;
+    }
+  }
+  const auto& v = shape.vertices[low];
+  return {c * v[0] - s * v[1], y_low - shape.rounding_radius_m};
+}
+
+// One history from its contact's start: time since it [s] and per record the normal force, the
+// tangential force and the moment about the lowest point; `window` the contact's length [s].
+struct AlignedContact {
+  std::vector<double> t;
+  std::vector<std::array<double, kForceComponents>> f;
+  double window = 0;
+  // The value of component c at time tau since the start: interpolated between records, 0
+  // beyond the last one (the block in flight).
+  double at(double tau, std::size_t c) const {
+    if (tau > t.back()) return 0.0;
+    const auto hi = std::upper_bound(t.begin(), t.end(), tau);
+    if (hi == t.begin()) return f.front()[c];
+    if (hi == t.end()) return f.back()[c];
+    const std::size_t k = static_cast<std::size_t>(hi - t.begin());
+    const double w = (tau - t[k - 1]) / (t[k] - t[k - 1]);
+    return (1.0 - w) * f[k - 1][c] + w * f[k][c];
+  }
+};
+
+std::optional<AlignedContact> aligned_contact(const MeasuredHistory& h, const Shape& shape) {
+  const double threshold = kContactWeights * shape.mass_kg * kG;
+  std::size_t first = h.fy_N.size(), last = 0;
+  for (std::size_t i = 0; i < h.fy_N.size(); ++i)
+    if (h.fy_N[i] >= threshold) {
+      first = std::min(first, i);
+      last = i;
+    }
+  if (first >= h.fy_N.size()) return std::nullopt;
+  AlignedContact a;
+  const double t0 = h.path[first].t_s;
+  a.window = h.path[last].t_s - t0;
+  for (std::size_t i = first; i < h.path.size(); ++i) {
+    const auto r = lowest_point(shape, h.path[i].theta_rad);
+    a.t.push_back(h.path[i].t_s - t0);
+    a.f.push_back({h.fy_N[i], h.fx_N[i], h.torque_Nm[i] - (r[0] * h.fy_N[i] - r[1] * h.fx_N[i])});
+  }
+  return a;
+}
+
+}  // namespace
+
+ForceHistoryScatter force_history_scatter(
+    const ImpactSet& set, const std::vector<std::optional<MeasuredHistory>>& histories,
+    const Shape& shape) {
+  if (histories.size() != set.size())
+    throw std::invalid_argument(fmt::format("force_history_scatter: {} histories for a set of {}",
+                                            histories.size(), set.size()));
+  ForceHistoryScatter out;
+  std::array<double, kForceComponents> squares{};
+  std::array<std::size_t, kForceComponents> dof{};
+  for (const auto& group : replicate_groups(set)) {
+    std::vector<AlignedContact> members;
+    for (std::size_t i : group)
+      if (histories[i])
+        if (auto a = aligned_contact(*histories[i], shape); a && a->t.size() >= 2)
+          members.push_back(std::move(*a));
+    if (members.size() < 2) continue;
+    ++out.groups;
+    out.histories += members.size();
+    // The group's grid: its finest record interval, up to the end of its longest contact.
+    double step = std::numeric_limits<double>::infinity(), end = 0;
+    for (const auto& m : members) {
+      step = std::min(step, (m.t.back() - m.t.front()) / static_cast<double>(m.t.size() - 1));
+      end = std::max(end, m.window);
+    }
+    // (The tolerance keeps a window of a whole number of steps whole despite rounding.)
+    const auto times = static_cast<std::size_t>(std::floor(end / step + 1e-9)) + 1;
+    out.samples += times;
+    std::vector<double> v(members.size());
+    for (std::size_t k = 0; k < times; ++k)
+      for (std::size_t c = 0; c < kForceComponents; ++c) {
+        std::size_t n = 0;
+        double mean = 0;
+        for (std::size_t j = 0; j < members.size(); ++j) {
+          v[j] = members[j].at(static_cast<double>(k) * step, c);
+          if (std::isfinite(v[j])) {
+            mean += v[j];
+            ++n;
+          }
+        }
+        if (n < 2) continue;
+        mean /= static_cast<double>(n);
+        for (double x : v)
+          if (std::isfinite(x)) squares[c] += (x - mean) * (x - mean);
+        dof[c] += n - 1;
+      }
+  }
+  for (std::size_t c = 0; c < kForceComponents; ++c)
+    out.rms[c] = dof[c] > 0 ? std::sqrt(squares[c] / static_cast<double>(dof[c])) : kNaN;
+  return out;
+}
+
+nlohmann::json to_json(const ForceHistoryScatter& s) {
+  nlohmann::json rms = nlohmann::json::object();
+  for (std::size_t c = 0; c < kForceComponents; ++c)
+    rms[std::string(component_name(static_cast<ForceComponent>(c)))] = finite_or_null(s.rms[c]);
+  return {
+      {"rms", rms},           {"groups", s.groups}, {"histories", s.histories},
+      {"samples", s.samples}, {"source", s.source}, {"moment_about", "the block's lowest point"}};
+}
+
 Model with_force_law(const Model& base, std::span<const double> base_params,
                      const ForceLawReport& report, std::vector<std::string>* warnings) {
   Model m = base;

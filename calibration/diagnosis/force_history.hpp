@@ -69,6 +69,38 @@ std::vector<ForceHistoryError> ladder_force_history(
 /// [N m]; null where not measured), releases, samples.
 nlohmann::json to_json(const ForceHistoryError& e);
 
+/// The force histories' replicate floor (issue 33, item 4: "within 2 x the replicate floor ...
+/// on the force histories"): how far one measured history lies from the mean history of its
+/// replicates (same replicate label or incident state, replicate_groups), the part of the
+/// force-history error no deterministic model can remove. Each history is aligned at its
+/// contact's start (its first record whose normal force reaches 0.2 block weights, the contact
+/// rule of `ricochet stats`) and read on a grid of its group's record interval from there to
+/// the end of the group's longest contact (the last record at or above that force), its own
+/// measured values where it has records and 0 beyond them (in flight). Per component, the
+/// pooled within-group variance over every grid time and group, sum of (value - group mean)^2
+/// over sum of (members - 1), as a root mean square: the normal force F_y and the tangential
+/// force F_x [N] (the contact frame on flat ground) and the moment about the block's lowest
+/// point [N m] (torque - r x F, r that point relative to the centroid: the point the
+/// force-history error's moment is taken about on flat ground, up to half the penetration).
+struct ForceHistoryScatter {
+  std::array<double, kForceComponents> rms{};  ///< N, N, N m; NaN without two measured members
+  std::size_t groups = 0;                      ///< replicate groups with two histories or more
+  std::size_t histories = 0;                   ///< histories in those groups
+  std::size_t samples = 0;                     ///< grid times summed over the groups
+  std::string source;  ///< the file a borrowed floor comes from ("" for a set's own)
+};
+
+/// force_history_scatter of `set`'s replicate groups, `histories` aligned with set.impacts
+/// (measured_histories); groups = 0 and NaN when no group has two histories. Throws
+/// std::invalid_argument when the sizes disagree.
+ForceHistoryScatter force_history_scatter(
+    const ImpactSet& set, const std::vector<std::optional<MeasuredHistory>>& histories,
+    const Shape& shape);
+
+/// JSON: rms (object by component, null where not measured), groups, histories, samples,
+/// source, moment_about ("the block's lowest point").
+nlohmann::json to_json(const ForceHistoryScatter& s);
+
 /// `base` at `base_params` (model order) plus a `term_<name>` effect for every term the report
 /// selected, at its discovered coefficient and not calibrated (the histories identify it; a
 /// recalibration on rebounds would move it where the rebounds cannot tell, e.g. a drag of 981

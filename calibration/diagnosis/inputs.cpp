@@ -103,4 +103,19 @@ void borrow_floor(DiagnoseOptions& options, const OptionValues& values, const In
       borrowed_scatter(values.floor_replicates, inputs.shape.name, "--floor-replicates");
 }
 
+std::optional<ForceHistoryScatter> force_history_floor(
+    const Inputs& inputs, const std::vector<std::optional<MeasuredHistory>>& histories,
+    const OptionValues& values) {
+  ForceHistoryScatter own = force_history_scatter(inputs.set, histories, inputs.shape);
+  if (own.groups > 0) return own;
+  if (values.floor_replicates.empty()) return std::nullopt;
+  const std::string& path = values.floor_replicates;
+  const ImpactSet set = select_inputs(read_impact_set(path), inputs.shape.name, path).set;
+  ForceHistoryScatter borrowed =
+      force_history_scatter(set, measured_histories(path, set, inputs.shape), inputs.shape);
+  if (borrowed.groups == 0) return std::nullopt;
+  borrowed.source = path;
+  return borrowed;
+}
+
 }  // namespace ricochet::diagnosis

@@ -2,10 +2,12 @@
 // one shape, the model, and the options, with errors that name the option or file at fault.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "diagnosis/diagnose.hpp"
+#include "diagnosis/force_history.hpp"
 #include "effects/model.hpp"
 #include "engine/shape.hpp"
 #include "impact/impact_set.hpp"
@@ -87,5 +89,15 @@ ReplicateScatter borrowed_scatter(const std::string& path, const std::string& sh
 /// Sets options.assess.borrowed_floor from values.floor_replicates (borrowed_scatter of the
 /// inputs' shape, errors naming --floor-replicates); nothing when it is empty.
 void borrow_floor(DiagnoseOptions& options, const OptionValues& values, const Inputs& inputs);
+
+/// The replicate floor of the force histories (force_history_scatter) that `ladder` reads their
+/// error against: the inputs' own replicate groups when one has two histories or more
+/// (`histories` aligned with inputs.set, measured_histories), else those of
+/// values.floor_replicates, the file whose V_out scatter the set borrows (its releases of the
+/// inputs' shape; source = that file), else nullopt. A borrowed file without replicate
+/// histories gives nullopt: the option's V_out floor does not need them.
+std::optional<ForceHistoryScatter> force_history_floor(
+    const Inputs& inputs, const std::vector<std::optional<MeasuredHistory>>& histories,
+    const OptionValues& values);
 
 }  // namespace ricochet::diagnosis

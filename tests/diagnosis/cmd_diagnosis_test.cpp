@@ -297,6 +297,37 @@ TEST_F(CmdDiagnosis, TheRimLowersTheStiffBedsHeldOutError) {
             0.75 * base["heldout_per_component"]["contact_duration"].get<double>());
 }
 
+// The force histories' floor (issue 33, item 4): the verification has one bed position per
+// state, so its ladder reads the force-history error against the replicate histories of the file
+// whose V_out scatter it borrows (--floor-replicates: the calibration's position pairs), says
+// where the floor comes from, and gives none without it. The floor's arithmetic is
+// ForceHistoryFloor's (hand-made histories); here, that it is read from the file named.
+TEST_F(CmdDiagnosis, TheLadderReadsTheForceHistoriesAgainstTheirReplicateFloor) {
+  const std::string dir = std::string(RICOCHET_SOURCE_DIR) + "/data/resolved/";
+  const std::string resolved = dir + "sand-verification-1.5e9.h5";
+  const std::string pairs = dir + "sand-calibration-1.5e9.h5";
+  const RunResult r = ricochet("ladder " + quote(resolved) +
+                               " --add crater_rim --floor-replicates " + quote(pairs) + " --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto doc = nlohmann::json::parse(r.out);
+  ASSERT_TRUE(doc.contains("force_history_floor")) << r.out.substr(0, 2000);
+  const auto& floor = doc["force_history_floor"];
+  EXPECT_EQ(floor["source"], pairs);
+  EXPECT_GE(floor["groups"].get<int>(), 2);
+  EXPECT_EQ(floor["histories"].get<int>(), 2 * floor["groups"].get<int>());  // position pairs
+  for (const char* c : {"normal", "tangential", "moment"}) {
+    ASSERT_TRUE(floor["rms"][c].is_number()) << c;
+    // Replicates of one state lie closer together than the paper's law lies from them.
+    EXPECT_GT(floor["rms"][c].get<double>(), 0.0) << c;
+    EXPECT_LT(floor["rms"][c].get<double>(),
+              doc["force_history"][0]["heldout_rms"][c].get<double>())
+        << c;
+  }
+  const RunResult own = ricochet("ladder " + quote(resolved) + " --add crater_rim --json");
+  ASSERT_EQ(own.status, 0) << own.err;
+  EXPECT_FALSE(nlohmann::json::parse(own.out).contains("force_history_floor"));
+}
+
 // A held law predicts the contact features with its own stiffness: on a set with penetration
 // and durations, `--hold kn` keeps kn out of the fit (which would otherwise calibrate it from
 // the features), and a model file with nothing calibrated and kn held is evaluated as given,

@@ -1,0 +1,114 @@
+// The force histories' replicate floor (diagnosis/force_history.hpp, force_history_scatter):
+// hand-made histories whose replicate differences are known, so that the pooled scatter is
+// worked out by hand: two histories that differ by a constant 100 N leave 100 / sqrt(2) N each
+// from their mean; a tangential force of 100 N on a cylinder (lowest point 0.08 m under the
+// centre) makes a moment of 8 N m about that point; a history shifted in time is the same
+// history once aligned at its contact's start.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "diagnosis/force_history.hpp"
+
+namespace ricochet::diagnosis {
+namespace {
+
+constexpr double kDt = 2e-4;  // s, the campaigns' track interval
+
+// A history of `records` records every kDt from t0, whose normal force is `fy` [N] on records
+// [on, off) and 0 elsewhere, tangential force `fx` [N] on the same records, no torque.
+MeasuredHistory history(std::size_t records, double t0, std::size_t on, std::size_t off, double fy,
+                        double fx = 0) {
+  MeasuredHistory h;
+  for (std::size_t i = 0; i < records; ++i) {
+    PathState p;
+    p.t_s = t0 + kDt * static_cast<double>(i);
+    h.path.push_back(p);
+    const bool in = i >= on && i < off;
+    h.fy_N.push_back(in ? fy : 0.0);
+    h.fx_N.push_back(in ? fx : 0.0);
+    h.torque_Nm.push_back(0.0);
+  }
+  return h;
+}
+
+// A set of `n` releases, all at one incident state (one replicate group) unless `distinct`.
+ImpactSet releases(std::size_t n, bool distinct = false) {
+  ImpactSet set;
+  for (std::size_t i = 0; i < n; ++i) {
+    Impact im;
+    im.id = "R" + std::to_string(i);
+    im.shape = "cylinder";
+    im.vin = {2.9 + (distinct ? 0.1 * static_cast<double>(i) : 0.0), -2.3, -65};
+    im.vout = {3.0, 0.5, -42};
+    set.impacts.push_back(im);
+  }
+  return set;
+}
+
+TEST(ForceHistoryFloor, TwoReplicatesApartByAConstantLeaveItOverRootTwo) {
+  const ImpactSet set = releases(2);
+  const std::vector<std::optional<MeasuredHistory>> h = {history(400, 0.0, 50, 300, 500.0),
+                                                         history(400, 0.0, 50, 300, 600.0)};
+  const ForceHistoryScatter s = force_history_scatter(set, h, Shape::cylinder());
+  EXPECT_EQ(s.groups, 1u);
+  EXPECT_EQ(s.histories, 2u);
+  EXPECT_NEAR(s.rms[0], 100.0 / std::sqrt(2.0), 1e-9);
+  EXPECT_NEAR(s.rms[1], 0.0, 1e-12);
+  EXPECT_NEAR(s.rms[2], 0.0, 1e-12);
+}
+
+TEST(ForceHistoryFloor, AHistoryShiftedInTimeIsTheSameOnceAligned) {
+  const ImpactSet set = releases(3);
+  // The same contact, started at three times and in three tracks of different origins.
+  const std::vector<std::optional<MeasuredHistory>> h = {history(400, 0.0, 50, 300, 500.0),
+                                                         history(400, 0.013, 80, 330, 500.0),
+                                                         history(500, -0.2, 10, 260, 500.0)};
+  const ForceHistoryScatter s = force_history_scatter(set, h, Shape::cylinder());
+  EXPECT_EQ(s.histories, 3u);
+  EXPECT_NEAR(s.rms[0], 0.0, 1e-9);
+}
+
+TEST(ForceHistoryFloor, ATangentialForceMakesItsMomentAboutTheLowestPoint) {
+  const ImpactSet set = releases(2);
+  const std::vector<std::optional<MeasuredHistory>> h = {history(400, 0.0, 50, 300, 500.0, 100.0),
+                                                         history(400, 0.0, 50, 300, 500.0, 0.0)};
+  const ForceHistoryScatter s = force_history_scatter(set, h, Shape::cylinder());
+  EXPECT_NEAR(s.rms[0], 0.0, 1e-12);
+  EXPECT_NEAR(s.rms[1], 100.0 / std::sqrt(2.0), 1e-9);
+  // torque 0 - (r_x F_y - r_y F_x) with r = (0, -0.08 m): 0.08 m x 100 N = 8 N m apart.
+  EXPECT_NEAR(s.rms[2], 8.0 / std::sqrt(2.0), 1e-9);
+}
+
+TEST(ForceHistoryFloor, AContactLongerThanItsReplicateIsComparedWithFlight) {
+  // The first contact ends 100 records earlier; its track goes on (no force), so over the
+  // longer window it reads 0 against the second's 500 N.
+  const ImpactSet set = releases(2);
+  const std::vector<std::optional<MeasuredHistory>> h = {history(400, 0.0, 50, 200, 500.0),
+                                                         history(400, 0.0, 50, 300, 500.0)};
+  const ForceHistoryScatter s = force_history_scatter(set, h, Shape::cylinder());
+  // Grid: 0 .. 249 records' time (the longer window), 250 times; 100 of them apart by 500 N.
+  EXPECT_EQ(s.samples, 250u);
+  EXPECT_NEAR(s.rms[0], std::sqrt(100.0 * 500.0 * 500.0 / 2.0 / 250.0), 1e-6);
+}
+
+TEST(ForceHistoryFloor, NoReplicatesNoFloor) {
+  const ImpactSet set = releases(2, /*distinct=*/true);
+  const std::vector<std::optional<MeasuredHistory>> h = {history(400, 0.0, 50, 300, 500.0),
+                                                         history(400, 0.0, 50, 300, 600.0)};
+  const ForceHistoryScatter s = force_history_scatter(set, h, Shape::cylinder());
+  EXPECT_EQ(s.groups, 0u);
+  EXPECT_TRUE(std::isnan(s.rms[0]));
+  // A group of two of which one has no history is no group either.
+  const ForceHistoryScatter one = force_history_scatter(
+      releases(2), {history(400, 0.0, 50, 300, 500.0), std::nullopt}, Shape::cylinder());
+  EXPECT_EQ(one.groups, 0u);
+  EXPECT_THROW((void)force_history_scatter(releases(3), h, Shape::cylinder()),
+               std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace ricochet::diagnosis
