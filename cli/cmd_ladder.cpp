@@ -132,7 +132,9 @@ void run(DiagnosisCliOptions& o, int auto_rounds, bool force_law) {
   const auto force_errors =
       diagnosis::ladder_force_history(model, l, in.shape, histories, o.model.engine_options());
   const auto force_floor =
-      force_errors.empty() ? std::nullopt : diagnosis::force_history_floor(in, histories, o.values);
+      force_errors.empty()
+          ? std::nullopt
+          : diagnosis::force_history_floor(in.set, in.shape, histories, o.values.floor_replicates);
   nlohmann::json doc = diagnosis::to_json(l);
   if (discovered) doc["force_law"] = diagnosis::to_json(*discovered);
   if (!force_errors.empty()) {

@@ -104,17 +104,18 @@ void borrow_floor(DiagnoseOptions& options, const OptionValues& values, const In
 }
 
 std::optional<ForceHistoryScatter> force_history_floor(
-    const Inputs& inputs, const std::vector<std::optional<MeasuredHistory>>& histories,
-    const OptionValues& values) {
-  ForceHistoryScatter own = force_history_scatter(inputs.set, histories, inputs.shape);
+    const ImpactSet& set, const Shape& shape,
+    const std::vector<std::optional<MeasuredHistory>>& histories,
+    const std::string& borrowed_path) {
+  ForceHistoryScatter own = force_history_scatter(set, histories, shape);
   if (own.groups > 0) return own;
-  if (values.floor_replicates.empty()) return std::nullopt;
-  const std::string& path = values.floor_replicates;
-  const ImpactSet set = select_inputs(read_impact_set(path), inputs.shape.name, path).set;
+  if (borrowed_path.empty()) return std::nullopt;
+  const ImpactSet other =
+      select_inputs(read_impact_set(borrowed_path), shape.name, borrowed_path).set;
   ForceHistoryScatter borrowed =
-      force_history_scatter(set, measured_histories(path, set, inputs.shape), inputs.shape);
+      force_history_scatter(other, measured_histories(borrowed_path, other, shape), shape);
   if (borrowed.groups == 0) return std::nullopt;
-  borrowed.source = path;
+  borrowed.source = borrowed_path;
   return borrowed;
 }
 

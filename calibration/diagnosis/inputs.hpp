@@ -90,14 +90,14 @@ ReplicateScatter borrowed_scatter(const std::string& path, const std::string& sh
 /// inputs' shape, errors naming --floor-replicates); nothing when it is empty.
 void borrow_floor(DiagnoseOptions& options, const OptionValues& values, const Inputs& inputs);
 
-/// The replicate floor of the force histories (force_history_scatter) that `ladder` reads their
-/// error against: the inputs' own replicate groups when one has two histories or more
-/// (`histories` aligned with inputs.set, measured_histories), else those of
-/// values.floor_replicates, the file whose V_out scatter the set borrows (its releases of the
-/// inputs' shape; source = that file), else nullopt. A borrowed file without replicate
-/// histories gives nullopt: the option's V_out floor does not need them.
+/// The replicate floor of the force histories (force_history_scatter) that `ladder` and `report`
+/// read their error against: `set`'s own replicate groups when one has two histories or more
+/// (`histories` aligned with set.impacts, measured_histories), else those of `borrowed_path`,
+/// the file whose V_out scatter the set borrows (--floor-replicates, --data-floor-replicates;
+/// its releases of `shape`; source = that file; "" = none), else nullopt. A borrowed file
+/// without replicate histories gives nullopt: the options' V_out floor does not need them.
 std::optional<ForceHistoryScatter> force_history_floor(
-    const Inputs& inputs, const std::vector<std::optional<MeasuredHistory>>& histories,
-    const OptionValues& values);
+    const ImpactSet& set, const Shape& shape,
+    const std::vector<std::optional<MeasuredHistory>>& histories, const std::string& borrowed_path);
 
 }  // namespace ricochet::diagnosis

@@ -8,6 +8,7 @@
 #include "diagnosis/evidence.hpp"
 #include "diagnosis/figures.hpp"
 #include "diagnosis/force_history.hpp"
+#include "diagnosis/inputs.hpp"
 #include "diagnosis/track_figure.hpp"
 #include "impact/impact_snapshot.hpp"
 #include "report/html.hpp"
@@ -335,6 +336,39 @@ void diagnosis_section(report::HtmlPage& page, const ReportSection& s) {
   for (const auto& f : diagnose_figures(d, s.input.label)) page.figure(f.figure, f.caption);
 }
 
+// The ladder's force histories (issue 33, item 3: the held-out force-history error rung by rung)
+// against their replicate floor, where the set keeps histories.
+void force_history_table(report::HtmlPage& page, const ReportSection& s) {
+  if (s.force_history.empty()) return;
+  const auto& floor = s.force_floor;
+  std::vector<std::vector<std::string>> rows;
+  for (std::size_t r = 0; r < s.force_history.size(); ++r) {
+    std::vector<std::string> row = {std::to_string(r), s.ladder.rungs[r].added.empty()
+                                                           ? "(base)"
+                                                           : "+" + s.ladder.rungs[r].added};
+    for (std::size_t c = 0; c < kForceComponents; ++c) {
+      const double v = s.force_history[r].heldout_rms[c];
+      row.push_back(!std::isfinite(v) ? "-"
+                    : floor && std::isfinite(floor->rms[c])
+                        ? fmt::format("{} ({:.1f} x)", g4(v), v / floor->rms[c])
+                        : g4(v));
+    }
+    rows.push_back(std::move(row));
+  }
+  std::string caption = fmt::format(
+      "The contact force each rung gives along every release's own measured path against the "
+      "measured one ({} releases): held-out RMS of measured minus model, normal and tangential "
+      "force [N], moment [N m]",
+      s.force_history.front().releases);
+  if (floor)
+    caption += fmt::format(
+        "; in brackets over the replicate floor, one history's RMS distance from its replicates' "
+        "mean ({} N, {} N, {} N m; {} groups of {} histories{})",
+        g4(floor->rms[0]), g4(floor->rms[1]), g4(floor->rms[2]), floor->groups, floor->histories,
+        floor->source.empty() ? "" : ", borrowed from " + floor->source);
+  page.table({"rung", "added", "normal", "tangential", "moment"}, rows, caption);
+}
+
 void ladder_section(report::HtmlPage& page, const ReportSection& s) {
   const Ladder& l = s.ladder;
   std::vector<std::vector<std::string>> rows;
@@ -348,6 +382,7 @@ void ladder_section(report::HtmlPage& page, const ReportSection& s) {
   page.table({"rung", "added", "in-sample", "held-out", "SE", "x floor", "adequate"}, rows,
              "Model ladder chosen by rounds of diagnosis; noise floor " + g4(l.floor.value.mean));
   if (!l.stop_reason.empty()) page.labelled("Stopped", l.stop_reason);
+  force_history_table(page, s);
 }
 
 // The contact figure of one impact (diagnosis/track_figure.hpp) with the reduced law at this
@@ -411,6 +446,16 @@ std::vector<ReportSection> analyse(const std::vector<ReportInput>& inputs, const
           force_law_of(s.diagnosis, in.data, in.set, in.shape, model, o.diagnose.assess.fit.engine);
     } catch (const std::exception& e) {
       s.force_law_error = e.what();
+    }
+    // The ladder's force-history errors and their floor; a history that cannot be read has
+    // been said above.
+    if (s.force_law_error.empty()) {
+      const auto histories = measured_histories(in.data, in.set, in.shape);
+      s.force_history =
+          ladder_force_history(model, s.ladder, in.shape, histories, o.diagnose.assess.fit.engine);
+      if (!s.force_history.empty())
+        s.force_floor = force_history_floor(in.set, in.shape, histories,
+                                            in.borrowed_floor ? in.borrowed_floor->source : "");
     }
     s.headline = headline_of(s);
     s.conclusion = conclusion_of(s);
@@ -555,6 +600,11 @@ nlohmann::json to_json(const std::vector<ReportSection>& sections) {
                         {"headline", s.headline},
                         {"conclusion", s.conclusion},
                         {"seconds", d.seconds}};
+    if (!s.force_history.empty()) {
+      j["force_history"] = nlohmann::json::array();
+      for (const auto& e : s.force_history) j["force_history"].push_back(to_json(e));
+    }
+    if (s.force_floor) j["force_history_floor"] = to_json(*s.force_floor);
     if (s.lab_gap) {
       nlohmann::json c;
       for (const auto& g : s.lab_gap->components) c[g.name] = stats::to_json(g);

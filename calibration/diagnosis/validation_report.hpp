@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "diagnosis/diagnose.hpp"
+#include "diagnosis/force_history.hpp"
 #include "effects/model.hpp"
 #include "engine/shape.hpp"
 #include "impact/impact_set.hpp"
@@ -64,6 +65,11 @@ struct ReportSection {
   /// release at its own calibration (force_law_from_tracks); nullopt otherwise.
   std::optional<ForceLawReport> force_law;
   std::string force_law_error;  ///< why the histories could not be read (the page says it)
+  /// Each ladder rung's force-history error (ladder_force_history; empty without histories) and
+  /// their replicate floor (force_history_floor: the set's own replicates, else the file of
+  /// borrowed_floor; nullopt without replicate histories).
+  std::vector<ForceHistoryError> force_history;
+  std::optional<ForceHistoryScatter> force_floor;
 };
 
 /// Runs compare, diagnose and the automatic ladder on every input.

@@ -559,6 +559,12 @@ TEST_F(CmdDiagnosis, ReportBorrowsAFloorPerDataFile) {
   EXPECT_NEAR(sets[0]["noise_floor"].get<double>(), borrowed, 1e-9 * borrowed);
   EXPECT_NE(sets[1]["noise_floor_source"], "borrowed replicates");
   EXPECT_LT(sets[1]["noise_floor"].get<double>(), borrowed);
+  // The force histories of each rung, and their replicate floor from the same borrowed file
+  // (the verification has no replicates of its own: the second section has none).
+  for (const auto& set : sets) ASSERT_EQ(set["force_history"].size(), set["ladder"].size());
+  ASSERT_TRUE(sets[0].contains("force_history_floor"));
+  EXPECT_EQ(sets[0]["force_history_floor"]["source"], resolved + "sand-calibration-1.5e9.h5");
+  EXPECT_FALSE(sets[1].contains("force_history_floor"));
   // The file given twice shows its first impact's picture once; the second section points to it.
   // (Each figure's caption is on the page as often as the page repeats a caption: counted against
   // the ladder figure, which each section has.)
@@ -574,6 +580,7 @@ TEST_F(CmdDiagnosis, ReportBorrowsAFloorPerDataFile) {
   EXPECT_EQ(2 * pictures, ladders);
   EXPECT_NE(page.find("first impact, through the contact, is pictured in the section"),
             std::string::npos);
+  EXPECT_EQ(count("in brackets over the replicate floor"), 1u);
   const RunResult bad =
       ricochet("report " + verification + " " + verification + " --data-floor-replicates " +
                calibration + " --out " + quote((dir_ / "bad.html").string()));
