@@ -14,6 +14,7 @@
 
 #include "effects/force_term.hpp"
 #include "report/plot.hpp"
+#include "stats/track_summary.hpp"
 
 namespace ricochet::diagnosis {
 
@@ -121,9 +122,6 @@ nlohmann::json to_json(const ForceHistoryError& e) {
 
 namespace {
 
-constexpr double kG = 9.81;              // [m/s^2]
-constexpr double kContactWeights = 0.2;  // the contact rule of `ricochet stats`
-
 // The lowest point of `shape` turned by theta, relative to its centroid [m]: the vertex
 // Shape::depth_below_centroid finds, less the rounding radius below it.
 std::array<double, 2> lowest_point(const Shape& shape, double theta) {
@@ -161,14 +159,10 @@ struct AlignedContact {
 };
 
 std::optional<AlignedContact> aligned_contact(const MeasuredHistory& h, const Shape& shape) {
-  const double threshold = kContactWeights * shape.mass_kg * kG;
-  std::size_t first = h.fy_N.size(), last = 0;
-  for (std::size_t i = 0; i < h.fy_N.size(); ++i)
-    if (h.fy_N[i] >= threshold) {
-      first = std::min(first, i);
-      last = i;
-    }
-  if (first >= h.fy_N.size()) return std::nullopt;
+  // The forces are the lab block's (measured_history scales them), so is the weight.
+  const auto w = stats::contact_window(h.fx_N, h.fy_N, shape.mass_kg);
+  if (!w) return std::nullopt;
+  const std::size_t first = w->first, last = w->last;
   AlignedContact a;
   const double t0 = h.path[first].t_s;
   a.window = h.path[last].t_s - t0;

@@ -73,9 +73,9 @@ nlohmann::json to_json(const ForceHistoryError& e);
 /// on the force histories"): how far one measured history lies from the mean history of its
 /// replicates (same replicate label or incident state, replicate_groups), the part of the
 /// force-history error no deterministic model can remove. Each history is aligned at its
-/// contact's start (its first record whose normal force reaches 0.2 block weights, the contact
-/// rule of `ricochet stats`) and read on a grid of its group's record interval from there to
-/// the end of the group's longest contact (the last record at or above that force), its own
+/// contact's start (stats::contact_window, the contact rule of `ricochet stats`: the run of
+/// records around the peak whose force exceeds 0.2 block weights) and read on a grid of its
+/// group's record interval from there to the end of the group's longest contact, its own
 /// measured values where it has records and 0 beyond them (in flight). Per component, the
 /// pooled within-group variance over every grid time and group, sum of (value - group mean)^2
 /// over sum of (members - 1), as a root mean square: the normal force F_y and the tangential

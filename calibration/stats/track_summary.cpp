@@ -53,6 +53,39 @@ double free_flight_mass_kg(const BlockTrack& tr) {
   return std::isfinite(m) && m > 0 ? m : kNaN;
 }
 
+std::optional<ContactWindow> contact_window(std::span<const double> fx, std::span<const double> fy,
+                                            double mass_kg, std::span<const double> sigma_fx,
+                                            std::span<const double> sigma_fy) {
+  const std::size_t n = std::min(fx.size(), fy.size());
+  auto force = [&](std::size_t i) { return std::hypot(fx[i], fy[i]); };
+  const double peak_force = finite_max(n, force);
+  // After the rebound, grains carried up with the block keep touching it with tens of newtons
+  // while it flies centimetres above the surface (lab-triangles-blind.h5, T01: 10-45 N from 1
+  // to 3 cm up, over 30 ms), which the first and last records above the criterion would count
+  // as contact: hence the run around the peak.
+  const double threshold = std::isfinite(mass_kg) ? kContactWeightFraction * mass_kg * kGravity_mps2
+                                                  : kForceRoundoff * peak_force;
+  // A force estimated from tracked accelerations (sigma_fcx, sigma_fcy given) bears only where it
+  // is also clear of its noise: above 2 x hypot(s.e.), which noise alone exceeds in exp(-4) =
+  // 1.8 % of free-flight records (a Rayleigh tail).
+  auto noise = [&](std::size_t i) {
+    if (i >= sigma_fx.size() || i >= sigma_fy.size()) return 0.0;
+    const double e = std::hypot(sigma_fx[i], sigma_fy[i]);
+    return std::isfinite(e) ? 2 * e : 0.0;
+  };
+  auto bearing = [&](std::size_t i) {
+    return std::isfinite(force(i)) && force(i) > std::max(threshold, noise(i));
+  };
+  std::size_t peak = n;
+  for (std::size_t i = 0; i < n; ++i)
+    if (bearing(i) && (peak == n || force(i) > force(peak))) peak = i;
+  if (peak == n) return std::nullopt;
+  ContactWindow w{peak, peak, peak};
+  while (w.first > 0 && bearing(w.first - 1)) --w.first;
+  while (w.last + 1 < n && bearing(w.last + 1)) ++w.last;
+  return w;
+}
+
 TrackSummary summarize_track(const BlockTrack& tr, const std::string& id) {
   TrackSummary s;
   s.id = id;
@@ -76,35 +109,13 @@ TrackSummary summarize_track(const BlockTrack& tr, const std::string& id) {
       if (std::isnan(s.first_touch_s)) s.first_touch_s = tr.t[i];
       s.last_touch_s = tr.t[i];
     }
-  // The contact window: the run of records around the largest force in which the force bears
-  // more than kContactWeightFraction of the block's weight, the deck's contact criterion. After
-  // the rebound, grains carried up with the block keep touching it with tens of newtons while it
-  // flies centimetres above the surface (lab-triangles-blind.h5, T01: 10-45 N from 1 to 3 cm up,
-  // over 30 ms), which the first and last touches, and the first and last records above the
-  // criterion, would count as contact.
-  const double threshold = std::isfinite(s.block_mass_kg)
-                               ? kContactWeightFraction * s.block_mass_kg * kGravity_mps2
-                               : kForceRoundoff * peak_force;
-  // A force estimated from tracked accelerations (sigma_fcx, sigma_fcy given) bears only where it
-  // is also clear of its noise: above 2 x hypot(s.e.), which noise alone exceeds in exp(-4) =
-  // 1.8 % of free-flight records (a Rayleigh tail).
-  auto noise = [&](std::size_t i) {
-    if (i >= tr.sigma_fcx.size() || i >= tr.sigma_fcy.size()) return 0.0;
-    const double e = std::hypot(tr.sigma_fcx[i], tr.sigma_fcy[i]);
-    return std::isfinite(e) ? 2 * e : 0.0;
-  };
-  auto bearing = [&](std::size_t i) {
-    return std::isfinite(force(i)) && force(i) > std::max(threshold, noise(i));
-  };
-  std::size_t peak = n;
-  for (std::size_t i = 0; i < n; ++i)
-    if (bearing(i) && (peak == n || force(i) > force(peak))) peak = i;
+  // The contact window (contact_window): the run of records around the largest force in which
+  // the force bears more than kContactWeightFraction of the block's weight.
+  const auto window = contact_window(tr.fcx, tr.fcy, s.block_mass_kg, tr.sigma_fcx, tr.sigma_fcy);
   std::size_t last = n;
-  if (peak < n) {
-    std::size_t first = peak;
-    last = peak;
-    while (first > 0 && bearing(first - 1)) --first;
-    while (last + 1 < n && bearing(last + 1)) ++last;
+  if (window) {
+    const std::size_t first = window->first, peak = window->peak;
+    last = window->last;
     s.contact_start_s = tr.t[first];
     s.contact_end_s = tr.t[last];
     s.contact_duration_s = s.contact_end_s - s.contact_start_s;

@@ -8,6 +8,8 @@
 #include <cstddef>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -80,6 +82,20 @@ double free_flight_mass_kg(const BlockTrack& track);
 
 /// The numbers of one track (NaN values of a column are skipped).
 TrackSummary summarize_track(const BlockTrack& track, const std::string& id);
+
+/// A contact window by TrackSummary::contact_start_s's rule, as record indices: `peak` the
+/// record of the largest force |(fx, fy)| [N] that bears, `first` and `last` the ends of the run
+/// of consecutive bearing records around it. A record bears when its force exceeds 0.2 of the
+/// weight of a block of `mass_kg` [kg] (the impact deck's contact criterion; without a mass, NaN:
+/// any force above rounding of the largest) and, where standard errors `sigma_fx`, `sigma_fy`
+/// [N] are given (forces from tracked accelerations), twice their hypot. nullopt when none bears.
+/// The force-history floor aligns replicate histories at `first` (diagnosis/force_history.hpp).
+struct ContactWindow {
+  std::size_t first = 0, peak = 0, last = 0;
+};
+std::optional<ContactWindow> contact_window(std::span<const double> fx, std::span<const double> fy,
+                                            double mass_kg, std::span<const double> sigma_fx = {},
+                                            std::span<const double> sigma_fy = {});
 
 /// One quantity of TrackSummary: its JSON key, unit, text label and the scale to print it in.
 struct TrackQuantity {
