@@ -49,11 +49,14 @@ ImpactSet releases(std::size_t n, bool distinct = false) {
   return set;
 }
 
+// The floor of histories `h`, one replicate group (releases at one incident state), cylinder.
+ForceHistoryScatter floor_of(const std::vector<std::optional<MeasuredHistory>>& h) {
+  return force_history_scatter(releases(h.size()), h, Shape::cylinder());
+}
+
 TEST(ForceHistoryFloor, TwoReplicatesApartByAConstantLeaveItOverRootTwo) {
-  const ImpactSet set = releases(2);
-  const std::vector<std::optional<MeasuredHistory>> h = {history(400, 0.0, 50, 300, 500.0),
-                                                         history(400, 0.0, 50, 300, 600.0)};
-  const ForceHistoryScatter s = force_history_scatter(set, h, Shape::cylinder());
+  const ForceHistoryScatter s =
+      floor_of({history(400, 0.0, 50, 300, 500.0), history(400, 0.0, 50, 300, 600.0)});
   EXPECT_EQ(s.groups, 1u);
   EXPECT_EQ(s.histories, 2u);
   EXPECT_NEAR(s.rms[0], 100.0 / std::sqrt(2.0), 1e-9);
@@ -62,21 +65,17 @@ TEST(ForceHistoryFloor, TwoReplicatesApartByAConstantLeaveItOverRootTwo) {
 }
 
 TEST(ForceHistoryFloor, AHistoryShiftedInTimeIsTheSameOnceAligned) {
-  const ImpactSet set = releases(3);
   // The same contact, started at three times and in three tracks of different origins.
-  const std::vector<std::optional<MeasuredHistory>> h = {history(400, 0.0, 50, 300, 500.0),
-                                                         history(400, 0.013, 80, 330, 500.0),
-                                                         history(500, -0.2, 10, 260, 500.0)};
-  const ForceHistoryScatter s = force_history_scatter(set, h, Shape::cylinder());
+  const ForceHistoryScatter s =
+      floor_of({history(400, 0.0, 50, 300, 500.0), history(400, 0.013, 80, 330, 500.0),
+                history(500, -0.2, 10, 260, 500.0)});
   EXPECT_EQ(s.histories, 3u);
   EXPECT_NEAR(s.rms[0], 0.0, 1e-9);
 }
 
 TEST(ForceHistoryFloor, ATangentialForceMakesItsMomentAboutTheLowestPoint) {
-  const ImpactSet set = releases(2);
-  const std::vector<std::optional<MeasuredHistory>> h = {history(400, 0.0, 50, 300, 500.0, 100.0),
-                                                         history(400, 0.0, 50, 300, 500.0, 0.0)};
-  const ForceHistoryScatter s = force_history_scatter(set, h, Shape::cylinder());
+  const ForceHistoryScatter s =
+      floor_of({history(400, 0.0, 50, 300, 500.0, 100.0), history(400, 0.0, 50, 300, 500.0, 0.0)});
   EXPECT_NEAR(s.rms[0], 0.0, 1e-12);
   EXPECT_NEAR(s.rms[1], 100.0 / std::sqrt(2.0), 1e-9);
   // torque 0 - (r_x F_y - r_y F_x) with r = (0, -0.08 m): 0.08 m x 100 N = 8 N m apart.
@@ -86,10 +85,8 @@ TEST(ForceHistoryFloor, ATangentialForceMakesItsMomentAboutTheLowestPoint) {
 TEST(ForceHistoryFloor, AContactLongerThanItsReplicateIsComparedWithFlight) {
   // The first contact ends 100 records earlier; its track goes on (no force), so over the
   // longer window it reads 0 against the second's 500 N.
-  const ImpactSet set = releases(2);
-  const std::vector<std::optional<MeasuredHistory>> h = {history(400, 0.0, 50, 200, 500.0),
-                                                         history(400, 0.0, 50, 300, 500.0)};
-  const ForceHistoryScatter s = force_history_scatter(set, h, Shape::cylinder());
+  const ForceHistoryScatter s =
+      floor_of({history(400, 0.0, 50, 200, 500.0), history(400, 0.0, 50, 300, 500.0)});
   // Grid: 0 .. 249 records' time (the longer window), 250 times; 100 of them apart by 500 N.
   EXPECT_EQ(s.samples, 250u);
   EXPECT_NEAR(s.rms[0], std::sqrt(100.0 * 500.0 * 500.0 / 2.0 / 250.0), 1e-6);
