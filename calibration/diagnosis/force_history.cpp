@@ -122,39 +122,25 @@ nlohmann::json to_json(const ForceHistoryError& e) {
 
 namespace {
 
-// The lowest point of `shape` turned by theta, relative to its centroid [m]: the vertex
-// Shape::depth_below_centroid finds, less the rounding radius below it.
-std::array<double, 2> lowest_point(const Shape& shape, double theta) {
-  const double c = std::cos(theta), s = std::sin(theta);
-  std::size_t low = 0;
-  double y_low = std::numeric_limits<double>::infinity();
-  for (std::size_t k = 0; k < shape.vertices.size(); ++k) {
-    const double y = s * shape.vertices[k][0] + c * shape.vertices[k][1];
-    if (y < y_low) {
-      y_low = y;
-      low = k;
-    }
-  }
-  const auto& v = shape.vertices[low];
-  return {c * v[0] - s * v[1], y_low - shape.rounding_radius_m};
-}
-
 // One history from its contact's start: time since it [s] and per record the normal force, the
 // tangential force and the moment about the lowest point; `window` the contact's length [s].
 struct AlignedContact {
   std::vector<double> t;
   std::vector<std::array<double, kForceComponents>> f;
   double window = 0;
-  // The value of component c at time tau since the start: interpolated between records, 0
-  // beyond the last one (the block in flight).
-  double at(double tau, std::size_t c) const {
-    if (tau > t.back()) return 0.0;
+  // The components at time tau since the start: interpolated between records, 0 beyond the
+  // last one (the block in flight).
+  std::array<double, kForceComponents> at(double tau) const {
+    if (tau > t.back()) return {};
     const auto hi = std::upper_bound(t.begin(), t.end(), tau);
-    if (hi == t.begin()) return f.front()[c];
-    if (hi == t.end()) return f.back()[c];
+    if (hi == t.begin()) return f.front();
+    if (hi == t.end()) return f.back();
     const std::size_t k = static_cast<std::size_t>(hi - t.begin());
     const double w = (tau - t[k - 1]) / (t[k] - t[k - 1]);
-    return (1.0 - w) * f[k - 1][c] + w * f[k][c];
+    std::array<double, kForceComponents> out;
+    for (std::size_t c = 0; c < kForceComponents; ++c)
+      out[c] = (1.0 - w) * f[k - 1][c] + w * f[k][c];
+    return out;
   }
 };
 
@@ -167,7 +153,7 @@ std::optional<AlignedContact> aligned_contact(const MeasuredHistory& h, const Sh
   const double t0 = h.path[first].t_s;
   a.window = h.path[last].t_s - t0;
   for (std::size_t i = first; i < h.path.size(); ++i) {
-    const auto r = lowest_point(shape, h.path[i].theta_rad);
+    const auto r = shape.lowest_point(h.path[i].theta_rad);
     a.t.push_back(h.path[i].t_s - t0);
     a.f.push_back({h.fy_N[i], h.fx_N[i], h.torque_Nm[i] - (r[0] * h.fy_N[i] - r[1] * h.fx_N[i])});
   }
@@ -203,24 +189,25 @@ ForceHistoryScatter force_history_scatter(
     // (The tolerance keeps a window of a whole number of steps whole despite rounding.)
     const auto times = static_cast<std::size_t>(std::floor(end / step + 1e-9)) + 1;
     out.samples += times;
-    std::vector<double> v(members.size());
-    for (std::size_t k = 0; k < times; ++k)
+    std::vector<std::array<double, kForceComponents>> v(members.size());
+    for (std::size_t k = 0; k < times; ++k) {
+      for (std::size_t j = 0; j < members.size(); ++j)
+        v[j] = members[j].at(static_cast<double>(k) * step);
       for (std::size_t c = 0; c < kForceComponents; ++c) {
         std::size_t n = 0;
         double mean = 0;
-        for (std::size_t j = 0; j < members.size(); ++j) {
-          v[j] = members[j].at(static_cast<double>(k) * step, c);
-          if (std::isfinite(v[j])) {
-            mean += v[j];
+        for (const auto& x : v)
+          if (std::isfinite(x[c])) {
+            mean += x[c];
             ++n;
           }
-        }
         if (n < 2) continue;
         mean /= static_cast<double>(n);
-        for (double x : v)
-          if (std::isfinite(x)) squares[c] += (x - mean) * (x - mean);
+        for (const auto& x : v)
+          if (std::isfinite(x[c])) squares[c] += (x[c] - mean) * (x[c] - mean);
         dof[c] += n - 1;
       }
+    }
   }
   for (std::size_t c = 0; c < kForceComponents; ++c)
     out.rms[c] = dof[c] > 0 ? std::sqrt(squares[c] / static_cast<double>(dof[c])) : kNaN;

@@ -411,11 +411,10 @@ void force_section(report::HtmlPage& page, const ReportSection& s, const Model& 
     page.paragraph("The force law from the contact histories is not shown: " + s.force_law_error);
   if (!s.force_law) return;
   try {
-    const auto f =
-        force_residual_figure(measured_histories(s.input.data, s.input.set, s.input.shape), model,
-                              s.input.shape, s.diagnosis.baseline.base.population.params,
-                              release_params_of(s.diagnosis, s.input.set.size()), *s.force_law,
-                              o.diagnose.assess.fit.engine, s.input.label);
+    const auto f = force_residual_figure(s.histories, model, s.input.shape,
+                                         s.diagnosis.baseline.base.population.params,
+                                         release_params_of(s.diagnosis, s.input.set.size()),
+                                         *s.force_law, o.diagnose.assess.fit.engine, s.input.label);
     std::string law;
     for (const ComponentLaw& c : s.force_law->laws)
       law += (law.empty() ? "" : " ") + std::string(component_name(c.component)) + ": " + c.text +
@@ -440,21 +439,22 @@ std::vector<ReportSection> analyse(const std::vector<ReportInput>& inputs, const
     if (in.borrowed_floor) d.assess.borrowed_floor = in.borrowed_floor;
     s.diagnosis = diagnose(model, in.shape, in.set, d);
     s.ladder = auto_ladder(model, in.shape, in.set, o.rounds, d, &s.diagnosis);
-    // A history the discovery cannot read is said on the page, not fatal: the rest stands.
+    // The histories, read once: the force law the base model leaves (force_law_of's, each
+    // release at its own fit), the ladder's force-history errors and their floor, and the
+    // residual figure. A history that cannot be read is said on the page, not fatal.
     try {
-      s.force_law =
-          force_law_of(s.diagnosis, in.data, in.set, in.shape, model, o.diagnose.assess.fit.engine);
+      s.histories = measured_histories(in.data, in.set, in.shape);
+      s.force_law = force_law_from_histories(
+          s.histories, in.shape, model, s.diagnosis.baseline.base.population.params,
+          o.diagnose.assess.fit.engine, {}, release_params_of(s.diagnosis, in.set.size()));
     } catch (const std::exception& e) {
       s.force_law_error = e.what();
     }
-    // The ladder's force-history errors and their floor; a history that cannot be read has
-    // been said above.
     if (s.force_law_error.empty()) {
-      const auto histories = measured_histories(in.data, in.set, in.shape);
-      s.force_history =
-          ladder_force_history(model, s.ladder, in.shape, histories, o.diagnose.assess.fit.engine);
+      s.force_history = ladder_force_history(model, s.ladder, in.shape, s.histories,
+                                             o.diagnose.assess.fit.engine);
       if (!s.force_history.empty())
-        s.force_floor = force_history_floor(in.set, in.shape, histories,
+        s.force_floor = force_history_floor(in.set, in.shape, s.histories,
                                             in.borrowed_floor ? in.borrowed_floor->source : "");
     }
     s.headline = headline_of(s);

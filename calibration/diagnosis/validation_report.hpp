@@ -64,6 +64,9 @@ struct ReportSection {
   /// A set whose file keeps contact histories: the force law the base model leaves, each
   /// release at its own calibration (force_law_from_tracks); nullopt otherwise.
   std::optional<ForceLawReport> force_law;
+  /// The contact histories of the set's releases (measured_histories, aligned with input.set;
+  /// all nullopt for a file that keeps none), read once for everything above and below.
+  std::vector<std::optional<MeasuredHistory>> histories;
   std::string force_law_error;  ///< why the histories could not be read (the page says it)
   /// Each ladder rung's force-history error (ladder_force_history; empty without histories) and
   /// their replicate floor (force_history_floor: the set's own replicates, else the file of

@@ -15,13 +15,22 @@ bool Shape::is_disc() const {
 }
 
 double Shape::depth_below_centroid(double alpha_rad) const {
+  return -lowest_point(alpha_rad)[1];
+}
+
+std::array<double, 2> Shape::lowest_point(double alpha_rad) const {
   const double c = std::cos(alpha_rad), s = std::sin(alpha_rad);
-  double lowest = 0;
+  std::size_t low = 0;
+  double y_low = 0;
   for (std::size_t k = 0; k < vertices.size(); ++k) {
     const double y = s * vertices[k][0] + c * vertices[k][1];
-    lowest = k == 0 ? y : std::min(lowest, y);
+    if (k == 0 || y < y_low) {
+      y_low = y;
+      low = k;
+    }
   }
-  return rounding_radius_m - lowest;
+  const double x = vertices.empty() ? 0.0 : c * vertices[low][0] - s * vertices[low][1];
+  return {x, y_low - rounding_radius_m};
 }
 
 double Shape::bounding_radius() const {

@@ -22,6 +22,9 @@ struct Shape {
   /// Lowest point of the block below its centroid when rotated by `alpha_rad`, as a positive
   /// distance [m] (r - min_v (R(alpha) v)_y).
   double depth_below_centroid(double alpha_rad) const;
+  /// That lowest point relative to the centroid [m] (x, y; y = -depth_below_centroid): the
+  /// lowest vertex turned by `alpha_rad` (counter-clockwise), less the rounding radius below it.
+  std::array<double, 2> lowest_point(double alpha_rad) const;
   /// Largest distance of the surface from the centroid [m].
   double bounding_radius() const;
 
