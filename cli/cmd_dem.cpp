@@ -169,8 +169,10 @@ void run_bed_on_rank(const BedOptions& o, const MpiSession& mpi) {
   const auto decks = dem::Decks::locate(o.common.decks);
   dem::Overrides ov;
   for (const auto& s : o.common.sets) dem::apply_set_option(decks, s, ov);
-  if (!ov.block.empty() || !ov.run.empty())
-    throw InputError("<command line>", 0, "--set", "a bed takes bed.* parameters only");
+  // run.checkpoint_steps sets the build's checkpoints (ensure_bed); no other run.* is a bed's.
+  if (!ov.block.empty() || ov.run.size() > ov.run.count("checkpoint_steps"))
+    throw InputError("<command line>", 0, "--set",
+                     "a bed takes bed.* parameters and run.checkpoint_steps only");
   if (o.seed) ov.bed = dem::with_replica_seed(ov.bed, static_cast<std::int64_t>(*o.seed));
   if (o.dry_run) {
     const std::string key = dem::bed_key(decks, ov.bed);
@@ -185,7 +187,8 @@ void run_bed_on_rank(const BedOptions& o, const MpiSession& mpi) {
   }
   bool built = false;
   double wall = 0;
-  const auto bed = dem::ensure_bed(decks, ov.bed, o.common.cache, MPI_COMM_WORLD, &built, &wall);
+  const auto bed = dem::ensure_bed(decks, ov.bed, o.common.cache, MPI_COMM_WORLD, &built, &wall,
+                                   dem::checkpoint_steps_of(decks, ov.run));
   const dem::BedPacking packing = dem::measure_packing(bed, MPI_COMM_WORLD);
   if (mpi.rank() != 0) return;
   json j = bed_json(bed);
@@ -307,7 +310,7 @@ void run_impact_command_on_rank(const ImpactOptions& o, const MpiSession& mpi) {
   bool built = false;
   double bed_wall = 0;
   ctx.bed = dem::ensure_bed(decks, dem::bed_overrides(spec), o.common.cache, MPI_COMM_WORLD, &built,
-                            &bed_wall);
+                            &bed_wall, dem::checkpoint_steps_of(decks, spec.params.run));
   const Shape shape = Shape::resolve(spec.shape);
   ctx.template_include =
       dem::ensure_template(shape, ctx.bed, o.work + "/templates", MPI_COMM_WORLD);

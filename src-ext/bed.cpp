@@ -7,9 +7,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <sstream>
 #include <stdexcept>
 
@@ -71,8 +73,43 @@ bool bed_building(const std::string& cache_dir, const std::string& key) {
   return held;
 }
 
+std::optional<BedCheckpoint> latest_bed_checkpoint(const std::string& building_prefix) {
+  const fs::path base(building_prefix);
+  const fs::path dir = base.has_parent_path() ? base.parent_path() : fs::path(".");
+  const std::string head = base.filename().string() + ".ckpt-";
+  std::optional<BedCheckpoint> best;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (!name.starts_with(head) || !name.ends_with(".restart")) continue;
+    BedCheckpoint c;
+    char tail = 0;
+    const std::string state = name.substr(head.size(), name.size() - head.size() - 8);
+    if (std::sscanf(state.c_str(), "%d-%ld-%d%c", &c.phase, &c.chunk, &c.settled_pour, &tail) !=
+            3 ||
+        c.phase < 1 || c.phase > 3 || c.chunk < 1)
+      continue;  // ckpt-new (being written) and anything else
+    c.path = e.path().string();
+    if (!best || std::pair(c.phase, c.chunk) > std::pair(best->phase, best->chunk)) best = c;
+  }
+  return best;
+}
+
+namespace {
+
+void remove_bed_checkpoints(const std::string& building_prefix) {
+  const fs::path base(building_prefix);
+  const std::string head = base.filename().string() + ".ckpt-";
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(base.parent_path(), ec))
+    if (e.path().filename().string().starts_with(head)) fs::remove(e.path(), ec);
+}
+
+}  // namespace
+
 BedFiles ensure_bed(const Decks& decks, const std::map<std::string, std::string>& bed_overrides,
-                    const std::string& cache_dir, MPI_Comm comm, bool* built, double* wall_s) {
+                    const std::string& cache_dir, MPI_Comm comm, bool* built, double* wall_s,
+                    long checkpoint_steps) {
   const std::string key = bed_key(decks, bed_overrides);
   const std::string prefix = bed_prefix(cache_dir, key);
   int rank = 0;
@@ -112,10 +149,37 @@ BedFiles ensure_bed(const Decks& decks, const std::map<std::string, std::string>
     // Build under a temporary name and rename when complete: a killed build leaves no bed that
     // looks finished, and a concurrent reader never sees half a restart file.
     const std::string tmp = prefix + ".building";
+    // A build that a kill interrupted goes on from its latest checkpoint (rank 0 reads the
+    // folder; the state is in the file's name).
+    BedCheckpoint resume;
+    if (rank == 0) {
+      if (const auto c = latest_bed_checkpoint(tmp)) resume = *c;
+    }
+    long state[3] = {resume.phase, resume.chunk, resume.settled_pour};
+    MPI_Bcast(state, 3, MPI_LONG, 0, comm);
+    int n_path = static_cast<int>(resume.path.size());
+    MPI_Bcast(&n_path, 1, MPI_INT, 0, comm);
+    resume.path.resize(static_cast<std::size_t>(n_path));
+    MPI_Bcast(resume.path.data(), n_path, MPI_CHAR, 0, comm);
+    long check_every = 0;
+    for (const auto& [name, value] : effective_bed(decks, bed_overrides))
+      if (name == "check_every") check_every = std::stol(value);
+    const long ckpt_every = checkpoint_steps > 0 && check_every > 0
+                                ? (checkpoint_steps + check_every - 1) / check_every
+                                : 0;
+    if (rank == 0 && state[0] > 0)
+      std::cerr << "[dem] bed " << key << ": resuming its build from its checkpoint (phase "
+                << state[0] << ", chunk " << state[1] << ")\n";
     const auto start = std::chrono::steady_clock::now();
     {
-      std::vector<std::pair<std::string, std::string>> vars = {{"common", decks.common},
-                                                               {"bed", tmp}};
+      std::vector<std::pair<std::string, std::string>> vars = {
+          {"common", decks.common}, {"bed", tmp}, {"ckpt_every", std::to_string(ckpt_every)}};
+      if (state[0] > 0) {
+        vars.emplace_back("resume_phase", std::to_string(state[0]));
+        vars.emplace_back("resume_chunk", std::to_string(state[1]));
+        vars.emplace_back("resume_settled_pour", std::to_string(state[2]));
+        vars.emplace_back("restart_in", resume.path);
+      }
       for (const auto& [name, value] : bed_overrides) vars.emplace_back(name, value);
       Liggghts lmp(comm, prefix + ".log", prefix + ".screen", vars);
       lmp.file(decks.bed_deck);
@@ -125,6 +189,7 @@ BedFiles ensure_bed(const Decks& decks, const std::map<std::string, std::string>
       // The parameters file goes last: its presence marks a complete bed.
       fs::rename(tmp + ".restart", prefix + ".restart");
       fs::rename(tmp + ".params", prefix + ".params");
+      remove_bed_checkpoints(tmp);
     }
     MPI_Barrier(comm);
   }

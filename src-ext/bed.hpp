@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -45,12 +46,31 @@ bool bed_cached(const std::string& cache_dir, const std::string& key);
 /// cache check to the end of the build (a lock that cannot be shared at once).
 bool bed_building(const std::string& cache_dir, const std::string& key);
 
+/// A checkpoint of a bed build that a kill interrupted (liggghts-inputs/bed/chunks.in): the file
+/// PREFIX.building.ckpt-PHASE-CHUNK-SETTLED.restart, whose name is its state. Phases: 1 the pour's
+/// free fall, 2 its settling, 3 the settling after the levelling; `chunk` of them are done (of
+/// check_every steps each); `settled_pour` whether the pour had settled (phase 3).
+struct BedCheckpoint {
+  std::string path;
+  int phase = 0;
+  long chunk = 0;
+  int settled_pour = 0;
+};
+
+/// The latest checkpoint (highest phase, then chunk) of the build whose files start with
+/// `building_prefix` (PREFIX.building), or nullopt. Names that do not parse are ignored.
+std::optional<BedCheckpoint> latest_bed_checkpoint(const std::string& building_prefix);
+
 /// The bed for `bed_overrides` in `cache_dir`: reused when cache_dir/bed-KEY.{restart,params}
 /// exist, otherwise built on `comm` (collective: every rank of comm calls it) with screen and log
 /// in cache_dir/bed-KEY.{screen,log}. `built` (optional) tells whether it was built now.
+/// `checkpoint_steps` > 0: the build writes a checkpoint about every that many steps (rounded up
+/// to whole settling checks, the bed's check_every), and a build that a kill interrupted resumes
+/// from its latest checkpoint (said on stderr by rank 0); the same number as the impacts'
+/// run.checkpoint_steps (checkpoint_steps_of). 0: no checkpoints.
 BedFiles ensure_bed(const Decks& decks, const std::map<std::string, std::string>& bed_overrides,
                     const std::string& cache_dir, MPI_Comm comm, bool* built = nullptr,
-                    double* wall_s = nullptr);
+                    double* wall_s = nullptr, long checkpoint_steps = 0);
 
 /// The packing of a built bed, measured on its restart file (issue 32, item 2: the bulk
 /// constraint of a sand-like bed).

@@ -204,7 +204,8 @@ CampaignSummary run_pending(const CampaignDesign& design, const Decks& decks,
   const auto bed_for = [&](const ImpactSpec& spec) {
     bool built = false;
     double bed_wall = 0;
-    BedFiles b = ensure_bed(decks, bed_overrides(spec), design.cache_dir, group, &built, &bed_wall);
+    BedFiles b = ensure_bed(decks, bed_overrides(spec), design.cache_dir, group, &built, &bed_wall,
+                            checkpoint_steps_of(decks, spec.params.run));
     if (grank == 0 && built)
       std::cerr << fmt::format("[dem] bed {}: {} grains built in {:.0f} s (group {})\n", b.key,
                                b.grains, bed_wall, color);
@@ -354,8 +355,8 @@ std::vector<std::string> record_beds(const CampaignDesign& design, const Decks& 
                                    : ": not in the cache, building it again from its seeds");
     bool built = false;
     double wall = 0;
-    const BedFiles bed =
-        ensure_bed(decks, bed_overrides(spec), design.cache_dir, g.group, &built, &wall);
+    const BedFiles bed = ensure_bed(decks, bed_overrides(spec), design.cache_dir, g.group, &built,
+                                    &wall, checkpoint_steps_of(decks, spec.params.run));
     if (g.grank == 0) {
       if (built)
         std::cerr << fmt::format("[dem] bed {}: {} grains built in {:.0f} s (group {})\n", key,

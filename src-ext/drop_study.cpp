@@ -136,7 +136,8 @@ DropStudyRun run_drop_study(const Decks& decks, const DropStudySets& sets,
       } else {
         spec.id = fmt::format("h{}", shortest_number(h));
       }
-      run.bed = ensure_bed(decks, drop_bed_overrides(spec), options.cache_dir, comm);
+      run.bed = ensure_bed(decks, drop_bed_overrides(spec), options.cache_dir, comm, nullptr,
+                           nullptr, checkpoint_steps_of(decks, {}));
       if (done.count(spec.id)) continue;
       DropContext ctx;
       ctx.decks = &decks;

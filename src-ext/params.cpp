@@ -96,8 +96,10 @@ Decks Decks::locate(const std::string& root) {
 
 std::string Decks::bed_decks_digest() const {
   std::vector<std::string> files = {bed_deck};
-  for (const auto& e : fs::directory_iterator(common))
-    if (e.path().extension() == ".in") files.push_back(e.path().string());
+  // in.bed's own includes (bed/*.in: chunks.in) and the shared ones (common/*.in).
+  for (const auto& dir : {fs::path(bed_deck).parent_path(), fs::path(common)})
+    for (const auto& e : fs::directory_iterator(dir))
+      if (e.path().extension() == ".in") files.push_back(e.path().string());
   std::sort(files.begin() + 1, files.end());
   // Comments, indentation and blank lines do not change a bed: hash what is left.
   std::uint64_t h = fnv1a("ricochet-bed-decks-2", kDemHashSeed);
@@ -214,6 +216,13 @@ void apply_set_option(const Decks& decks, const std::string& assignment, Overrid
                      "unknown section '" + section + "'; use bed, block or run");
   check_param(decks, section, name, value, "<command line>", 0);
   (section == "bed" ? o.bed : section == "block" ? o.block : o.run)[name] = value;
+}
+
+long checkpoint_steps_of(const Decks& decks, const std::map<std::string, std::string>& run) {
+  if (const auto it = run.find("checkpoint_steps"); it != run.end()) return std::stol(it->second);
+  for (const auto& p : decks.impact_params)
+    if (p.name == "checkpoint_steps") return std::stol(p.default_value);
+  return 0;
 }
 
 std::vector<std::pair<std::string, std::string>> effective_bed(

@@ -50,8 +50,8 @@ struct Decks {
   /// $RICOCHET_LIGGGHTS_INPUTS, else share/ricochet/liggghts-inputs beside the program).
   /// Throws std::runtime_error when the decks are not there.
   static Decks locate(const std::string& root = "");
-  /// Hash (16 hex digits, FNV-1a 64) of the text of every file a bed depends on (in.bed and
-  /// common/*.in) without comments and blank lines: part of the bed cache key, so editing a
+  /// Hash (16 hex digits, FNV-1a 64) of the text of every file a bed depends on (in.bed, bed/*.in
+  /// and common/*.in) without comments and blank lines: part of the bed cache key, so editing a
   /// deck's commands invalidates cached beds and editing its comments does not.
   std::string bed_decks_digest() const;
 };
@@ -73,6 +73,10 @@ void check_param(const Decks& decks, const std::string& section, const std::stri
 void apply_set_option(const Decks& decks, const std::string& assignment, Overrides& o);
 
 /// Effective bed parameters: the deck defaults overlaid with `bed` overrides, in deck order.
+/// Steps between checkpoints: `run`'s checkpoint_steps override, else the decks' default
+/// (impact/setup.in). Impacts and bed builds (ensure_bed) both use it.
+long checkpoint_steps_of(const Decks& decks, const std::map<std::string, std::string>& run);
+
 std::vector<std::pair<std::string, std::string>> effective_bed(
     const Decks& decks, const std::map<std::string, std::string>& bed);
 /// Gravitational acceleration of every deck (`fix gravity ... 9.81` in impact/setup.in and
