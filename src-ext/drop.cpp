@@ -122,7 +122,34 @@ std::vector<KdSample> drop_samples(const DropTrack& track, const DropAnalysisOpt
                              z_start);
 }
 
+std::size_t remove_torn_records(DropTrack& track, double mass_kg) {
+  if (track.size() < 2 || !(mass_kg > 0)) return 0;
+  double f_max = 0;
+  for (std::size_t i = 0; i < track.size(); ++i)
+    f_max = std::max(f_max, std::hypot(track.fcx[i], track.fcy[i], track.fcz[i]));
+  const double a_bound = 3 * (kDeckGravity_mps2 + f_max / mass_kg);
+  std::vector<std::size_t> keep = {0};
+  for (std::size_t i = 1; i < track.size(); ++i) {
+    const std::size_t j = keep.back();
+    const double dv =
+        std::hypot(track.vx[i] - track.vx[j], track.vy[i] - track.vy[j], track.vz[i] - track.vz[j]);
+    if (dv <= a_bound * (track.t[i] - track.t[j])) keep.push_back(i);
+  }
+  const std::size_t removed = track.size() - keep.size();
+  // A first record torn would make every other one look torn: keep the track as it is then.
+  if (removed == 0 || removed > track.size() / 100) return 0;
+  for (std::size_t c = 0; c < DropTrack::column_names().size(); ++c) {
+    std::vector<double>& col = track.column(c);
+    std::vector<double> kept;
+    kept.reserve(keep.size());
+    for (std::size_t i : keep) kept.push_back(col[i]);
+    col = std::move(kept);
+  }
+  return removed;
+}
+
 void analyse_drop(DropResult& r, const DropAnalysisOptions& options) {
+  r.torn_records = remove_torn_records(r.track, r.mass_kg);
   const DropTrack& tr = r.track;
   if (tr.size() == 0) return;
   r.depth_max_m = *std::max_element(tr.depth.begin(), tr.depth.end());
@@ -270,6 +297,9 @@ void outcome_message(DropResult& r) {
         r.v_rebound_mps, r.v_impact_mps, r.depth_max_m);
   else if (r.status == "bottom")
     r.message = "the sphere reached the floor: use a deeper bed (bed.H_m)";
+  if (r.torn_records > 0)
+    r.message += fmt::format(" ({} torn track record{} removed)", r.torn_records,
+                             r.torn_records == 1 ? "" : "s");
 }
 
 }  // namespace

@@ -79,6 +79,7 @@ struct DropResult {
   /// DEM contact force as the acceleration (z'' = g - F_z / m).
   std::optional<KatsuragiDurianFit> kd_trajectory, kd_force;
   DropTrack track;
+  std::size_t torn_records = 0;  ///< removed from the track (remove_torn_records)
 
   std::string bed_key;
   long grains = 0, steps = 0;
@@ -98,7 +99,16 @@ struct DropContext {
 /// complete on rank 0 of comm.
 DropResult run_drop(const DropSpec& spec, const DropContext& ctx, MPI_Comm comm);
 
-/// Fills the derived quantities of `r` (depths, H, impact speed, per-drop fits) from r.track.
+/// Removes the torn records of `track`: those whose velocity differs from the previous kept
+/// record's by more than 3 (g + F_max / m) dt, F_max the largest contact force of the track, dt
+/// the time between the two. Newton allows at most (g + F_max / m) dt; a record beyond three
+/// times that was not written by one step of the run (two writes of the track file interleaved:
+/// the h = 0.02 m drop of data/resolved/sphere-drop-1.5e9 holds one, whose vz is an x position).
+/// Returns how many were removed.
+std::size_t remove_torn_records(DropTrack& track, double mass_kg);
+
+/// Fills the derived quantities of `r` (depths, H, impact speed, per-drop fits) from r.track,
+/// after remove_torn_records (their count in r.torn_records).
 void analyse_drop(DropResult& r, const DropAnalysisOptions& options);
 
 /// The samples of a drop's penetration phase (depth record, local quadratic derivatives), from
