@@ -36,4 +36,40 @@ fs::path liggghts_inputs_dir() {
   return shipped_dir("liggghts-inputs", "RICOCHET_LIGGGHTS_INPUTS");
 }
 
+namespace {
+
+// `path` relative to `base` when it lies inside it (no ".." step), else empty: by their names as
+// given first (a folder reached through a link stays named by the link), then with links resolved.
+fs::path inside(const fs::path& path, const fs::path& base) {
+  const auto relative = [](const fs::path& p, const fs::path& b) {
+    const fs::path rel = p.lexically_relative(b);
+    return rel.empty() || *rel.begin() == ".." ? fs::path() : rel;
+  };
+  std::error_code ec;
+  const fs::path a = fs::absolute(path, ec).lexically_normal();
+  if (ec) return {};
+  if (fs::path rel = relative(a, fs::absolute(base, ec).lexically_normal()); !ec && !rel.empty())
+    return rel;
+  const fs::path p = fs::weakly_canonical(path, ec);
+  if (ec) return {};
+  const fs::path b = fs::weakly_canonical(base, ec);
+  if (ec) return {};
+  return relative(p, b);
+}
+
+}  // namespace
+
+std::string shown_path(const fs::path& path) {
+  try {
+    if (const fs::path rel = inside(path, data_dir()); !rel.empty())
+      return (fs::path("data") / rel).string();
+  } catch (const std::exception&) {
+    // No shipped data folder here: fall through to the working folder.
+  }
+  std::error_code ec;
+  if (const fs::path rel = inside(path, fs::current_path(ec)); !ec && !rel.empty())
+    return rel.string();
+  return path.string();
+}
+
 }  // namespace ricochet

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 #include <string_view>
 
 namespace ricochet {
@@ -28,5 +29,10 @@ std::filesystem::path data_dir();
 /// liggghts-inputs/ (the LIGGGHTS decks): $RICOCHET_LIGGGHTS_INPUTS, else
 /// share/ricochet/liggghts-inputs.
 std::filesystem::path liggghts_inputs_dir();
+
+/// A file's path as a page, a table or a log shows it, the same wherever the program ran: a file
+/// inside data_dir() as data/REST (e.g. data/resolved/x.h5), else one inside the working folder
+/// relative to it, else the path as given. Never throws.
+std::string shown_path(const std::filesystem::path& path);
 
 }  // namespace ricochet

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "common/error.hpp"
+#include "common/paths.hpp"
 #include "diagnosis/assess.hpp"
 #include "diagnosis/synth.hpp"
 
@@ -101,7 +102,7 @@ NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const d
                   "pooled within-group variance of {} groups of replicate releases of {} "
                   "({} degrees of freedom; the set has none of its own): the scatter of that "
                   "ground, taken as this set's",
-                  pooled.groups, pooled.source, pooled.dof)
+                  pooled.groups, shown_path(pooled.source), pooled.dof)
             : fmt::format(
                   "pooled within-group variance of {} groups of replicate releases (same "
                   "replicate label or identical incident state) "

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <map>
 
+#include "common/paths.hpp"
 #include "diagnosis/evidence.hpp"
 #include "diagnosis/figures.hpp"
 #include "diagnosis/force_history.hpp"
@@ -154,9 +155,9 @@ std::string lab_sentence_of(const stats::LabGap& g, const std::string& lab_data,
       ks_core += fmt::format("{}{}", k ? ", " : "", g3(c.ks_core->p_value));
     }
   }
-  std::string out =
-      fmt::format("Against the lab ({}, {} releases{}): mean gaps in lab sd {}; two-sample KS p {}",
-                  lab_data, n, matched ? ": those this set was run at" : "", all, ks_all);
+  std::string out = fmt::format(
+      "Against the lab ({}, {} releases{}): mean gaps in lab sd {}; two-sample KS p {}",
+      shown_path(lab_data), n, matched ? ": those this set was run at" : "", all, ks_all);
   if (!core.empty())
     out +=
         fmt::format(". Against its {} releases without gross errors: gaps in their sd {}; KS p {}",
@@ -215,7 +216,7 @@ void lab_section(report::HtmlPage& page, const ReportSection& s) {
 void data_section(report::HtmlPage& page, const ReportSection& s) {
   const ImpactSet& set = s.input.set;
   page.paragraph(fmt::format("{}: {} releases of shape {} from {}.", s.input.label, set.size(),
-                             s.input.shape.name, s.input.data));
+                             s.input.shape.name, shown_path(s.input.data)));
   if (!set.comments.empty()) page.list(set.comments);
   std::vector<std::vector<std::string>> rows;
   const char* cols[] = {"vin_x", "vin_y", "win", "vout_x", "vout_y", "wout"};
@@ -365,7 +366,7 @@ void force_history_table(report::HtmlPage& page, const ReportSection& s) {
         "; in brackets over the replicate floor, one history's RMS distance from its replicates' "
         "mean ({} N, {} N, {} N m; {} groups of {} histories{})",
         g4(floor->rms[0]), g4(floor->rms[1]), g4(floor->rms[2]), floor->groups, floor->histories,
-        floor->source.empty() ? "" : ", borrowed from " + floor->source);
+        floor->source.empty() ? "" : ", borrowed from " + shown_path(floor->source));
   page.table({"rung", "added", "normal", "tangential", "moment"}, rows, caption);
 }
 

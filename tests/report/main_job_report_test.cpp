@@ -53,6 +53,17 @@ TEST(MainJobReport, TheLegendCheckCatchesAKeyInsideThePlot) {
   fs::remove_all(dir);
 }
 
+// The page is mailed around: it names the files it read as data/... or relative to where it ran
+// (shown_path), never by the folders of the machine that wrote it.
+TEST(MainJobReport, NamesItsFilesWithoutThisMachinesFolders) {
+  const fs::path html = fs::path(RICOCHET_SOURCE_DIR) / "results" / "report.html";
+  if (!fs::exists(html)) GTEST_SKIP() << "no " << html << ": run ./run.sh main or ./run.sh test";
+  const std::string page = test::slurp(html);
+  const std::string root = fs::weakly_canonical(RICOCHET_SOURCE_DIR).string() + "/";
+  EXPECT_EQ(count(page, root), 0) << "the page names files under " << root;
+  EXPECT_GT(count(page, "data/lab/cylinders.csv"), 0);
+}
+
 TEST(MainJobReport, ReadsAsAReviewerWouldInChromium) {
   const fs::path html = fs::path(RICOCHET_SOURCE_DIR) / "results" / "report.html";
   if (!fs::exists(html))
