@@ -76,6 +76,21 @@ std::string small_bed_campaign(const std::string& name, const std::string& cache
          "rolling_model = \"epsd2\"\n[block]\nmu_gb = 0.5\nmur_gb = 0.1\n";
 }
 
+// Starts RICOCHET_BIN with `args` in a child process whose stdout and stderr go to `log`; the
+// child's pid (the tests kill it with SIGKILL to act out a session's end), -1 if fork fails.
+pid_t start_ricochet(const fs::path& log, std::vector<std::string> args) {
+  const pid_t pid = ::fork();
+  if (pid != 0) return pid;
+  const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  ::dup2(fd, 2);
+  ::dup2(fd, 1);
+  std::vector<char*> argv = {const_cast<char*>(RICOCHET_BIN)};
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  ::execv(RICOCHET_BIN, argv.data());
+  ::_exit(127);
+}
+
 std::string mpirun(int np) {
   return std::string(MPIEXEC) + " --oversubscribe --allow-run-as-root -np " + std::to_string(np) +
          " ";
@@ -113,9 +128,8 @@ TEST(DemBed, AKilledBuildResumesFromItsCheckpointBitForBit) {
   const fs::path work = temp_dir("bed-checkpoint");
   std::string bed = std::string(RICOCHET_BIN) + " dem bed --json --decks " + RICOCHET_SOURCE_DIR +
                     "/liggghts-inputs";
-  std::vector<std::string> argv = {
-      RICOCHET_BIN, "dem",     "bed",
-      "--json",     "--decks", std::string(RICOCHET_SOURCE_DIR) + "/liggghts-inputs"};
+  std::vector<std::string> argv = {"dem", "bed", "--json", "--decks",
+                                   std::string(RICOCHET_SOURCE_DIR) + "/liggghts-inputs"};
   for (const auto& a : kTestBed)
     if (a.rfind("bed.", 0) == 0) {
       bed += " --set " + a;
@@ -128,18 +142,8 @@ TEST(DemBed, AKilledBuildResumesFromItsCheckpointBitForBit) {
   const fs::path cache = work / "cache";
   argv.insert(argv.end(), {"--set", "run.checkpoint_steps=500", "--cache", cache.string()});
 
-  const pid_t pid = ::fork();
+  const pid_t pid = start_ricochet(work / "first-run.log", argv);
   ASSERT_GE(pid, 0);
-  if (pid == 0) {
-    const int fd = ::open((work / "first-run.log").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    ::dup2(fd, 2);
-    ::dup2(fd, 1);
-    std::vector<char*> args;
-    for (auto& a : argv) args.push_back(a.data());
-    args.push_back(nullptr);
-    ::execv(RICOCHET_BIN, args.data());
-    ::_exit(127);
-  }
   // Killed once a checkpoint of phase 2 (the pour's settling) is in place.
   const std::string building = bed_prefix(cache.string(), key) + ".building";
   std::optional<BedCheckpoint> at;
@@ -658,16 +662,8 @@ TEST(DemCampaign, KilledCampaignResumesWithoutLosingFinishedImpacts) {
   const std::string out = (work / "campaign.h5").string();
   const std::string log = (work / "first-run.log").string();
   // First run, in the background; killed (SIGKILL, no clean-up) once the first impact is written.
-  const pid_t pid = ::fork();
+  const pid_t pid = start_ricochet(log, {"dem", "campaign", design, "--out", out});
   ASSERT_GE(pid, 0);
-  if (pid == 0) {
-    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    ::dup2(fd, 2);
-    ::dup2(fd, 1);
-    ::execl(RICOCHET_BIN, RICOCHET_BIN, "dem", "campaign", design.c_str(), "--out", out.c_str(),
-            static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
   bool first_done = false;
   for (int i = 0; i < 600 && !first_done; ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(500));
@@ -778,16 +774,9 @@ TEST(DemCheckpoint, AKilledImpactResumesFromItsCheckpointBitForBit) {
   ASSERT_EQ(wrc, 0) << wtext;
 
   const fs::path impact_dir = work / "killed" / "work" / "hit";
-  const pid_t pid = ::fork();
+  const pid_t pid =
+      start_ricochet(work / "first-run.log", {"dem", "campaign", killed, "--out", out});
   ASSERT_GE(pid, 0);
-  if (pid == 0) {
-    const int fd = ::open((work / "first-run.log").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    ::dup2(fd, 2);
-    ::dup2(fd, 1);
-    ::execl(RICOCHET_BIN, RICOCHET_BIN, "dem", "campaign", killed.c_str(), "--out", out.c_str(),
-            static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
   // Killed once its second checkpoint (step 1,000 of about 4,100: in contact) is committed.
   long generation = 0;
   for (int i = 0; i < 6000 && generation < 2; ++i) {
