@@ -110,6 +110,64 @@ std::string uehara_text(const UeharaOutcome& u, double mu) {
       c.c_fitted_se, c.c_expected, c.c_fitted / c.c_expected, c.c_fitted * mu);
 }
 
+// d = A v^n over the resting drops with an impact speed, and Uehara's exponent at the same
+// drops (SpeedScaling). Empty with fewer than 3 such drops or without Uehara's resting fit.
+std::optional<SpeedScaling> speed_scaling(const DropStudyAnalysis& a) {
+  if (!a.uehara || !a.uehara->check) return std::nullopt;
+  // Uehara's law as fitted on these drops, exponent fixed: d = C' H^(1/3).
+  const double c_prime = a.uehara->check->c_fitted * a.uehara->check->scale;
+  std::vector<double> v, d, d_uehara;
+  SpeedScaling s;
+  s.d_over_v_min_s = s.t_penetration_min_s = INFINITY;
+  s.d_over_v_max_s = s.t_penetration_max_s = -INFINITY;
+  for (const auto& [row, track] : a.drops) {
+    const double speed = row.number("v_impact_mps"), depth = row.number("depth_final_m");
+    const double h = row.number("h_drop_m"), t_pen = row.number("t_penetration_s");
+    if (row.text("status") != "at_rest" || !(speed > 0) || !(depth > 0) || !(h > 0)) continue;
+    v.push_back(speed);
+    d.push_back(depth);
+    double du = depth;  // the fixed point of d = C' (h + d)^(1/3), a contraction for d << h
+    for (int i = 0; i < 200; ++i) du = c_prime * std::cbrt(h + du);
+    d_uehara.push_back(du);
+    s.d_over_v_min_s = std::min(s.d_over_v_min_s, depth / speed);
+    s.d_over_v_max_s = std::max(s.d_over_v_max_s, depth / speed);
+    if (t_pen > 0) {
+      s.t_penetration_min_s = std::min(s.t_penetration_min_s, t_pen);
+      s.t_penetration_max_s = std::max(s.t_penetration_max_s, t_pen);
+    }
+  }
+  if (v.size() < 3) return std::nullopt;
+  try {
+    s.fit = fit_power_law(v, d);
+    s.uehara_exponent = fit_power_law(v, d_uehara).exponent;
+  } catch (const std::invalid_argument&) {
+    return std::nullopt;
+  }
+  if (!std::isfinite(s.t_penetration_min_s)) s.t_penetration_min_s = s.t_penetration_max_s = NAN;
+  return s;
+}
+
+json speed_scaling_json(const SpeedScaling& s) {
+  return {{"drops", s.fit.n},
+          {"exponent", s.fit.exponent},
+          {"exponent_se", s.fit.exponent_se},
+          {"prefactor", s.fit.prefactor},
+          {"uehara_exponent", s.uehara_exponent},
+          {"deceleration_proportional_to_speed_exponent", 1.0},
+          {"d_over_v_s", {finite_or_null(s.d_over_v_min_s), finite_or_null(s.d_over_v_max_s)}},
+          {"t_penetration_s",
+           {finite_or_null(s.t_penetration_min_s), finite_or_null(s.t_penetration_max_s)}}};
+}
+
+std::string speed_scaling_text(const SpeedScaling& s) {
+  return fmt::format(
+      "Depth against impact speed (d ~ v^n, {} drops at rest): n = {:.3f} +- {:.3f}; Uehara's law "
+      "at these drops {:.3f}, a deceleration proportional to the impact speed (Pica Ciamarra et "
+      "al. 2004) 1\n  d / v {:.1f}-{:.1f} ms; penetration phase {:.3f}-{:.3f} s\n",
+      s.fit.n, s.fit.exponent, s.fit.exponent_se, s.uehara_exponent, 1e3 * s.d_over_v_min_s,
+      1e3 * s.d_over_v_max_s, s.t_penetration_min_s, s.t_penetration_max_s);
+}
+
 // Why the Uehara check failed when fewer than 3 drops came to rest.
 std::string too_few_at_rest(const DropStudyAnalysis& a) {
   return fmt::format(
@@ -253,6 +311,7 @@ DropStudyAnalysis analyse_drop_study(std::vector<StudyDrop> drops, double mu, co
     a.uehara = uehara_outcome(depths, true, a, options.tolerance);
   else if (depths.d_max.size() >= 3)
     a.uehara_largest = uehara_outcome(depths, false, a, options.tolerance);
+  a.speed_scaling = speed_scaling(a);
   a.kd_samples = pooled.size();
   if (pooled.size() > 10)
     a.katsuragi_durian =
@@ -285,6 +344,7 @@ json to_json(const DropStudyAnalysis& a) {
     j["uehara"] = {{"pass", false}, {"error", too_few_at_rest(a)}};
     if (a.uehara_largest) j["uehara_largest_depth"] = uehara_json(*a.uehara_largest, a.mu);
   }
+  if (a.speed_scaling) j["speed_scaling"] = speed_scaling_json(*a.speed_scaling);
   if (a.katsuragi_durian) j["katsuragi_durian"] = katsuragi_durian_json(*a.katsuragi_durian);
   return j;
 }
@@ -307,6 +367,7 @@ std::string to_text(const DropStudyAnalysis& a) {
     text += "Uehara: FAIL, " + too_few_at_rest(a) + "\n";
     if (a.uehara_largest) text += uehara_text(*a.uehara_largest, a.mu);
   }
+  if (a.speed_scaling) text += speed_scaling_text(*a.speed_scaling);
   if (a.katsuragi_durian) text += katsuragi_durian_text(*a.katsuragi_durian);
   return text;
 }

@@ -76,6 +76,21 @@ struct KatsuragiDurianOutcome {
   std::string error;  ///< why a fit failed (then no fit is reported)
 };
 
+/// The resting depth against the impact speed, d = A v^n over the drops at rest (issue 32's
+/// stiff bed, docs/granular-impact-checks.md), beside the two exponents it is read against at the
+/// same drops: Uehara's law, d = C' (h + d)^(1/3) with C' its resting fit's, solved at each
+/// drop's h and fitted against the same speeds (about 2/3 when h >> d, less when d is not small
+/// against h); and a deceleration proportional to the impact speed with a stopping time
+/// independent of it (Pica Ciamarra et al. 2004, PRL 92, 194301; Tsimring & Volfson 2005),
+/// d ~ v, n = 1. With the ranges of d / v and of the penetration phase's duration (the latter
+/// constant in that regime).
+struct SpeedScaling {
+  PowerLawFit fit;               ///< d [m] = A v^n, v the impact speed [m/s]
+  double uehara_exponent = NAN;  ///< n of Uehara's law at the same drops
+  double d_over_v_min_s = NAN, d_over_v_max_s = NAN;
+  double t_penetration_min_s = NAN, t_penetration_max_s = NAN;
+};
+
 /// What a study concludes. Sphere, bulk density and cost come from the drops that reached the
 /// bed (status at_rest or rebound; the sphere's from the last of them); NaN without any.
 struct DropStudyAnalysis {
@@ -92,6 +107,8 @@ struct DropStudyAnalysis {
   /// Uehara on the resting depths when at least 3 drops came to rest, else empty (the check
   /// fails) and `uehara_largest` on the largest depths when at least 3 drops reached the bed.
   std::optional<UeharaOutcome> uehara, uehara_largest;
+  /// With at least 3 drops at rest that have an impact speed and Uehara's resting fit.
+  std::optional<SpeedScaling> speed_scaling;
   std::size_t kd_samples = 0;                              ///< pooled penetration samples
   std::optional<KatsuragiDurianOutcome> katsuragi_durian;  ///< with more than 10 samples
 };
@@ -109,8 +126,8 @@ InertialDragComparison compare_inertial_drag(const KatsuragiDurianFit& f, double
 
 /// The output layer: the analysis's keys of the `ricochet dem drop --json` document (drops with
 /// d_uehara_m, sphere, rho_bulk_kgm3, cost, uehara, uehara_largest_depth, katsuragi_durian;
-/// docs/commands/dem.md; mu is the friction's, drop_study.hpp), and its readable summary (one
-/// line per drop, then the checks).
+/// speed_scaling; docs/commands/dem.md; mu is the friction's, drop_study.hpp), and its readable
+/// summary (one line per drop, then the checks).
 nlohmann::json to_json(const DropStudyAnalysis& a);
 std::string to_text(const DropStudyAnalysis& a);
 

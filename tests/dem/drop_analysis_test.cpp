@@ -113,6 +113,46 @@ TEST(DropAnalysis, UeharaOnRestingDepthsRecoversThePrefactor) {
   EXPECT_NE(to_text(a).find("resting depths (d ~ H^n, 5 drops): n = 0.333"), std::string::npos);
 }
 
+// The depth against the impact speed: on drops that follow Uehara's law its exponent is the one
+// Uehara's law gives at the same drops (below 2/3, since d is not small against h at 5 cm); on
+// drops with d = 20 ms x v (a deceleration proportional to the impact speed) it is 1, with d / v 20
+// ms; the penetration phase's range is the rows' own.
+TEST(DropAnalysis, DepthAgainstImpactSpeedIsReadAgainstUeharaAndAConstantStoppingTime) {
+  const double C = 0.5 * 0.14 / kMu;
+  std::vector<StudyDrop> uehara, linear;
+  for (double h : {0.02, 0.05, 0.1, 0.2, 0.5}) {
+    const double v = std::sqrt(2 * kG * h);
+    uehara.push_back(drop(id_of(h), "at_rest", h, uehara_rest_depth(C, h), NAN));
+    linear.push_back(drop(id_of(h), "at_rest", h, 0.020 * v, NAN));
+    for (auto* d : {&uehara.back(), &linear.back()}) {
+      d->row.cells["v_impact_mps"] = shortest_number(v);
+      d->row.cells["t_penetration_s"] = shortest_number(0.04 + 0.01 * h);
+    }
+  }
+  const auto a = analyse_drop_study(uehara, kMu, bed_with_r2(0.0035), {});
+  ASSERT_TRUE(a.speed_scaling);
+  EXPECT_NEAR(a.speed_scaling->fit.exponent, a.speed_scaling->uehara_exponent, 1e-9);
+  EXPECT_GT(a.speed_scaling->uehara_exponent, 0.4);
+  EXPECT_LT(a.speed_scaling->uehara_exponent, 2.0 / 3.0 - 0.02);
+  const auto b = analyse_drop_study(linear, kMu, bed_with_r2(0.0035), {});
+  ASSERT_TRUE(b.speed_scaling);
+  EXPECT_NEAR(b.speed_scaling->fit.exponent, 1.0, 1e-9);
+  EXPECT_NEAR(b.speed_scaling->d_over_v_min_s, 0.020, 1e-12);
+  EXPECT_NEAR(b.speed_scaling->d_over_v_max_s, 0.020, 1e-12);
+  EXPECT_LT(b.speed_scaling->uehara_exponent, 2.0 / 3.0);
+  EXPECT_NEAR(b.speed_scaling->t_penetration_min_s, 0.0402, 1e-12);
+  EXPECT_NEAR(b.speed_scaling->t_penetration_max_s, 0.045, 1e-12);
+  const auto j = to_json(b);
+  EXPECT_NEAR(j["speed_scaling"]["exponent"].get<double>(), 1.0, 1e-9);
+  EXPECT_EQ(j["speed_scaling"]["drops"], 5u);
+  EXPECT_NE(to_text(b).find("Depth against impact speed (d ~ v^n, 5 drops at rest): n = 1.000"),
+            std::string::npos)
+      << to_text(b);
+  // Without an impact speed (older files), no speed scaling.
+  EXPECT_FALSE(
+      analyse_drop_study({drop("h1", "at_rest", 0.1, 0.02, 0.02)}, kMu, {}, {}).speed_scaling);
+}
+
 TEST(DropAnalysis, FewerThanThreeAtRestFailsAndFitsTheLargestDepths) {
   std::vector<StudyDrop> drops = {
       drop("h0.05", "rebound", 0.05, -1e-4, 0.002), drop("h0.1", "rebound", 0.1, 1e-4, 0.003),
