@@ -1,0 +1,66 @@
+#!/usr/bin/env bash
+# What each long DEM run of scripts/dem-lanes.sh was doing when it last wrote its log, and whether
+# its pinned program may be replaced (rm -rf its pinned/ folder) before the lanes start again.
+#
+#   scripts/lanes-status.sh            (from the repository root, lanes stopped or running)
+#
+# Per campaign folder under results/ (a campaign.log and a pinned/ folder): whether it runs now
+# (its lock is held), the last impact started and whether its bed build or the impact itself was
+# in flight, and whether the pinned decks predate the tree's bed decks. Re-pinning gives a
+# campaign the tree's program and decks (e.g. bed builds that resume after a kill, since
+# 2026-12-07), but the decks' text is part of every bed's key: the pending impacts then get new
+# beds, and an impact that was cut in flight loses its checkpoint. So it is safe only while the
+# campaign is stopped with nothing in flight or with a bed build in flight (a build of pinned
+# decks older than 2026-12-07 restarts from zero anyway). Prints one block per folder; exit 0.
+set -uo pipefail
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+cd "$ROOT" || exit 1
+bed_decks_differ() {  # PIN: 0 when the pinned bed decks equal the tree's
+  ! diff -rq "$1/liggghts-inputs/bed" liggghts-inputs/bed > /dev/null 2>&1 ||
+    ! diff -rq "$1/liggghts-inputs/common" liggghts-inputs/common > /dev/null 2>&1
+}
+for log in results/*/campaign.log; do
+  dir=$(dirname "$log")
+  [ -d "$dir/pinned" ] || continue
+  running=no
+  if [ -e "$dir/campaign.lock" ]; then
+    exec 8< "$dir/campaign.lock"
+    flock -n 8 || running=yes
+    exec 8<&-
+  fi
+  start=$(grep -n '^\[dem\] starting ' "$log" | tail -1)
+  line=${start%%:*}
+  state="nothing started"
+  if [ -n "$start" ]; then
+    id=$(sed -E 's/^[0-9]+:\[dem\] starting ([^ ]+) .*/\1/' <<< "$start")
+    after=$(tail -n +"$line" "$log")
+    if grep -qE "^\[dem\] [0-9]+/[0-9]+ $id " <<< "$after"; then
+      state="$id ended: nothing in flight"
+    elif grep -q 'building it first' <<< "$start" && ! grep -q 'grains built in' <<< "$after"; then
+      state="$id: its bed build in flight"
+    else
+      state="$id: the impact in flight (checkpointed)"
+    fi
+  fi
+  if bed_decks_differ "$dir/pinned"; then decks="older than the tree's"; else decks="the tree's"; fi
+  case "$running/$state" in
+    yes/*) advice="running: leave it" ;;
+    */*"impact in flight"*) advice="keep the pin (re-pinning loses the impact's checkpoint and bed)" ;;
+    *) if [ "$decks" = "the tree's" ]; then advice="pin is current"; else
+         advice="may be re-pinned: rm -rf $dir/pinned"; fi ;;
+  esac
+  printf '%s\n  last: %s\n  pinned bed decks: %s\n  %s\n' "$dir" "$state" "$decks" "$advice"
+done
+# Beds shipped for a campaign still to run are keyed by its pinned decks: a re-pin orphans them.
+for b in data/resolved/beds/*/; do
+  [ -n "$(ls "$b" 2> /dev/null)" ] &&
+    echo "note: $b holds beds of a campaign still to run, keyed by its pinned decks (keep that pin)"
+done
+# Sphere drops (scripts/plateau-drop.sh): not checkpointed; a folder without a pinned program
+# takes the tree's at its next start.
+for log in results/*/drop.log; do
+  dir=$(dirname "$log")
+  if [ -x "$dir/pinned/ricochet" ]; then pin="pinned"; else pin="pins the tree's program at its next start"; fi
+  printf '%s\n  last: %s\n  %s\n' "$dir" "$(tail -1 "$log")" "$pin"
+done
+exit 0
