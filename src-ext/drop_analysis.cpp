@@ -168,6 +168,47 @@ std::string speed_scaling_text(const SpeedScaling& s) {
       1e3 * s.d_over_v_max_s, s.t_penetration_min_s, s.t_penetration_max_s);
 }
 
+json viscous_fit_json(const ViscousDragFit& f) {
+  return {{"samples", f.n},
+          {"g_mps2", f.g_mps2},
+          {"g_se", f.g_se},
+          {"b_Nspm", f.b_Nspm},
+          {"b_se", f.b_se},
+          {"m_over_d1_kg_per_m", f.drag_kg_per_m},
+          {"m_over_d1_se", f.drag_se},
+          {"k_Npm", f.k_Npm},
+          {"k_se", f.k_se},
+          {"time_constant_s", f.mass_kg / f.b_Nspm},
+          {"residual_sd_mps2", f.residual_sd}};
+}
+
+json viscous_json(const ViscousExtension& v) {
+  json per = json::array();
+  for (const auto& [id, f] : v.per_drop) {
+    json x = f ? viscous_fit_json(*f) : json{{"error", "no fit"}};
+    x["id"] = id;
+    per.push_back(x);
+  }
+  json j = {{"exploratory", true}, {"per_drop", per}};
+  if (v.pooled) j["pooled"] = viscous_fit_json(*v.pooled);
+  return j;
+}
+
+std::string viscous_text(const ViscousExtension& v) {
+  std::string t = "Katsuragi-Durian + viscous b z' (exploratory), g per drop:";
+  for (const auto& [id, f] : v.per_drop)
+    t += f ? fmt::format(" {} {:.1f} +- {:.1f}", id, f->g_mps2, f->g_se) : " " + id + " -";
+  t += " m/s^2\n";
+  if (v.pooled)
+    t += fmt::format(
+        "  pooled: g = {:.2f} +- {:.2f} m/s^2, b = {:.1f} +- {:.1f} N s/m (m/b = {:.4f} s), m/d1 = "
+        "{:.1f} +- {:.1f} kg/m, k = {:.0f} +- {:.0f} N/m\n",
+        v.pooled->g_mps2, v.pooled->g_se, v.pooled->b_Nspm, v.pooled->b_se,
+        v.pooled->mass_kg / v.pooled->b_Nspm, v.pooled->drag_kg_per_m, v.pooled->drag_se,
+        v.pooled->k_Npm, v.pooled->k_se);
+  return t;
+}
+
 // Why the Uehara check failed when fewer than 3 drops came to rest.
 std::string too_few_at_rest(const DropStudyAnalysis& a) {
   return fmt::format(
@@ -265,6 +306,8 @@ DropStudyAnalysis analyse_drop_study(std::vector<StudyDrop> drops, double mu, co
   a.drops = std::move(drops);
   Depths depths;
   std::vector<KdSample> pooled, pooled_force;
+  ViscousExtension viscous;
+  const double inflation = static_cast<double>(2 * options.analysis.half_window + 1);
   double rho_bulk_sum = 0;
   a.mass_kg = a.rho_sphere_kgm3 = a.D_sphere_m = NAN;
   for (const auto& [row, track] : a.drops) {
@@ -296,6 +339,15 @@ DropStudyAnalysis analyse_drop_study(std::vector<StudyDrop> drops, double mu, co
     // The penetration phase twice: z'' from the depth record, and from the contact force.
     const auto s = drop_samples(track, options.analysis, a.mass_kg * kDeckGravity_mps2);
     pooled.insert(pooled.end(), s.begin(), s.end());
+    std::optional<ViscousDragFit> own;
+    if (s.size() > 10) {
+      try {
+        own = fit_viscous_katsuragi_durian(s, a.mass_kg, inflation);
+      } catch (const std::invalid_argument&) {
+        // Collinear or too few samples: this drop has no viscous fit.
+      }
+    }
+    viscous.per_drop.emplace_back(row.text("id"), own);
     for (const auto& x : s)
       pooled_force.push_back({track.depth[x.index], -track.vz[x.index],
                               kDeckGravity_mps2 - track.fcz[x.index] / a.mass_kg, x.index});
@@ -313,9 +365,16 @@ DropStudyAnalysis analyse_drop_study(std::vector<StudyDrop> drops, double mu, co
     a.uehara_largest = uehara_outcome(depths, false, a, options.tolerance);
   a.speed_scaling = speed_scaling(a);
   a.kd_samples = pooled.size();
-  if (pooled.size() > 10)
+  if (pooled.size() > 10) {
     a.katsuragi_durian =
         katsuragi_durian_outcome(pooled, pooled_force, a, options.analysis.half_window);
+    try {
+      viscous.pooled = fit_viscous_katsuragi_durian(pooled, a.mass_kg, inflation);
+    } catch (const std::invalid_argument&) {
+      // Reported as absent.
+    }
+    a.viscous = std::move(viscous);
+  }
   return a;
 }
 
@@ -346,6 +405,7 @@ json to_json(const DropStudyAnalysis& a) {
   }
   if (a.speed_scaling) j["speed_scaling"] = speed_scaling_json(*a.speed_scaling);
   if (a.katsuragi_durian) j["katsuragi_durian"] = katsuragi_durian_json(*a.katsuragi_durian);
+  if (a.viscous) j["viscous_extension"] = viscous_json(*a.viscous);
   return j;
 }
 
@@ -369,6 +429,7 @@ std::string to_text(const DropStudyAnalysis& a) {
   }
   if (a.speed_scaling) text += speed_scaling_text(*a.speed_scaling);
   if (a.katsuragi_durian) text += katsuragi_durian_text(*a.katsuragi_durian);
+  if (a.viscous) text += viscous_text(*a.viscous);
   return text;
 }
 

@@ -91,6 +91,14 @@ struct SpeedScaling {
   double t_penetration_min_s = NAN, t_penetration_max_s = NAN;
 };
 
+/// The viscous extension of Katsuragi-Durian (fit_viscous_katsuragi_durian), drop by drop and
+/// pooled: exploratory, not part of the check (docs/granular-impact-checks.md, "On the stiff
+/// bed"). Per drop: its id and the fit, empty where it failed.
+struct ViscousExtension {
+  std::vector<std::pair<std::string, std::optional<ViscousDragFit>>> per_drop;
+  std::optional<ViscousDragFit> pooled;
+};
+
 /// What a study concludes. Sphere, bulk density and cost come from the drops that reached the
 /// bed (status at_rest or rebound; the sphere's from the last of them); NaN without any.
 struct DropStudyAnalysis {
@@ -111,6 +119,7 @@ struct DropStudyAnalysis {
   std::optional<SpeedScaling> speed_scaling;
   std::size_t kd_samples = 0;                              ///< pooled penetration samples
   std::optional<KatsuragiDurianOutcome> katsuragi_durian;  ///< with more than 10 samples
+  std::optional<ViscousExtension> viscous;                 ///< with it
 };
 
 /// Analyses every drop of a study with friction `mu`; `bed` is the study's bed (its r2_m gives
@@ -126,8 +135,8 @@ InertialDragComparison compare_inertial_drag(const KatsuragiDurianFit& f, double
 
 /// The output layer: the analysis's keys of the `ricochet dem drop --json` document (drops with
 /// d_uehara_m, sphere, rho_bulk_kgm3, cost, uehara, uehara_largest_depth, katsuragi_durian;
-/// speed_scaling; docs/commands/dem.md; mu is the friction's, drop_study.hpp), and its readable
-/// summary (one line per drop, then the checks).
+/// speed_scaling, viscous_extension; docs/commands/dem.md; mu is the friction's, drop_study.hpp),
+/// and its readable summary (one line per drop, then the checks).
 nlohmann::json to_json(const DropStudyAnalysis& a);
 std::string to_text(const DropStudyAnalysis& a);
 

@@ -214,6 +214,33 @@ std::vector<KdSample> penetration_samples(std::span<const double> t, std::span<c
   return out;
 }
 
+ViscousDragFit fit_viscous_katsuragi_durian(std::span<const KdSample> samples, double mass_kg,
+                                            double variance_inflation) {
+  // z'' = c0 - (b / m) z' - z'^2 / d1 - (k / m) z: linear in (c0, b / m, 1 / d1, k / m).
+  std::vector<double> one, v, v2, zz, a;
+  for (const auto& s : samples) {
+    one.push_back(1.0);
+    v.push_back(-s.v_mps);
+    v2.push_back(-s.v_mps * s.v_mps);
+    zz.push_back(-s.z_m);
+    a.push_back(s.a_mps2);
+  }
+  const LinearFit lf = least_squares({one, v, v2, zz}, a, variance_inflation);
+  ViscousDragFit f;
+  f.mass_kg = mass_kg;
+  f.n = samples.size();
+  f.g_mps2 = lf.beta[0];
+  f.g_se = lf.se[0];
+  f.b_Nspm = mass_kg * lf.beta[1];
+  f.b_se = mass_kg * lf.se[1];
+  f.drag_kg_per_m = mass_kg * lf.beta[2];
+  f.drag_se = mass_kg * lf.se[2];
+  f.k_Npm = mass_kg * lf.beta[3];
+  f.k_se = mass_kg * lf.se[3];
+  f.residual_sd = lf.residual_sd;
+  return f;
+}
+
 KatsuragiDurianFit fit_katsuragi_durian(std::span<const KdSample> samples, double mass_kg,
                                         double variance_inflation,
                                         std::optional<double> g_fixed_mps2) {

@@ -113,6 +113,25 @@ KatsuragiDurianFit fit_katsuragi_durian(std::span<const KdSample> samples, doubl
                                         double variance_inflation = 1.0,
                                         std::optional<double> g_fixed_mps2 = std::nullopt);
 
+/// Katsuragi & Durian's law with a viscous term, an exploratory extension (2026-12-07): a stop
+/// whose duration does not depend on the impact speed (Pica Ciamarra et al. 2004, PRL 92, 194301)
+/// is what a force linear in the speed gives (z = m v0 / b, time constant m / b), and the
+/// force-residual discovery on the resolved block (docs/diagnosis.md) selects such a term:
+///   m z'' = m c0 - b z' - (m / d1) z'^2 - k z,
+/// fitted linearly in (c0, b / m, 1 / d1, k / m). The drag is reported as m / d1 [kg/m] (1 / d1
+/// may be near 0 or negative once b takes the speed dependence).
+struct ViscousDragFit {
+  double g_mps2 = 0, g_se = 0;            ///< c0
+  double b_Nspm = 0, b_se = 0;            ///< the viscous coefficient b [N s/m]
+  double drag_kg_per_m = 0, drag_se = 0;  ///< m / d1
+  double k_Npm = 0, k_se = 0;
+  double mass_kg = 0;
+  std::size_t n = 0;
+  double residual_sd = 0;  ///< of z'' [m/s^2]
+};
+ViscousDragFit fit_viscous_katsuragi_durian(std::span<const KdSample> samples, double mass_kg,
+                                            double variance_inflation = 1.0);
+
 /// The slope of a heap's free surface h(x) fitted on the points whose height is between lo_frac
 /// and hi_frac of the largest height (the flank, away from the crest and the thin runout); the
 /// angle of repose is atan(|slope|).

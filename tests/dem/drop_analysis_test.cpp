@@ -199,6 +199,53 @@ DropTrack kd_track(double v0, double d1, double k) {
   return tr;
 }
 
+// The viscous extension (exploratory): drops integrated by RK4 with a viscous force b z' beside
+// Katsuragi-Durian's terms give back b, m / d1 and k pooled and g in each drop, where the plain
+// Katsuragi-Durian fit of the same drops cannot (its g leaves 9.81 by more than 2 m/s^2).
+TEST(DropAnalysis, TheViscousExtensionRecoversALinearDragThatKatsuragiDurianCannotHold) {
+  const double b = 60.0, d1 = 0.02, k = 2e4;  // b / m = 118 1/s: stops of about 20 ms
+  auto acc = [&](double z, double v) {
+    return z < 0 ? kG : kG - b / kMass * v - v * v / d1 - k / kMass * z;
+  };
+  std::vector<StudyDrop> drops;
+  for (double h : {0.05, 0.2, 0.5}) {
+    StudyDrop s = drop(id_of(h), "at_rest", h, 0.02, 0.021);
+    double z = -0.001, v = std::sqrt(2 * kG * h), t = 0;
+    for (long i = 0; v > 0; ++i) {
+      if (i % 20 == 0) {
+        s.track.t.push_back(t);
+        s.track.depth.push_back(z);
+        s.track.vz.push_back(-v);
+        s.track.fcz.push_back(kMass * (kG - acc(z, v)));
+      }
+      test::rk4_step(z, v, 1e-6, acc);
+      t += 1e-6;
+    }
+    for (auto* c : {&s.track.x, &s.track.y, &s.track.vx, &s.track.vy, &s.track.fcx, &s.track.fcy,
+                    &s.track.ke_grains})
+      c->assign(s.track.t.size(), 0.0);
+    drops.push_back(std::move(s));
+  }
+  const auto a = analyse_drop_study(drops, kMu, bed_with_r2(0.0035), {});
+  ASSERT_TRUE(a.viscous && a.viscous->pooled);
+  const auto& p = *a.viscous->pooled;
+  EXPECT_NEAR(p.b_Nspm / b, 1.0, 0.02);
+  EXPECT_NEAR(p.drag_kg_per_m / (kMass / d1), 1.0, 0.02);
+  EXPECT_NEAR(p.k_Npm / k, 1.0, 0.05);
+  EXPECT_NEAR(p.g_mps2, kG, 0.2);
+  ASSERT_EQ(a.viscous->per_drop.size(), 3u);
+  for (const auto& [id, f] : a.viscous->per_drop) {
+    ASSERT_TRUE(f) << id;
+    EXPECT_NEAR(f->g_mps2, kG, 0.5) << id;
+  }
+  ASSERT_TRUE(a.katsuragi_durian && a.katsuragi_durian->trajectory);
+  EXPECT_GT(std::abs(a.katsuragi_durian->trajectory->g_mps2 - kG), 2.0);
+  const auto j = to_json(a)["viscous_extension"];
+  EXPECT_EQ(j["exploratory"], true);
+  EXPECT_NEAR(j["pooled"]["time_constant_s"].get<double>(), kMass / b, 0.02 * kMass / b);
+  EXPECT_NE(to_text(a).find("Katsuragi-Durian + viscous b z' (exploratory)"), std::string::npos);
+}
+
 TEST(DropAnalysis, PooledKatsuragiDurianRecoversDragAndCarriesItToTheLabCylinder) {
   const double d1 = 0.01, k = 5e4;  // m / d1 = 51 kg/m
   std::vector<StudyDrop> drops;
