@@ -58,7 +58,7 @@ fi
   BED=(--set bed.mode=box --set bed.Lx_m=0.4 --set bed.Ly_m=0.4 --set bed.H_m=0.2
        --set bed.headroom_m=0.15 --set bed.E_grain_Pa=1.5e9 --set bed.E_wall_Pa="$E_WALL"
        --set drop.D_sphere_m=0.1 --set drop.t_max_s=1.0 "${GRAINS[@]}")
-  mpirun --oversubscribe --allow-run-as-root -np 1 "$PIN/ricochet" dem drop \
+  mpirun --oversubscribe --allow-run-as-root --bind-to none -np 1 "$PIN/ricochet" dem drop \
     --decks "$PIN/liggghts-inputs" --cache dem-cache --work dem-work "${BED[@]}" \
     --heights 0.02,0.05,0.1,0.2,0.5 --out "$OUT/$FILE.csv"
   rc=$?

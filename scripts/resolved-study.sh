@@ -21,7 +21,7 @@ ROOT=$(cd "$(dirname "$0")/.." && pwd)
 OUT=${2:-$ROOT/results/resolved}
 RANKS=${3:-2}
 R="$BUILD/cli/ricochet"
-MPI="mpirun --oversubscribe --allow-run-as-root -np $RANKS"
+MPI="mpirun --oversubscribe --allow-run-as-root --bind-to none -np $RANKS"
 C=$ROOT/liggghts-inputs/campaigns
 mkdir -p "$OUT"
 cd "$OUT"   # the designs' cache_dir and work_dir are relative to the working directory

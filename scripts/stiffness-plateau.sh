@@ -114,7 +114,7 @@ fi
     echo "running only $PLATEAU_ONLY of the design"
   fi
   cd "$OUT" || exit 1   # cache_dir and work_dir of the design are relative to this folder
-  mpirun --oversubscribe --allow-run-as-root -np "${PLATEAU_RANKS:-1}" "$PIN/ricochet" dem campaign \
+  mpirun --oversubscribe --allow-run-as-root --bind-to none -np "${PLATEAU_RANKS:-1}" "$PIN/ricochet" dem campaign \
     "$RUN_DESIGN" --decks "$PIN/liggghts-inputs" "${ONLY[@]}" \
     --out "$OUT/$FILE.h5" --retry-crashed
   rc=$?
