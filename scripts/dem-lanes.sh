@@ -47,6 +47,9 @@
 # from the beds shipped for them (data/resolved/beds/, scripts/ship-beds.sh).
 set -uo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
+# Two single-rank MPI jobs run at once: Open MPI would bind both to core 0 (it did until
+# 2026-12-07, docs/resolved-model.md "Cost"); no binding for any mpirun below.
+export OMPI_MCA_hwloc_base_binding_policy=none
 cd "$ROOT" || exit 1
 if [ ! -e results ]; then
   KEEP=${RICOCHET_RESULTS:-$(dirname "$ROOT")/ricochet-results}
