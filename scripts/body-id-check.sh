@@ -17,6 +17,7 @@
 # results/body-id-check/ and not run again. About a minute per impact on a quiet core.
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
+export PYTHONPATH="$ROOT/scripts${PYTHONPATH:+:$PYTHONPATH}"  # study_stats.py
 BIN=${1:-$ROOT/build/cli/ricochet}
 OUT=${2:-/dev/stdout}
 STATES=${3:-8}
@@ -50,14 +51,14 @@ for ((i = 0; i < STATES; i++)); do
     >> "$RES/out.tsv"
 done
 cat "$RES/out.tsv" > "$OUT"
-# Mean paired difference with its 95 % t interval (Student's t quantiles for 1-30 degrees of
-# freedom), and the mean absolute difference.
-awk -F'\t' 'BEGIN { split("12.706 4.303 3.182 2.776 2.571 2.447 2.365 2.306 2.262 2.228 2.201 2.179 2.160 2.145 2.131 2.120 2.110 2.101 2.093 2.086 2.080 2.074 2.069 2.064 2.060 2.056 2.052 2.048 2.045 2.042", tq, " ")
-    name[0] = "V_out^x [m/s]"; name[1] = "V_out^y [m/s]"; name[2] = "omega_out [rad/s]" }
-  NR > 1 { n++; for (k = 0; k < 3; k++) { d = $(8 + k) - $(5 + k); s[k] += d; ss[k] += d * d
-      a[k] += (d < 0 ? -d : d) } }
-  END { printf "%d states; after - before (95 %% t interval), mean |after - before|:\n", n > "/dev/stderr"
-    for (k = 0; k < 3; k++) { m = s[k] / n; sd = sqrt((ss[k] - n * m * m) / (n - 1))
-      h = tq[n - 1] * sd / sqrt(n)
-      printf "  %-18s %+.4f [%+.4f, %+.4f]   %.4f\n", name[k], m, m - h, m + h, a[k] / n > "/dev/stderr" } }' \
-  "$RES/out.tsv"
+# Mean paired difference with its 95 % Student t interval, and the mean absolute difference.
+python3 - "$RES/out.tsv" <<'PY' >&2
+import csv, sys
+from study_stats import paired_t
+rows = list(csv.reader(open(sys.argv[1]), delimiter="\t"))[1:]
+print(f"{len(rows)} states; after - before (95 % t interval), mean |after - before|:")
+for k, name in enumerate(("V_out^x [m/s]", "V_out^y [m/s]", "omega_out [rad/s]")):
+    d = [float(r[7 + k]) - float(r[4 + k]) for r in rows]
+    m, lo, hi = paired_t(d)
+    print(f"  {name:<18} {m:+.4f} [{lo:+.4f}, {hi:+.4f}]   {sum(abs(x) for x in d) / len(d):.4f}")
+PY

@@ -32,6 +32,7 @@
 #   scripts/rim-cross-shape.sh [BUILD_DIR] [OUT_DIR]     (default build, results/rim-cross-shape)
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
+export PYTHONPATH="$ROOT/scripts${PYTHONPATH:+:$PYTHONPATH}"  # study_stats.py
 BUILD=${1:-$ROOT/build}
 OUT=${2:-$ROOT/results/rim-cross-shape}
 R=$BUILD/cli/ricochet
@@ -68,7 +69,8 @@ done
 pair() {
   for reading in "" -features; do
     python3 - "$OUT/compare-$2$reading.json" "$OUT/compare-$1$reading.json" "$reading" "$1" "$2" <<'PY'
-import json, math, statistics, sys
+import json, statistics, sys
+from study_stats import paired_t
 other_doc, law_doc = (json.load(open(p)) for p in sys.argv[1:3])
 law, other = sys.argv[4], sys.argv[5]
 what = "V_out + penetration + duration" if sys.argv[3] else "V_out"
@@ -85,12 +87,7 @@ mean = statistics.fmean(d)
 if n < 2:
     print(f"{law} - {other} over {n} release: {mean:+.3f}; too few for an interval")
     sys.exit(0)
-se = statistics.stdev(d) / math.sqrt(n)
-# Student t 0.975 quantiles (n - 1 degrees of freedom), 1 to 30, then the normal's.
-t = [12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179, 2.160,
-     2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064, 2.060, 2.056,
-     2.052, 2.048, 2.045, 2.042][n - 2] if n - 1 <= 30 else 1.960
-lo, hi = mean - t * se, mean + t * se
+mean, lo, hi = paired_t(d)  # Student's t, 95 %
 verdict = (f"the {law} holds" if hi < 0 else f"the {law} fails" if lo > 0
            else "the set cannot tell")
 print(f"{law} - {other}, paired over {n} releases: {mean:+.3f}, 95 % interval [{lo:+.3f}, "
