@@ -99,10 +99,13 @@ namespace {
 
 void remove_bed_checkpoints(const std::string& building_prefix) {
   const fs::path base(building_prefix);
+  const fs::path dir = base.has_parent_path() ? base.parent_path() : fs::path(".");
   const std::string head = base.filename().string() + ".ckpt-";
   std::error_code ec;
-  for (const auto& e : fs::directory_iterator(base.parent_path(), ec))
-    if (e.path().filename().string().starts_with(head)) fs::remove(e.path(), ec);
+  std::vector<fs::path> gone;  // collected first: a folder is not changed while it is listed
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (e.path().filename().string().starts_with(head)) gone.push_back(e.path());
+  for (const auto& p : gone) fs::remove(p, ec);
 }
 
 }  // namespace
