@@ -73,15 +73,28 @@ bool bed_building(const std::string& cache_dir, const std::string& key) {
   return held;
 }
 
-std::optional<BedCheckpoint> latest_bed_checkpoint(const std::string& building_prefix) {
+namespace {
+
+// The files of the build PREFIX.building: PREFIX.building.ckpt-* (checkpoints, complete or not).
+std::vector<fs::path> bed_checkpoint_files(const std::string& building_prefix) {
   const fs::path base(building_prefix);
   const fs::path dir = base.has_parent_path() ? base.parent_path() : fs::path(".");
   const std::string head = base.filename().string() + ".ckpt-";
-  std::optional<BedCheckpoint> best;
+  std::vector<fs::path> files;
   std::error_code ec;
-  for (const auto& e : fs::directory_iterator(dir, ec)) {
-    const std::string name = e.path().filename().string();
-    if (!name.starts_with(head) || !name.ends_with(".restart")) continue;
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (e.path().filename().string().starts_with(head)) files.push_back(e.path());
+  return files;
+}
+
+}  // namespace
+
+std::optional<BedCheckpoint> latest_bed_checkpoint(const std::string& building_prefix) {
+  const std::string head = fs::path(building_prefix).filename().string() + ".ckpt-";
+  std::optional<BedCheckpoint> best;
+  for (const auto& path : bed_checkpoint_files(building_prefix)) {
+    const std::string name = path.filename().string();
+    if (!name.ends_with(".restart")) continue;
     BedCheckpoint c;
     char tail = 0;
     const std::string state = name.substr(head.size(), name.size() - head.size() - 8);
@@ -89,26 +102,11 @@ std::optional<BedCheckpoint> latest_bed_checkpoint(const std::string& building_p
             3 ||
         c.phase < 1 || c.phase > 3 || c.chunk < 1)
       continue;  // ckpt-new (being written) and anything else
-    c.path = e.path().string();
+    c.path = path.string();
     if (!best || std::pair(c.phase, c.chunk) > std::pair(best->phase, best->chunk)) best = c;
   }
   return best;
 }
-
-namespace {
-
-void remove_bed_checkpoints(const std::string& building_prefix) {
-  const fs::path base(building_prefix);
-  const fs::path dir = base.has_parent_path() ? base.parent_path() : fs::path(".");
-  const std::string head = base.filename().string() + ".ckpt-";
-  std::error_code ec;
-  std::vector<fs::path> gone;  // collected first: a folder is not changed while it is listed
-  for (const auto& e : fs::directory_iterator(dir, ec))
-    if (e.path().filename().string().starts_with(head)) gone.push_back(e.path());
-  for (const auto& p : gone) fs::remove(p, ec);
-}
-
-}  // namespace
 
 BedFiles ensure_bed(const Decks& decks, const std::map<std::string, std::string>& bed_overrides,
                     const std::string& cache_dir, MPI_Comm comm, bool* built, double* wall_s,
@@ -192,7 +190,8 @@ BedFiles ensure_bed(const Decks& decks, const std::map<std::string, std::string>
       // The parameters file goes last: its presence marks a complete bed.
       fs::rename(tmp + ".restart", prefix + ".restart");
       fs::rename(tmp + ".params", prefix + ".params");
-      remove_bed_checkpoints(tmp);
+      std::error_code ec;  // a checkpoint left behind only costs disk
+      for (const auto& f : bed_checkpoint_files(tmp)) fs::remove(f, ec);
     }
     MPI_Barrier(comm);
   }
