@@ -162,9 +162,7 @@ BedFiles ensure_bed(const Decks& decks, const std::map<std::string, std::string>
     MPI_Bcast(&n_path, 1, MPI_INT, 0, comm);
     resume.path.resize(static_cast<std::size_t>(n_path));
     MPI_Bcast(resume.path.data(), n_path, MPI_CHAR, 0, comm);
-    long check_every = 0;
-    for (const auto& [name, value] : effective_bed(decks, bed_overrides))
-      if (name == "check_every") check_every = std::stol(value);
+    const auto check_every = static_cast<long>(bed_param(decks, bed_overrides, "check_every"));
     const long ckpt_every = checkpoint_steps > 0 && check_every > 0
                                 ? (checkpoint_steps + check_every - 1) / check_every
                                 : 0;

@@ -50,9 +50,7 @@ std::vector<ImpactSpec> end_wall_reruns(const CampaignDesign& design, const Deck
     if (e.status == "end_wall") at_wall.insert(e.id);
   for (const ImpactSpec& spec : design.impacts) {
     if (!at_wall.count(spec.id)) continue;
-    double Lx = 0;
-    for (const auto& [name, value] : effective_bed(decks, spec.params.bed))
-      if (name == "Lx_m") Lx = std::stod(value);
+    const double Lx = bed_param(decks, spec.params.bed, "Lx_m");
     if (!(Lx < L)) continue;
     ImpactSpec s = spec;
     s.id = fmt::format("{}-Lx{}", spec.id, shortest_number(L));

@@ -30,11 +30,7 @@ namespace ricochet::dem {
 namespace fs = std::filesystem;
 
 double run_param(const ImpactSpec& spec, const Decks& decks, const std::string& name) {
-  const auto it = spec.params.run.find(name);
-  if (it != spec.params.run.end()) return std::stod(it->second);
-  for (const auto& p : decks.impact_params)
-    if (p.name == name) return std::stod(p.default_value);
-  throw std::logic_error("impact deck has no parameter " + name);
+  return run_param(decks, spec.params.run, name);
 }
 
 namespace {

@@ -218,11 +218,16 @@ void apply_set_option(const Decks& decks, const std::string& assignment, Overrid
   (section == "bed" ? o.bed : section == "block" ? o.block : o.run)[name] = value;
 }
 
-long checkpoint_steps_of(const Decks& decks, const std::map<std::string, std::string>& run) {
-  if (const auto it = run.find("checkpoint_steps"); it != run.end()) return std::stol(it->second);
+double run_param(const Decks& decks, const std::map<std::string, std::string>& run,
+                 const std::string& name) {
+  if (const auto it = run.find(name); it != run.end()) return std::stod(it->second);
   for (const auto& p : decks.impact_params)
-    if (p.name == "checkpoint_steps") return std::stol(p.default_value);
-  return 0;
+    if (p.name == name) return std::stod(p.default_value);
+  throw std::logic_error("impact deck has no parameter " + name);
+}
+
+long checkpoint_steps_of(const Decks& decks, const std::map<std::string, std::string>& run) {
+  return static_cast<long>(run_param(decks, run, "checkpoint_steps"));
 }
 
 std::vector<std::pair<std::string, std::string>> effective_bed(
@@ -237,6 +242,13 @@ std::vector<std::pair<std::string, std::string>> effective_bed(
     out.emplace_back(p.name, value);
   }
   return out;
+}
+
+double bed_param(const Decks& decks, const std::map<std::string, std::string>& bed,
+                 const std::string& name) {
+  for (const auto& [n, value] : effective_bed(decks, bed))
+    if (n == name) return std::stod(value);
+  throw std::logic_error("bed deck has no parameter " + name);
 }
 
 std::string bed_key(const Decks& decks, const std::map<std::string, std::string>& bed) {

@@ -73,8 +73,15 @@ void check_param(const Decks& decks, const std::string& section, const std::stri
 void apply_set_option(const Decks& decks, const std::string& assignment, Overrides& o);
 
 /// Effective bed parameters: the deck defaults overlaid with `bed` overrides, in deck order.
-/// Steps between checkpoints: `run`'s checkpoint_steps override, else the decks' default
-/// (impact/setup.in). Impacts and bed builds (ensure_bed) both use it.
+/// A run.* parameter: its override in `run`, else the decks' default (impact/setup.in). Throws
+/// std::logic_error for a name the deck does not have.
+double run_param(const Decks& decks, const std::map<std::string, std::string>& run,
+                 const std::string& name);
+/// A bed parameter as the bed is built with it (effective_bed), as a number.
+double bed_param(const Decks& decks, const std::map<std::string, std::string>& bed,
+                 const std::string& name);
+/// Steps between checkpoints, run_param's checkpoint_steps: impacts and bed builds (ensure_bed)
+/// both use it.
 long checkpoint_steps_of(const Decks& decks, const std::map<std::string, std::string>& run);
 
 std::vector<std::pair<std::string, std::string>> effective_bed(
