@@ -214,18 +214,34 @@ std::vector<KdSample> penetration_samples(std::span<const double> t, std::span<c
   return out;
 }
 
+namespace {
+
+// The regression columns of the Katsuragi-Durian family, one place for both fits so that their
+// signs cannot drift apart: each term as it enters z'' (z down, v = z' > 0 while penetrating), and
+// the acceleration less a fixed part (g when g is not fitted).
+struct KdColumns {
+  std::vector<double> one, v, v2, z, a;
+};
+
+KdColumns kd_columns(std::span<const KdSample> samples, double a_fixed_mps2) {
+  KdColumns c;
+  for (const auto& s : samples) {
+    c.one.push_back(1.0);
+    c.v.push_back(-s.v_mps);
+    c.v2.push_back(-s.v_mps * s.v_mps);
+    c.z.push_back(-s.z_m);
+    c.a.push_back(s.a_mps2 - a_fixed_mps2);
+  }
+  return c;
+}
+
+}  // namespace
+
 ViscousDragFit fit_viscous_katsuragi_durian(std::span<const KdSample> samples, double mass_kg,
                                             double variance_inflation) {
   // z'' = c0 - (b / m) z' - z'^2 / d1 - (k / m) z: linear in (c0, b / m, 1 / d1, k / m).
-  std::vector<double> one, v, v2, zz, a;
-  for (const auto& s : samples) {
-    one.push_back(1.0);
-    v.push_back(-s.v_mps);
-    v2.push_back(-s.v_mps * s.v_mps);
-    zz.push_back(-s.z_m);
-    a.push_back(s.a_mps2);
-  }
-  const LinearFit lf = least_squares({one, v, v2, zz}, a, variance_inflation);
+  const KdColumns c = kd_columns(samples, 0.0);
+  const LinearFit lf = least_squares({c.one, c.v, c.v2, c.z}, c.a, variance_inflation);
   ViscousDragFit f;
   f.mass_kg = mass_kg;
   f.n = samples.size();
@@ -246,20 +262,14 @@ KatsuragiDurianFit fit_katsuragi_durian(std::span<const KdSample> samples, doubl
                                         std::optional<double> g_fixed_mps2) {
   // Katsuragi & Durian 2007 Eq. (1) divided by m: z'' = g - z'^2 / d1 - (k / m) z, linear in
   // (g, 1 / d1, k / m).
-  std::vector<double> one, v2, zz, a;
-  for (const auto& s : samples) {
-    one.push_back(1.0);
-    v2.push_back(-s.v_mps * s.v_mps);
-    zz.push_back(-s.z_m);
-    a.push_back(g_fixed_mps2 ? s.a_mps2 - *g_fixed_mps2 : s.a_mps2);
-  }
+  const KdColumns c = kd_columns(samples, g_fixed_mps2.value_or(0.0));
   KatsuragiDurianFit f;
   f.mass_kg = mass_kg;
   f.variance_inflation = std::max(1.0, variance_inflation);
   f.n = samples.size();
   LinearFit lf;
   if (g_fixed_mps2) {
-    lf = least_squares({v2, zz}, a, variance_inflation);
+    lf = least_squares({c.v2, c.z}, c.a, variance_inflation);
     f.g_fixed = true;
     f.g_mps2 = *g_fixed_mps2;
     f.inv_d1_per_m = lf.beta[0];
@@ -267,7 +277,7 @@ KatsuragiDurianFit fit_katsuragi_durian(std::span<const KdSample> samples, doubl
     f.k_over_m_per_s2 = lf.beta[1];
     f.k_over_m_se = lf.se[1];
   } else {
-    lf = least_squares({one, v2, zz}, a, variance_inflation);
+    lf = least_squares({c.one, c.v2, c.z}, c.a, variance_inflation);
     f.g_mps2 = lf.beta[0];
     f.g_se = lf.se[0];
     f.inv_d1_per_m = lf.beta[1];
