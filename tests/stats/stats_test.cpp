@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -297,38 +298,43 @@ TEST(Multiplicity, HolmAdjustmentByHand) {
   EXPECT_TRUE(std::isnan(holm_adjust(std::vector<double>{NAN, 0.01})[0]));
 }
 
+// A published interval of k successes out of n, to the 4 decimals printed.
+struct PublishedInterval {
+  std::size_t k, n;
+  double lo, hi;
+};
+
+void expect_published(Proportion (*interval)(std::size_t, std::size_t, double),
+                      std::span<const PublishedInterval> table) {
+  for (const auto& p : table) {
+    const Proportion got = interval(p.k, p.n, 0.05);
+    EXPECT_NEAR(got.lo, p.lo, 5e-4) << p.k << "/" << p.n;
+    EXPECT_NEAR(got.hi, p.hi, 5e-4) << p.k << "/" << p.n;
+  }
+}
+
 // Wilson (1927): 9 of 10 at 95 %: [0.5958, 0.9821] (e.g. Newcombe 1998, Stat. Med. 17:857,
 // Table I, method 3, for 81/263 reproduced below too).
 TEST(Multiplicity, WilsonIntervalsMatchNewcombe) {
-  const Proportion w = wilson(9, 10);
-  EXPECT_NEAR(w.lo, 0.5958, 5e-4);
-  EXPECT_NEAR(w.hi, 0.9821, 5e-4);
-  const Proportion v = wilson(81, 263);
-  EXPECT_NEAR(v.lo, 0.2553, 5e-4);
-  EXPECT_NEAR(v.hi, 0.3662, 5e-4);
-  const Proportion z = wilson(0, 40);
-  EXPECT_NEAR(z.lo, 0.0, 1e-15);
-  EXPECT_NEAR(z.hi, 0.0876, 5e-4);
+  constexpr PublishedInterval kNewcombe[] = {
+      {9, 10, 0.5958, 0.9821}, {81, 263, 0.2553, 0.3662}, {0, 40, 0.0, 0.0876}};
+  expect_published(wilson, kNewcombe);
+  EXPECT_NEAR(wilson(0, 40).lo, 0.0, 1e-15);
 }
 
 // Newcombe (1998, Stat. Med. 17:857), Table I, method 5 ("exact"): the Clopper-Pearson limits of
 // his examples; at k = 0 and k = n they are closed forms, 1 - (alpha/2)^(1/n) and its mirror.
 TEST(Multiplicity, ClopperPearsonIntervalsMatchNewcombe) {
-  const Proportion a = clopper_pearson(81, 263);
-  EXPECT_NEAR(a.lo, 0.2527, 5e-4);
-  EXPECT_NEAR(a.hi, 0.3676, 5e-4);
-  const Proportion b = clopper_pearson(15, 148);
-  EXPECT_NEAR(b.lo, 0.0578, 5e-4);
-  EXPECT_NEAR(b.hi, 0.1617, 5e-4);
-  const Proportion c = clopper_pearson(1, 29);
-  EXPECT_NEAR(c.lo, 0.0009, 5e-4);
-  EXPECT_NEAR(c.hi, 0.1776, 5e-4);
+  constexpr PublishedInterval kNewcombe[] = {
+      {81, 263, 0.2527, 0.3676}, {15, 148, 0.0578, 0.1617}, {1, 29, 0.0009, 0.1776}};
+  expect_published(clopper_pearson, kNewcombe);
   const Proportion z = clopper_pearson(0, 20);
   EXPECT_EQ(z.lo, 0.0);
   EXPECT_NEAR(z.hi, 1.0 - std::pow(0.025, 1.0 / 20.0), 1e-9);
   const Proportion all = clopper_pearson(20, 20);
   EXPECT_EQ(all.hi, 1.0);
   EXPECT_NEAR(all.lo, std::pow(0.025, 1.0 / 20.0), 1e-9);
+  const Proportion a = clopper_pearson(81, 263);
   // Wider than Wilson's: its coverage is at least nominal.
   const Proportion w = wilson(81, 263);
   EXPECT_LT(a.lo, w.lo);
