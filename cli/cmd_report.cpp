@@ -30,6 +30,7 @@ struct ReportCliOptions {
   std::string where;
   std::vector<std::string> data_where;   ///< one filter per DATA file ("" = none), after --where
   std::vector<std::string> data_floors;  ///< a borrowed floor's file per DATA file ("" = none)
+  std::vector<std::string> data_floor_where;  ///< its filter per DATA file ("" = all)
   ModelOptions model;
   diagnosis::OptionValues values;
   OutputOptions output;
@@ -80,6 +81,8 @@ void run(ReportCliOptions& o) {
                        "; \"\" for none");
   require_one_per_data(o.data_floors.size(), o.data.size(), "--data-floor-replicates", "file",
                        "; \"\" for none");
+  require_one_per_data(o.data_floor_where.size(), o.data.size(), "--data-floor-where", "filter",
+                       "; \"\" for none");
   const Model model = o.model.build_model();
 
   // --against: the measured sets each input of the same shape is compared with.
@@ -100,8 +103,9 @@ void run(ReportCliOptions& o) {
       in.shape = std::move(selected.shape);
       in.set = std::move(selected.set);
       if (!o.data_floors.empty() && !o.data_floors[f].empty())
-        in.borrowed_floor =
-            diagnosis::borrowed_scatter(o.data_floors[f], in.shape.name, "--data-floor-replicates");
+        in.borrowed_floor = diagnosis::borrowed_scatter(
+            o.data_floors[f], in.shape.name, "--data-floor-replicates",
+            o.data_floor_where.empty() ? "" : o.data_floor_where[f], "--data-floor-where");
       const std::string stem = std::filesystem::path(o.data[f]).stem().string();
       in.label = (o.labels.empty() ? stem : o.labels[f]) +
                  (shapes.size() > 1 || o.labels.empty() ? " (" + in.shape.name + ")" : "");
@@ -151,6 +155,10 @@ void add_report_command(CLI::App& app) {
                   "A file per DATA file, in order (\"\" for none): an impact set with replicate "
                   "releases on the same ground whose pooled scatter is that DATA's noise floor "
                   "when it has no replicates of its own (compare's --floor-replicates; "
+                  "repeatable)");
+  sub->add_option("--data-floor-where", o->data_floor_where,
+                  "A filter per DATA file, in order (\"\" for all): the releases of its "
+                  "--data-floor-replicates file that lend their scatter (compare's --floor-where; "
                   "repeatable)");
   add_model_options(sub, o->model);
   sub->add_option("--rounds", o->report.rounds,

@@ -55,6 +55,10 @@ void add_diagnosis_options(CLI::App* sub, diagnosis::OptionValues& v,
                     "Impact set with replicate releases on the same ground (e.g. a campaign's "
                     "bed-position pairs): its pooled scatter is the noise floor of DATA when DATA "
                     "has no replicates of its own");
+    sub->add_option("--floor-where", v.floor_where,
+                    "Keep only the --floor-replicates releases matching EXPR (the --where syntax, "
+                    "e.g. \"id^=E1.5e9-\": one level of a campaign)")
+        ->needs("--floor-replicates");
   }
   sub->add_option("--error", v.error,
                   "Error denominators: set-mean (Eq. 7 floored at the set's mean magnitude) or "

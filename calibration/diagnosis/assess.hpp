@@ -109,6 +109,7 @@ struct ReplicateScatter {
   std::size_t groups = 0;
   std::size_t dof = 0;  ///< sum over groups of (members - 1)
   std::string source;   ///< the file a borrowed scatter comes from
+  std::string where;    ///< the filter its releases were chosen by ("" = all of its shape)
 };
 ReplicateScatter replicate_scatter(const ImpactSet& set);
 

@@ -85,33 +85,41 @@ Inputs load_inputs(const std::string& data, const std::string& shape_name,
 }
 
 ReplicateScatter borrowed_scatter(const std::string& path, const std::string& shape,
-                                  const std::string& option) {
-  ReplicateScatter r = replicate_scatter(select_inputs(read_impact_set(path), shape, path).set);
+                                  const std::string& option, const std::string& where,
+                                  const std::string& where_option) {
+  const ImpactSet chosen = filter_nonempty(read_impact_set(path), where, path, where_option);
+  ReplicateScatter r = replicate_scatter(select_inputs(chosen, shape, path).set);
   if (r.groups < 2)
-    throw InputError(path, 0, option,
-                     fmt::format("{} replicate group(s) of shape {}: the pooled scatter needs at "
-                                 "least 2 (releases sharing a replicate label or an incident "
-                                 "state)",
-                                 r.groups, shape));
+    throw InputError(
+        path, 0, option,
+        fmt::format("{} replicate group(s) of shape {}{}: the pooled scatter needs "
+                    "at least 2 (releases sharing a replicate label or an incident "
+                    "state)",
+                    r.groups, shape, where.empty() ? "" : " matching '" + where + "'"));
   r.source = path;
+  r.where = where;
   return r;
 }
 
 void borrow_floor(DiagnoseOptions& options, const OptionValues& values, const Inputs& inputs) {
   if (values.floor_replicates.empty()) return;
   options.assess.borrowed_floor =
-      borrowed_scatter(values.floor_replicates, inputs.shape.name, "--floor-replicates");
+      borrowed_scatter(values.floor_replicates, inputs.shape.name, "--floor-replicates",
+                       values.floor_where, "--floor-where");
 }
 
 std::optional<ForceHistoryScatter> force_history_floor(
     const ImpactSet& set, const Shape& shape,
-    const std::vector<std::optional<MeasuredHistory>>& histories,
-    const std::string& borrowed_path) {
+    const std::vector<std::optional<MeasuredHistory>>& histories, const std::string& borrowed_path,
+    const std::string& borrowed_where) {
   ForceHistoryScatter own = force_history_scatter(set, histories, shape);
   if (own.groups > 0) return own;
   if (borrowed_path.empty()) return std::nullopt;
   const ImpactSet other =
-      select_inputs(read_impact_set(borrowed_path), shape.name, borrowed_path).set;
+      select_inputs(filter_nonempty(read_impact_set(borrowed_path), borrowed_where, borrowed_path,
+                                    "--floor-where"),
+                    shape.name, borrowed_path)
+          .set;
   ForceHistoryScatter borrowed =
       force_history_scatter(other, measured_histories(borrowed_path, other, shape), shape);
   if (borrowed.groups == 0) return std::nullopt;

@@ -35,6 +35,9 @@ struct OptionValues {
   /// An impact set whose replicate scatter is the floor of a set without replicates
   /// (AssessOptions::borrowed_floor); empty: none.
   std::string floor_replicates;
+  /// Keeps only the releases of floor_replicates matching this filter (the --where syntax, e.g.
+  /// "id^=E1.5e9-": one level of a campaign); empty: all of the shape.
+  std::string floor_where;
   /// Error denominators: set-mean or eq7 (ErrorScale).
   std::string error = error_scale_name(AssessOptions{}.scale);
   /// Marginal orientation grid of non-disc blocks without alpha_in (0 also means this default).
@@ -81,23 +84,28 @@ Inputs load_inputs(const std::string& data, const std::string& shape_name,
                    const std::string& where = "");
 
 /// The replicate scatter (replicate_scatter) of the impact set at `path`, its releases of shape
-/// `shape` only, with `source` = path: the floor a set without replicates borrows. An InputError
-/// (file, field `option`) when it has fewer than two replicate groups.
+/// `shape` matching `where` (the --where syntax; "" = all) only, with `source` = path and `where`:
+/// the floor a set without replicates borrows. An InputError (file, field `option`) when it has
+/// fewer than two replicate groups; a filter that keeps nothing is one naming `where_option`.
 ReplicateScatter borrowed_scatter(const std::string& path, const std::string& shape,
-                                  const std::string& option);
+                                  const std::string& option, const std::string& where = "",
+                                  const std::string& where_option = "--floor-where");
 
-/// Sets options.assess.borrowed_floor from values.floor_replicates (borrowed_scatter of the
-/// inputs' shape, errors naming --floor-replicates); nothing when it is empty.
+/// Sets options.assess.borrowed_floor from values.floor_replicates and values.floor_where
+/// (borrowed_scatter of the inputs' shape, errors naming --floor-replicates or --floor-where);
+/// nothing when the file is empty.
 void borrow_floor(DiagnoseOptions& options, const OptionValues& values, const Inputs& inputs);
 
 /// The replicate floor of the force histories (force_history_scatter) that `ladder` and `report`
 /// read their error against: `set`'s own replicate groups when one has two histories or more
 /// (`histories` aligned with set.impacts, measured_histories), else those of `borrowed_path`,
 /// the file whose V_out scatter the set borrows (--floor-replicates, --data-floor-replicates;
-/// its releases of `shape`; source = that file; "" = none), else nullopt. A borrowed file
-/// without replicate histories gives nullopt: the options' V_out floor does not need them.
+/// its releases of `shape` matching `borrowed_where`, as for the V_out floor; source = that file;
+/// "" = none), else nullopt. A borrowed file without replicate histories gives nullopt: the
+/// options' V_out floor does not need them.
 std::optional<ForceHistoryScatter> force_history_floor(
     const ImpactSet& set, const Shape& shape,
-    const std::vector<std::optional<MeasuredHistory>>& histories, const std::string& borrowed_path);
+    const std::vector<std::optional<MeasuredHistory>>& histories, const std::string& borrowed_path,
+    const std::string& borrowed_where = "");
 
 }  // namespace ricochet::diagnosis

@@ -99,10 +99,11 @@ NoiseFloor noise_floor(const Model& model, const Shape& shape, std::span<const d
     f.description =
         borrowed
             ? fmt::format(
-                  "pooled within-group variance of {} groups of replicate releases of {} "
+                  "pooled within-group variance of {} groups of replicate releases of {}{} "
                   "({} degrees of freedom; the set has none of its own): the scatter of that "
                   "ground, taken as this set's",
-                  pooled.groups, shown_path(pooled.source), pooled.dof)
+                  pooled.groups, shown_path(pooled.source),
+                  pooled.where.empty() ? "" : " (" + pooled.where + ")", pooled.dof)
             : fmt::format(
                   "pooled within-group variance of {} groups of replicate releases (same "
                   "replicate label or identical incident state) "

@@ -456,7 +456,8 @@ std::vector<ReportSection> analyse(const std::vector<ReportInput>& inputs, const
                                              o.diagnose.assess.fit.engine);
       if (!s.force_history.empty())
         s.force_floor = force_history_floor(in.set, in.shape, s.histories,
-                                            in.borrowed_floor ? in.borrowed_floor->source : "");
+                                            in.borrowed_floor ? in.borrowed_floor->source : "",
+                                            in.borrowed_floor ? in.borrowed_floor->where : "");
     }
     s.headline = headline_of(s);
     s.conclusion = conclusion_of(s);

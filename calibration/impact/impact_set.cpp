@@ -11,6 +11,7 @@
 #include <map>
 #include <numbers>
 #include <stdexcept>
+#include <type_traits>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -403,7 +404,7 @@ void validate(const ImpactSet& set) {
 
 namespace {
 
-enum class Op { kLt, kLe, kGt, kGe, kEq, kNe };
+enum class Op { kLt, kLe, kGt, kGe, kEq, kNe, kPrefix };
 
 struct Term {
   std::string text;     // the term as written, for messages
@@ -451,10 +452,10 @@ Term parse_term(const std::string& raw, const std::string& where, const ImpactSe
   Term t;
   t.text = std::string(trim(raw));
   if (t.text.empty()) bad_term(option, where, "empty condition (a dangling '&&' or 'and'?)");
-  const auto pos = t.text.find_first_of("<>=!");
+  const auto pos = t.text.find_first_of("<>=!^");
   if (pos == std::string::npos)
     bad_term(option, t.text,
-             "no comparison operator; write FEATURE OP VALUE with OP in < <= > >= == !=");
+             "no comparison operator; write FEATURE OP VALUE with OP in < <= > >= == != ^=");
   const std::string_view rest = std::string_view(t.text).substr(pos);
   std::size_t op_len = 2;
   if (rest.starts_with("<=")) {
@@ -465,6 +466,8 @@ Term parse_term(const std::string& raw, const std::string& where, const ImpactSe
     t.op = Op::kEq;
   } else if (rest.starts_with("!=")) {
     t.op = Op::kNe;
+  } else if (rest.starts_with("^=")) {
+    t.op = Op::kPrefix;
   } else if (rest.starts_with("<")) {
     t.op = Op::kLt;
     op_len = 1;
@@ -472,20 +475,20 @@ Term parse_term(const std::string& raw, const std::string& where, const ImpactSe
     t.op = Op::kGt;
     op_len = 1;
   } else {
-    bad_term(option, t.text, "unknown operator; use one of < <= > >= == !=");
+    bad_term(option, t.text, "unknown operator; use one of < <= > >= == != ^=");
   }
   t.feature = std::string(trim(std::string_view(t.text).substr(0, pos)));
   std::string value(trim(rest.substr(op_len)));
   if (t.feature.empty()) bad_term(option, t.text, "missing feature name before the operator");
   if (value.empty()) bad_term(option, t.text, "missing value after the operator");
-  if (value.find_first_of("<>=!") != std::string::npos)
+  if (value.find_first_of("<>=!^") != std::string::npos)
     bad_term(option, t.text, "more than one comparison operator in one condition; join with &&");
 
   if (t.feature == "id" || t.feature == "shape" || t.feature == "operator" ||
       t.feature == "replicate") {
     t.textual = true;
-    if (t.op != Op::kEq && t.op != Op::kNe)
-      bad_term(option, t.text, "'" + t.feature + "' is text: only == and != apply");
+    if (t.op != Op::kEq && t.op != Op::kNe && t.op != Op::kPrefix)
+      bad_term(option, t.text, "'" + t.feature + "' is text: only ==, != and ^= apply");
     if (value.size() >= 2 && (value.front() == '"' || value.front() == '\'') &&
         value.back() == value.front())
       value = value.substr(1, value.size() - 2);
@@ -495,8 +498,12 @@ Term parse_term(const std::string& raw, const std::string& where, const ImpactSe
   try {
     t.values = set.feature(t.feature);
   } catch (const std::invalid_argument& e) {
-    bad_term(option, t.text, std::string(e.what()) + ", id, shape, operator");
+    bad_term(option, t.text, std::string(e.what()) + ", id, shape, operator, replicate");
   }
+  if (t.op == Op::kPrefix)
+    bad_term(option, t.text,
+             "'^=' (starts with) compares text: id, shape, operator or replicate, not '" +
+                 t.feature + "'");
   if (!parse_number(value, t.value) || !std::isfinite(t.value))
     bad_term(option, t.text, "value '" + value + "' is not a finite number (SI units, e.g. 3.5)");
   return t;
@@ -517,6 +524,10 @@ bool compare(const T& a, Op op, const T& b) {
       return a == b;
     case Op::kNe:
       return a != b;
+    case Op::kPrefix:
+      // Text only: parse_term refuses it on a number.
+      if constexpr (std::is_same_v<T, std::string>) return a.starts_with(b);
+      return false;
   }
   return false;
 }

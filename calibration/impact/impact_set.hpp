@@ -129,7 +129,8 @@ void validate(const ImpactSet& set);
 
 /// A filter such as "vin_x<3.5", "vin_x>=3.5 && shape==triangle", "id!=C12".
 /// Terms are `FEATURE OP VALUE` joined by "&&" (or "and"); OP in < <= > >= == !=; FEATURE is any
-/// name accepted by ImpactSet::feature(), or `id`, `shape`, `operator` (== and != only).
+/// name accepted by ImpactSet::feature(), or `id`, `shape`, `operator`, `replicate` (text: ==, !=
+/// and ^=, "starts with", only; e.g. "id^=E1.5e9-").
 /// Numeric values are SI. A release without the feature matches no condition on it. An empty
 /// filter keeps everything; the result's comments gain "filter: WHERE".
 /// Throws InputError (file `option`, field = the offending term) for a malformed filter; `option`

@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <sstream>
@@ -389,6 +390,52 @@ TEST_F(CmdDiagnosis, ASetWithoutReplicatesBorrowsTheFloorOfACampaignWithThem) {
   EXPECT_EQ(bad.status, 2);
   EXPECT_NE(bad.err.find("--floor-replicates"), std::string::npos) << bad.err;
   EXPECT_NE(bad.err.find("cylinders.csv"), std::string::npos) << bad.err;
+}
+
+// --floor-where: only some of the borrowed file's releases lend their scatter. The blind
+// triangles borrow the bed-to-bed scatter of the stiffness plateau's 1.5e9 Pa triangle states
+// (6 states x 3 beds; the file also holds 1.5e7 and 1.5e8 Pa, whose softer beds scatter
+// otherwise): the floor's V_out^x sigma is the pooled within-state sd of those 18 releases,
+// computed here by hand from the file; a filter that keeps nothing is refused naming the option.
+TEST_F(CmdDiagnosis, TheBorrowedFloorCanBeOneLevelOfACampaign) {
+  const std::string resolved = std::string(RICOCHET_SOURCE_DIR) + "/data/resolved/";
+  const std::string blind = quote(resolved + "sand-blind-triangles-1.5e9.h5");
+  const std::string plateau = resolved + "stiffness-plateau.h5";
+  const std::string level = "id^=E1.5e9-T";
+  const RunResult r =
+      ricochet("compare " + blind + " --where \"id^=T\" --no-release-fits" +
+               " --floor-replicates " + quote(plateau) + " --floor-where \"" + level + "\" --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto floor = nlohmann::json::parse(r.out)["noise_floor"];
+  EXPECT_EQ(floor["source"], "borrowed replicates");
+  EXPECT_NE(floor["description"].get<std::string>().find(level), std::string::npos);
+  // By hand: group the 1.5e9 Pa triangle releases by their id less the bed's "-sN".
+  std::map<std::string, std::vector<double>> groups;
+  for (const Impact& im : read_impact_set(plateau).impacts)
+    if (im.id.starts_with("E1.5e9-T"))
+      groups[im.id.substr(0, im.id.rfind("-s"))].push_back(im.vout[kVx]);
+  ASSERT_EQ(groups.size(), 6u);
+  double ss = 0;
+  std::size_t dof = 0;
+  for (const auto& [state, v] : groups) {
+    double mean = 0;
+    for (double x : v) mean += x / static_cast<double>(v.size());
+    for (double x : v) ss += (x - mean) * (x - mean);
+    dof += v.size() - 1;
+  }
+  EXPECT_NEAR(floor["sigma"]["vx"].get<double>(), std::sqrt(ss / static_cast<double>(dof)), 1e-9);
+  // All levels pooled give another floor: the filter is what chose the releases.
+  const RunResult all = ricochet("compare " + blind + " --where \"id^=T\" --no-release-fits" +
+                                 " --floor-replicates " + quote(plateau) + " --json");
+  ASSERT_EQ(all.status, 0) << all.err;
+  EXPECT_GT(std::abs(nlohmann::json::parse(all.out)["noise_floor"]["sigma"]["vx"].get<double>() -
+                     floor["sigma"]["vx"].get<double>()),
+            1e-4);
+  const RunResult none = ricochet("compare " + blind + " --floor-replicates " + quote(plateau) +
+                                  " --floor-where \"id^=E9\"");
+  EXPECT_EQ(none.status, 2);
+  EXPECT_NE(none.err.find("--floor-where"), std::string::npos) << none.err;
+  EXPECT_NE(none.err.find("stiffness-plateau.h5"), std::string::npos) << none.err;
 }
 
 TEST_F(CmdDiagnosis, AUserPluginEffectTakesPartLikeTheBuiltIns) {

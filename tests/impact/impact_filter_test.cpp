@@ -76,6 +76,20 @@ TEST(ImpactFilter, TextConditionsAndConjunctions) {
   EXPECT_EQ(filter(set, "").size(), 59u);
 }
 
+// '^=' keeps the text fields that start with the value: a campaign's level or state by the prefix
+// of its ids (E1.5e9-T18-s0, ...), which '==' and '!=' could only list one by one.
+TEST(ImpactFilter, PrefixConditionsKeepTheIdsThatStartWithTheValue) {
+  const ImpactSet set = lab();
+  const ImpactSet t1 = filter(set, "id^=T1");
+  EXPECT_EQ(t1.size(),
+            count_if_impacts(set, [](const Impact& m) { return m.id.starts_with("T1"); }));
+  EXPECT_EQ(t1.size(), 10u);  // T10-T19
+  EXPECT_EQ(filter(set, "id^='T'").size(), 31u);
+  EXPECT_EQ(filter(set, "shape^=tri && id^=T3").size(), 2u);  // T30, T31
+  EXPECT_EQ(filter(set, "id^=T1 && id!=T10").size(), 9u);
+  EXPECT_EQ(filter(set, "id^=X").size(), 0u);
+}
+
 TEST(ImpactFilter, KeepsProvenanceAndOrder) {
   const ImpactSet set = read_impact_set(kLab + "triangles.csv");
   const ImpactSet out = filter(set, "vin_x<3.5");
@@ -118,6 +132,8 @@ TEST(ImpactFilter, MalformedFiltersNameTheTerm) {
   EXPECT_EQ(field_of("vin_x<3 && "), "vin_x<3 && ");        // dangling &&
   EXPECT_EQ(field_of("shape==triangle && <3"), "<3");       // no feature
   EXPECT_EQ(field_of("vin_x<"), "vin_x<");                  // no value
+  EXPECT_EQ(field_of("vin_x^=3"), "vin_x^=3");              // starts-with on a number
+  EXPECT_EQ(field_of("id^^=T"), "id^^=T");                  // two operators
   try {
     filter(set, "vinx<3.5");
   } catch (const InputError& e) {
