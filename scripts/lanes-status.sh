@@ -5,8 +5,9 @@
 #   scripts/lanes-status.sh            (from the repository root, lanes stopped or running)
 #
 # Per campaign folder under results/ (a campaign.log and a pinned/ folder): whether it runs now
-# (its lock is held), the last impact started and whether its bed build or the impact itself was
-# in flight, and whether the pinned decks predate the tree's bed decks. Re-pinning gives a
+# (its lock is held), the last impact started and whether its bed build (with its latest
+# checkpoint) or the impact itself was in flight, how many of the design's impacts its file holds,
+# and whether the pinned decks predate the tree's bed decks. Re-pinning gives a
 # campaign the tree's program and decks (e.g. bed builds that resume after a kill, since
 # 2026-12-07), but the decks' text is part of every bed's key: the pending impacts then get new
 # beds, and an impact that was cut in flight loses its checkpoint. So it is safe only while the
@@ -38,10 +39,18 @@ for log in results/*/campaign.log; do
       state="$id ended: nothing in flight"
     elif grep -q 'building it first' <<< "$start" && ! grep -q 'grains built in' <<< "$after"; then
       state="$id: its bed build in flight"
+      key=$(sed -E 's/.*bed ([0-9a-f]+): building.*/\1/' <<< "$start")
+      # The build's latest checkpoint (src-ext/bed.hpp: ckpt-PHASE-CHUNK-SETTLED), if any.
+      ckpt=$(find "$dir/dem-cache" -maxdepth 1 -name "bed-$key.building.ckpt-*.restart" \
+        -printf '%TY-%Tm-%Td %TH:%TM %f\n' 2> /dev/null | sort | tail -1)
+      [ -n "$ckpt" ] && state+=" (checkpoint $(sed -E 's/^(.*) bed-.*ckpt-([0-9]+)-([0-9]+)-.*/phase \2, chunk \3, written \1/' <<< "$ckpt"))"
     else
       state="$id: the impact in flight (checkpointed)"
     fi
   fi
+  # Progress: the last "[dem] N/M ID" line (impacts in the file of the design's).
+  done_line=$(grep -oE '^\[dem\] [0-9]+/[0-9]+ ' "$log" | tail -1)
+  [ -n "$done_line" ] && state+="; $(sed -E 's/^\[dem\] ([0-9]+)\/([0-9]+) /\1 of \2 impacts in its file/' <<< "$done_line")"
   if bed_decks_differ "$dir/pinned"; then decks="older than the tree's"; else decks="the tree's"; fi
   case "$running/$state" in
     yes/*) advice="running: leave it" ;;
