@@ -17,10 +17,10 @@
 #              (its design from 1b, on one core), then whatever of the stiffness plateau's 1.5e10
 #              Pa level lane B has not taken (below);
 #      lane B: the sphere drop on the 1.5e9 Pa box bed (scripts/plateau-drop.sh), then the
-#              stiffness plateau's 1.5e10 Pa level up to its pre-registered minimum (the cylinder
-#              and the triangle states T18, T02, T10: the design's first 75 impacts, 12 pairs), the
-#              floor check at that level (wall-stiffness-1.5e10.toml, into
-#              results/wall-stiffness-1.5e10/), the same drops on the calibrated grains (issue 33's
+#              floor check of the stiffness plateau's 1.5e10 Pa level (wall-stiffness-1.5e10.toml,
+#              into results/wall-stiffness-1.5e10/), the level up to its pre-registered minimum
+#              (the cylinder and the triangle states T18, T02, T10: the design's first 75
+#              impacts, 12 pairs), the same drops on the calibrated grains (issue 33's
 #              Katsuragi-Durian comparison, into results/sand-drop/), the level's other three
 #              triangle states, then the packing-scatter beds' solid fractions
 #              (scripts/packing-scatter-beds.sh).
@@ -29,7 +29,12 @@
 #      drops free lane B within a session, while the convergence holds lane A for about five; so
 #      the level goes to lane B ahead of issue 33's drops, by the lowest issue first. A campaign
 #      holds its folder's lock, so the lane that reaches a campaign the other one runs skips it
-#      and goes on: stiffness-plateau.sh exits at once, saying so in that campaign's log.)
+#      and goes on: stiffness-plateau.sh exits at once, saying so in that campaign's log.
+#      Reordered again on 2026-12-07, with 4 of the minimum's 12 pairs in: the floor check before
+#      the rest of the minimum. The 1.5e10 Pa cylinder's move cannot be told from the soft
+#      walls' until the check answers, and if the walls made it, the level's remaining
+#      soft-wall triangle impacts would have to be run again with stiff walls: the check is 3
+#      impacts, the minimum's rest 8. Both readings stay as fixed before their runs.)
 # Start it at the beginning of a session and let it run; a session's end stops it, the next
 # start resumes it (an impact that was running resumes from its last checkpoint, every
 # run.checkpoint_steps steps, in every campaign pinned since 2026-12-05: docs/commands/dem.md). On a new machine, build the program alone first, start the campaigns, then
@@ -304,8 +309,9 @@ if [ -f "$CAL/calibrate-grains.json" ]; then
       --states-from liggghts-inputs/campaigns/speeds-calibrated-long.toml \
       --name sand-speeds-1.5e9 --out "$CAL/sand-speeds-1.5e9.toml" >> "$CAL/campaign.log" 2>&1
 fi
-# The 1.5e10 Pa level's steps, in their order: the pre-registered minimum, the floor check at that
-# level, and the rest of the level. Either lane runs them; a step the other lane holds is skipped.
+# The 1.5e10 Pa level's steps, in their order (since 2026-12-07): the floor check at that level,
+# the pre-registered minimum, and the rest of the level. Either lane runs them; a step the other
+# lane holds is skipped.
 level_minimum() { PLATEAU_DESIGN=stiffness-plateau-1.5e10 PLATEAU_FIRST=75 scripts/stiffness-plateau.sh; }
 level_floor() {
   PLATEAU_DESIGN=wall-stiffness-1.5e10 PLATEAU_OUT=results/wall-stiffness-1.5e10 \
@@ -319,15 +325,15 @@ level_rest() { PLATEAU_DESIGN=stiffness-plateau-1.5e10 scripts/stiffness-plateau
     PLATEAU_DESIGN=sand-speeds-1.5e9 PLATEAU_DESIGN_PATH="$CAL/sand-speeds-1.5e9.toml" \
       PLATEAU_OUT=results/sand-verification PLATEAU_FILE=sand-speeds-1.5e9 \
       scripts/stiffness-plateau.sh
-  level_minimum
   level_floor
+  level_minimum
   level_rest
 } &
 lane_a=$!
 {
   scripts/plateau-drop.sh
-  level_minimum
   level_floor
+  level_minimum
   # Issue 33: the same sphere drops on the calibrated grains, the bed of its force campaign (the
   # Katsuragi-Durian comparison of docs/granular-impact-checks.md, "On the sand-calibrated grains").
   [ -f "$CAL/calibrate-grains.json" ] &&
