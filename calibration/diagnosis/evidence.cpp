@@ -77,7 +77,7 @@ std::string evidence_of(const Candidate& c, const Baseline& b, const DiagnoseOpt
   return text;
 }
 
-std::string confidence_text(const LawConfidenceSet& cs) {
+std::string confidence_text(const LawConfidenceSet& cs, bool missing_physics) {
   if (cs.members.empty()) return {};
   const std::vector<Family> families = cs.families();
   std::string list;
@@ -96,7 +96,13 @@ std::string confidence_text(const LawConfidenceSet& cs) {
                 "{:.2g}): {}",
                 cs.members.size(), cs.models, families.size(), families.size() == 1 ? "y" : "ies",
                 cs.alpha, list);
-  if (cs.holds_none()) text += "; the law as it stands is in the set: perhaps nothing is missing";
+  // `none` in the set says that no candidate beats the law as it stands; whether anything is
+  // missing at all is the floor's question, which the verdict has answered.
+  if (cs.holds_none())
+    text += missing_physics ? "; the law as it stands is in the set: no candidate is needed "
+                              "beside it, so what its error above the floor lacks is not among "
+                              "the candidates"
+                            : "; the law as it stands is in the set: perhaps nothing is missing";
   if (const auto& e = cs.encompassing) {
     std::string gone;
     std::vector<Family> listed;  // a family with two representatives is named once
@@ -140,7 +146,9 @@ std::string detectable_text(const std::vector<Detectable>& rows, std::size_t rel
 
 std::string summary_of(const Diagnosis& d, const DiagnoseOptions& o) {
   std::string text = verdict_text(d, o);
-  if (const std::string s = confidence_text(d.confidence_set); !s.empty()) text += " " + s;
+  if (const std::string s = confidence_text(d.confidence_set, d.verdict == "missing physics");
+      !s.empty())
+    text += " " + s;
   if (d.verdict != "missing physics")
     if (const std::string s =
             detectable_text(d.detectable, d.baseline.base.heldout.per_release.size());

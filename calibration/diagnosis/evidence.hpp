@@ -24,8 +24,10 @@ std::string summary_of(const Diagnosis& d, const DiagnoseOptions& o);
 /// The verdict alone, one or two sentences.
 std::string verdict_text(const Diagnosis& d, const DiagnoseOptions& o);
 /// The confidence set in one sentence: how many laws of how many families, by family, and
-/// whether the law as it stands is one of them. Empty when no set was computed.
-std::string confidence_text(const LawConfidenceSet& cs);
+/// whether the law as it stands is one of them, read with `missing_physics` (the verdict: the
+/// law as it stands is above its floor): then no candidate is needed beside it and what it lacks
+/// is not among them, else perhaps nothing is missing. Empty when no set was computed.
+std::string confidence_text(const LawConfidenceSet& cs, bool missing_physics);
 /// The finite components of `v` with their units, "0.28 m/s, 0.35 m/s, 5 rad/s", each to
 /// `digits` significant digits.
 std::string observables_text(const Obs& v, int digits);
