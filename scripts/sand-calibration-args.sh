@@ -14,10 +14,11 @@ sand_half() {
 }
 # The blind triangles' file (data/resolved/sand-blind-triangles-1.5e9.h5) also holds the zone arm
 # of their active-zone check (docs/resolved-model.md, "The check on the triangles"), T01-T06
-# again in a 0.30 m zone under the prefix zone0.3-: this --where leaves those out, so that each
-# lab state is counted once, by its whole-bed or (from T07) its zone run.
+# again in a 0.30 m zone under the prefix zone0.3-: this --where keeps the ids that start with T
+# and so leaves those out, so that each lab state is counted once, by its whole-bed or (from T07)
+# its zone run. (Until 2026-12-07, before the filters had '^=', it named the six ids with !=.)
 # shellcheck disable=SC2034
-SAND_BLIND_WHERE="id!=zone0.3-T01 && id!=zone0.3-T02 && id!=zone0.3-T03 && id!=zone0.3-T04 && id!=zone0.3-T05 && id!=zone0.3-T06"
+SAND_BLIND_WHERE="id^=T"
 # SC2034: used by the scripts that source it; SC2054: 0.56,0.62 is one argument, LO,HI.
 # shellcheck disable=SC2034,SC2054
 SAND_CALIBRATION_ARGS=(
