@@ -78,7 +78,7 @@ void print_force_history(const diagnosis::Ladder& l,
   if (errors.empty()) return;
   std::cout << fmt::format(
       "\nforce histories ({} releases, {} contact samples; RMS of measured minus model, "
-      "in-sample / held-out):\n{:<5}{:<22}{:>22}{:>22}{:>24}\n",
+      "in-sample / held-out +- its standard error over releases):\n{:<5}{:<22}{:>30}{:>30}{:>30}\n",
       errors.front().releases, errors.front().samples, "rung", "added", "normal [N]",
       "tangential [N]", "moment [N m]");
   for (std::size_t r = 0; r < errors.size(); ++r) {
@@ -86,9 +86,9 @@ void print_force_history(const diagnosis::Ladder& l,
         fmt::format("{:<5}{:<22}", r, l.rungs[r].added.empty() ? "(base)" : "+" + l.rungs[r].added);
     for (std::size_t c = 0; c < diagnosis::kForceComponents; ++c)
       line += std::isfinite(errors[r].insample_rms[c])
-                  ? fmt::format("{:>12.4g} /{:>8.4g}", errors[r].insample_rms[c],
-                                errors[r].heldout_rms[c])
-                  : fmt::format("{:>22}", "-");
+                  ? fmt::format("{:>12.4g} /{:>8.4g} +-{:<6.3g}", errors[r].insample_rms[c],
+                                errors[r].heldout_rms[c], errors[r].heldout_se[c])
+                  : fmt::format("{:>30}", "-");
     if (floor) {
       line += "   x floor";
       for (std::size_t c = 0; c < diagnosis::kForceComponents; ++c)
@@ -99,8 +99,9 @@ void print_force_history(const diagnosis::Ladder& l,
   if (!floor) return;
   std::string line = fmt::format("{:<5}{:<22}", "", "replicate floor");
   for (std::size_t c = 0; c < diagnosis::kForceComponents; ++c)
-    line += std::isfinite(floor->rms[c]) ? fmt::format("{:>12} /{:>8.4g}", "", floor->rms[c])
-                                         : fmt::format("{:>22}", "-");
+    line += std::isfinite(floor->rms[c])
+                ? fmt::format("{:>12} /{:>8.4g}{:8}", "", floor->rms[c], "")
+                : fmt::format("{:>30}", "-");
   std::cout << line << "\n"
             << fmt::format(
                    "     (one history's RMS distance from its replicates' mean history, {} groups "

@@ -65,21 +65,61 @@ ForceHistoryError force_history_error(const Model& model, const Shape& shape, co
       e.samples += r.samples.size();
       in.add(r);
     }
-  // The splits are independent: each evaluates its own fit along its own test releases.
-  std::vector<Squares> per_split(a.cv.splits());
+  // The splits are independent: each evaluates its own fit along its own test releases. Kept
+  // per (split, test release), so that each release's held-out squares (over the repeats that
+  // held it out) give the figure's standard error over releases.
+  std::vector<std::vector<Squares>> per_split(a.cv.splits());
 #pragma omp parallel for schedule(dynamic)
   for (std::size_t s = 0; s < a.cv.splits(); ++s) {
     // A split that calibrated its own model (assess with a SplitModel) is evaluated with it.
     const Model& ms = a.fold_models.empty() ? model : a.fold_models[s];
-    for (std::size_t i : a.cv.test[s])
-      if (histories[i])
-        per_split[s].add(force_residual(*histories[i], ms, shape, a.fold_params[s], engine));
+    per_split[s].resize(a.cv.test[s].size());
+    for (std::size_t k = 0; k < a.cv.test[s].size(); ++k)
+      if (const std::size_t i = a.cv.test[s][k]; histories[i])
+        per_split[s][k].add(force_residual(*histories[i], ms, shape, a.fold_params[s], engine));
   }
+  std::vector<Squares> per_release(a.cv.n);
   Squares out;
-  for (const Squares& s : per_split) out.add(s);
+  for (std::size_t s = 0; s < a.cv.splits(); ++s)
+    for (std::size_t k = 0; k < a.cv.test[s].size(); ++k) {
+      per_release[a.cv.test[s][k]].add(per_split[s][k]);
+      out.add(per_split[s][k]);
+    }
   e.insample_rms = in.rms();
   e.heldout_rms = out.rms();
+  for (std::size_t c = 0; c < kForceComponents; ++c) {
+    std::vector<double> ss;
+    std::vector<std::size_t> n;
+    for (const Squares& r : per_release) {
+      ss.push_back(r.sum[c]);
+      n.push_back(r.n[c]);
+    }
+    e.heldout_se[c] = pooled_rms_se(ss, n);
+  }
   return e;
+}
+
+double pooled_rms_se(std::span<const double> ss, std::span<const std::size_t> n) {
+  if (ss.size() != n.size()) throw std::invalid_argument("pooled_rms_se: sizes differ");
+  double sum_ss = 0, sum_n = 0;
+  std::size_t m = 0;
+  for (std::size_t i = 0; i < ss.size(); ++i)
+    if (n[i] > 0) {
+      sum_ss += ss[i];
+      sum_n += static_cast<double>(n[i]);
+      ++m;
+    }
+  if (m < 2 || !(sum_ss > 0)) return kNaN;
+  const double r = sum_ss / sum_n;
+  double dev = 0;
+  for (std::size_t i = 0; i < ss.size(); ++i)
+    if (n[i] > 0) {
+      const double d = ss[i] - r * static_cast<double>(n[i]);
+      dev += d * d;
+    }
+  const double md = static_cast<double>(m);
+  const double var_r = md / (md - 1) * dev / (sum_n * sum_n);
+  return std::sqrt(var_r) / (2 * std::sqrt(r));
 }
 
 std::vector<std::vector<double>> release_params_of(const Diagnosis& d, std::size_t releases) {
@@ -116,6 +156,7 @@ nlohmann::json to_json(const ForceHistoryError& e) {
   };
   return {{"insample_rms", by_component(e.insample_rms)},
           {"heldout_rms", by_component(e.heldout_rms)},
+          {"heldout_se", by_component(e.heldout_se)},
           {"releases", e.releases},
           {"samples", e.samples}};
 }

@@ -16,6 +16,7 @@
 #include <array>
 #include <cstddef>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -34,8 +35,12 @@ namespace ricochet::diagnosis {
 struct ForceHistoryError {
   std::array<double, kForceComponents> insample_rms{};  ///< at the full-set calibration
   std::array<double, kForceComponents> heldout_rms{};   ///< each release at its splits' fits
-  std::size_t releases = 0;                             ///< releases with a history
-  std::size_t samples = 0;                              ///< contact samples per evaluation
+  /// Standard error of heldout_rms over the releases (pooled_rms_se of their held-out sums of
+  /// squares): how much the figure would move with other releases of the same kind. NaN with
+  /// fewer than 2 releases measuring the component.
+  std::array<double, kForceComponents> heldout_se{};
+  std::size_t releases = 0;  ///< releases with a history
+  std::size_t samples = 0;   ///< contact samples per evaluation
 };
 
 /// The error of `model` (the assessment's model: parameters in its order) along `histories`
@@ -65,8 +70,18 @@ std::vector<ForceHistoryError> ladder_force_history(
     const Model& base, const Ladder& l, const Shape& shape,
     const std::vector<std::optional<MeasuredHistory>>& histories, const EngineOptions& engine = {});
 
-/// JSON: insample_rms, heldout_rms (objects by component: normal [N], tangential [N], moment
-/// [N m]; null where not measured), releases, samples.
+/// The standard error of an RMS pooled over releases, sqrt(sum ss_i / sum n_i), from each
+/// release's sum of squares ss_i and sample count n_i (releases with n_i = 0 are skipped): the
+/// ratio estimator's variance over releases, (m / (m - 1)) sum (ss_i - R n_i)^2 / (sum n_i)^2
+/// with R = sum ss_i / sum n_i (Cochran 1977, Sampling Techniques, 3rd ed., eq. 6.9, the
+/// releases as clusters of samples), taken to the RMS by the delta method (SE / (2 sqrt R)).
+/// With equal n_i it is the textbook standard error of the mean of the releases' mean squares,
+/// so carried. NaN with fewer than 2 releases or R = 0. Throws std::invalid_argument when the
+/// sizes differ.
+double pooled_rms_se(std::span<const double> ss, std::span<const std::size_t> n);
+
+/// JSON: insample_rms, heldout_rms, heldout_se (objects by component: normal [N], tangential
+/// [N], moment [N m]; null where not measured), releases, samples.
 nlohmann::json to_json(const ForceHistoryError& e);
 
 /// The force histories' replicate floor (issue 33, item 4: "within 2 x the replicate floor ...

@@ -107,5 +107,24 @@ TEST(ForceHistoryFloor, NoReplicatesNoFloor) {
                std::invalid_argument);
 }
 
+// pooled_rms_se: with one sample per release the pooled mean square is the mean of the releases'
+// squares, so its standard error must be the textbook sd / sqrt(m) of those squares (here 4, 9,
+// 25: mean 38/3, sd 10.970, SE 6.3333), carried to the RMS by d sqrt(R) = dR / (2 sqrt(R)):
+// 6.3333 / (2 sqrt(38/3)) = 0.88976. With unequal counts, a release of many samples weighs in
+// as its count says (by hand from the ratio estimator: ss = (10, 40), n = (10, 20): R = 5/3,
+// deviations -20/3 and +20/3, var R = 2 * (800/9) / 900 = 0.19753, SE(RMS) = 0.44444 / (2
+// sqrt(5/3)) = 0.17213). A release without samples does not count; one release is no spread.
+TEST(ForceHistoryError, ThePooledRmsStandardErrorIsTheRatioEstimators) {
+  const std::vector<double> ss = {4, 9, 25};
+  const std::vector<std::size_t> one = {1, 1, 1};
+  EXPECT_NEAR(pooled_rms_se(ss, one), 6.333333333 / (2 * std::sqrt(38.0 / 3.0)), 1e-8);
+  EXPECT_NEAR(pooled_rms_se(std::vector<double>{10, 40}, std::vector<std::size_t>{10, 20}),
+              0.172133, 1e-5);
+  EXPECT_NEAR(pooled_rms_se(std::vector<double>{10, 40, 0}, std::vector<std::size_t>{10, 20, 0}),
+              0.172133, 1e-5);
+  EXPECT_TRUE(std::isnan(pooled_rms_se(std::vector<double>{4}, std::vector<std::size_t>{1})));
+  EXPECT_THROW(pooled_rms_se(ss, std::vector<std::size_t>{1, 1}), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace ricochet::diagnosis
