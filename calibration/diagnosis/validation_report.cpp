@@ -349,17 +349,19 @@ void force_history_table(report::HtmlPage& page, const ReportSection& s) {
                                                            : "+" + s.ladder.rungs[r].added};
     for (std::size_t c = 0; c < kForceComponents; ++c) {
       const double v = s.force_history[r].heldout_rms[c];
+      const double se = s.force_history[r].heldout_se[c];
+      const std::string value = std::isfinite(se) ? g4(v) + " +- " + g4(se) : g4(v);
       row.push_back(!std::isfinite(v) ? "-"
                     : floor && std::isfinite(floor->rms[c])
-                        ? fmt::format("{} ({:.1f} x)", g4(v), v / floor->rms[c])
-                        : g4(v));
+                        ? fmt::format("{} ({:.1f} x)", value, v / floor->rms[c])
+                        : value);
     }
     rows.push_back(std::move(row));
   }
   std::string caption = fmt::format(
       "The contact force each rung gives along every release's own measured path against the "
-      "measured one ({} releases): held-out RMS of measured minus model, normal and tangential "
-      "force [N], moment [N m]",
+      "measured one ({} releases): held-out RMS of measured minus model +- its standard error "
+      "over the releases, normal and tangential force [N], moment [N m]",
       s.force_history.front().releases);
   if (floor)
     caption += fmt::format(
