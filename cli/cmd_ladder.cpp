@@ -105,9 +105,10 @@ void print_force_history(const diagnosis::Ladder& l,
   std::cout << line << "\n"
             << fmt::format(
                    "     (one history's RMS distance from its replicates' mean history, {} groups "
-                   "of {} histories{}; moment about the lowest point)\n",
+                   "of {} histories{}{}; moment about the lowest point)\n",
                    floor->groups, floor->histories,
-                   floor->source.empty() ? "" : ", borrowed from " + floor->source);
+                   floor->source.empty() ? "" : ", borrowed from " + floor->source,
+                   floor->where.empty() ? "" : " (" + floor->where + ")");
 }
 
 void run(DiagnosisCliOptions& o, int auto_rounds, bool force_law) {

@@ -259,9 +259,13 @@ nlohmann::json to_json(const ForceHistoryScatter& s) {
   nlohmann::json rms = nlohmann::json::object();
   for (std::size_t c = 0; c < kForceComponents; ++c)
     rms[std::string(component_name(static_cast<ForceComponent>(c)))] = finite_or_null(s.rms[c]);
-  return {
-      {"rms", rms},           {"groups", s.groups}, {"histories", s.histories},
-      {"samples", s.samples}, {"source", s.source}, {"moment_about", "the block's lowest point"}};
+  return {{"rms", rms},
+          {"groups", s.groups},
+          {"histories", s.histories},
+          {"samples", s.samples},
+          {"source", s.source},
+          {"where", s.where},
+          {"moment_about", "the block's lowest point"}};
 }
 
 Model with_force_law(const Model& base, std::span<const double> base_params,

@@ -103,6 +103,7 @@ struct ForceHistoryScatter {
   std::size_t histories = 0;                   ///< histories in those groups
   std::size_t samples = 0;                     ///< grid times summed over the groups
   std::string source;  ///< the file a borrowed floor comes from ("" for a set's own)
+  std::string where;   ///< the filter its releases were chosen by ("" = all of the shape)
 };
 
 /// force_history_scatter of `set`'s replicate groups, `histories` aligned with set.impacts

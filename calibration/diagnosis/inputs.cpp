@@ -124,6 +124,7 @@ std::optional<ForceHistoryScatter> force_history_floor(
       force_history_scatter(other, measured_histories(borrowed_path, other, shape), shape);
   if (borrowed.groups == 0) return std::nullopt;
   borrowed.source = borrowed_path;
+  borrowed.where = borrowed_where;
   return borrowed;
 }
 

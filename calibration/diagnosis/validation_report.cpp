@@ -366,9 +366,10 @@ void force_history_table(report::HtmlPage& page, const ReportSection& s) {
   if (floor)
     caption += fmt::format(
         "; in brackets over the replicate floor, one history's RMS distance from its replicates' "
-        "mean ({} N, {} N, {} N m; {} groups of {} histories{})",
+        "mean ({} N, {} N, {} N m; {} groups of {} histories{}{})",
         g4(floor->rms[0]), g4(floor->rms[1]), g4(floor->rms[2]), floor->groups, floor->histories,
-        floor->source.empty() ? "" : ", borrowed from " + shown_path(floor->source));
+        floor->source.empty() ? "" : ", borrowed from " + shown_path(floor->source),
+        floor->where.empty() ? "" : " (" + floor->where + ")");
   page.table({"rung", "added", "normal", "tangential", "moment"}, rows, caption);
 }
 
