@@ -48,22 +48,30 @@ for log in results/*/campaign.log; do
       state="$id: the impact in flight (checkpointed)"
     fi
   fi
-  # Progress: the last "[dem] N/M ID" line (impacts in the file of the design's).
+  # Progress: the last "[dem] N/M ID" line (the impacts its file holds; the last run's design,
+  # which may be part of the file's, e.g. a run of --only states).
   done_line=$(grep -oE '^\[dem\] [0-9]+/[0-9]+ ' "$log" | tail -1)
-  [ -n "$done_line" ] && state+="; $(sed -E 's/^\[dem\] ([0-9]+)\/([0-9]+) /\1 of \2 impacts in its file/' <<< "$done_line")"
+  [ -n "$done_line" ] && state+="; $(sed -E 's/^\[dem\] ([0-9]+)\/([0-9]+) /its file holds \1 impacts (the last run: \2 in its design)/' <<< "$done_line")"
+  # Beds shipped for a campaign still to run, keyed by this folder's pinned decks
+  # (scripts/ship-beds.sh writes pinned-in): a re-pin would orphan them.
+  shipped_for=$(grep -lx "$(basename "$dir")" data/resolved/beds/*/pinned-in 2> /dev/null |
+    xargs -r -n1 dirname | paste -sd' ')
   if bed_decks_differ "$dir/pinned"; then decks="older than the tree's"; else decks="the tree's"; fi
   case "$running/$state" in
     yes/*) advice="running: leave it" ;;
     */*"impact in flight"*) advice="keep the pin (re-pinning loses the impact's checkpoint and bed)" ;;
-    *) if [ "$decks" = "the tree's" ]; then advice="pin is current"; else
+    *) if [ -n "$shipped_for" ]; then
+         advice="keep the pin: $shipped_for holds beds keyed by its pinned decks"
+       elif [ "$decks" = "the tree's" ]; then advice="pin is current"; else
          advice="may be re-pinned: rm -rf $dir/pinned"; fi ;;
   esac
   printf '%s\n  last: %s\n  pinned bed decks: %s\n  %s\n' "$dir" "$state" "$decks" "$advice"
 done
 # Beds shipped for a campaign still to run are keyed by its pinned decks: a re-pin orphans them.
 for b in data/resolved/beds/*/; do
-  [ -n "$(ls "$b" 2> /dev/null)" ] &&
-    echo "note: $b holds beds of a campaign still to run, keyed by its pinned decks (keep that pin)"
+  [ -n "$(ls "$b"bed-*.params 2> /dev/null)" ] || continue
+  echo "note: $b holds beds of a campaign still to run, keyed by the pinned decks of" \
+    "results/$(cat "$b/pinned-in" 2> /dev/null || echo '(unknown: ship-beds.sh writes pinned-in)')"
 done
 # Sphere drops (scripts/plateau-drop.sh): not checkpointed; a folder without a pinned program
 # takes the tree's at its next start.

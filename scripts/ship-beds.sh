@@ -12,7 +12,9 @@
 #
 # Which beds: those of the impacts the design's dry run still lists as to run (run in the results
 # folder on the campaign's pinned decks, where the design's cache_dir is), which the cache holds
-# complete; a shipped bed that no impact needs any more is removed from the folder. Run it after
+# complete; a shipped bed that no impact needs any more is removed from the folder, and the file
+# pinned-in names the results folder whose pinned decks key them (scripts/lanes-status.sh tells
+# not to re-pin that folder while they wait). Run it after
 # scripts/ship-campaign.sh, so that the dry run sees the shipped impacts. Exit 2 on a missing file,
 # 1 when a step fails.
 set -euo pipefail
@@ -60,7 +62,12 @@ for key in needed:
         g.write(f.read())
     size = os.path.getsize(to + ".restart.xz") / 1e6
     print(f"  bed {key}: shipped ({size:.1f} MB compressed)")
+# Which results folder's pinned decks key these beds (scripts/lanes-status.sh: keep that pin).
+with open(os.path.join(dest, "pinned-in"), "w") as f:
+    f.write(os.path.basename(os.path.normpath(out)) + "\n")
 for name in sorted(os.listdir(dest)):
+    if not name.startswith("bed-"):
+        continue
     key = name.removeprefix("bed-").split(".")[0]
     if key not in needed:
         os.remove(os.path.join(dest, name))
