@@ -83,6 +83,12 @@ void run(ReportCliOptions& o) {
                        "; \"\" for none");
   require_one_per_data(o.data_floor_where.size(), o.data.size(), "--data-floor-where", "filter",
                        "; \"\" for none");
+  for (std::size_t f = 0; f < o.data_floor_where.size(); ++f)
+    if (!o.data_floor_where[f].empty() && o.data_floors[f].empty())
+      throw InputError("<command line>", 0, "--data-floor-where",
+                       fmt::format("'{}' filters DATA file {} ({})'s borrowed floor, but its "
+                                   "--data-floor-replicates is \"\"",
+                                   o.data_floor_where[f], f + 1, o.data[f]));
   const Model model = o.model.build_model();
 
   // --against: the measured sets each input of the same shape is compared with.
@@ -159,7 +165,8 @@ void add_report_command(CLI::App& app) {
   sub->add_option("--data-floor-where", o->data_floor_where,
                   "A filter per DATA file, in order (\"\" for all): the releases of its "
                   "--data-floor-replicates file that lend their scatter (compare's --floor-where; "
-                  "repeatable)");
+                  "repeatable)")
+      ->needs("--data-floor-replicates");
   add_model_options(sub, o->model);
   sub->add_option("--rounds", o->report.rounds,
                   "Effects the automatic ladder may add (rounds of diagnosis after the first)")

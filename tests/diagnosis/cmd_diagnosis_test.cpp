@@ -436,6 +436,15 @@ TEST_F(CmdDiagnosis, TheBorrowedFloorCanBeOneLevelOfACampaign) {
   EXPECT_EQ(none.status, 2);
   EXPECT_NE(none.err.find("--floor-where"), std::string::npos) << none.err;
   EXPECT_NE(none.err.find("stiffness-plateau.h5"), std::string::npos) << none.err;
+  // The report's per-file filter needs a file to filter: refused before any work, naming it.
+  const std::string out = " --out " + quote((dir_ / "floor-where.html").string());
+  for (const std::string& floors : {std::string(), std::string(" --data-floor-replicates \"\"")}) {
+    const RunResult r =
+        ricochet("report " + blind + floors + " --data-floor-where \"" + level + "\"" + out);
+    EXPECT_EQ(r.status, 2) << floors;
+    EXPECT_NE(r.err.find("--data-floor-where"), std::string::npos) << r.err;
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "floor-where.html"));
 }
 
 TEST_F(CmdDiagnosis, AUserPluginEffectTakesPartLikeTheBuiltIns) {
