@@ -111,13 +111,13 @@ void borrow_floor(DiagnoseOptions& options, const OptionValues& values, const In
 std::optional<ForceHistoryScatter> force_history_floor(
     const ImpactSet& set, const Shape& shape,
     const std::vector<std::optional<MeasuredHistory>>& histories, const std::string& borrowed_path,
-    const std::string& borrowed_where) {
+    const std::string& borrowed_where, const std::string& where_option) {
   ForceHistoryScatter own = force_history_scatter(set, histories, shape);
   if (own.groups > 0) return own;
   if (borrowed_path.empty()) return std::nullopt;
   const ImpactSet other =
       select_inputs(filter_nonempty(read_impact_set(borrowed_path), borrowed_where, borrowed_path,
-                                    "--floor-where"),
+                                    where_option),
                     shape.name, borrowed_path)
           .set;
   ForceHistoryScatter borrowed =

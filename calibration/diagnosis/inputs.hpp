@@ -102,10 +102,11 @@ void borrow_floor(DiagnoseOptions& options, const OptionValues& values, const In
 /// the file whose V_out scatter the set borrows (--floor-replicates, --data-floor-replicates;
 /// its releases of `shape` matching `borrowed_where`, as for the V_out floor; source = that file;
 /// "" = none), else nullopt. A borrowed file without replicate histories gives nullopt: the
-/// options' V_out floor does not need them.
+/// options' V_out floor does not need them. A filter that keeps nothing is an InputError naming
+/// `where_option`.
 std::optional<ForceHistoryScatter> force_history_floor(
     const ImpactSet& set, const Shape& shape,
     const std::vector<std::optional<MeasuredHistory>>& histories, const std::string& borrowed_path,
-    const std::string& borrowed_where = "");
+    const std::string& borrowed_where = "", const std::string& where_option = "--floor-where");
 
 }  // namespace ricochet::diagnosis
