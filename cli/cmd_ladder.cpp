@@ -136,8 +136,7 @@ void run(DiagnosisCliOptions& o, int auto_rounds, bool force_law) {
   const auto force_floor =
       force_errors.empty()
           ? std::nullopt
-          : diagnosis::force_history_floor(in.set, in.shape, histories, o.values.floor_replicates,
-                                           o.values.floor_where);
+          : diagnosis::force_history_floor(in.set, in.shape, histories, opt.assess.borrowed_floor);
   nlohmann::json doc = diagnosis::to_json(l);
   if (discovered) doc["force_law"] = diagnosis::to_json(*discovered);
   if (!force_errors.empty()) {

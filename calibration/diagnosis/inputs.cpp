@@ -110,22 +110,20 @@ void borrow_floor(DiagnoseOptions& options, const OptionValues& values, const In
 
 std::optional<ForceHistoryScatter> force_history_floor(
     const ImpactSet& set, const Shape& shape,
-    const std::vector<std::optional<MeasuredHistory>>& histories, const std::string& borrowed_path,
-    const std::string& borrowed_where, const std::string& where_option) {
+    const std::vector<std::optional<MeasuredHistory>>& histories,
+    const std::optional<ReplicateScatter>& borrowed) {
   ForceHistoryScatter own = force_history_scatter(set, histories, shape);
   if (own.groups > 0) return own;
-  if (borrowed_path.empty()) return std::nullopt;
+  if (!borrowed) return std::nullopt;
+  const std::string& path = borrowed->source;
   const ImpactSet other =
-      select_inputs(filter_nonempty(read_impact_set(borrowed_path), borrowed_where, borrowed_path,
-                                    where_option),
-                    shape.name, borrowed_path)
-          .set;
-  ForceHistoryScatter borrowed =
-      force_history_scatter(other, measured_histories(borrowed_path, other, shape), shape);
-  if (borrowed.groups == 0) return std::nullopt;
-  borrowed.source = borrowed_path;
-  borrowed.where = borrowed_where;
-  return borrowed;
+      select_inputs(filter(read_impact_set(path), borrowed->where), shape.name, path).set;
+  ForceHistoryScatter scatter =
+      force_history_scatter(other, measured_histories(path, other, shape), shape);
+  if (scatter.groups == 0) return std::nullopt;
+  scatter.source = path;
+  scatter.where = borrowed->where;
+  return scatter;
 }
 
 }  // namespace ricochet::diagnosis

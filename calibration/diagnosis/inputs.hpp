@@ -98,15 +98,13 @@ void borrow_floor(DiagnoseOptions& options, const OptionValues& values, const In
 
 /// The replicate floor of the force histories (force_history_scatter) that `ladder` and `report`
 /// read their error against: `set`'s own replicate groups when one has two histories or more
-/// (`histories` aligned with set.impacts, measured_histories), else those of `borrowed_path`,
-/// the file whose V_out scatter the set borrows (--floor-replicates, --data-floor-replicates;
-/// its releases of `shape` matching `borrowed_where`, as for the V_out floor; source = that file;
-/// "" = none), else nullopt. A borrowed file without replicate histories gives nullopt: the
-/// options' V_out floor does not need them. A filter that keeps nothing is an InputError naming
-/// `where_option`.
+/// (`histories` aligned with set.impacts, measured_histories), else those of the releases whose
+/// V_out scatter the set borrows (`borrowed`, borrowed_scatter's: its source file's releases of
+/// `shape` matching its filter, already checked there; source and where copied), else nullopt.
+/// A borrowed file without replicate histories gives nullopt: the V_out floor does not need them.
 std::optional<ForceHistoryScatter> force_history_floor(
     const ImpactSet& set, const Shape& shape,
-    const std::vector<std::optional<MeasuredHistory>>& histories, const std::string& borrowed_path,
-    const std::string& borrowed_where = "", const std::string& where_option = "--floor-where");
+    const std::vector<std::optional<MeasuredHistory>>& histories,
+    const std::optional<ReplicateScatter>& borrowed);
 
 }  // namespace ricochet::diagnosis

@@ -458,9 +458,7 @@ std::vector<ReportSection> analyse(const std::vector<ReportInput>& inputs, const
       s.force_history = ladder_force_history(model, s.ladder, in.shape, s.histories,
                                              o.diagnose.assess.fit.engine);
       if (!s.force_history.empty())
-        s.force_floor = force_history_floor(
-            in.set, in.shape, s.histories, in.borrowed_floor ? in.borrowed_floor->source : "",
-            in.borrowed_floor ? in.borrowed_floor->where : "", "--data-floor-where");
+        s.force_floor = force_history_floor(in.set, in.shape, s.histories, in.borrowed_floor);
     }
     s.headline = headline_of(s);
     s.conclusion = conclusion_of(s);
