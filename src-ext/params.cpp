@@ -218,16 +218,28 @@ void apply_set_option(const Decks& decks, const std::string& assignment, Overrid
   (section == "bed" ? o.bed : section == "block" ? o.block : o.run)[name] = value;
 }
 
-double run_param(const Decks& decks, const std::map<std::string, std::string>& run,
-                 const std::string& name) {
+namespace {
+
+// A run.* parameter's override or deck default; nullopt when the deck does not have it.
+std::optional<double> run_param_if(const Decks& decks,
+                                   const std::map<std::string, std::string>& run,
+                                   const std::string& name) {
   if (const auto it = run.find(name); it != run.end()) return std::stod(it->second);
   for (const auto& p : decks.impact_params)
     if (p.name == name) return std::stod(p.default_value);
+  return std::nullopt;
+}
+
+}  // namespace
+
+double run_param(const Decks& decks, const std::map<std::string, std::string>& run,
+                 const std::string& name) {
+  if (const auto v = run_param_if(decks, run, name)) return *v;
   throw std::logic_error("impact deck has no parameter " + name);
 }
 
 long checkpoint_steps_of(const Decks& decks, const std::map<std::string, std::string>& run) {
-  return static_cast<long>(run_param(decks, run, "checkpoint_steps"));
+  return static_cast<long>(run_param_if(decks, run, "checkpoint_steps").value_or(0));
 }
 
 std::vector<std::pair<std::string, std::string>> effective_bed(

@@ -72,7 +72,6 @@ void check_param(const Decks& decks, const std::string& section, const std::stri
 /// file "<command line>".
 void apply_set_option(const Decks& decks, const std::string& assignment, Overrides& o);
 
-/// Effective bed parameters: the deck defaults overlaid with `bed` overrides, in deck order.
 /// A run.* parameter: its override in `run`, else the decks' default (impact/setup.in). Throws
 /// std::logic_error for a name the deck does not have.
 double run_param(const Decks& decks, const std::map<std::string, std::string>& run,
@@ -80,10 +79,12 @@ double run_param(const Decks& decks, const std::map<std::string, std::string>& r
 /// A bed parameter as the bed is built with it (effective_bed), as a number.
 double bed_param(const Decks& decks, const std::map<std::string, std::string>& bed,
                  const std::string& name);
-/// Steps between checkpoints, run_param's checkpoint_steps: impacts and bed builds (ensure_bed)
-/// both use it.
+/// Steps between checkpoints, run_param's checkpoint_steps, or 0 (no checkpoints) for decks
+/// without that parameter (pinned before 2026-12-05): impacts and bed builds (ensure_bed) both
+/// use it.
 long checkpoint_steps_of(const Decks& decks, const std::map<std::string, std::string>& run);
 
+/// Effective bed parameters: the deck defaults overlaid with `bed` overrides, in deck order.
 std::vector<std::pair<std::string, std::string>> effective_bed(
     const Decks& decks, const std::map<std::string, std::string>& bed);
 /// Gravitational acceleration of every deck (`fix gravity ... 9.81` in impact/setup.in and
