@@ -111,7 +111,8 @@ void print_force_history(const diagnosis::Ladder& l,
                    floor->where.empty() ? "" : " (" + floor->where + ")");
 }
 
-void run(DiagnosisCliOptions& o, int auto_rounds, bool force_law) {
+void run(DiagnosisCliOptions& o, int auto_rounds, bool force_law,
+         const std::vector<std::string>& force_terms) {
   require_out_extension(o.output, {".csv", ".h5", ".hdf5"});
   o.values.dt_s = o.model.dt_s;
   diagnosis::DiagnoseOptions opt = diagnose_options(o.values);
@@ -120,6 +121,7 @@ void run(DiagnosisCliOptions& o, int auto_rounds, bool force_law) {
   base_options.add.clear();
   const Model model = base_options.build_model();  // loads plugins, reads --model, applies --set
   check_rungs(adds, auto_rounds, force_law, o.data);
+  const auto named = diagnosis::named_force_terms(force_terms, "<command line>", "--force-terms");
   const auto in = diagnosis::load_inputs(o.data, o.shape_given ? o.model.shape : "", o.where);
   diagnosis::borrow_floor(opt, o.values, in);
   opt.assess.release_fits = opt.assess.release_fits && auto_rounds >= 0;
@@ -129,7 +131,7 @@ void run(DiagnosisCliOptions& o, int auto_rounds, bool force_law) {
                             : diagnosis::ladder(model, in.shape, in.set, adds, opt);
   std::optional<diagnosis::ForceLawReport> discovered;
   if (force_law)
-    discovered = diagnosis::add_force_law_rung(l, model, in.shape, in.set, o.data, opt);
+    discovered = diagnosis::add_force_law_rung(l, model, in.shape, in.set, o.data, opt, named);
   const auto histories = diagnosis::measured_histories(o.data, in.set, in.shape);
   const auto force_errors =
       diagnosis::ladder_force_history(model, l, in.shape, histories, o.model.engine_options());
@@ -175,6 +177,7 @@ void run(DiagnosisCliOptions& o, int auto_rounds, bool force_law) {
 void add_ladder_command(CLI::App& app) {
   auto auto_rounds = std::make_shared<int>(-1);
   auto force_law = std::make_shared<bool>(false);
+  auto force_terms = std::make_shared<std::vector<std::string>>();
   add_diagnosis_command(
       app, "ladder",
       "Recalibrate a ladder of models (base, + effect, + another, ...) and show the in-sample "
@@ -183,10 +186,17 @@ void add_ladder_command(CLI::App& app) {
                 "diagnose --alpha)",
        .features = true,
        .write_model = true},
-      [auto_rounds, force_law](CLI::App* sub) {
-        sub->add_flag("--force-law", *force_law,
-                      "Last rung: the force law discovered on the file's contact histories, its "
-                      "terms held at their discovered coefficients (needs /dem/tracks)");
+      [auto_rounds, force_law, force_terms](CLI::App* sub) {
+        auto* law = sub->add_flag("--force-law", *force_law,
+                                  "Last rung: the force law discovered on the file's contact "
+                                  "histories, its terms held at their discovered coefficients "
+                                  "(needs /dem/tracks)");
+        sub->add_option("--force-terms", *force_terms,
+                        "--force-law: fit these library terms (e.g. ploughing viscous; "
+                        "docs/effects/force_term.md) on the histories instead of selecting "
+                        "terms: a named law, its coefficients from the histories of each "
+                        "split's training releases")
+            ->needs(law);
         sub->get_option("--add")->description(
             "Effect added by the next rung (repeatable, in order; plugin effects too)");
         sub->add_option("--auto", *auto_rounds,
@@ -194,7 +204,9 @@ void add_ladder_command(CLI::App& app) {
                         "--add)");
         check_range(sub, "--auto", 1, 20);
       },
-      [auto_rounds, force_law](DiagnosisCliOptions& o) { run(o, *auto_rounds, *force_law); });
+      [auto_rounds, force_law, force_terms](DiagnosisCliOptions& o) {
+        run(o, *auto_rounds, *force_law, *force_terms);
+      });
 }
 
 }  // namespace ricochet::cli

@@ -362,10 +362,13 @@ Ladder ladder(const Model& model, const Shape& shape, const ImpactSet& set,
 /// discovers the law again on its training releases' histories alone and calibrates that model
 /// (assess with a SplitModel). Returns the full-set discovery (nullopt when `data` keeps fewer
 /// than two histories); no rung is added when it selects no term. `base` is the model the
-/// ladder started from (rung_model).
+/// ladder started from (rung_model). `named`: a named law instead (named_force_terms): these
+/// terms' coefficients fitted on the histories, without selection, on the full set and again on
+/// each split's training histories.
 std::optional<ForceLawReport> add_force_law_rung(Ladder& l, const Model& base, const Shape& shape,
                                                  const ImpactSet& set, const std::string& data,
-                                                 const DiagnoseOptions& options);
+                                                 const DiagnoseOptions& options,
+                                                 std::span<const ForceTerm* const> named = {});
 /// Rounds of diagnose(): adds the best supported effect until the model is adequate, no effect
 /// is supported, or `max_rounds` effects were added.
 /// `first`: an existing diagnosis of `model` on `set` (same options) used as round 0.

@@ -3,7 +3,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "common/error.hpp"
 
@@ -15,8 +17,29 @@ constexpr const char* kWhere = "<force residuals>";
 
 }  // namespace
 
+std::vector<const ForceTerm*> named_force_terms(const std::vector<std::string>& names,
+                                                const std::string& where,
+                                                const std::string& field) {
+  std::vector<const ForceTerm*> out;
+  for (const std::string& name : names) {
+    const std::string_view bare = std::string_view(name).starts_with("term_")
+                                      ? std::string_view(name).substr(5)
+                                      : std::string_view(name);
+    const ForceTerm* t = effects::find_force_term(bare);
+    if (!t)
+      throw InputError(where, 0, field,
+                       fmt::format("unknown force term '{}'; known: the {}", name,
+                                   effects::force_term_family_text()));
+    if (std::find(out.begin(), out.end(), t) != out.end())
+      throw InputError(where, 0, field, fmt::format("the term '{}' is named twice", t->name));
+    out.push_back(t);
+  }
+  return out;
+}
+
 std::vector<ComponentLaw> discover_force_law(const std::vector<ReleaseResidual>& releases,
-                                             const stats::SparseOptions& options) {
+                                             const stats::SparseOptions& options,
+                                             std::span<const ForceTerm* const> named) {
   for (std::size_t r = 0; r < releases.size(); ++r) {
     const ReleaseResidual& rel = releases[r];
     if (rel.residual.size() != rel.samples.size())
@@ -61,7 +84,14 @@ std::vector<ComponentLaw> discover_force_law(const std::vector<ReleaseResidual>&
     law.releases = used_releases;
     law.samples = y.size();
     const stats::SparseDesign design{x, terms.size(), y, group};
-    law.fit = stats::sparse_regression(design, options);
+    stats::SparseOptions o = options;
+    if (!named.empty()) {
+      std::uint32_t support = 0;
+      for (std::size_t j = 0; j < terms.size(); ++j)
+        if (std::find(named.begin(), named.end(), terms[j]) != named.end()) support |= 1u << j;
+      o.support = support;
+    }
+    law.fit = stats::sparse_regression(design, o);
     double ss = 0, sh = 0;
     for (std::size_t i = 0; i < y.size(); ++i) {
       ss += y[i] * y[i];
@@ -85,7 +115,7 @@ std::vector<ComponentLaw> discover_force_law(const std::vector<ReleaseResidual>&
             d.term->literature.empty() ? std::string() : fmt::format(" ({})", d.term->literature));
       law.terms.push_back(d);
     }
-    if (law.text.empty()) law.text = "nothing found";
+    if (law.text.empty()) law.text = named.empty() ? "nothing found" : "no term named";
     laws.push_back(std::move(law));
   }
   return laws;

@@ -13,6 +13,7 @@
 
 #include <array>
 #include <cstddef>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -54,13 +55,24 @@ struct ComponentLaw {
   double heldout_rms = 0;             ///< of the residual minus the law's held-out prediction
   std::size_t releases = 0, samples = 0;
   /// The law in words with numbers and units, e.g. "F_n += -c v_n|v_n|, c = 41 kg/m [35, 47]
-  /// (Poncelet / Katsuragi-Durian drag)"; "nothing found" for the empty model.
+  /// (Poncelet / Katsuragi-Durian drag)"; "nothing found" for the empty model, "no term named"
+  /// for a component of a named law without a term.
   std::string text;
 };
 
-/// Finds the law of every component that has residuals. Throws InputError for releases whose
-/// sizes disagree or that have non-finite states, or fewer than two releases with samples.
+/// Finds the law of every component that has residuals. With `named` terms (a law the user
+/// names, e.g. from a hypothesis or another set), each component fits exactly its named terms,
+/// without selection (stats::SparseOptions::support), and a component without one fits none; its
+/// text then says "fitted" for "discovered". Throws InputError for releases whose sizes disagree
+/// or that have non-finite states, or fewer than two releases with samples.
 std::vector<ComponentLaw> discover_force_law(const std::vector<ReleaseResidual>& releases,
-                                             const stats::SparseOptions& options = {});
+                                             const stats::SparseOptions& options = {},
+                                             std::span<const ForceTerm* const> named = {});
+
+/// The library's terms of these names ("ploughing" or its effect name "term_ploughing"), in the
+/// order given. Throws InputError (file `where`, field `field`) for an unknown name, listing the
+/// library (effects::force_term_family_text), or a name given twice.
+std::vector<const ForceTerm*> named_force_terms(const std::vector<std::string>& names,
+                                                const std::string& where, const std::string& field);
 
 }  // namespace ricochet::diagnosis

@@ -127,7 +127,8 @@ std::optional<ForceLawReport> force_law_from_tracks(
 std::optional<ForceLawReport> force_law_from_histories(
     const std::vector<std::optional<MeasuredHistory>>& histories, const Shape& shape,
     const Model& model, std::span<const double> params, const EngineOptions& engine,
-    const stats::SparseOptions& options, const std::vector<std::vector<double>>& release_params) {
+    const stats::SparseOptions& options, const std::vector<std::vector<double>>& release_params,
+    std::span<const ForceTerm* const> named) {
   if (!release_params.empty() && release_params.size() != histories.size())
     throw std::invalid_argument(
         "force_law_from_histories: release_params is not aligned with the histories");
@@ -152,7 +153,8 @@ std::optional<ForceLawReport> force_law_from_histories(
     residuals.push_back(std::move(r));
   }
   if (residuals.size() < 2) return std::nullopt;
-  report.laws = discover_force_law(residuals, options);
+  report.laws = discover_force_law(residuals, options, named);
+  for (const ForceTerm* t : named) report.named.emplace_back(t->name);
   report.seconds = seconds_since(t0);
   return report;
 }
@@ -184,6 +186,7 @@ nlohmann::json to_json(const ForceLawReport& report) {
           {"force_scale", {report.force_scale_min, report.force_scale_max}},
           {"geometry_mismatch_m", report.geometry_mismatch_m},
           {"base", report.base},
+          {"named", report.named},
           {"seconds", report.seconds},
           {"laws", laws}};
 }
@@ -198,10 +201,13 @@ std::string found_law_text(const ForceLawReport& report) {
 }
 
 std::string format_text(const ForceLawReport& report) {
+  std::string named;
+  for (const std::string& n : report.named) named += (named.empty() ? "" : ", ") + n;
   std::string out = fmt::format(
-      "force law missing from the model ({}), from the contact histories of {} releases ({} "
+      "force law {} ({}), from the contact histories of {} releases ({} "
       "contact samples; forces scaled x{:.4g}-{:.4g} to the lab block; largest geometry mismatch "
       "{:.2g} mm):\n",
+      named.empty() ? "missing from the model" : "of the named terms " + named + ", fitted",
       report.base, report.ids.size(), report.samples, report.force_scale_min,
       report.force_scale_max, 1e3 * report.geometry_mismatch_m);
   for (const ComponentLaw& law : report.laws)

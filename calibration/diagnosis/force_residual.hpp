@@ -85,6 +85,9 @@ struct ForceLawReport {
   /// "population fit".
   std::string base;
   std::vector<ComponentLaw> laws;  ///< discover_force_law's
+  /// The terms the law was limited to (discover_force_law's `named`), empty when they were
+  /// selected: the law was then fitted, not discovered.
+  std::vector<std::string> named;
   /// Wall time [s] of the residuals along the paths and the discovery (selection, bootstrap);
   /// force_law_from_tracks adds the reading of the tracks.
   double seconds = 0;
@@ -105,14 +108,17 @@ std::optional<ForceLawReport> force_law_from_tracks(
 
 /// The same from histories already read (measured_histories), aligned with `release_params`
 /// when that is not empty: a caller that discovers on several subsets of one set (the ladder's
-/// leak-free rung, one discovery per split) reads the tracks once.
+/// leak-free rung, one discovery per split) reads the tracks once. `named`: fit these terms
+/// instead of selecting (discover_force_law).
 std::optional<ForceLawReport> force_law_from_histories(
     const std::vector<std::optional<MeasuredHistory>>& histories, const Shape& shape,
     const Model& model, std::span<const double> params, const EngineOptions& engine = {},
     const stats::SparseOptions& options = {},
-    const std::vector<std::vector<double>>& release_params = {});
+    const std::vector<std::vector<double>>& release_params = {},
+    std::span<const ForceTerm* const> named = {});
 
-/// JSON: ids, samples, force_scale [min, max], geometry_mismatch_m, seconds, and per component its
+/// JSON: ids, samples, force_scale [min, max], geometry_mismatch_m, seconds, named (the terms of
+/// a named law, [] for a discovered one), and per component its
 /// law: component, text, releases, samples, rms_residual, heldout_rms, and the selected terms
 /// (name, expression, unit, literature, coefficient, lo, hi, inclusion).
 nlohmann::json to_json(const ForceLawReport& report);

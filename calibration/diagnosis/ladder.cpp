@@ -78,7 +78,8 @@ std::vector<std::string> selected_terms(const ForceLawReport& r) {
 
 std::optional<ForceLawReport> add_force_law_rung(Ladder& l, const Model& base, const Shape& shape,
                                                  const ImpactSet& set, const std::string& data,
-                                                 const DiagnoseOptions& options) {
+                                                 const DiagnoseOptions& options,
+                                                 std::span<const ForceTerm* const> named) {
   if (l.rungs.empty()) throw std::invalid_argument("add_force_law_rung: the ladder has no rung");
   const DiagnoseOptions o = resolve_scale(set, options);
   const Model last = rung_model(base, l, l.rungs.size() - 1, registry_of(o));
@@ -92,8 +93,8 @@ std::optional<ForceLawReport> add_force_law_rung(Ladder& l, const Model& base, c
     release_params.push_back(f.params);
   const auto histories = measured_histories(data, set, shape);
   const EngineOptions& engine = o.assess.fit.engine;
-  auto report =
-      force_law_from_histories(histories, shape, last, last.values(), engine, {}, release_params);
+  auto report = force_law_from_histories(histories, shape, last, last.values(), engine, {},
+                                         release_params, named);
   if (!report) return report;
   std::vector<std::string> warnings;
   const Model with_law = with_force_law(last, last.values(), *report, &warnings);
@@ -113,7 +114,7 @@ std::optional<ForceLawReport> add_force_law_rung(Ladder& l, const Model& base, c
       h.push_back(histories[i]);
       p.push_back(release_params[i]);
     }
-    const auto r = force_law_from_histories(h, shape, last, last.values(), engine, {}, p);
+    const auto r = force_law_from_histories(h, shape, last, last.values(), engine, {}, p, named);
     ++rung.split_discoveries;
     if (!r) return last;
     if (selected_terms(*r) == full_terms) ++rung.split_same_terms;

@@ -137,6 +137,9 @@ SparseResult sparse_regression(const SparseDesign& d, const SparseOptions& o) {
   if (groups < 2)
     throw InputError(kWhere, 0, "group",
                      "cross-validation needs two groups at least, found " + std::to_string(groups));
+  if (o.support && (d.cols < 32 && *o.support >> d.cols != 0u))
+    throw InputError(kWhere, 0, "support",
+                     "names a term beyond the design's " + std::to_string(d.cols) + " columns");
   SparseResult res;
   res.groups = groups;
   res.folds = std::min(o.folds, groups);
@@ -155,6 +158,7 @@ SparseResult sparse_regression(const SparseDesign& d, const SparseOptions& o) {
   res.best_support.assign(p + 1, 0);
   std::vector<std::vector<double>> best_heldout(p + 1);
   for (std::uint32_t s = 0; s < (1u << p); ++s) {
+    if (o.support && s != 0u && s != *o.support) continue;
     const auto k = static_cast<std::size_t>(std::popcount(s));
     const std::vector<double> held = heldout_predictions(d, s, fold);
     std::vector<double> mse(groups, 0.0);
@@ -172,11 +176,14 @@ SparseResult sparse_regression(const SparseDesign& d, const SparseOptions& o) {
   const std::size_t best = static_cast<std::size_t>(
       std::min_element(res.cv_error.begin(), res.cv_error.end()) - res.cv_error.begin());
   res.size = best;
-  for (std::size_t k = 0; k <= best; ++k)
-    if (res.cv_error[k] <= res.cv_error[best] + res.cv_se[best]) {
-      res.size = k;
-      break;
-    }
+  if (o.support)
+    res.size = static_cast<std::size_t>(std::popcount(*o.support));
+  else
+    for (std::size_t k = 0; k <= best; ++k)
+      if (res.cv_error[k] <= res.cv_error[best] + res.cv_se[best]) {
+        res.size = k;
+        break;
+      }
   const std::uint32_t chosen = res.best_support[res.size];
   res.heldout = best_heldout[res.size];
   res.coef = subset_fit(d, chosen);
@@ -198,11 +205,13 @@ SparseResult sparse_regression(const SparseDesign& d, const SparseOptions& o) {
       const auto& m = members[pick(rng)];
       rows.insert(rows.end(), m.begin(), m.end());
     }
-    // The best subset of the chosen size on this resample, by its in-sample error.
+    // The best subset of the chosen size on this resample, by its in-sample error (the named
+    // support itself when there is one).
     std::vector<double> c(p, 0.0);
     double sse_best = INFINITY;
     for (std::uint32_t s = 0; s < (1u << p); ++s) {
-      if (static_cast<std::size_t>(std::popcount(s)) != res.size) continue;
+      if (static_cast<std::size_t>(std::popcount(s)) != res.size || (o.support && s != chosen))
+        continue;
       const std::vector<double> cs = subset_fit(d, s, rows);
       double sse = 0;
       for (std::size_t i : rows) sse += (d.y[i] - predict(d, i, cs)) * (d.y[i] - predict(d, i, cs));

@@ -79,6 +79,30 @@ TEST_F(ForceLoop, TheDiscoveredDragBecomesARungAndTheForceErrorFalls) {
   EXPECT_TRUE(lj["force_history"][0]["heldout_rms"]["moment"].is_null());  // no torque tracked
 }
 
+// A named law (`--force-terms`): the drag alone, fitted on the histories without selection,
+// comes out as the discovery's (30-45 kg/m against the truth's 40 acting one way), and every
+// split fits the same term. An unknown name is refused before any work, naming the library.
+TEST_F(ForceLoop, ANamedLawIsFittedOnTheHistoriesAsARung) {
+  const std::string set = make_set();
+  const test::RunResult bad =
+      ricochet("ladder " + test::quote(set) + " --force-law --force-terms drag");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("--force-terms"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("inertial_drag"), std::string::npos) << bad.err;
+  const test::RunResult l = ricochet("ladder " + test::quote(set) +
+                                     " --seed 5101 --force-law --force-terms inertial_drag --json");
+  ASSERT_EQ(l.status, 0) << l.err;
+  const auto lj = nlohmann::json::parse(l.out);
+  EXPECT_EQ(lj["force_law"]["named"], nlohmann::json::array({"inertial_drag"}));
+  ASSERT_EQ(lj["rungs"].size(), 2u);
+  EXPECT_EQ(lj["rungs"][1]["added"], "term_inertial_drag");
+  const double drag = lj["rungs"][1]["parameters"]["c_inertial_drag"].get<double>();
+  EXPECT_GT(drag, 30.0);
+  EXPECT_LT(drag, 45.0);
+  const auto& split = lj["rungs"][1]["split_discovery"];
+  EXPECT_EQ(split["same_terms"], split["splits"]) << split.dump();
+}
+
 // The report shows the residual force before and after the discovered law, and the law lowers
 // it (in-sample: the terms were fitted to these residuals).
 TEST_F(ForceLoop, TheReportShowsTheResidualForceFalling) {

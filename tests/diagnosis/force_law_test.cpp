@@ -159,6 +159,43 @@ TEST(ForceLaw, RefusesReleasesWhoseSizesDisagree) {
   EXPECT_THROW((void)discover_force_law(releases), InputError);  // one release: no CV
 }
 
+// A named law (`ladder --force-law --force-terms`): the drag alone is fitted on the
+// Katsuragi-Durian bed, without the spring that selection would add, and absorbs part of the
+// spring's force (so it is larger than its truth); a law naming only a tangential term fits
+// nothing in the normal residual.
+TEST(ForceLaw, ANamedLawFitsItsTermsAlone) {
+  const auto releases = bed(121, Truth{});
+  stats::SparseOptions o;
+  o.seed = 121;
+  o.bootstrap = 50;
+  const auto drag = named_force_terms({"term_inertial_drag"}, "<command line>", "--force-terms");
+  const ComponentLaw law = discover_force_law(releases, o, drag).front();
+  for (const auto& t : law.terms)
+    EXPECT_EQ(t.selected, t.term->name == "inertial_drag") << t.term->name;
+  EXPECT_GT(term(law, "inertial_drag").coefficient, 0.0);
+  EXPECT_NE(law.text.find("kg/m"), std::string::npos) << law.text;
+  EXPECT_LT(law.heldout_rms, law.rms_residual);
+  const auto plough = named_force_terms({"ploughing"}, "<command line>", "--force-terms");
+  const ComponentLaw none = discover_force_law(releases, o, plough).front();
+  EXPECT_EQ(none.text, "no term named");
+  EXPECT_EQ(none.heldout_rms, none.rms_residual);
+}
+
+TEST(ForceLaw, AnUnknownOrRepeatedNamedTermIsRefusedByName) {
+  for (const std::vector<std::string>& names :
+       {std::vector<std::string>{"drag"}, std::vector<std::string>{"viscous", "term_viscous"}}) {
+    try {
+      (void)named_force_terms(names, "<command line>", "--force-terms");
+      ADD_FAILURE() << "accepted " << names.front();
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.field(), "--force-terms");
+      const bool unknown = names.size() == 1;
+      EXPECT_NE(e.detail().find(unknown ? "inertial_drag" : "named twice"), std::string::npos)
+          << e.what();
+    }
+  }
+}
+
 // A history read from a file whose path the law cannot follow (here a time that does not
 // increase) is refused naming the file, the track and the record, not "<path>".
 TEST(ForceResidual, APathTheLawCannotFollowNamesTheFileTheTrackAndTheRecord) {

@@ -179,6 +179,40 @@ TEST(SparseRegression, RefusesBadDesignsAndOptionsByName) {
   bad.x = wide;
   bad.cols = kMaxTerms + 1;
   EXPECT_EQ(field_of(bad, {}), "cols");
+  o = {};
+  o.support = 1u << kTerms;  // a ninth term of an eight-term design
+  EXPECT_EQ(field_of(d.design(), o), "support");
+}
+
+// A named law (SparseOptions::support) is fitted as named: the true term beside a wrong one
+// (u v^2, which the truth lacks) and in noise alone, where selection would keep nothing. Its
+// coefficients are subset_fit's, its held-out predictions those of the same folds, and the
+// bootstrap refits that support only.
+TEST(SparseRegression, ANamedSupportIsFittedWithoutSelection) {
+  const std::uint32_t named = (1u << 1) | (1u << 5);
+  for (const double a : {2.0, 0.0}) {
+    const Data d = contact_data(301, a, 0.0, 0.10, 0.02);
+    SparseOptions o;
+    o.seed = 301;
+    o.bootstrap = 50;
+    o.support = named;
+    const SparseResult r = sparse_regression(d.design(), o);
+    EXPECT_EQ(r.size, 2u) << "a = " << a;
+    for (std::size_t j = 0; j < kTerms; ++j) {
+      EXPECT_EQ(r.active[j], (named >> j & 1u) != 0) << "term " << j;
+      if (!(named >> j & 1u)) EXPECT_EQ(r.hi[j] - r.lo[j], 0.0) << "term " << j;
+    }
+    EXPECT_EQ(r.coef, subset_fit(d.design(), named));
+    EXPECT_TRUE(std::isfinite(r.cv_error[0]) && std::isfinite(r.cv_error[2]));
+    EXPECT_FALSE(std::isfinite(r.cv_error[1])) << "no other subset is scored";
+    if (a > 0) {
+      EXPECT_NEAR(r.coef[1], a, 0.05 * a);  // the true term, beside a term the truth lacks
+      EXPECT_LT(r.lo[1], r.hi[1]);
+      EXPECT_LT(r.cv_error[2], r.cv_error[0]);
+    } else {
+      EXPECT_GE(r.cv_error[2], r.cv_error[0]) << "in noise the named law predicts no better";
+    }
+  }
 }
 
 }  // namespace
