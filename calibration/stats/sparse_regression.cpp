@@ -137,7 +137,7 @@ SparseResult sparse_regression(const SparseDesign& d, const SparseOptions& o) {
   if (groups < 2)
     throw InputError(kWhere, 0, "group",
                      "cross-validation needs two groups at least, found " + std::to_string(groups));
-  if (o.support && (d.cols < 32 && *o.support >> d.cols != 0u))
+  if (o.support && *o.support >> d.cols != 0u)  // cols <= kMaxTerms (check_design)
     throw InputError(kWhere, 0, "support",
                      "names a term beyond the design's " + std::to_string(d.cols) + " columns");
   SparseResult res;

@@ -17,6 +17,10 @@ constexpr double kForceRoundoff = 1e-9;
 // contact while the contact force exceeds 0.2 of the block's weight) and its gravity (g_mps2).
 constexpr double kContactWeightFraction = 0.2;
 constexpr double kGravity_mps2 = 9.81;
+// The averaging window of the bed's press after the peak (above_two_weights_after_peak_s) [s]:
+// ten records of the campaigns' 0.2 ms tracks, a few of the grains' force chatter, short beside
+// the 20 ms that the floor check reads.
+constexpr double kPressWindow_s = 2e-3;
 
 // Largest finite value of f(i) over the records, NaN when there is none.
 template <class F>
@@ -139,6 +143,21 @@ TrackSummary summarize_track(const BlockTrack& tr, const std::string& id) {
         s.vy_impact_end_mps = tr.vy[end];
         if (tr.vy[first] < 0) s.impact_restitution = tr.vy[end] / -tr.vy[first];
       }
+      // The force averaged over kPressWindow_s, so that the grains' chatter (single records of
+      // a 300 N phase dip below 2 m g) does not end the phase; unbroken, so that a later rise
+      // (the block climbing its crater's rim) is another phase, not the bed still pressing.
+      const auto smoothed = [&](std::size_t i) {
+        double sum = 0;
+        std::size_t count = 0;
+        for (std::size_t j = i; j-- > 0 && tr.t[i] - tr.t[j] <= kPressWindow_s / 2 + 1e-12;)
+          sum += force(j), ++count;
+        for (std::size_t j = i; j < n && tr.t[j] - tr.t[i] <= kPressWindow_s / 2 + 1e-12; ++j)
+          sum += force(j), ++count;
+        return sum / static_cast<double>(count);
+      };
+      std::size_t pressed = peak;
+      while (pressed < last && smoothed(pressed + 1) > 2 * weight) ++pressed;
+      s.above_two_weights_after_peak_s = tr.t[pressed] - tr.t[peak];
     }
   }
   s.peak_normal_force_N = finite_max(n, [&](std::size_t i) { return tr.fcy[i]; });
@@ -173,6 +192,8 @@ const std::vector<TrackQuantity>& track_quantities() {
       {"vy_impact_end", "m/s", "vy at the impact's end [m/s]", 1, &TrackSummary::vy_impact_end_mps},
       {"impact_restitution", "-", "impact's own vy restitution [-]", 1,
        &TrackSummary::impact_restitution},
+      {"above_two_weights_after_peak", "s", "after the peak, force > 2 m g [ms]", 1e3,
+       &TrackSummary::above_two_weights_after_peak_s},
       {"block_mass", "kg", "simulated block mass [kg]", 1, &TrackSummary::block_mass_kg},
   };
   return q;

@@ -67,6 +67,14 @@ struct TrackSummary {
   double impact_duration_s = std::numeric_limits<double>::quiet_NaN();
   double vy_impact_end_mps = std::numeric_limits<double>::quiet_NaN();
   double impact_restitution = std::numeric_limits<double>::quiet_NaN();
+  /// How long the bed keeps pressing after the impact: from the largest force's record to the
+  /// last record of the unbroken run after it whose force, averaged over the records within 1
+  /// ms either side, stays above twice the block's weight [s] (0 when the next record's is
+  /// already at most 2 m g; NaN without a block mass or a window). A bed that springs back as
+  /// a whole carries the block on a force of several weights for tens of ms after the peak (the
+  /// cylinder at 1.5e10 Pa on soft walls, liggghts-inputs/campaigns/wall-stiffness-1.5e10.toml:
+  /// its "second phase" is this above 20 ms).
+  double above_two_weights_after_peak_s = std::numeric_limits<double>::quiet_NaN();
   /// The simulated block's mass [kg] (its forces are its own: a slab carries the fraction slab
   /// width / block length of the lab block): the track's when the file keeps it ("file"), else
   /// free_flight_mass_kg ("free flight"), else NaN ("unknown").

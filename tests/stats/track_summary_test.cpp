@@ -147,6 +147,43 @@ TEST(TrackSummary, TheImpactEndsWhereTheForceFallsToTheWeight) {
   EXPECT_TRUE(std::isnan(s.impact_restitution));
 }
 
+// How long the bed presses after the peak: the unbroken run of records after it whose force,
+// averaged over +-1 ms (5 records of the pulse's 0.5 ms grid), stays above 2 m g = 58.86 N (m =
+// 3 kg). Record k half-ms after the peak carries f_k = 1000 sqrt(17/16) (1 - k/10) N for k < 10
+// (fcx = fcy / 4), the 3 N touches at k = 10, 11, 12 (3.09 N) and 0 beyond. The average at k = 10
+// is (f_8 + f_9 + 3 x 3.09) / 5 = 63.7 N, above, but the run ends with the contact window, at k =
+// 9 (the touches are below 0.2 m g): 4.5 ms.
+// A force of 80 N held from k = 10 to 30 (a bed that springs back as a whole): the average at k =
+// 29 is 4 x 80 / 5 = 64 N, at k = 30 48 N: 14.5 ms. A single 20 N record at k = 20 (the grains'
+// chatter) averages to 68 N and does not break it; five (k = 19..23) do: at k = 18 the average is
+// (3 x 80 + 2 x 20) / 5 = 56 N, at k = 17 68 N: 8.5 ms. A 100 kg block (2 m g = 1962 N, above
+// the whole pulse): 0.
+TEST(TrackSummary, TheBedsPressAfterThePeakIsTimedAboveTwiceTheWeight) {
+  BlockTrack tr = pulse_track();
+  EXPECT_NEAR(stats::summarize_track(tr, "pulse").above_two_weights_after_peak_s, 0.0045, 1e-12);
+  const auto set_after = [&tr](double from_s, double to_s, double f) {
+    for (std::size_t i = 0; i < tr.size(); ++i) {
+      const double after = tr.t[i] - kTc;
+      if (after > from_s - 1e-9 && after < to_s + 1e-9) {
+        tr.fcy[i] = f;
+        tr.fcx[i] = 0.0;
+      }
+    }
+  };
+  set_after(0.005, 0.015, 80.0);
+  EXPECT_NEAR(stats::summarize_track(tr, "springs back").above_two_weights_after_peak_s, 0.0145,
+              1e-12);
+  set_after(0.010, 0.010, 20.0);
+  EXPECT_NEAR(stats::summarize_track(tr, "chatter").above_two_weights_after_peak_s, 0.0145, 1e-12);
+  set_after(0.0095, 0.0115, 20.0);
+  EXPECT_NEAR(stats::summarize_track(tr, "dips").above_two_weights_after_peak_s, 0.0085, 1e-12);
+  tr.block_mass_kg = 100.0;
+  EXPECT_EQ(stats::summarize_track(tr, "heavy").above_two_weights_after_peak_s, 0.0);
+  tr.block_mass_kg = std::numeric_limits<double>::quiet_NaN();
+  for (auto& e : tr.ke_block) e = std::nan("");
+  EXPECT_TRUE(std::isnan(stats::summarize_track(tr, "massless").above_two_weights_after_peak_s));
+}
+
 TEST(TrackSummary, AnEstimatedForceBearsOnlyAboveTwiceItsStandardError) {
   // A force from tracked accelerations carries sigma_fcx, sigma_fcy: the criterion becomes
   // max(0.2 m g, 2 hypot(sigma_fcx, sigma_fcy)). The pulse's record k half-intervals from its
