@@ -13,6 +13,7 @@
 #include "common/error.hpp"
 #include "diagnosis/figures.hpp"
 #include "diagnosis/force_history.hpp"
+#include "diagnosis/history_objective.hpp"
 #include "diagnosis/inputs.hpp"
 #include "diagnosis_options.hpp"
 #include "impact/block_track.hpp"
@@ -112,7 +113,7 @@ void print_force_history(const diagnosis::Ladder& l,
 }
 
 void run(DiagnosisCliOptions& o, int auto_rounds, bool force_law,
-         const std::vector<std::string>& force_terms) {
+         const std::vector<std::string>& force_terms, double history_weight) {
   require_out_extension(o.output, {".csv", ".h5", ".hdf5"});
   o.values.dt_s = o.model.dt_s;
   diagnosis::DiagnoseOptions opt = diagnose_options(o.values);
@@ -124,6 +125,25 @@ void run(DiagnosisCliOptions& o, int auto_rounds, bool force_law,
   const auto named = diagnosis::named_force_terms(force_terms, "<command line>", "--force-terms");
   const auto in = diagnosis::load_inputs(o.data, o.shape_given ? o.model.shape : "", o.where);
   diagnosis::borrow_floor(opt, o.values, in);
+  const auto histories = diagnosis::measured_histories(o.data, in.set, in.shape);
+  const auto force_floor =
+      diagnosis::history_count(histories) == 0
+          ? std::nullopt
+          : diagnosis::force_history_floor(in.set, in.shape, histories, opt.assess.borrowed_floor);
+  if (history_weight > 0) {
+    if (diagnosis::history_count(histories) < 2)
+      throw InputError("<command line>", 0, "--history-weight",
+                       o.data + " keeps no contact histories of two releases or more");
+    const auto objective = diagnosis::history_objective(
+        in.set, histories,
+        force_floor ? force_floor->rms
+                    : std::array<double, diagnosis::kForceComponents>{NAN, NAN, NAN},
+        history_weight, in.shape, o.model.engine_options(), "--history-weight");
+    opt.assess.fit.extra_objective = [objective](const Model& m, std::span<const double> p,
+                                                 const ImpactSet& s) {
+      return (*objective)(m, p, s);
+    };
+  }
   opt.assess.release_fits = opt.assess.release_fits && auto_rounds >= 0;
   opt.progress = !o.output.json;
   diagnosis::Ladder l = auto_rounds >= 0
@@ -132,20 +152,16 @@ void run(DiagnosisCliOptions& o, int auto_rounds, bool force_law,
   std::optional<diagnosis::ForceLawReport> discovered;
   if (force_law)
     discovered = diagnosis::add_force_law_rung(l, model, in.shape, in.set, o.data, opt, named);
-  const auto histories = diagnosis::measured_histories(o.data, in.set, in.shape);
   const auto force_errors =
       diagnosis::ladder_force_history(model, l, in.shape, histories, o.model.engine_options());
-  const auto force_floor =
-      force_errors.empty()
-          ? std::nullopt
-          : diagnosis::force_history_floor(in.set, in.shape, histories, opt.assess.borrowed_floor);
   nlohmann::json doc = diagnosis::to_json(l);
   if (discovered) doc["force_law"] = diagnosis::to_json(*discovered);
   if (!force_errors.empty()) {
     doc["force_history"] = nlohmann::json::array();
     for (const auto& e : force_errors) doc["force_history"].push_back(diagnosis::to_json(e));
   }
-  if (force_floor) doc["force_history_floor"] = diagnosis::to_json(*force_floor);
+  if (force_floor && !force_errors.empty())
+    doc["force_history_floor"] = diagnosis::to_json(*force_floor);
   doc["data"] = o.data;
   doc["shape"] = in.shape.name;
   std::vector<std::string> figures;
@@ -178,6 +194,7 @@ void add_ladder_command(CLI::App& app) {
   auto auto_rounds = std::make_shared<int>(-1);
   auto force_law = std::make_shared<bool>(false);
   auto force_terms = std::make_shared<std::vector<std::string>>();
+  auto history_weight = std::make_shared<double>(0.0);
   add_diagnosis_command(
       app, "ladder",
       "Recalibrate a ladder of models (base, + effect, + another, ...) and show the in-sample "
@@ -186,7 +203,7 @@ void add_ladder_command(CLI::App& app) {
                 "diagnose --alpha)",
        .features = true,
        .write_model = true},
-      [auto_rounds, force_law, force_terms](CLI::App* sub) {
+      [auto_rounds, force_law, force_terms, history_weight](CLI::App* sub) {
         auto* law = sub->add_flag("--force-law", *force_law,
                                   "Last rung: the force law discovered on the file's contact "
                                   "histories, its terms held at their discovered coefficients "
@@ -197,6 +214,12 @@ void add_ladder_command(CLI::App& app) {
                         "terms: a named law, its coefficients from the histories of each "
                         "split's training releases")
             ->needs(law);
+        sub->add_option("--history-weight", *history_weight,
+                        "Calibrate every rung on the contact histories too: adds W x (each "
+                        "history's RMS error / its replicate floor)^2 per release to Eq. 7 "
+                        "(W = the V_out floor weighs a force floor as a rebound floor; "
+                        "docs/commands/ladder.md)");
+        check_range(sub, "--history-weight", 1e-12, 1e6);
         sub->get_option("--add")->description(
             "Effect added by the next rung (repeatable, in order; plugin effects too)");
         sub->add_option("--auto", *auto_rounds,
@@ -204,8 +227,8 @@ void add_ladder_command(CLI::App& app) {
                         "--add)");
         check_range(sub, "--auto", 1, 20);
       },
-      [auto_rounds, force_law, force_terms](DiagnosisCliOptions& o) {
-        run(o, *auto_rounds, *force_law, *force_terms);
+      [auto_rounds, force_law, force_terms, history_weight](DiagnosisCliOptions& o) {
+        run(o, *auto_rounds, *force_law, *force_terms, *history_weight);
       });
 }
 

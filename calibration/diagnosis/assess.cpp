@@ -374,6 +374,7 @@ fit::PopulationFit warm_split_fit(const Model& mj, const Shape& shape, const Imp
     double e = 0;
     for (double x : fit::prediction_errors(train, pr, fj.error)) e += x;
     for (const auto& q : pr) e += q.status == CollisionStatus::kOk ? 0.0 : fit::kFailedRebound;
+    if (fj.extra_objective) e += fj.extra_objective(mj, v, train);  // as the fit minimises
     line.emplace_back(e, std::move(v));
   }
   std::stable_sort(line.begin(), line.end(),
@@ -552,6 +553,7 @@ void polish_with_fold_optima(Assessment& a, const Model& model, const Shape& sha
     const ErrorReport r = error_report(set, to_observables(pr), a.use, o);
     double e = r.error.mean * static_cast<double>(set.size());
     for (const auto& q : pr) e += q.status == CollisionStatus::kOk ? 0.0 : fit::kFailedRebound;
+    if (fo.extra_objective) e += fo.extra_objective(model, a.fold_params[k], set);
     if (e < a.population.error) better.emplace_back(e, k);
   }
   std::sort(better.begin(), better.end());

@@ -208,6 +208,14 @@ struct FitOptions {
   /// Collisions shared with other fits of the same model, shape and engine settings
   /// (fit/collision_memo.hpp): the fold fits of one assessment. Null: none kept.
   std::shared_ptr<CollisionMemo> memo;
+  /// A term added to the population fits' objective (calibrate_population, and so every fold
+  /// fit of an assessment), evaluated at every point the search visits with the model being
+  /// fitted, the full parameter vector (model order) and the releases being fitted (a fold fit's
+  /// training releases only); empty: Eq. 7 alone. Issue 33's force histories
+  /// (diagnosis/history_objective.hpp) are one. Release fits (calibrate_release) ignore it; a
+  /// population fit's `error` includes it. Must be thread-safe and deterministic.
+  std::function<double(const Model& model, std::span<const double> params, const ImpactSet& set)>
+      extra_objective;
 
   /// The allowed ranges (problems(); the command line shows them in --help). design_points: -1
   /// is no design (see above), 1e6 bounds one engine batch; marginal points: one orientation is

@@ -117,7 +117,7 @@ class PopulationProblem final : public Problem {
   PopulationProblem(detail::Simulator& sim, const Model& model, const Shape& shape,
                     const ImpactSet& set, const FitOptions& options, const ParameterBox& box,
                     int points)
-      : sim_(sim), set_(set), options_(options), box_(box), base_(model.values()) {
+      : sim_(sim), model_(model), set_(set), options_(options), box_(box), base_(model.values()) {
     for (std::size_t i = 0; i < set.size(); ++i) {
       const AlphaPlan plan = plan_alpha(shape, set.impacts[i], options.alpha, false, points);
       marginal_ = marginal_ || plan.source == "marginal";
@@ -174,10 +174,15 @@ class PopulationProblem final : public Problem {
     for (std::size_t i = 0; i < n; ++i)
       for (std::size_t c = 0; c < C; ++c)
         out[i] += weight_[c] * score(res[i * C + c], set_.impacts[owner_[c]], options_.error);
+    if (options_.extra_objective)
+      for (std::size_t i = 0; i < n; ++i)
+        out[i] += options_.extra_objective(
+            model_, std::span<const double>(params.data() + i * C * P, P), set_);
     return out;
   }
 
   detail::Simulator& sim_;
+  const Model& model_;
   const ImpactSet& set_;
   const FitOptions& options_;
   const ParameterBox& box_;

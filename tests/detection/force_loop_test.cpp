@@ -81,7 +81,8 @@ TEST_F(ForceLoop, TheDiscoveredDragBecomesARungAndTheForceErrorFalls) {
 
 // A named law (`--force-terms`): the drag alone, fitted on the histories without selection,
 // comes out as the discovery's (30-45 kg/m against the truth's 40 acting one way), and every
-// split fits the same term. An unknown name is refused before any work, naming the library.
+// split fits the same term. An unknown name is refused before any work, naming the library, and
+// so is a history weight without a floor to weigh the histories by.
 TEST_F(ForceLoop, ANamedLawIsFittedOnTheHistoriesAsARung) {
   const std::string set = make_set();
   const test::RunResult bad =
@@ -89,6 +90,12 @@ TEST_F(ForceLoop, ANamedLawIsFittedOnTheHistoriesAsARung) {
   EXPECT_EQ(bad.status, 2);
   EXPECT_NE(bad.err.find("--force-terms"), std::string::npos) << bad.err;
   EXPECT_NE(bad.err.find("inertial_drag"), std::string::npos) << bad.err;
+  // Histories but no replicates and no borrowed floor: nothing to weigh them by.
+  const test::RunResult unweighed =
+      ricochet("ladder " + test::quote(set) + " --add term_inertial_drag --history-weight 0.01");
+  EXPECT_EQ(unweighed.status, 2);
+  EXPECT_NE(unweighed.err.find("--history-weight"), std::string::npos) << unweighed.err;
+  EXPECT_NE(unweighed.err.find("replicate floor"), std::string::npos) << unweighed.err;
   const test::RunResult l = ricochet("ladder " + test::quote(set) +
                                      " --seed 5101 --force-law --force-terms inertial_drag --json");
   ASSERT_EQ(l.status, 0) << l.err;
@@ -131,6 +138,10 @@ TEST_F(ForceLoop, WithoutHistoriesTheForceOptionsAreRefusedAtOnce) {
   const test::RunResult l = ricochet("ladder " + test::quote(csv) + " --force-law");
   EXPECT_EQ(l.status, 2);
   EXPECT_NE(l.err.find("--force-law"), std::string::npos) << l.err;
+  const test::RunResult w =
+      ricochet("ladder " + test::quote(csv) + " --add inertial_drag --history-weight 0.03");
+  EXPECT_EQ(w.status, 2);
+  EXPECT_NE(w.err.find("--history-weight"), std::string::npos) << w.err;
 }
 
 }  // namespace
