@@ -18,36 +18,6 @@
 
 namespace ricochet::diagnosis {
 
-namespace {
-
-// Sums of squared residuals and sample counts per component.
-struct Squares {
-  std::array<double, kForceComponents> sum{};
-  std::array<std::size_t, kForceComponents> n{};
-  void add(const ReleaseResidual& r) {
-    for (const auto& row : r.residual)
-      for (std::size_t c = 0; c < kForceComponents; ++c)
-        if (std::isfinite(row[c])) {
-          sum[c] += row[c] * row[c];
-          ++n[c];
-        }
-  }
-  void add(const Squares& o) {
-    for (std::size_t c = 0; c < kForceComponents; ++c) {
-      sum[c] += o.sum[c];
-      n[c] += o.n[c];
-    }
-  }
-  std::array<double, kForceComponents> rms() const {
-    std::array<double, kForceComponents> out;
-    for (std::size_t c = 0; c < kForceComponents; ++c)
-      out[c] = n[c] > 0 ? std::sqrt(sum[c] / static_cast<double>(n[c])) : kNaN;
-    return out;
-  }
-};
-
-}  // namespace
-
 ForceHistoryError force_history_error(const Model& model, const Shape& shape, const Assessment& a,
                                       const std::vector<std::optional<MeasuredHistory>>& histories,
                                       const EngineOptions& engine) {
@@ -58,7 +28,7 @@ ForceHistoryError force_history_error(const Model& model, const Shape& shape, co
     throw std::invalid_argument("force_history_error: the assessment has no fold fits");
   ForceHistoryError e;
   e.releases = history_count(histories);
-  Squares in;
+  ResidualSquares in;
   for (const auto& h : histories)
     if (h) {
       const ReleaseResidual r = force_residual(*h, model, shape, a.population.params, engine);
@@ -68,7 +38,7 @@ ForceHistoryError force_history_error(const Model& model, const Shape& shape, co
   // The splits are independent: each evaluates its own fit along its own test releases. Kept
   // per (split, test release), so that each release's held-out squares (over the repeats that
   // held it out) give the figure's standard error over releases.
-  std::vector<std::vector<Squares>> per_split(a.cv.splits());
+  std::vector<std::vector<ResidualSquares>> per_split(a.cv.splits());
 #pragma omp parallel for schedule(dynamic)
   for (std::size_t s = 0; s < a.cv.splits(); ++s) {
     // A split that calibrated its own model (assess with a SplitModel) is evaluated with it.
@@ -78,8 +48,8 @@ ForceHistoryError force_history_error(const Model& model, const Shape& shape, co
       if (const std::size_t i = a.cv.test[s][k]; histories[i])
         per_split[s][k].add(force_residual(*histories[i], ms, shape, a.fold_params[s], engine));
   }
-  std::vector<Squares> per_release(a.cv.n);
-  Squares out;
+  std::vector<ResidualSquares> per_release(a.cv.n);
+  ResidualSquares out;
   for (std::size_t s = 0; s < a.cv.splits(); ++s)
     for (std::size_t k = 0; k < a.cv.test[s].size(); ++k) {
       per_release[a.cv.test[s][k]].add(per_split[s][k]);
@@ -90,7 +60,7 @@ ForceHistoryError force_history_error(const Model& model, const Shape& shape, co
   for (std::size_t c = 0; c < kForceComponents; ++c) {
     std::vector<double> ss;
     std::vector<std::size_t> n;
-    for (const Squares& r : per_release) {
+    for (const ResidualSquares& r : per_release) {
       ss.push_back(r.sum[c]);
       n.push_back(r.n[c]);
     }
@@ -310,7 +280,7 @@ std::optional<NamedFigure> force_residual_figure(
   before.style = after.style = "points";
   before.color = report::colour::kVermillion;
   after.color = report::colour::kBlue;
-  Squares sq_before, sq_after;
+  ResidualSquares sq_before, sq_after;
   for (std::size_t i = 0; i < histories.size(); ++i) {
     if (!histories[i]) continue;
     std::vector<double> own(params.begin(), params.end());

@@ -22,10 +22,10 @@ std::vector<const ForceTerm*> named_force_terms(const std::vector<std::string>& 
                                                 const std::string& field) {
   std::vector<const ForceTerm*> out;
   for (const std::string& name : names) {
-    const std::string_view bare = std::string_view(name).starts_with("term_")
-                                      ? std::string_view(name).substr(5)
-                                      : std::string_view(name);
-    const ForceTerm* t = effects::find_force_term(bare);
+    // The term's own name or its effect's (force_term_effect_name: "term_<name>").
+    const ForceTerm* t = effects::find_force_term(name);
+    for (const ForceTerm& term : force_terms())
+      if (!t && effects::force_term_effect_name(term) == name) t = &term;
     if (!t)
       throw InputError(where, 0, field,
                        fmt::format("unknown force term '{}'; known: the {}", name,

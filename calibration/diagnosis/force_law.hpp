@@ -62,9 +62,10 @@ struct ComponentLaw {
 
 /// Finds the law of every component that has residuals. With `named` terms (a law the user
 /// names, e.g. from a hypothesis or another set), each component fits exactly its named terms,
-/// without selection (stats::SparseOptions::support), and a component without one fits none; its
-/// text then says "fitted" for "discovered". Throws InputError for releases whose sizes disagree
-/// or that have non-finite states, or fewer than two releases with samples.
+/// without selection (stats::SparseOptions::support), and a component without one fits none (its
+/// text: "no term named"); ForceLawReport::named then says the law was fitted, not discovered.
+/// Throws InputError for releases whose sizes disagree or that have non-finite states, or fewer
+/// than two releases with samples.
 std::vector<ComponentLaw> discover_force_law(const std::vector<ReleaseResidual>& releases,
                                              const stats::SparseOptions& options = {},
                                              std::span<const ForceTerm* const> named = {});

@@ -12,6 +12,7 @@
 
 #include "common/clock.hpp"
 #include "common/error.hpp"
+#include "common/nan.hpp"
 #include "stats/robust.hpp"
 #include "stats/track_summary.hpp"
 
@@ -110,6 +111,29 @@ std::vector<std::optional<MeasuredHistory>> measured_histories(const std::string
 std::size_t history_count(const std::vector<std::optional<MeasuredHistory>>& histories) {
   return static_cast<std::size_t>(std::count_if(histories.begin(), histories.end(),
                                                 [](const auto& h) { return h.has_value(); }));
+}
+
+void ResidualSquares::add(const ReleaseResidual& r) {
+  for (const auto& row : r.residual)
+    for (std::size_t c = 0; c < kForceComponents; ++c)
+      if (std::isfinite(row[c])) {
+        sum[c] += row[c] * row[c];
+        ++n[c];
+      }
+}
+
+void ResidualSquares::add(const ResidualSquares& other) {
+  for (std::size_t c = 0; c < kForceComponents; ++c) {
+    sum[c] += other.sum[c];
+    n[c] += other.n[c];
+  }
+}
+
+std::array<double, kForceComponents> ResidualSquares::rms() const {
+  std::array<double, kForceComponents> out;
+  for (std::size_t c = 0; c < kForceComponents; ++c)
+    out[c] = n[c] > 0 ? std::sqrt(sum[c] / static_cast<double>(n[c])) : kNaN;
+  return out;
 }
 
 std::optional<ForceLawReport> force_law_from_tracks(

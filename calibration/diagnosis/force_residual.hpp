@@ -7,6 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <array>
+#include <cstddef>
 #include <optional>
 #include <span>
 #include <string>
@@ -73,6 +75,18 @@ std::size_t history_count(const std::vector<std::optional<MeasuredHistory>>& his
 ReleaseResidual force_residual(const MeasuredHistory& history, const Model& model,
                                const Shape& shape, std::span<const double> params = {},
                                const EngineOptions& engine = {});
+
+/// Sums of squared residuals and sample counts per component (force_residual's rows; a NaN
+/// component, not measured, is skipped): the force-history error pools them over releases and
+/// splits, the history objective over the releases being fitted.
+struct ResidualSquares {
+  std::array<double, kForceComponents> sum{};
+  std::array<std::size_t, kForceComponents> n{};
+  void add(const ReleaseResidual& r);
+  void add(const ResidualSquares& other);
+  /// Per component sqrt(sum / n); NaN where n = 0.
+  std::array<double, kForceComponents> rms() const;
+};
 
 /// The force law missing from a model, discovered from the histories a file keeps.
 struct ForceLawReport {

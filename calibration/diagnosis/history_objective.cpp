@@ -15,20 +15,13 @@ double HistoryObjective::operator()(const Model& model, std::span<const double> 
   for (const Impact& im : set.impacts) {
     const auto it = histories.find(im.id);
     if (it == histories.end()) continue;
-    const ReleaseResidual r = force_residual(it->second, model, shape, params, engine);
-    std::array<double, kForceComponents> sum{};
-    std::array<std::size_t, kForceComponents> n{};
-    for (const auto& row : r.residual)
-      for (std::size_t c = 0; c < kForceComponents; ++c)
-        if (std::isfinite(row[c])) {
-          sum[c] += row[c] * row[c];
-          ++n[c];
-        }
+    ResidualSquares q;
+    q.add(force_residual(it->second, model, shape, params, engine));
     double mean = 0;
     std::size_t used = 0;
     for (std::size_t c = 0; c < kForceComponents; ++c)
-      if (n[c] > 0 && std::isfinite(floor[c]) && floor[c] > 0) {
-        mean += sum[c] / static_cast<double>(n[c]) / (floor[c] * floor[c]);
+      if (q.n[c] > 0 && std::isfinite(floor[c]) && floor[c] > 0) {
+        mean += q.sum[c] / static_cast<double>(q.n[c]) / (floor[c] * floor[c]);
         ++used;
       }
     if (used > 0) total += mean / static_cast<double>(used);
