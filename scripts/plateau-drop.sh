@@ -52,7 +52,15 @@ fi
     cp "$SHIPPED" "$OUT/"
     [ -f "${SHIPPED%.csv}.tracks.csv" ] && cp "${SHIPPED%.csv}.tracks.csv" "$OUT/"
     [ -f "${SHIPPED%.csv}.repose.json" ] && cp "${SHIPPED%.csv}.repose.json" "$OUT/"
+    [ -f "${SHIPPED%.csv}.json" ] && cp "${SHIPPED%.csv}.json" "$OUT/"
     echo "resuming from the shipped $SHIPPED"
+  fi
+  # The summary is written only after every drop ended well: with it, nothing is left to run.
+  # (`dem drop` itself would build the bed again for its summary, an hour of a core on a new
+  # machine, as it did on 2026-12-07.)
+  if [ -f "$OUT/$FILE.json" ]; then
+    echo "== $(date '+%F %T') plateau-drop: every drop and the summary $OUT/$FILE.json are in: nothing to run"
+    exit 0
   fi
   cd "$OUT" || exit 1
   BED=(--set bed.mode=box --set bed.Lx_m=0.4 --set bed.Ly_m=0.4 --set bed.H_m=0.2
