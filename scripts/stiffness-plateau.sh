@@ -102,6 +102,32 @@ fi
       echo "could not seed $(basename "$bed") from the shipped copy: it will be built"
     fi
   done
+  # ... and from what was in flight when the last session ended (scripts/ship-beds.sh): a bed
+  # build's latest checkpoint, unless the bed is there already, and an impact's work folder with
+  # its checkpoint, unless that folder has one (each lands under its final name only complete:
+  # the restart through a temporary name, the impact's checkpoint.json last in its archive).
+  for ckpt in "$ROOT"/data/resolved/beds/"$FILE"/bed-*.building.ckpt-*.restart.xz; do
+    [ -f "$ckpt" ] || continue
+    name=$(basename "$ckpt" .xz)
+    if [ -f "$CACHE/${name%%.building.*}.params" ] || [ -f "$CACHE/$name" ]; then continue; fi
+    mkdir -p "$CACHE"
+    if xz -dc "$ckpt" > "$CACHE/$name.seeding"; then
+      mv "$CACHE/$name.seeding" "$CACHE/$name"
+      echo "seeded the bed build's checkpoint $name from the shipped copy"
+    else
+      rm -f "$CACHE/$name.seeding"
+    fi
+  done
+  for work in "$ROOT"/data/resolved/beds/"$FILE"/impact-*.tar.xz; do
+    [ -f "$work" ] || continue
+    json=$(tar -tJf "$work" | grep '/checkpoint\.json$')
+    if [ -z "$json" ] || [ -f "$OUT/$json" ]; then continue; fi
+    if tar -xJf "$work" -C "$OUT"; then
+      echo "seeded the impact in flight $(dirname "$json") from $(basename "$work")"
+    else
+      rm -f "$OUT/$json"
+    fi
+  done
   RUN_DESIGN=$PIN/$NAME.toml
   if [ -n "${PLATEAU_FIRST:-}" ]; then
     RUN_DESIGN=$PIN/$NAME.first$PLATEAU_FIRST.toml
