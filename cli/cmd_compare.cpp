@@ -11,6 +11,7 @@
 #include "cli_common.hpp"
 #include "common/error.hpp"
 #include "diagnosis/figures.hpp"
+#include "diagnosis/force_history.hpp"
 #include "diagnosis/inputs.hpp"
 #include "diagnosis_options.hpp"
 #include "model_options.hpp"
@@ -25,8 +26,19 @@ void run(DiagnosisCliOptions& o) {
   const Model model = o.model.build_model();
   const auto in = diagnosis::load_inputs(o.data, o.shape_given ? o.model.shape : "", o.where);
   diagnosis::borrow_floor(opt, o.values, in);
+  const auto [histories, force_floor] = weigh_histories(opt, o, in);
   const diagnosis::Baseline b = diagnosis::compare(model, in.shape, in.set, opt);
   nlohmann::json doc = diagnosis::to_json(b, in.set);
+  // A set with contact histories: the calibrated model's force along each release's own path,
+  // in-sample and at its splits' fits (issue 33), whether or not the fits weighed them.
+  std::vector<diagnosis::ForceHistoryError> force_errors;
+  if (diagnosis::history_count(histories) >= 2) {
+    force_errors.push_back(diagnosis::force_history_error(model, in.shape, b.base, histories,
+                                                          o.model.engine_options()));
+    doc["force_history"] = diagnosis::to_json(force_errors.front());
+    if (force_floor) doc["force_history_floor"] = diagnosis::to_json(*force_floor);
+  }
+  if (o.history_weight > 0) doc["history_weight"] = o.history_weight;
   doc["data"] = o.data;
   doc["shape"] = in.shape.name;
   doc["verdict"] = b.adequacy.adequate ? "adequate" : "not adequate";
@@ -86,6 +98,7 @@ void run(DiagnosisCliOptions& o) {
     for (const auto& t : *trends)
       if (t.significant) std::cout << "  " << diagnosis::describe(t) << "\n", ++shown;
   if (shown == 0) std::cout << "  none\n";
+  print_force_history({"(model)"}, force_errors, force_floor);
   print_written(figures, o.output.out);
 }
 
@@ -96,7 +109,7 @@ void add_compare_command(CLI::App& app) {
       app, "compare",
       "Calibrate a model on an impact set and show where it fails: errors per observable, "
       "release and regime, residual and parameter trends, CDFs, noise floor",
-      {.release_fits = true, .intervals = true, .features = true}, {}, run);
+      {.release_fits = true, .intervals = true, .features = true, .history_weight = true}, {}, run);
 }
 
 }  // namespace ricochet::cli

@@ -72,9 +72,11 @@ void run(DiagnosisCliOptions& o, const std::string& force_model) {
   const Model model = o.model.build_model();  // loads plugins first: they become candidates
   const auto in = diagnosis::load_inputs(o.data, o.shape_given ? o.model.shape : "", o.where);
   diagnosis::borrow_floor(opt, o.values, in);
+  (void)weigh_histories(opt, o, in);  // force_law_of reads the histories after the diagnosis
   opt.progress = !o.output.json;
   const diagnosis::Diagnosis d = diagnosis::diagnose(model, in.shape, in.set, opt);
   nlohmann::json doc = diagnosis::to_json(d);
+  if (o.history_weight > 0) doc["history_weight"] = o.history_weight;
   // A set with contact histories: the force the model leaves along each release's own path
   // (issue 33).
   const auto force_law =
@@ -134,7 +136,8 @@ void add_diagnose_command(CLI::App& app) {
        .release_fits = true,
        .intervals = true,
        .features = true,
-       .write_model = true},
+       .write_model = true,
+       .history_weight = true},
       [force_model](CLI::App* sub) {
         sub->add_option("--write-force-model", *force_model,
                         "Write the base model at its fit plus the discovered force law's terms "

@@ -13,7 +13,6 @@
 #include "common/error.hpp"
 #include "diagnosis/figures.hpp"
 #include "diagnosis/force_history.hpp"
-#include "diagnosis/history_objective.hpp"
 #include "diagnosis/inputs.hpp"
 #include "diagnosis_options.hpp"
 #include "impact/block_track.hpp"
@@ -71,49 +70,8 @@ void print_rungs(const diagnosis::Ladder& l) {
   std::cout << floor_line << "\n";
 }
 
-// The force histories' table; with a replicate floor, its row and each rung's held-out RMS over
-// it ("x floor": issue 33's 2 x reads there).
-void print_force_history(const diagnosis::Ladder& l,
-                         const std::vector<diagnosis::ForceHistoryError>& errors,
-                         const std::optional<diagnosis::ForceHistoryScatter>& floor) {
-  if (errors.empty()) return;
-  std::cout << fmt::format(
-      "\nforce histories ({} releases, {} contact samples; RMS of measured minus model, "
-      "in-sample / held-out +- its standard error over releases):\n{:<5}{:<22}{:>30}{:>30}{:>30}\n",
-      errors.front().releases, errors.front().samples, "rung", "added", "normal [N]",
-      "tangential [N]", "moment [N m]");
-  for (std::size_t r = 0; r < errors.size(); ++r) {
-    std::string line =
-        fmt::format("{:<5}{:<22}", r, l.rungs[r].added.empty() ? "(base)" : "+" + l.rungs[r].added);
-    for (std::size_t c = 0; c < diagnosis::kForceComponents; ++c)
-      line += std::isfinite(errors[r].insample_rms[c])
-                  ? fmt::format("{:>12.4g} /{:>8.4g} +-{:<6.3g}", errors[r].insample_rms[c],
-                                errors[r].heldout_rms[c], errors[r].heldout_se[c])
-                  : fmt::format("{:>30}", "-");
-    if (floor) {
-      line += "   x floor";
-      for (std::size_t c = 0; c < diagnosis::kForceComponents; ++c)
-        line += fmt::format(" {:.2f}", errors[r].heldout_rms[c] / floor->rms[c]);
-    }
-    std::cout << line << "\n";
-  }
-  if (!floor) return;
-  std::string line = fmt::format("{:<5}{:<22}", "", "replicate floor");
-  for (std::size_t c = 0; c < diagnosis::kForceComponents; ++c)
-    line += std::isfinite(floor->rms[c])
-                ? fmt::format("{:>12} /{:>8.4g}{:8}", "", floor->rms[c], "")
-                : fmt::format("{:>30}", "-");
-  std::cout << line << "\n"
-            << fmt::format(
-                   "     (one history's RMS distance from its replicates' mean history, {} groups "
-                   "of {} histories{}{}; moment about the lowest point)\n",
-                   floor->groups, floor->histories,
-                   floor->source.empty() ? "" : ", borrowed from " + floor->source,
-                   floor->where.empty() ? "" : " (" + floor->where + ")");
-}
-
 void run(DiagnosisCliOptions& o, int auto_rounds, bool force_law,
-         const std::vector<std::string>& force_terms, double history_weight) {
+         const std::vector<std::string>& force_terms) {
   require_out_extension(o.output, {".csv", ".h5", ".hdf5"});
   o.values.dt_s = o.model.dt_s;
   diagnosis::DiagnoseOptions opt = diagnose_options(o.values);
@@ -125,25 +83,7 @@ void run(DiagnosisCliOptions& o, int auto_rounds, bool force_law,
   const auto named = diagnosis::named_force_terms(force_terms, "<command line>", "--force-terms");
   const auto in = diagnosis::load_inputs(o.data, o.shape_given ? o.model.shape : "", o.where);
   diagnosis::borrow_floor(opt, o.values, in);
-  const auto histories = diagnosis::measured_histories(o.data, in.set, in.shape);
-  const auto force_floor =
-      diagnosis::history_count(histories) == 0
-          ? std::nullopt
-          : diagnosis::force_history_floor(in.set, in.shape, histories, opt.assess.borrowed_floor);
-  if (history_weight > 0) {
-    if (diagnosis::history_count(histories) < 2)
-      throw InputError("<command line>", 0, "--history-weight",
-                       o.data + " keeps no contact histories of two releases or more");
-    const auto objective = diagnosis::history_objective(
-        in.set, histories,
-        force_floor ? force_floor->rms
-                    : std::array<double, diagnosis::kForceComponents>{NAN, NAN, NAN},
-        history_weight, in.shape, o.model.engine_options(), "--history-weight");
-    opt.assess.fit.extra_objective = [objective](const Model& m, std::span<const double> p,
-                                                 const ImpactSet& s) {
-      return (*objective)(m, p, s);
-    };
-  }
+  const auto [histories, force_floor] = weigh_histories(opt, o, in);
   opt.assess.release_fits = opt.assess.release_fits && auto_rounds >= 0;
   opt.progress = !o.output.json;
   diagnosis::Ladder l = auto_rounds >= 0
@@ -162,6 +102,7 @@ void run(DiagnosisCliOptions& o, int auto_rounds, bool force_law,
   }
   if (force_floor && !force_errors.empty())
     doc["force_history_floor"] = diagnosis::to_json(*force_floor);
+  if (o.history_weight > 0) doc["history_weight"] = o.history_weight;
   doc["data"] = o.data;
   doc["shape"] = in.shape.name;
   std::vector<std::string> figures;
@@ -182,7 +123,9 @@ void run(DiagnosisCliOptions& o, int auto_rounds, bool force_law,
   std::cout << fmt::format("{} ({} releases of shape {}); noise floor {:.4g} ({})\n\n", o.data,
                            in.set.size(), in.shape.name, l.floor.value.mean, l.floor.source);
   print_rungs(l);
-  print_force_history(l, force_errors, force_floor);
+  std::vector<std::string> rungs;
+  for (const auto& r : l.rungs) rungs.push_back(r.added.empty() ? "(base)" : "+" + r.added);
+  print_force_history(rungs, force_errors, force_floor);
   if (discovered) std::cout << "\n" << diagnosis::format_text(*discovered);
   if (!l.stop_reason.empty()) std::cout << "\nstopped: " << l.stop_reason << "\n";
   print_written(figures, o.output.out);
@@ -194,7 +137,6 @@ void add_ladder_command(CLI::App& app) {
   auto auto_rounds = std::make_shared<int>(-1);
   auto force_law = std::make_shared<bool>(false);
   auto force_terms = std::make_shared<std::vector<std::string>>();
-  auto history_weight = std::make_shared<double>(0.0);
   add_diagnosis_command(
       app, "ladder",
       "Recalibrate a ladder of models (base, + effect, + another, ...) and show the in-sample "
@@ -202,8 +144,9 @@ void add_ladder_command(CLI::App& app) {
       {.alpha = "--auto: the family-wise error rate of each round's candidate tests (as "
                 "diagnose --alpha)",
        .features = true,
-       .write_model = true},
-      [auto_rounds, force_law, force_terms, history_weight](CLI::App* sub) {
+       .write_model = true,
+       .history_weight = true},
+      [auto_rounds, force_law, force_terms](CLI::App* sub) {
         auto* law = sub->add_flag("--force-law", *force_law,
                                   "Last rung: the force law discovered on the file's contact "
                                   "histories, its terms held at their discovered coefficients "
@@ -214,12 +157,6 @@ void add_ladder_command(CLI::App& app) {
                         "terms: a named law, its coefficients from the histories of each "
                         "split's training releases")
             ->needs(law);
-        sub->add_option("--history-weight", *history_weight,
-                        "Calibrate every rung on the contact histories too: adds W x (each "
-                        "history's RMS error / its replicate floor)^2 per release to Eq. 7 "
-                        "(W = the V_out floor weighs a force floor as a rebound floor; "
-                        "docs/commands/ladder.md)");
-        check_range(sub, "--history-weight", 1e-12, 1e6);
         sub->get_option("--add")->description(
             "Effect added by the next rung (repeatable, in order; plugin effects too)");
         sub->add_option("--auto", *auto_rounds,
@@ -227,8 +164,8 @@ void add_ladder_command(CLI::App& app) {
                         "--add)");
         check_range(sub, "--auto", 1, 20);
       },
-      [auto_rounds, force_law, force_terms, history_weight](DiagnosisCliOptions& o) {
-        run(o, *auto_rounds, *force_law, *force_terms, *history_weight);
+      [auto_rounds, force_law, force_terms](DiagnosisCliOptions& o) {
+        run(o, *auto_rounds, *force_law, *force_terms);
       });
 }
 

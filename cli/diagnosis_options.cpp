@@ -1,8 +1,13 @@
 #include "diagnosis_options.hpp"
 
+#include <cmath>
 #include <iostream>
 #include <memory>
 
+#include <fmt/format.h>
+
+#include "common/error.hpp"
+#include "diagnosis/history_objective.hpp"
 #include "shared_options.hpp"
 
 namespace ricochet::cli {
@@ -119,6 +124,14 @@ CLI::App* add_diagnosis_command(CLI::App& app, const std::string& name,
   add_model_options(sub, o->model);
   if (extra) extra(sub);
   add_diagnosis_options(sub, o->values, set);
+  if (set.history_weight) {
+    sub->add_option("--history-weight", o->history_weight,
+                    "Calibrate on the contact histories too: every population fit minimises Eq. "
+                    "7 plus W x (each history's RMS error / its replicate floor)^2 per release "
+                    "(W = the V_out floor weighs a force floor as a rebound floor; "
+                    "docs/diagnosis.md, \"Calibrated on the histories too\")");
+    check_range(sub, "--history-weight", 1e-12, 1e6);
+  }
   add_figures_option(sub, o->figures);
   if (set.write_model)
     sub->add_option("--write-model", o->write_model,
@@ -130,6 +143,66 @@ CLI::App* add_diagnosis_command(CLI::App& app, const std::string& name,
     run(*o);
   });
   return sub;
+}
+
+SetHistories weigh_histories(diagnosis::DiagnoseOptions& opt, const DiagnosisCliOptions& o,
+                             const diagnosis::Inputs& in) {
+  SetHistories h;
+  h.histories = diagnosis::measured_histories(o.data, in.set, in.shape);
+  if (diagnosis::history_count(h.histories) > 0)
+    h.floor =
+        diagnosis::force_history_floor(in.set, in.shape, h.histories, opt.assess.borrowed_floor);
+  if (!(o.history_weight > 0)) return h;
+  if (diagnosis::history_count(h.histories) < 2)
+    throw InputError("<command line>", 0, "--history-weight",
+                     o.data + " keeps no contact histories of two releases or more");
+  const auto objective = diagnosis::history_objective(
+      in.set, h.histories,
+      h.floor ? h.floor->rms : std::array<double, diagnosis::kForceComponents>{NAN, NAN, NAN},
+      o.history_weight, in.shape, o.model.engine_options(), "--history-weight");
+  opt.assess.fit.extra_objective = [objective](const Model& m, std::span<const double> p,
+                                               const ImpactSet& s) {
+    return (*objective)(m, p, s);
+  };
+  return h;
+}
+
+void print_force_history(const std::vector<std::string>& rungs,
+                         const std::vector<diagnosis::ForceHistoryError>& errors,
+                         const std::optional<diagnosis::ForceHistoryScatter>& floor) {
+  if (errors.empty()) return;
+  std::cout << fmt::format(
+      "\nforce histories ({} releases, {} contact samples; RMS of measured minus model, "
+      "in-sample / held-out +- its standard error over releases):\n{:<5}{:<22}{:>30}{:>30}{:>30}\n",
+      errors.front().releases, errors.front().samples, "rung", "added", "normal [N]",
+      "tangential [N]", "moment [N m]");
+  for (std::size_t r = 0; r < errors.size(); ++r) {
+    std::string line = fmt::format("{:<5}{:<22}", r, rungs[r]);
+    for (std::size_t c = 0; c < diagnosis::kForceComponents; ++c)
+      line += std::isfinite(errors[r].insample_rms[c])
+                  ? fmt::format("{:>12.4g} /{:>8.4g} +-{:<6.3g}", errors[r].insample_rms[c],
+                                errors[r].heldout_rms[c], errors[r].heldout_se[c])
+                  : fmt::format("{:>30}", "-");
+    if (floor) {
+      line += "   x floor";
+      for (std::size_t c = 0; c < diagnosis::kForceComponents; ++c)
+        line += fmt::format(" {:.2f}", errors[r].heldout_rms[c] / floor->rms[c]);
+    }
+    std::cout << line << "\n";
+  }
+  if (!floor) return;
+  std::string line = fmt::format("{:<5}{:<22}", "", "replicate floor");
+  for (std::size_t c = 0; c < diagnosis::kForceComponents; ++c)
+    line += std::isfinite(floor->rms[c])
+                ? fmt::format("{:>12} /{:>8.4g}{:8}", "", floor->rms[c], "")
+                : fmt::format("{:>30}", "-");
+  std::cout << line << "\n"
+            << fmt::format(
+                   "     (one history's RMS distance from its replicates' mean history, {} groups "
+                   "of {} histories{}{}; moment about the lowest point)\n",
+                   floor->groups, floor->histories,
+                   floor->source.empty() ? "" : ", borrowed from " + floor->source,
+                   floor->where.empty() ? "" : " (" + floor->where + ")");
 }
 
 void print_written(const std::vector<std::string>& figures, const std::string& out) {

@@ -5,10 +5,12 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "cli_common.hpp"
+#include "diagnosis/force_history.hpp"
 #include "diagnosis/inputs.hpp"
 #include "model_options.hpp"
 
@@ -19,11 +21,12 @@ namespace ricochet::cli {
 struct DiagnosisOptionSet {
   const char* alpha =
       nullptr;  ///< help text of --alpha; nullptr: no --alpha (nor --screen, --no-pairs)
-  bool candidates = false;    ///< --candidate
-  bool release_fits = false;  ///< --no-release-fits
-  bool intervals = false;     ///< --no-intervals
-  bool features = false;      ///< --no-features
-  bool write_model = false;   ///< --write-model
+  bool candidates = false;      ///< --candidate
+  bool release_fits = false;    ///< --no-release-fits
+  bool intervals = false;       ///< --no-intervals
+  bool features = false;        ///< --no-features
+  bool write_model = false;     ///< --write-model
+  bool history_weight = false;  ///< --history-weight (weigh_histories)
 };
 
 /// The help of --alpha on diagnose and report (ladder prefixes "--auto: ").
@@ -42,6 +45,7 @@ struct DiagnosisCliOptions {
   std::string figures;      ///< directory of the SVG figures; empty: none
   std::string write_model;  ///< model file (TOML) of the best model found; empty: none
   bool shape_given = false;
+  double history_weight = 0;  ///< --history-weight; 0: the rebounds alone
 };
 
 /// Adds a subcommand reading one impact set with the model, diagnosis (`set`), --figures and
@@ -64,6 +68,30 @@ const OptionNames& diagnosis_option_names();
 /// command line's option names when DiagnoseOptions::problems() finds any (exit status 2,
 /// before any work).
 diagnosis::DiagnoseOptions diagnose_options(const diagnosis::OptionValues& values);
+
+/// The contact histories of the releases of a set (measured_histories, aligned with in.set) and
+/// their replicate floor (force_history_floor: the set's own replicates, else --floor-replicates'),
+/// or no floor when fewer than two releases keep a history.
+struct SetHistories {
+  std::vector<std::optional<diagnosis::MeasuredHistory>> histories;
+  std::optional<diagnosis::ForceHistoryScatter> floor;
+};
+
+/// Reads the histories of o.data; with --history-weight W > 0 every population fit of `opt`
+/// (the full set's and each split's, on its training releases alone) then minimises Eq. 7 plus
+/// W x their error in floors (diagnosis/history_objective.hpp). Call after borrow_floor. Exit 2
+/// (InputError naming --history-weight) when W > 0 and fewer than two releases keep a history,
+/// or the histories have no replicate floor.
+SetHistories weigh_histories(diagnosis::DiagnoseOptions& opt, const DiagnosisCliOptions& o,
+                             const diagnosis::Inputs& in);
+
+/// The force histories' table: per rung (its label in `rungs`, aligned with `errors`) the RMS of
+/// measured minus model in-sample / held-out +- its SE over releases, per component; with a
+/// replicate floor, its row and each rung's held-out RMS over it ("x floor": issue 33's 2 x
+/// reads there). Nothing when `errors` is empty.
+void print_force_history(const std::vector<std::string>& rungs,
+                         const std::vector<diagnosis::ForceHistoryError>& errors,
+                         const std::optional<diagnosis::ForceHistoryScatter>& floor);
 
 /// Prints "wrote FILE" for every figure and for the --out file (when given).
 void print_written(const std::vector<std::string>& figures, const std::string& out);
