@@ -62,6 +62,7 @@ std::vector<PathForce> law_force_along(const Model& model, const Shape& shape,
     }
   }
   std::vector<double> h_prev(slots, 0.0);
+  std::vector<bool> zeroed(slots, true);  // the slot's effect state is all zero
   // The surface under each slot, moved by effects that heap sand (Effect::moves_surface).
   bool lifts = false;
   for (const Effect* e : effects) lifts = lifts || e->moves_surface();
@@ -84,6 +85,20 @@ std::vector<PathForce> law_force_along(const Model& model, const Shape& shape,
       double active = kc.active, h = kc.h, dh = kc.h - h_prev[s];
       double vn = kc.vn, vt = kc.vt, lever = kc.lever, w = p.w_radps, vx = p.vx_mps, vy = p.vy_mps;
       h_prev[s] = kc.h;
+      // Out of contact an effect adds no force, raises no surface and leaves its state at zero
+      // (invariant 2 of engine/effect_checks.hpp, checked over the registry; the engine's flight
+      // jump rests on it too): the slot's effects need not run. Most of a track's sub-steps are
+      // flight, or slots of a polygon off the ground.
+      if (!(active > 0.0)) {
+        if (!zeroed[s]) {
+          for (std::size_t e = 0; e < effects.size(); ++e)
+            for (double& v : state[e * slots + s]) v = 0.0;
+          zeroed[s] = true;
+        }
+        lift[s] = 0.0;
+        continue;
+      }
+      zeroed[s] = false;
       double kf = 1, ef = 1, enf = 1, muf = 1, murf = 1;
       double fn = 0, ft = 0, mom = 0, fxb = 0, fyb = 0;
       ContactBatch cb;
