@@ -42,6 +42,8 @@
 #
 #   ./run.sh build ricochet && (nohup setsid scripts/dem-lanes.sh > /dev/null 2>&1 &) && ./run.sh build
 #   nohup setsid scripts/dem-lanes.sh > /dev/null 2>&1 &      # on a machine already built
+#   scripts/ship-session.sh     # at the session's end, lanes running: what the next machine
+#                               # resumes from (then commit data/resolved/)
 #   tail results/sand-calibration/campaign.log results/plateau/campaign.log \
 #        results/plateau-drop/drop.log
 #

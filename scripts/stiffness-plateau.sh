@@ -139,6 +139,8 @@ fi
     ONLY=(--only "$PLATEAU_ONLY")
     echo "running only $PLATEAU_ONLY of the design"
   fi
+  # What scripts/ship-session.sh ships at a session's end: this folder's design and file.
+  echo "$NAME $FILE" > "$OUT/running"
   cd "$OUT" || exit 1   # cache_dir and work_dir of the design are relative to this folder
   mpirun --oversubscribe --allow-run-as-root --bind-to none -np "${PLATEAU_RANKS:-1}" "$PIN/ricochet" dem campaign \
     "$RUN_DESIGN" --decks "$PIN/liggghts-inputs" "${ONLY[@]}" \
