@@ -154,6 +154,8 @@ for work, dirs, files in os.walk(out):
         size = os.path.getsize(os.path.join(dest, name)) / 1e6
         print(f"  impact {iid}: in flight, checkpoint generation {gen} shipped ({size:.1f} MB)")
         break
+    else:
+        print(f"  impact {iid}: a new checkpoint came at each of 5 tries: not shipped, run again")
 
 # Which results folder's pinned decks key these beds (scripts/lanes-status.sh: keep that pin).
 with open(os.path.join(dest, "pinned-in"), "w") as f:
