@@ -134,10 +134,11 @@ TEST_F(ForceLoop, CompareWeighsTheHistoriesWhenAsked) {
     }
     return n > 0 ? sum / n : NAN;
   };
-  const std::string common =
-      "compare " + test::quote(set) + " --seed 5102 --no-release-fits --floor-replicates " +
+  const std::string args =
+      " " + test::quote(set) + " --seed 5102 --no-release-fits --floor-replicates " +
       test::quote(std::string(RICOCHET_SOURCE_DIR) + "/data/resolved/sand-calibration-1.5e9.h5") +
       " --json";
+  const std::string common = "compare" + args;
   const test::RunResult plain = ricochet(common);
   ASSERT_EQ(plain.status, 0) << plain.err;
   const auto pj = nlohmann::json::parse(plain.out);
@@ -154,6 +155,15 @@ TEST_F(ForceLoop, CompareWeighsTheHistoriesWhenAsked) {
   EXPECT_LT(after, 0.9 * before) << "in-sample history error in floors^2: " << before << " -> "
                                  << after;
   EXPECT_GT(wj["insample_error"].get<double>(), pj["insample_error"].get<double>());
+  // diagnose takes the same option into the same base fit (one option, one fit path)
+  const test::RunResult d =
+      ricochet("diagnose" + args + " --history-weight 0.01 --candidate inertial_drag");
+  ASSERT_EQ(d.status, 0) << d.err;
+  const auto dj = nlohmann::json::parse(d.out);
+  EXPECT_EQ(dj["history_weight"].get<double>(), 0.01);
+  EXPECT_DOUBLE_EQ(dj["base"]["insample_error"].get<double>(), wj["insample_error"].get<double>());
+  EXPECT_DOUBLE_EQ(dj["base"]["parameters"]["mu"].get<double>(),
+                   wj["parameters"]["mu"].get<double>());
 }
 
 // The report shows the residual force before and after the discovered law, and the law lowers
