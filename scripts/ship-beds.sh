@@ -10,7 +10,8 @@
 # being built (bed-KEY.building.ckpt-PHASE-CHUNK-SETTLED.restart.xz, which ensure_bed resumes) and
 # of an impact being run (impact-ID.gen-G.tar.xz: its work folder's checkpoint.json, restart and
 # track, which run_impact resumes bit for bit); each is replaced by the next one shipped and
-# removed once its bed or impact is done. Run it at the end of a session, lanes running.
+# removed once its bed or impact is done. Run it at the end of a session, lanes running
+# (scripts/ship-session.sh does, for every campaign); scripts/seed-shipped.sh puts them back.
 #
 #   scripts/ship-beds.sh DESIGN.toml RESULTS/FILE.h5 [RICOCHET]
 #   e.g. scripts/ship-beds.sh liggghts-inputs/campaigns/sand-calibration-1.5e9.toml \

@@ -83,51 +83,13 @@ fi
     cp "$SHIPPED" "$OUT/$FILE.h5"
     echo "resuming from the shipped $SHIPPED"
   fi
-  # ... and from the beds shipped beside it (scripts/ship-beds.sh): each one decompressed into the
-  # design's cache under a temporary name, its parameters file last (what marks a bed complete).
-  # The cache folder as the program reads the design (its dry run), not a second parser of it.
+  # ... and from what scripts/ship-beds.sh shipped beside it: beds, and a bed build's or an
+  # impact's checkpoint in flight (scripts/seed-shipped.sh). The cache folder as the program
+  # reads the design (its dry run), not a second parser of it.
   CACHE=$("$PIN/ricochet" dem campaign "$PIN/$NAME.toml" --decks "$PIN/liggghts-inputs" --dry-run \
     --json 2>/dev/null | python3 -c 'import json, sys; print(json.load(sys.stdin)["cache_dir"])')
   case $CACHE in /*) ;; *) CACHE=$OUT/$CACHE ;; esac
-  for params in "$ROOT"/data/resolved/beds/"$FILE"/bed-*.params; do
-    [ -f "$params" ] || continue
-    bed=$CACHE/$(basename "$params" .params)
-    [ -f "$bed.params" ] && continue
-    mkdir -p "$CACHE"
-    if xz -dc "${params%.params}.restart.xz" > "$bed.restart.seeding"; then
-      mv "$bed.restart.seeding" "$bed.restart" && cp "$params" "$bed.params"
-      echo "seeded the bed $(basename "$bed") from the shipped copy"
-    else
-      rm -f "$bed.restart.seeding"
-      echo "could not seed $(basename "$bed") from the shipped copy: it will be built"
-    fi
-  done
-  # ... and from what was in flight when the last session ended (scripts/ship-beds.sh): a bed
-  # build's latest checkpoint, unless the bed is there already, and an impact's work folder with
-  # its checkpoint, unless that folder has one (each lands under its final name only complete:
-  # the restart through a temporary name, the impact's checkpoint.json last in its archive).
-  for ckpt in "$ROOT"/data/resolved/beds/"$FILE"/bed-*.building.ckpt-*.restart.xz; do
-    [ -f "$ckpt" ] || continue
-    name=$(basename "$ckpt" .xz)
-    if [ -f "$CACHE/${name%%.building.*}.params" ] || [ -f "$CACHE/$name" ]; then continue; fi
-    mkdir -p "$CACHE"
-    if xz -dc "$ckpt" > "$CACHE/$name.seeding"; then
-      mv "$CACHE/$name.seeding" "$CACHE/$name"
-      echo "seeded the bed build's checkpoint $name from the shipped copy"
-    else
-      rm -f "$CACHE/$name.seeding"
-    fi
-  done
-  for work in "$ROOT"/data/resolved/beds/"$FILE"/impact-*.tar.xz; do
-    [ -f "$work" ] || continue
-    json=$(tar -tJf "$work" | grep '/checkpoint\.json$')
-    if [ -z "$json" ] || [ -f "$OUT/$json" ]; then continue; fi
-    if tar -xJf "$work" -C "$OUT"; then
-      echo "seeded the impact in flight $(dirname "$json") from $(basename "$work")"
-    else
-      rm -f "$OUT/$json"
-    fi
-  done
+  "$ROOT/scripts/seed-shipped.sh" "$ROOT/data/resolved/beds/$FILE" "$OUT" "$CACHE"
   RUN_DESIGN=$PIN/$NAME.toml
   if [ -n "${PLATEAU_FIRST:-}" ]; then
     RUN_DESIGN=$PIN/$NAME.first$PLATEAU_FIRST.toml
