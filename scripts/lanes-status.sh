@@ -68,10 +68,18 @@ for log in results/*/campaign.log; do
   printf '%s\n  last: %s\n  pinned bed decks: %s\n  %s\n' "$dir" "$state" "$decks" "$advice"
 done
 # Beds shipped for a campaign still to run are keyed by its pinned decks: a re-pin orphans them.
+# So are the checkpoints in flight shipped beside them (scripts/ship-beds.sh), which the next start
+# resumes from (scripts/seed-shipped.sh).
 for b in data/resolved/beds/*/; do
-  [ -n "$(ls "$b"bed-*.params 2> /dev/null)" ] || continue
-  echo "note: $b holds beds of a campaign still to run, keyed by the pinned decks of" \
-    "results/$(cat "$b/pinned-in" 2> /dev/null || echo '(unknown: ship-beds.sh writes pinned-in)')"
+  beds=$(find "$b" -maxdepth 1 -name 'bed-*.params' | wc -l)
+  ckpts=$(find "$b" -maxdepth 1 -name 'bed-*.building.ckpt-*.restart.xz' -printf '%f ' |
+    sed -E 's/bed-([0-9a-f]+)\.building\.ckpt-([0-9]+)-([0-9]+)-[0-9]+\.restart\.xz/\1 (phase \2, chunk \3)/g')
+  impacts=$(find "$b" -maxdepth 1 -name 'impact-*.tar.xz' -printf '%f ' |
+    sed -E 's/impact-(.+)\.gen-([0-9]+)\.tar\.xz/\1 (checkpoint \2)/g')
+  [ "$beds" -gt 0 ] || [ -n "$ckpts" ] || [ -n "$impacts" ] || continue
+  echo "note: $b holds for a campaign still to run, keyed by the pinned decks of" \
+    "results/$(cat "$b/pinned-in" 2> /dev/null || echo '(unknown: ship-beds.sh writes pinned-in)'):" \
+    "$beds beds${ckpts:+; bed builds in flight: $ckpts}${impacts:+; impacts in flight: $impacts}"
 done
 # Sphere drops (scripts/plateau-drop.sh): not checkpointed; a folder without a pinned program
 # takes the tree's at its next start.
