@@ -76,13 +76,24 @@ class ShipSeed : public ::testing::Test {
                " " + (out_ / "c.h5").string() + " " + (root_ / "ricochet").string());
   }
   fs::path shipped() const { return root_ / "data/resolved/beds/c"; }
+  fs::path cache() const { return out_ / "dem-cache"; }
+  fs::path work() const { return out_ / "dem-work/c/I1"; }
+  // Impact I1 in flight at checkpoint generation `gen` (the driver's files, impact_checkpoint.hpp).
+  void in_flight(int gen, const std::string& json, const std::string& restart,
+                 const std::string& track) {
+    write(work() / "checkpoint.json", json);
+    write(work() / ("checkpoint-" + std::to_string(gen) + ".restart"), restart);
+    write(work() / "impact.track.txt", track);
+  }
+  // Both impacts still to run: I1 on bed aaaa, I2 on bed bbbb.
+  static constexpr const char* kBothToRun = R"({"id": "I1", "bed_key": "aaaa", "status": null},
+                                               {"id": "I2", "bed_key": "bbbb", "status": null},)";
 
   fs::path root_, out_;
 };
 
 TEST_F(ShipSeed, WhatIsInFlightComesBackByteForByteOnAnEmptyMachine) {
-  const fs::path cache = out_ / "dem-cache";
-  const fs::path work = out_ / "dem-work/c/I1";
+  const fs::path cache = this->cache(), work = this->work();
   // bed aaaa complete, bed bbbb building (two checkpoints: the latest goes), impact I1 in flight
   // at generation 3 (its older generation's restart already gone, as the driver leaves it).
   const std::string bed = payload("bed", 4000), ckpt_old = payload("old", 3000),
@@ -92,12 +103,9 @@ TEST_F(ShipSeed, WhatIsInFlightComesBackByteForByteOnAnEmptyMachine) {
   write(cache / "bed-bbbb.building.ckpt-1-40-0.restart", ckpt_old);
   write(cache / "bed-bbbb.building.ckpt-2-8-1.restart", ckpt);
   write(cache / "bed-bbbb.building.ckpt-new.restart", "being written");
-  write(work / "checkpoint.json", "{\"generation\": 3, \"step\": 60000}\n");
-  write(work / "checkpoint-3.restart", restart);
-  write(work / "impact.track.txt", "t x y\n1 2 3\n");
+  in_flight(3, "{\"generation\": 3, \"step\": 60000}\n", restart, "t x y\n1 2 3\n");
   write(work / "log.liggghts", "not shipped");
-  program(R"({"id": "I1", "bed_key": "aaaa", "status": null},
-             {"id": "I2", "bed_key": "bbbb", "status": null},)");
+  program(kBothToRun);
   ASSERT_EQ(ship(), 0);
   EXPECT_TRUE(fs::exists(shipped() / "bed-aaaa.restart.xz"));
   EXPECT_TRUE(fs::exists(shipped() / "bed-aaaa.params"));
@@ -130,14 +138,10 @@ TEST_F(ShipSeed, WhatIsInFlightComesBackByteForByteOnAnEmptyMachine) {
 }
 
 TEST_F(ShipSeed, ANewerCheckpointReplacesTheOlderAndWhatIsDoneLeaves) {
-  const fs::path cache = out_ / "dem-cache";
-  const fs::path work = out_ / "dem-work/c/I1";
+  const fs::path cache = this->cache(), work = this->work();
   write(cache / "bed-bbbb.building.ckpt-1-40-0.restart", payload("a", 2000));
-  write(work / "checkpoint.json", "{\"generation\": 1}\n");
-  write(work / "checkpoint-1.restart", payload("r1", 2000));
-  write(work / "impact.track.txt", "t\n");
-  program(R"({"id": "I1", "bed_key": "aaaa", "status": null},
-             {"id": "I2", "bed_key": "bbbb", "status": null},)");
+  in_flight(1, "{\"generation\": 1}\n", payload("r1", 2000), "t\n");
+  program(kBothToRun);
   ASSERT_EQ(ship(), 0);
   EXPECT_TRUE(fs::exists(shipped() / "bed-bbbb.building.ckpt-1-40-0.restart.xz"));
   EXPECT_TRUE(fs::exists(shipped() / "impact-I1.gen-1.tar.xz"));
