@@ -186,7 +186,9 @@ void print_force_history(const std::vector<std::string>& rungs,
     if (floor) {
       line += "   x floor";
       for (std::size_t c = 0; c < diagnosis::kForceComponents; ++c)
-        line += fmt::format(" {:.2f}", errors[r].heldout_rms[c] / floor->rms[c]);
+        line += std::isfinite(errors[r].heldout_rms[c] / floor->rms[c])
+                    ? fmt::format(" {:.2f}", errors[r].heldout_rms[c] / floor->rms[c])
+                    : std::string(" -");  // a component not measured (no torque tracked)
     }
     std::cout << line << "\n";
   }
