@@ -72,7 +72,9 @@ void run(DiagnosisCliOptions& o, const std::string& force_model) {
   const Model model = o.model.build_model();  // loads plugins first: they become candidates
   const auto in = diagnosis::load_inputs(o.data, o.shape_given ? o.model.shape : "", o.where);
   diagnosis::borrow_floor(opt, o.values, in);
-  (void)weigh_histories(opt, o, in);  // force_law_of reads the histories after the diagnosis
+  // Only the weight needs the histories before the diagnosis (force_law_of reads them after it):
+  // a set with tracks is not read twice, nor its floor computed, for nothing.
+  if (o.history_weight > 0) (void)weigh_histories(opt, o, in);
   opt.progress = !o.output.json;
   const diagnosis::Diagnosis d = diagnosis::diagnose(model, in.shape, in.set, opt);
   nlohmann::json doc = diagnosis::to_json(d);

@@ -62,7 +62,6 @@ std::vector<PathForce> law_force_along(const Model& model, const Shape& shape,
     }
   }
   std::vector<double> h_prev(slots, 0.0);
-  std::vector<bool> zeroed(slots, true);  // the slot's effect state is all zero
   // The surface under each slot, moved by effects that heap sand (Effect::moves_surface).
   bool lifts = false;
   for (const Effect* e : effects) lifts = lifts || e->moves_surface();
@@ -90,15 +89,11 @@ std::vector<PathForce> law_force_along(const Model& model, const Shape& shape,
       // jump rests on it too): the slot's effects need not run. Most of a track's sub-steps are
       // flight, or slots of a polygon off the ground.
       if (!(active > 0.0)) {
-        if (!zeroed[s]) {
-          for (std::size_t e = 0; e < effects.size(); ++e)
-            for (double& v : state[e * slots + s]) v = 0.0;
-          zeroed[s] = true;
-        }
+        for (std::size_t e = 0; e < effects.size(); ++e)
+          for (double& v : state[e * slots + s]) v = 0.0;
         lift[s] = 0.0;
         continue;
       }
-      zeroed[s] = false;
       double kf = 1, ef = 1, enf = 1, muf = 1, murf = 1;
       double fn = 0, ft = 0, mom = 0, fxb = 0, fyb = 0;
       ContactBatch cb;
