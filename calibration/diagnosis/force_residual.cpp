@@ -178,6 +178,7 @@ std::optional<ForceLawReport> force_law_from_histories(
   }
   if (residuals.size() < 2) return std::nullopt;
   report.laws = discover_force_law(residuals, options, named);
+  report.map = residual_map(residuals);
   for (const ForceTerm* t : named) report.named.emplace_back(t->name);
   report.seconds = seconds_since(t0);
   return report;
@@ -212,7 +213,8 @@ nlohmann::json to_json(const ForceLawReport& report) {
           {"base", report.base},
           {"named", report.named},
           {"seconds", report.seconds},
-          {"laws", laws}};
+          {"laws", laws},
+          {"residual_map", to_json(report.map)}};
 }
 
 std::string found_law_text(const ForceLawReport& report) {
@@ -237,7 +239,7 @@ std::string format_text(const ForceLawReport& report) {
   for (const ComponentLaw& law : report.laws)
     out += fmt::format("  {:<10} {} (residual rms {:.4g}, held out after the law {:.4g})\n",
                        component_name(law.component), law.text, law.rms_residual, law.heldout_rms);
-  return out;
+  return out + format_text(report.map);
 }
 
 }  // namespace ricochet::diagnosis

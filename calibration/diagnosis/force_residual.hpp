@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "diagnosis/force_law.hpp"
+#include "diagnosis/residual_map.hpp"
 #include "effects/model.hpp"
 #include "engine/engine.hpp"
 #include "engine/path_force.hpp"
@@ -99,6 +100,9 @@ struct ForceLawReport {
   /// "population fit".
   std::string base;
   std::vector<ComponentLaw> laws;  ///< discover_force_law's
+  /// The residual against the base law by branch and depth (residual_map): where the law fails,
+  /// whatever the library names.
+  ResidualMap map;
   /// The terms the law was limited to (discover_force_law's `named`), empty when they were
   /// selected: the law was then fitted, not discovered.
   std::vector<std::string> named;

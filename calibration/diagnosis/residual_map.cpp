@@ -1,0 +1,119 @@
+#include "diagnosis/residual_map.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "common/json_number.hpp"
+
+namespace ricochet::diagnosis {
+namespace {
+
+constexpr const char* kBranch[2] = {"loading", "unloading"};
+
+std::size_t band_of(double h, double h_max) {
+  const double f = h_max > 0.0 ? h / h_max : 0.0;
+  return std::min<std::size_t>(ResidualMap::kBands - 1,
+                               static_cast<std::size_t>(f * ResidualMap::kBands));
+}
+
+}  // namespace
+
+ResidualMap residual_map(std::span<const ReleaseResidual> residuals) {
+  // Per cell and component: the sum and sum of squares of the releases' means.
+  std::array<std::array<std::array<double, kForceComponents>, ResidualMap::kBands>, 2> sum{},
+      sum2{};
+  std::array<std::array<std::array<std::size_t, kForceComponents>, ResidualMap::kBands>, 2> n_rel{};
+  ResidualMap map;
+  for (const ReleaseResidual& r : residuals) {
+    double h_max = 0.0;
+    for (const ContactSample& s : r.samples) h_max = std::max(h_max, s.h_m);
+    std::array<std::array<std::array<double, kForceComponents>, ResidualMap::kBands>, 2> acc{};
+    std::array<std::array<std::array<std::size_t, kForceComponents>, ResidualMap::kBands>, 2>
+        count{};
+    std::array<std::array<std::size_t, ResidualMap::kBands>, 2> samples{};
+    for (std::size_t i = 0; i < r.samples.size(); ++i) {
+      const std::size_t b = r.samples[i].loading ? 0 : 1;
+      const std::size_t d = band_of(r.samples[i].h_m, h_max);
+      ++samples[b][d];
+      for (std::size_t c = 0; c < kForceComponents; ++c)
+        if (std::isfinite(r.residual[i][c])) {  // a component not measured is NaN
+          acc[b][d][c] += r.residual[i][c];
+          ++count[b][d][c];
+        }
+    }
+    for (std::size_t b = 0; b < 2; ++b)
+      for (std::size_t d = 0; d < ResidualMap::kBands; ++d) {
+        if (samples[b][d] == 0) continue;
+        ++map.cell[b][d].releases;
+        map.cell[b][d].samples += samples[b][d];
+        for (std::size_t c = 0; c < kForceComponents; ++c)
+          if (count[b][d][c] > 0) {
+            const double m = acc[b][d][c] / static_cast<double>(count[b][d][c]);
+            sum[b][d][c] += m;
+            sum2[b][d][c] += m * m;
+            ++n_rel[b][d][c];
+          }
+      }
+  }
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (std::size_t b = 0; b < 2; ++b)
+    for (std::size_t d = 0; d < ResidualMap::kBands; ++d)
+      for (std::size_t c = 0; c < kForceComponents; ++c) {
+        ResidualCell& cell = map.cell[b][d];
+        const double n = static_cast<double>(n_rel[b][d][c]);
+        cell.mean[c] = n > 0 ? sum[b][d][c] / n : nan;
+        const double var =
+            n > 1 ? std::max(0.0, (sum2[b][d][c] - n * cell.mean[c] * cell.mean[c]) / (n - 1))
+                  : nan;
+        cell.se[c] = n > 1 ? std::sqrt(var / n) : nan;
+      }
+  return map;
+}
+
+nlohmann::json to_json(const ResidualMap& map) {
+  nlohmann::json out = nlohmann::json::object();
+  for (std::size_t b = 0; b < 2; ++b) {
+    nlohmann::json bands = nlohmann::json::array();
+    for (std::size_t d = 0; d < ResidualMap::kBands; ++d) {
+      const ResidualCell& cell = map.cell[b][d];
+      nlohmann::json mean = nlohmann::json::object(), se = nlohmann::json::object();
+      for (std::size_t c = 0; c < kForceComponents; ++c) {
+        const auto name = std::string(component_name(static_cast<ForceComponent>(c)));
+        mean[name] = finite_or_null(cell.mean[c]);
+        se[name] = finite_or_null(cell.se[c]);
+      }
+      bands.push_back({{"h_over_hmax",
+                        {static_cast<double>(d) / ResidualMap::kBands,
+                         static_cast<double>(d + 1) / ResidualMap::kBands}},
+                       {"releases", cell.releases},
+                       {"samples", cell.samples},
+                       {"mean", mean},
+                       {"se", se}});
+    }
+    out[kBranch[b]] = bands;
+  }
+  return out;
+}
+
+std::string format_text(const ResidualMap& map) {
+  std::string out =
+      "  residual (measured - law) by branch and depth h/h_max [0,1/3) [1/3,2/3) [2/3,1], mean "
+      "+- se over releases:\n";
+  for (std::size_t b = 0; b < 2; ++b)
+    for (std::size_t c = 0; c < 2; ++c) {
+      out += fmt::format("    {:<9} {:<10}", kBranch[b],
+                         component_name(static_cast<ForceComponent>(c)));
+      for (std::size_t d = 0; d < ResidualMap::kBands; ++d) {
+        const ResidualCell& cell = map.cell[b][d];
+        out += cell.releases == 0 ? fmt::format(" {:>20}", "-")
+                                  : fmt::format(" {:>9.4g} +- {:<7.3g}", cell.mean[c], cell.se[c]);
+      }
+      out += " N\n";
+    }
+  return out;
+}
+
+}  // namespace ricochet::diagnosis
