@@ -98,21 +98,46 @@ nlohmann::json to_json(const ResidualMap& map) {
   return out;
 }
 
-std::string format_text(const ResidualMap& map) {
-  std::string out =
-      "  residual (measured - law) by branch and depth h/h_max [0,1/3) [1/3,2/3) [2/3,1], mean "
-      "+- se over releases:\n";
+std::vector<std::string> residual_map_header() {
+  return {"branch", "component", "h/h_max < 1/3", "1/3 - 2/3", "> 2/3"};
+}
+
+std::vector<std::vector<std::string>> residual_map_rows(const ResidualMap& map) {
+  // A component measured in no cell (the torque of a set without it) has no rows; one measured
+  // somewhere keeps both branches, an empty cell printed "-".
+  std::array<bool, kForceComponents> measured{};
+  for (const auto& branch : map.cell)
+    for (const ResidualCell& cell : branch)
+      for (std::size_t c = 0; c < kForceComponents; ++c)
+        measured[c] = measured[c] || (cell.releases > 0 && std::isfinite(cell.mean[c]));
+  std::vector<std::vector<std::string>> rows;
   for (std::size_t b = 0; b < 2; ++b)
-    for (std::size_t c = 0; c < 2; ++c) {
-      out += fmt::format("    {:<9} {:<10}", kBranch[b],
-                         component_name(static_cast<ForceComponent>(c)));
+    for (std::size_t c = 0; c < kForceComponents; ++c) {
+      if (!measured[c]) continue;
+      const auto comp = static_cast<ForceComponent>(c);
+      std::vector<std::string> row = {kBranch[b],
+                                      fmt::format("{} [{}]", component_name(comp),
+                                                  comp == ForceComponent::kMoment ? "N m" : "N")};
       for (std::size_t d = 0; d < ResidualMap::kBands; ++d) {
         const ResidualCell& cell = map.cell[b][d];
-        out += cell.releases == 0 ? fmt::format(" {:>20}", "-")
-                                  : fmt::format(" {:>9.4g} +- {:<7.3g}", cell.mean[c], cell.se[c]);
+        row.push_back(cell.releases == 0 || !std::isfinite(cell.mean[c]) ? "-"
+                      : std::isfinite(cell.se[c])
+                          ? fmt::format("{:.4g} +- {:.3g}", cell.mean[c], cell.se[c])
+                          : fmt::format("{:.4g}", cell.mean[c]));
       }
-      out += " N\n";
+      rows.push_back(std::move(row));
     }
+  return rows;
+}
+
+std::string format_text(const ResidualMap& map) {
+  std::string out = "  residual (measured - law) by branch and depth, mean +- se over releases:\n";
+  const auto header = residual_map_header();
+  out += fmt::format("    {:<10}{:<16}{:>22}{:>22}{:>22}\n", header[0], header[1], header[2],
+                     header[3], header[4]);
+  for (const auto& row : residual_map_rows(map))
+    out +=
+        fmt::format("    {:<10}{:<16}{:>22}{:>22}{:>22}\n", row[0], row[1], row[2], row[3], row[4]);
   return out;
 }
 

@@ -14,6 +14,7 @@
 #include <cstddef>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "diagnosis/force_law.hpp"
 
@@ -41,7 +42,13 @@ ResidualMap residual_map(std::span<const ReleaseResidual> residuals);
 /// "releases", "samples", "mean": {"normal", "tangential", "moment"}, "se": {...}}.
 nlohmann::json to_json(const ResidualMap& map);
 
-/// The normal and tangential means with their standard errors, one line per branch.
+/// The table of the map: one row per branch and component (normal, tangential [N]; moment
+/// [N m]), cells "mean +- se" per depth band, "-" for an empty or unmeasured cell. The text and
+/// the report print it.
+std::vector<std::string> residual_map_header();
+std::vector<std::vector<std::string>> residual_map_rows(const ResidualMap& map);
+
+/// residual_map_rows as aligned text, under a one-line title.
 std::string format_text(const ResidualMap& map);
 
 }  // namespace ricochet::diagnosis

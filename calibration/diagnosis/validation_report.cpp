@@ -425,6 +425,12 @@ void force_section(report::HtmlPage& page, const ReportSection& s, const Model& 
              " (held-out residual " + g4(c.rms_residual) + " -> " + g4(c.heldout_rms) + ").";
     page.labelled("Force law from the contact histories", law);
     if (f) page.figure(f->figure, f->caption);
+    page.table(residual_map_header(), residual_map_rows(s.force_law->map),
+               "Where the base law fails along the contact: the residual force (measured - law) "
+               "by branch (the law's penetration growing or not) and by depth h over each "
+               "release's deepest h, mean over releases +- its standard error. A negative normal "
+               "residual is a bed that pushes out less than the law; a negative tangential one "
+               "(t along +x) a bed that holds the block back more.");
   } catch (const std::exception& e) {
     page.paragraph("The force residual is not shown: " + std::string(e.what()));
   }

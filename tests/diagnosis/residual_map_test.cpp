@@ -64,8 +64,13 @@ TEST(ResidualMap, AnEmptyCellIsUndefinedAndPrintedAsADash) {
   EXPECT_TRUE(std::isnan(m.cell[1][0].mean[0]));
   EXPECT_TRUE(std::isnan(m.cell[0][2].se[0]));  // one release: no spread to estimate
   const std::string text = format_text(m);
-  EXPECT_NE(text.find("unloading normal"), std::string::npos) << text;
-  EXPECT_NE(text.find(" -"), std::string::npos) << text;
+  EXPECT_NE(text.find("unloading"), std::string::npos) << text;
+  const auto rows = residual_map_rows(m);
+  ASSERT_EQ(rows.size(), 4u);  // loading and unloading, normal and tangential: no moment row
+  EXPECT_EQ(rows[2][0], "unloading");
+  EXPECT_EQ(rows[2][2], "-");     // no unloading sample at all
+  EXPECT_EQ(rows[0][4], "-100");  // one release: a mean without a standard error
+  EXPECT_EQ(rows[1][1], "tangential [N]");
 }
 
 }  // namespace
