@@ -169,4 +169,8 @@ for name in sorted(os.listdir(dest)):
     elif name.startswith("bed-") and name.removeprefix("bed-").split(".")[0] not in needed:
         os.remove(os.path.join(dest, name))
         print(f"  {name}: no impact needs it any more, removed")
+# Nothing built for, or in flight towards, what is still to run (a finished campaign): no folder.
+if os.listdir(dest) == ["pinned-in"]:
+    shutil.rmtree(dest)
+    print(f"  nothing built or in flight for what is still to run: no folder {dest}")
 PY

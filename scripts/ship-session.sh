@@ -6,7 +6,8 @@
 # run need on a new machine, built or in flight (scripts/ship-beds.sh: beds, a bed build's latest
 # checkpoint, an impact's), the beds keyed by the campaign's pinned program and decks (the file's
 # counts by the tree's program, which finds its decks where a pinned copy does not); a campaign
-# whose impacts are as shipped keeps its file (h5diff of /dem/index, hdf5-tools). Then commit
+# whose impacts are as shipped keeps its file, and one with nothing left to build gets no beds
+# folder (both scripts see to that). Then commit
 # data/resolved/ and update the counts where the file gained impacts.
 #
 #   scripts/ship-session.sh
@@ -26,22 +27,7 @@ for marker in results/*/running; do
     continue
   fi
   echo "== $dir ($name into $file.h5)"
-  # A campaign whose impacts have not changed since it was shipped (the same /dem/index: ids,
-  # statuses, messages) keeps its shipped file: a copy would differ only in HDF5 bytes or in
-  # provenance strings. h5diff exits 0 when equal, 1 when not, 2 on an error (then ship).
-  shipped=data/resolved/$file.h5
-  if [ -f "$shipped" ] && h5diff -q "$dir/$file.h5" "$shipped" /dem/index /dem/index > /dev/null 2>&1; then
-    echo "  its impacts are as shipped in $shipped: file left as it is"
-  else
-    scripts/ship-campaign.sh "$design" "$dir/$file.h5" || rc=1
-  fi
+  scripts/ship-campaign.sh "$design" "$dir/$file.h5" || rc=1
   scripts/ship-beds.sh "$design" "$dir/$file.h5" "$dir/pinned/ricochet" || rc=1
-  # A campaign with nothing built for, or in flight towards, its impacts still to run (a finished
-  # one) needs no folder of beds: ship-beds leaves its pin note alone there.
-  beds=data/resolved/beds/$file
-  if [ -d "$beds" ] && [ "$(ls -A "$beds")" = "pinned-in" ]; then
-    rm -r "$beds"
-    echo "  no bed built or in flight for what is still to run: no folder $beds"
-  fi
 done
 exit "$rc"
