@@ -84,13 +84,11 @@ class BearingYield final : public Effect {
     for (std::size_t i = 0; i < c.n; ++i) {
       const double x = h[i];
       const double psi = x / (1.0 + a[i] * x);
-      // The secant of Psi over the step telescopes, so the incremental loading force of `normal`
-      // is exactly kn Psi(h) (as coefficient_law.cpp's integral laws); a step too small for a
-      // secant takes the tangent at h.
+      // The secant of Psi over the step (step_secant, as coefficient_law.cpp's integral laws): the
+      // loading force of `normal` is exactly kn Psi(h); a step too small takes the tangent at h.
       const double tangent = 1.0 / ((1.0 + a[i] * x) * (1.0 + a[i] * x));
-      const double secant = std::fabs(dh[i]) > 1e-8 * x ? (psi - psi_prev[i]) / dh[i] : tangent;
+      const double secant = step_secant(psi_prev[i], psi, dh[i], x, active[i], tangent);
       const double deepest = h_max[i] > x ? h_max[i] : x;
-      psi_prev[i] = active[i] > 0.0 ? psi : 0.0;
       h_max[i] = active[i] > 0.0 ? deepest : 0.0;
       kf[i] *= a[i] != 0.0 ? secant : 1.0;
       ef[i] *= a[i] != 0.0 ? 1.0 / (1.0 + a[i] * deepest) : 1.0;

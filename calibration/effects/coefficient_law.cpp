@@ -197,10 +197,8 @@ void run(const ContactBatch& cb, const double* __restrict a, double* __restrict 
         psi_h = a[i] != 0.0 ? psi_linear(a[i], x) : x;
       else
         psi_h = a[i] != 0.0 ? PowerIntegral(a[i], x_ref)(x) : x;
-      const double dh = cb.dh[i];
       const double mean = x > 0.0 ? psi_h / x : 1.0;
-      const double secant = std::fabs(dh) > 1e-8 * x ? (psi_h - held[i]) / dh : mean;
-      held[i] = active[i] > 0.0 ? psi_h : 0.0;
+      const double secant = step_secant(held[i], psi_h, cb.dh[i], x, active[i], mean);
       factor[i] *= a[i] != 0.0 ? secant : 1.0;
       elastic[i] *= a[i] != 0.0 ? mean : 1.0;
     } else {

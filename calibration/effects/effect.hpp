@@ -157,6 +157,18 @@ inline double hold_max_approach(double& v0, double vn, double active) {
   return v0;
 }
 
+/// The loading factor of a stiffness law whose loading force is kn Psi(h): the secant of Psi over
+/// the step, so that `normal`'s incremental loading telescopes to exactly kn Psi(h); `fallback`
+/// for a step too small for a secant (|dh| <= 1e-8 h: its force increment vanishes with it).
+/// `held` is Psi at the previous step (0 at contact onset, as h is), updated here and cleared out
+/// of contact. Branch-free, for apply() loops.
+inline double step_secant(double& held, double psi_h, double dh, double h, double active,
+                          double fallback) {
+  const double secant = std::fabs(dh) > 1e-8 * h ? (psi_h - held) / dh : fallback;
+  held = active > 0.0 ? psi_h : 0.0;
+  return secant;
+}
+
 /// The signature vocabulary: what the diagnosis computes trends of (diagnosis/trends.hpp), one
 /// quantity of the base model against one impact feature. Effects declare their trends in its
 /// words (SignatureTrend); the registry parses them when it stores the effect and refuses a
