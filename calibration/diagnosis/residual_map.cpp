@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "common/json_number.hpp"
+#include "stats/stats.hpp"
 
 namespace ricochet::diagnosis {
 namespace {
@@ -22,10 +23,10 @@ std::size_t band_of(double h, double h_max) {
 }  // namespace
 
 ResidualMap residual_map(std::span<const ReleaseResidual> residuals) {
-  // Per cell and component: the sum and sum of squares of the releases' means.
-  std::array<std::array<std::array<double, kForceComponents>, ResidualMap::kBands>, 2> sum{},
-      sum2{};
-  std::array<std::array<std::array<std::size_t, kForceComponents>, ResidualMap::kBands>, 2> n_rel{};
+  // Per cell and component, each release's mean residual there (NaN where it has samples but
+  // not that component: stats::summarize skips it).
+  std::array<std::array<std::array<std::vector<double>, kForceComponents>, ResidualMap::kBands>, 2>
+      release_means;
   ResidualMap map;
   for (const ReleaseResidual& r : residuals) {
     double h_max = 0.0;
@@ -50,25 +51,18 @@ ResidualMap residual_map(std::span<const ReleaseResidual> residuals) {
         ++map.cell[b][d].releases;
         map.cell[b][d].samples += samples[b][d];
         for (std::size_t c = 0; c < kForceComponents; ++c)
-          if (count[b][d][c] > 0) {
-            const double m = acc[b][d][c] / static_cast<double>(count[b][d][c]);
-            sum[b][d][c] += m;
-            sum2[b][d][c] += m * m;
-            ++n_rel[b][d][c];
-          }
+          release_means[b][d][c].push_back(count[b][d][c] > 0
+                                               ? acc[b][d][c] / static_cast<double>(count[b][d][c])
+                                               : std::numeric_limits<double>::quiet_NaN());
       }
   }
-  const double nan = std::numeric_limits<double>::quiet_NaN();
   for (std::size_t b = 0; b < 2; ++b)
     for (std::size_t d = 0; d < ResidualMap::kBands; ++d)
       for (std::size_t c = 0; c < kForceComponents; ++c) {
-        ResidualCell& cell = map.cell[b][d];
-        const double n = static_cast<double>(n_rel[b][d][c]);
-        cell.mean[c] = n > 0 ? sum[b][d][c] / n : nan;
-        const double var =
-            n > 1 ? std::max(0.0, (sum2[b][d][c] - n * cell.mean[c] * cell.mean[c]) / (n - 1))
-                  : nan;
-        cell.se[c] = n > 1 ? std::sqrt(var / n) : nan;
+        // NaN mean without a release, NaN sd below two (summarize's rule).
+        const stats::Summary s = stats::summarize(release_means[b][d][c]);
+        map.cell[b][d].mean[c] = s.mean;
+        map.cell[b][d].se[c] = s.std / std::sqrt(static_cast<double>(s.n));
       }
   return map;
 }
