@@ -110,8 +110,12 @@ std::vector<ComponentLaw> discover_force_law(const std::vector<ReleaseResidual>&
       d.selected = law.fit.active[j];
       if (d.selected)
         law.text += fmt::format(
-            "{}{} += {}, c = {:.4g} {} [{:.4g}, {:.4g}]{}", law.text.empty() ? "" : "; ", symbol,
+            "{}{} += {}, c = {:.4g} {} [{:.4g}, {:.4g}]{}{}", law.text.empty() ? "" : "; ", symbol,
             d.term->expression, d.coefficient, d.term->unit, d.lo, d.hi,
+            // A named law is not selected, so only a discovered term has a frequency to show.
+            named.empty() && o.bootstrap > 0
+                ? fmt::format(", in {:.0f} % of resamples", 100 * d.inclusion)
+                : std::string(),
             d.term->literature.empty() ? std::string() : fmt::format(" ({})", d.term->literature));
       law.terms.push_back(d);
     }

@@ -205,32 +205,39 @@ SparseResult sparse_regression(const SparseDesign& d, const SparseOptions& o) {
       const auto& m = members[pick(rng)];
       rows.insert(rows.end(), m.begin(), m.end());
     }
-    // The best subset of the chosen size on this resample, by its in-sample error (the named
-    // support itself when there is one).
-    std::vector<double> c(p, 0.0);
-    double sse_best = INFINITY;
-    for (std::uint32_t s = 0; s < (1u << p); ++s) {
-      if (static_cast<std::size_t>(std::popcount(s)) != res.size || (o.support && s != chosen))
-        continue;
-      const std::vector<double> cs = subset_fit(d, s, rows);
-      double sse = 0;
-      for (std::size_t i : rows) sse += (d.y[i] - predict(d, i, cs)) * (d.y[i] - predict(d, i, cs));
-      if (sse < sse_best) {
-        sse_best = sse;
-        c = cs;
+    // The selection's stability: the best subset of the chosen size on this resample, by its
+    // in-sample error (the named support itself when there is one).
+    std::uint32_t reselected = chosen;
+    if (!o.support) {
+      double sse_best = INFINITY;
+      for (std::uint32_t s = 0; s < (1u << p); ++s) {
+        if (static_cast<std::size_t>(std::popcount(s)) != res.size) continue;
+        const std::vector<double> cs = subset_fit(d, s, rows);
+        double sse = 0;
+        for (std::size_t i : rows) {
+          const double e = d.y[i] - predict(d, i, cs);
+          sse += e * e;
+        }
+        if (sse < sse_best) {
+          sse_best = sse;
+          reselected = s;
+        }
       }
     }
+    // The constants' uncertainty: the chosen law refitted on the resample.
+    const std::vector<double> c = subset_fit(d, chosen, rows);
     for (std::size_t j = 0; j < p; ++j) {
-      draws[j].push_back(c[j]);
-      in[j] += c[j] != 0.0 ? 1.0 : 0.0;
+      if (chosen >> j & 1u) draws[j].push_back(c[j]);
+      in[j] += reselected >> j & 1u ? 1.0 : 0.0;
     }
   }
   const double tail = (1 - o.level) / 2;
   for (std::size_t j = 0; j < p; ++j) {
+    res.inclusion[j] = in[j] / static_cast<double>(o.bootstrap);
+    if (draws[j].empty()) continue;
     std::sort(draws[j].begin(), draws[j].end());
     res.lo[j] = percentile(draws[j], tail);
     res.hi[j] = percentile(draws[j], 1 - tail);
-    res.inclusion[j] = in[j] / static_cast<double>(o.bootstrap);
   }
   return res;
 }

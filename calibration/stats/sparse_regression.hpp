@@ -25,9 +25,15 @@
 // named law and a discovered one.
 //
 // The bootstrap resamples groups with replacement (Davison & Hinkley 1997, sec. 3.8, the
-// cluster bootstrap); in each resample the best subset of the chosen size is selected again (by
-// its in-sample error) and fitted: each term's inclusion frequency, and the percentile interval
-// of its coefficient (0 where it was not selected).
+// cluster bootstrap) and answers two questions apart. How stable is the selection: in each
+// resample the best subset of the chosen size is selected again (by its in-sample error), and a
+// term's inclusion frequency is how often it is in it. How well known are the chosen law's
+// constants: in each resample the chosen subset is refitted, and each of its terms gets the
+// percentile interval of its coefficient; a term outside the law gets none. (Until 2026-12-07
+// the interval was of the reselected fits with 0 where a term was not reselected: an interval
+// of the selection and the constant at once, which printed [0, 0] for a term selected in few
+// resamples and could leave the estimate outside its own interval. The bagged coefficients of
+// ensemble SINDy, Fasel et al. 2022, Proc. R. Soc. A 478:20210904, mix the two the same way.)
 #pragma once
 
 #include <cstddef>
@@ -89,9 +95,11 @@ struct SparseResult {
   /// Per size k = 0..cols: the best subset's cross-validated error and its standard error.
   std::vector<double> cv_error, cv_se;
   std::vector<std::uint32_t> best_support;  ///< per size, the best subset (bit mask)
-  std::vector<double> heldout;    ///< each sample's held-out prediction by the chosen subset
-  std::vector<double> lo, hi;     ///< bootstrap percentile interval per term (NaN without one)
-  std::vector<double> inclusion;  ///< bootstrap frequency of each term in the support
+  std::vector<double> heldout;  ///< each sample's held-out prediction by the chosen subset
+  /// Bootstrap percentile interval of each chosen term's coefficient, the chosen subset refitted
+  /// on every resample (NaN for a term outside it, and without a bootstrap).
+  std::vector<double> lo, hi;
+  std::vector<double> inclusion;  ///< bootstrap frequency of each term in the reselected subset
   std::size_t groups = 0, folds = 0;
 };
 
