@@ -15,6 +15,8 @@ table gives, over its rebounds, the means of what the issue asks per level:
   - the largest grain overlap over grain diameter during the contact (grain-grain and
     grain-block pairs) [-];
   - the contact duration (the force window of the track) [ms];
+  - the levelled bed's grains (the same bed volume and grain sizes at every level, so the
+    packing: a bed that settles denser under softer contacts holds more);
   - the cost: the time step [us], the steps and the CPU seconds of one impact (one rank).
 
 The track quantities come from `ricochet stats FILE --json` (docs/commands/stats.md), the rest
@@ -77,6 +79,9 @@ def main():
             ("impact [ms]", lambda i: 1e3 * tracks[i]["impact_duration"], "cylinder"),
             ("overlap / d", lambda i: tracks[i]["max_overlap_d"], None),
             ("contact [ms]", lambda i: 1e3 * tracks[i]["contact_duration"], None),
+            # The levelled bed's grains: at a fixed bed volume, its solid fraction up to the
+            # grains' mean volume (the same size distribution at every level).
+            ("bed grains", lambda i: index[i]["grains"], None),
             ("dt [us]", lambda i: 1e6 * index[i]["dt_s"], None),
             ("steps", lambda i: index[i]["steps"], None),
             ("CPU s", lambda i: index[i]["cpu_s"], None)]
@@ -90,7 +95,9 @@ def main():
                 cells.append("")
                 continue
             m, s, n = mean_sd([get(i) for i in ok])
-            cells.append(f"{m:.3g}" + (f" +- {s:.2g}" if shape == "cylinder" and n > 1 else ""))
+            # Grain counts in full: their level-to-level change is a few tenths of a percent.
+            fm, fs = (",.0f", ",.0f") if name == "bed grains" else (".3g", ".2g")
+            cells.append(f"{m:{fm}}" + (f" +- {s:{fs}}" if shape == "cylinder" and n > 1 else ""))
         print(f"| {e:.2g} | {shape} | {len(ok)}/{len(ids)} | " + " | ".join(cells) + " |")
     print("\nMeans over the rebounds of each level (the cylinder: +- the sd over its 3 replica "
           "beds; the triangles: 6 states x 3 beds pooled, so only the bed's own quantities are "
