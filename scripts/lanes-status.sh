@@ -46,6 +46,21 @@ for log in results/*/campaign.log; do
       [ -n "$ckpt" ] && state+=" (checkpoint $(sed -E 's/^(.*) bed-.*ckpt-([0-9]+)-([0-9]+)-.*/phase \2, chunk \3, written \1/' <<< "$ckpt"))"
     else
       state="$id: the impact in flight (checkpointed)"
+      # Where it is: the last thermo line of its LIGGGHTS screen (liggghts-inputs/impact/
+      # setup.in's thermo_style: step, atoms, t [s], ..., fc [N] the block's contact force) and
+      # the wall time of the last 100 steps.
+      screen=$(find "$dir/dem-work" -path "*/$id/screen.txt" 2> /dev/null | head -1)
+      if [ -n "$screen" ]; then
+        where=$(awk '$1 == "Step" { for (i = 1; i <= NF; ++i) col[$i] = i; next }
+          $1 ~ /^[0-9]+$/ && NF > 10 && ("t" in col) { last = $0 }
+          /^Loop time of/ { loop = $4; per = $9 }
+          END { if (last == "") exit; split(last, f)
+            printf "step %d, t = %.4f s simulated, contact force %.0f N", f[col["Step"]],
+              f[col["t"]], ("fc" in col) ? f[col["fc"]] : 0
+            if (loop != "" && per > 0) printf ", %.1f s of wall per 100 steps", 100 * loop / per }' \
+          "$screen")
+        [ -n "$where" ] && state+=" [$where]"
+      fi
     fi
   fi
   # Progress: the last "[dem] N/M ID" line (the impacts its file holds; the last run's design,
