@@ -21,7 +21,9 @@
 # folder on the campaign's pinned decks, where the design's cache_dir is), which the cache holds
 # complete; a shipped bed that no impact needs any more is removed from the folder, and the file
 # pinned-in names the results folder whose pinned decks key them (scripts/lanes-status.sh tells
-# not to re-pin that folder while they wait). Run it after
+# not to re-pin that folder while they wait), and pinned-decks.tar.xz holds those decks
+# (scripts/pack-decks.py), which a new machine pins for that folder (scripts/pin-program.sh). Run
+# it after
 # scripts/ship-campaign.sh, so that the dry run sees the shipped impacts. Exit 2 on a missing file,
 # 1 when a step fails.
 set -euo pipefail
@@ -46,9 +48,9 @@ trap 'rm -f "$dry"' EXIT
 (cd "$OUT" && "$BIN" dem campaign "$DESIGN" --decks "$DECKS" --out "$SRC" --dry-run --json \
    2>/dev/null) > "$dry" || { echo "$0: the dry run of $DESIGN failed" >&2; exit 1; }
 mkdir -p "$DEST"
-python3 - "$dry" "$OUT" "$DEST" <<'PY'
+python3 - "$dry" "$OUT" "$DEST" "$ROOT/scripts/pack-decks.py" <<'PY'
 import json, os, re, shutil, subprocess, sys, tarfile, tempfile
-dry, out, dest = sys.argv[1:]
+dry, out, dest, pack_decks = sys.argv[1:]
 d = json.load(open(dry))
 cache = os.path.join(out, d["cache_dir"])
 to_run = [p for p in d["impacts"] if p["status"] is None]
@@ -158,9 +160,15 @@ for work, dirs, files in os.walk(out):
     else:
         print(f"  impact {iid}: a new checkpoint came at each of 5 tries: not shipped, run again")
 
-# Which results folder's pinned decks key these beds (scripts/lanes-status.sh: keep that pin).
+# Which results folder's pinned decks key these beds (scripts/lanes-status.sh: keep that pin),
+# and those decks, which a new machine pins for that folder (scripts/pin-program.sh): its tree's
+# decks may have changed since, and with them every bed key.
 with open(os.path.join(dest, "pinned-in"), "w") as f:
     f.write(os.path.basename(os.path.normpath(out)) + "\n")
+pinned_decks = os.path.join(out, "pinned", "liggghts-inputs")
+if os.path.isdir(pinned_decks):
+    subprocess.run([pack_decks, pinned_decks, os.path.join(dest, "pinned-decks.tar.xz")],
+                   check=True)
 for name in sorted(os.listdir(dest)):
     m = IMPACT.fullmatch(name)
     if m and m.group(1) not in ids:
@@ -170,7 +178,7 @@ for name in sorted(os.listdir(dest)):
         os.remove(os.path.join(dest, name))
         print(f"  {name}: no impact needs it any more, removed")
 # Nothing built for, or in flight towards, what is still to run (a finished campaign): no folder.
-if os.listdir(dest) == ["pinned-in"]:
+if set(os.listdir(dest)) <= {"pinned-in", "pinned-decks.tar.xz"}:
     shutil.rmtree(dest)
     print(f"  nothing built or in flight for what is still to run: no folder {dest}")
 PY

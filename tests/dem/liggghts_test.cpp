@@ -234,6 +234,53 @@ TEST(ShippedBeds, EachIsARestartOfTheGrainsItsParametersCount) {
   }
 }
 
+// A shipped bed is found on a new machine only under its key, which hashes the bed decks' text
+// (params.hpp, bed_key): so each beds folder ships the decks its campaign pinned
+// (pinned-decks.tar.xz, scripts/pack-decks.py), which the new machine pins (scripts/
+// pin-program.sh). Each shipped bed's key must be the one those decks give its parameters; the
+// tree's decks gave another key for the speed campaign's bed on 2026-12-07, and the bed went
+// unfound. A folder with anything shipped (a bed, a build's or an impact's checkpoint) carries the
+// decks and names its results folder.
+TEST(ShippedBeds, EachFolderCarriesTheDecksThatKeyItsBeds) {
+  const fs::path root = fs::path(RICOCHET_SOURCE_DIR) / "data" / "resolved" / "beds";
+  if (!fs::exists(root)) GTEST_SKIP() << "nothing shipped under " << root;
+  const fs::path work = temp_dir("shipped-decks");
+  int folders = 0, beds = 0;
+  for (const auto& dir : fs::directory_iterator(root)) {
+    if (!dir.is_directory()) continue;
+    SCOPED_TRACE(dir.path().string());
+    ++folders;
+    std::ifstream pinned_in(dir.path() / "pinned-in");
+    std::string folder;
+    EXPECT_TRUE(std::getline(pinned_in, folder) && !folder.empty()) << "no pinned-in";
+    const fs::path tarball = dir.path() / "pinned-decks.tar.xz";
+    ASSERT_TRUE(fs::exists(tarball)) << "no pinned decks";
+    const fs::path into = work / dir.path().filename();
+    fs::create_directories(into);
+    ASSERT_EQ(
+        std::system(("tar -xJf '" + tarball.string() + "' -C '" + into.string() + "'").c_str()), 0);
+    const Decks shipped = Decks::locate((into / "liggghts-inputs").string());
+    for (const auto& e : fs::directory_iterator(dir.path())) {
+      if (e.path().extension() != ".params") continue;
+      ++beds;
+      // The bed's parameters as its build wrote them ("variable NAME string VALUE"): bed_key
+      // takes the decks' bed parameters from them, in canonical form.
+      std::map<std::string, std::string> params;
+      std::ifstream in(e.path());
+      for (std::string line; std::getline(in, line);) {
+        std::istringstream words(line);
+        std::string variable, name, style, value;
+        if (words >> variable >> name >> style >> value && variable == "variable")
+          params[name] = value;
+      }
+      const std::string key = e.path().stem().string().substr(4);  // bed-KEY.params
+      EXPECT_EQ(bed_key(shipped, params), key) << e.path();
+    }
+  }
+  RecordProperty("folders", folders);
+  RecordProperty("beds", beds);
+}
+
 // calibrate-grains's bulk constraint on a synthetic campaign (synthetic_campaign.hpp) whose design
 // points sit on beds of known solid fraction: each point's bed is the test bed's restart under its
 // own key, with a levelled surface set so that phi = 0.50 + 0.30 (mu_gg - 0.5), a packing that
