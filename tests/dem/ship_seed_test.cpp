@@ -55,7 +55,7 @@ class ShipSeed : public ::testing::Test {
     root_ = fs::temp_directory_path() / ("ship-seed-" + std::to_string(::getpid()));
     fs::remove_all(root_);
     fs::create_directories(root_ / "scripts");
-    for (const char* s : {"ship-beds.sh", "seed-shipped.sh"})
+    for (const char* s : {"ship-beds.sh", "seed-shipped.sh", "pack-decks.py", "pin-program.sh"})
       fs::copy_file(fs::path(kSource) / "scripts" / s, root_ / "scripts" / s);
     out_ = root_ / "results" / "c";
     write(out_ / "c.h5", "campaign file");
@@ -164,6 +164,41 @@ TEST_F(ShipSeed, ANewerCheckpointReplacesTheOlderAndWhatIsDoneLeaves) {
   EXPECT_TRUE(fs::exists(shipped() / "bed-bbbb.params"));
   EXPECT_FALSE(fs::exists(shipped() / "bed-bbbb.building.ckpt-1-80-0.restart.xz"));
   EXPECT_FALSE(fs::exists(shipped() / "impact-I1.gen-2.tar.xz"));
+}
+
+// A bed's key hashes the bed decks' text, so the beds are shipped with the decks the campaign
+// pinned, and a new machine pins those for that results folder, not its tree's, which may have
+// been edited since (2026-12-07: a shipped bed went unfound under the tree's decks). Another
+// folder still pins the tree's.
+TEST_F(ShipSeed, TheBedsTravelWithTheDecksThatKeyThem) {
+  write(cache() / "bed-aaaa.restart", payload("bed", 2000));
+  write(cache() / "bed-aaaa.params", "params of aaaa\n");
+  write(out_ / "pinned/liggghts-inputs/bed/in.bed", "the pinned bed deck\n");
+  write(out_ / "pinned/liggghts-inputs/common/walls.in", "the pinned walls\n");
+  program(kBothToRun);
+  ASSERT_EQ(ship(), 0);
+  ASSERT_TRUE(fs::exists(shipped() / "pinned-decks.tar.xz"));
+  // The same decks packed again: the same bytes (git sees no change at every session's end).
+  const std::string first = read(shipped() / "pinned-decks.tar.xz");
+  ASSERT_EQ(ship(), 0);
+  EXPECT_EQ(read(shipped() / "pinned-decks.tar.xz"), first);
+
+  // The next machine: no results folder, the tree's decks edited since, a program to pin.
+  fs::remove_all(out_);
+  write(root_ / "liggghts-inputs/bed/in.bed", "the tree's edited bed deck\n");
+  write(root_ / "build/cli/ricochet", "program");
+  const auto pin = [&](const std::string& folder) {
+    return run("bash -c 'source " + (root_ / "scripts/pin-program.sh").string() +
+               " && pin_program " + root_.string() + " " +
+               (root_ / "results" / folder / "pinned").string() + "'");
+  };
+  ASSERT_EQ(pin("c"), 0);
+  EXPECT_EQ(read(out_ / "pinned/liggghts-inputs/bed/in.bed"), "the pinned bed deck\n");
+  EXPECT_EQ(read(out_ / "pinned/liggghts-inputs/common/walls.in"), "the pinned walls\n");
+  EXPECT_EQ(read(out_ / "pinned/ricochet"), "program");
+  ASSERT_EQ(pin("other"), 0);
+  EXPECT_EQ(read(root_ / "results/other/pinned/liggghts-inputs/bed/in.bed"),
+            "the tree's edited bed deck\n");
 }
 
 }  // namespace
