@@ -60,9 +60,10 @@ TEST_F(ShippedData, StatsAnswersEveryShippedFile) {
                                                {"sand-zone-check-1.5e9.h5", 8},
                                                {"sand-verification-1.5e9.h5", 27},
                                                {"sand-blind-triangles-1.5e9.h5", 30},
+                                               {"timestep-1.5e9.h5", 4},
                                                {"convergence.h5", 27},
                                                // partial: grows as the campaign resumes
-                                               {"convergence-1.5e9.h5", 4},
+                                               {"convergence-1.5e9.h5", 5},
                                                {"lab-cylinders.h5", 28},
                                                {"lab-cylinders-long.h5", 28},
                                                {"lab-cylinders-cdt.h5", 84},
@@ -94,7 +95,8 @@ TEST_F(ShippedData, StatsAnswersEveryShippedFile) {
       {"sand-zone-check-1.5e9.h5", {8, 0}},
       {"sand-verification-1.5e9.h5", {27, 1}},
       {"sand-blind-triangles-1.5e9.h5", {30, 7}},
-      {"convergence-1.5e9.h5", {4, 2}}};
+      {"convergence-1.5e9.h5", {5, 2}},
+      {"timestep-1.5e9.h5", {4, 0}}};
   const fs::path data = fs::path(RICOCHET_SOURCE_DIR) / "data";
   std::set<std::string> seen, other_kinds;
   int impact_files = 0, other_files = 0;
