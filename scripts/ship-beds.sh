@@ -48,9 +48,9 @@ trap 'rm -f "$dry"' EXIT
 (cd "$OUT" && "$BIN" dem campaign "$DESIGN" --decks "$DECKS" --out "$SRC" --dry-run --json \
    2>/dev/null) > "$dry" || { echo "$0: the dry run of $DESIGN failed" >&2; exit 1; }
 mkdir -p "$DEST"
-python3 - "$dry" "$OUT" "$DEST" "$ROOT/scripts/pack-decks.py" <<'PY'
+python3 - "$dry" "$OUT" "$DEST" "$ROOT/scripts/pack-decks.py" "$DECKS" <<'PY'
 import json, os, re, shutil, subprocess, sys, tarfile, tempfile
-dry, out, dest, pack_decks = sys.argv[1:]
+dry, out, dest, pack_decks, decks = sys.argv[1:]
 d = json.load(open(dry))
 cache = os.path.join(out, d["cache_dir"])
 to_run = [p for p in d["impacts"] if p["status"] is None]
@@ -161,14 +161,13 @@ for work, dirs, files in os.walk(out):
         print(f"  impact {iid}: a new checkpoint came at each of 5 tries: not shipped, run again")
 
 # Which results folder's pinned decks key these beds (scripts/lanes-status.sh: keep that pin),
-# and those decks, which a new machine pins for that folder (scripts/pin-program.sh): its tree's
-# decks may have changed since, and with them every bed key.
+# and those decks, the ones the dry run above keyed the beds with, which a new machine pins for
+# that folder (scripts/pin-program.sh): its tree's decks may have changed since, and with them
+# every bed key.
 with open(os.path.join(dest, "pinned-in"), "w") as f:
     f.write(os.path.basename(os.path.normpath(out)) + "\n")
-pinned_decks = os.path.join(out, "pinned", "liggghts-inputs")
-if os.path.isdir(pinned_decks):
-    subprocess.run([pack_decks, pinned_decks, os.path.join(dest, "pinned-decks.tar.xz")],
-                   check=True)
+if os.path.isdir(decks):
+    subprocess.run([pack_decks, decks, os.path.join(dest, "pinned-decks.tar.xz")], check=True)
 for name in sorted(os.listdir(dest)):
     m = IMPACT.fullmatch(name)
     if m and m.group(1) not in ids:

@@ -263,18 +263,11 @@ TEST(ShippedBeds, EachFolderCarriesTheDecksThatKeyItsBeds) {
     for (const auto& e : fs::directory_iterator(dir.path())) {
       if (e.path().extension() != ".params") continue;
       ++beds;
-      // The bed's parameters as its build wrote them ("variable NAME string VALUE"): bed_key
-      // takes the decks' bed parameters from them, in canonical form.
-      std::map<std::string, std::string> params;
-      std::ifstream in(e.path());
-      for (std::string line; std::getline(in, line);) {
-        std::istringstream words(line);
-        std::string variable, name, style, value;
-        if (words >> variable >> name >> style >> value && variable == "variable")
-          params[name] = value;
-      }
+      // The bed's parameters as its build wrote them (read_bed_files): bed_key takes the decks'
+      // bed parameters from them, in canonical form.
+      const fs::path prefix = e.path().parent_path() / e.path().stem();
       const std::string key = e.path().stem().string().substr(4);  // bed-KEY.params
-      EXPECT_EQ(bed_key(shipped, params), key) << e.path();
+      EXPECT_EQ(bed_key(shipped, read_bed_files(prefix.string()).values), key) << e.path();
     }
   }
   RecordProperty("folders", folders);
